@@ -1,0 +1,18 @@
+//! Exact analysis of Butcher tables.
+//!
+//! `tableau` holds everything that must be decided exactly and identically at
+//! compile time (by the `butcher!` macro) and at run time (by `symlab check`):
+//! the [`Number`] field (rationals extended by real radicals), the expression
+//! grammar, the table types and their analyses. It depends on neither faer nor
+//! syn, so the macro and the CLI share one verifier.
+
+pub mod catalogue;
+pub mod expr;
+pub mod file;
+pub mod number;
+pub mod order;
+pub mod table;
+pub mod trees;
+
+pub use number::{Number, NumberError};
+pub use table::{Composition, Prk, Rk, Splitting, Table};

@@ -1,0 +1,201 @@
+//! The table types: a Runge–Kutta table, a partitioned pair, a drift–kick
+//! sequence and a symmetric composition of Störmer–Verlet. All entries are
+//! exact [`Number`]s. Every form converts to the partitioned form, so the
+//! symplecticity and order analyses run on one representation; the forms are
+//! kept because each has a sharper analysis of its own (a drift–kick sequence
+//! is symplectic by construction; a composition has far fewer order
+//! conditions).
+
+use crate::Number;
+
+/// A Runge–Kutta table `(A, b, c)`. `c` is `None` when the author did not give
+/// it; the analyses then use the row sums of `A`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Rk {
+    pub a: Vec<Vec<Number>>,
+    pub b: Vec<Number>,
+    pub c: Option<Vec<Number>>,
+}
+
+/// A partitioned Runge–Kutta pair: `(A, b, c)` is applied to `q` (it weights
+/// evaluations of `q' = ∂H/∂p`), `(Â, b̂, ĉ)` to `p` (evaluations of
+/// `p' = −∂H/∂q`), as in Hairer–Lubich–Wanner, *Geometric Numerical
+/// Integration*, II.2.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Prk {
+    pub q: Rk,
+    pub p: Rk,
+}
+
+/// A drift–kick sequence for separable `H = T(p) + V(q)`:
+/// `D(d₁) K(k₁) D(d₂) K(k₂) …`, where a drift `D(d)` is `q ← q + d·h·∇T(p)` and
+/// a kick `K(k)` is `p ← p − k·h·∇V(q)`. With one more drift than kicks the
+/// sequence starts and ends with a drift; with one more kick than drifts it
+/// starts and ends with a kick; with equally many it starts with a drift.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Splitting {
+    pub drift: Vec<Number>,
+    pub kick: Vec<Number>,
+}
+
+/// A composition `Φ_{γₘh} ∘ … ∘ Φ_{γ₁h}` of the Störmer–Verlet method
+/// (drift–kick–drift), a symmetric method of order 2.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Composition {
+    pub gamma: Vec<Number>,
+}
+
+/// Any of the four forms.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Table {
+    Rk(Rk),
+    Prk(Prk),
+    Splitting(Splitting),
+    Composition(Composition),
+}
+
+impl Rk {
+    pub fn stages(&self) -> usize {
+        self.b.len()
+    }
+
+    /// The abscissae: the given `c`, or the row sums of `A`.
+    pub fn abscissae(&self) -> Vec<Number> {
+        match &self.c {
+            Some(c) => c.clone(),
+            None => self.row_sums(),
+        }
+    }
+
+    pub fn row_sums(&self) -> Vec<Number> {
+        self.a
+            .iter()
+            .map(|row| row.iter().fold(Number::zero(), |acc, x| acc + x))
+            .collect()
+    }
+}
+
+impl Splitting {
+    /// The alternating sequence of operations, zeros dropped and neighbours of
+    /// the same kind merged: the normal form in which two sequences define the
+    /// same map for every separable `H` exactly when they are equal.
+    pub fn normal_form(&self) -> Vec<(Op, Number)> {
+        let mut out: Vec<(Op, Number)> = Vec::new();
+        for (op, x) in self.ops() {
+            if x.is_zero() {
+                continue;
+            }
+            match out.last_mut() {
+                Some((last, y)) if *last == op => {
+                    *y += &x;
+                    if y.is_zero() {
+                        out.pop();
+                    }
+                }
+                _ => out.push((op, x)),
+            }
+        }
+        out
+    }
+
+    /// The operations in the order they are applied.
+    pub fn ops(&self) -> Vec<(Op, Number)> {
+        let kick_first = self.kick.len() == self.drift.len() + 1;
+        let mut out = Vec::with_capacity(self.drift.len() + self.kick.len());
+        let (first, second, op1, op2) = if kick_first {
+            (&self.kick, &self.drift, Op::Kick, Op::Drift)
+        } else {
+            (&self.drift, &self.kick, Op::Drift, Op::Kick)
+        };
+        for i in 0..first.len().max(second.len()) {
+            if let Some(x) = first.get(i) {
+                out.push((op1, x.clone()));
+            }
+            if let Some(x) = second.get(i) {
+                out.push((op2, x.clone()));
+            }
+        }
+        out
+    }
+
+    /// The equivalent explicit partitioned pair (HLW II.5): stage `i` is the
+    /// state after the `i`-th drift; the `q` table has `aᵢⱼ = dⱼ` for `j ≤ i`,
+    /// the `p` table `âᵢⱼ = kⱼ` for `j < i`, and `b = d`, `b̂ = k`.
+    pub fn to_prk(&self) -> Prk {
+        // Bring the sequence to the form D K D K … D [K]: pad a leading zero
+        // drift if it starts with a kick, and a trailing zero kick as needed.
+        let mut drift = self.drift.clone();
+        let mut kick = self.kick.clone();
+        if kick.len() == drift.len() + 1 {
+            drift.insert(0, Number::zero());
+        }
+        let s = drift.len();
+        kick.resize(s, Number::zero());
+        let zero_row = || vec![Number::zero(); s];
+        let mut a = vec![zero_row(); s];
+        let mut a_hat = vec![zero_row(); s];
+        for i in 0..s {
+            for j in 0..s {
+                if j <= i {
+                    a[i][j] = drift[j].clone();
+                }
+                if j < i {
+                    a_hat[i][j] = kick[j].clone();
+                }
+            }
+        }
+        Prk {
+            q: Rk { a, b: drift, c: None },
+            p: Rk { a: a_hat, b: kick, c: None },
+        }
+    }
+}
+
+/// A drift or a kick.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Op {
+    Drift,
+    Kick,
+}
+
+impl Composition {
+    /// The drift–kick sequence: Verlet `D(γ/2) K(γ) D(γ/2)` per factor, with
+    /// the drifts of neighbouring factors merged.
+    pub fn to_splitting(&self) -> Splitting {
+        let m = self.gamma.len();
+        let two = Number::from(2);
+        let half = |x: &Number| x.checked_div(&two).expect("2 is not zero");
+        let mut drift = Vec::with_capacity(m + 1);
+        for k in 0..=m {
+            let left = if k > 0 { half(&self.gamma[k - 1]) } else { Number::zero() };
+            let right = if k < m { half(&self.gamma[k]) } else { Number::zero() };
+            drift.push(left + right);
+        }
+        Splitting {
+            drift,
+            kick: self.gamma.clone(),
+        }
+    }
+}
+
+impl Table {
+    /// The number of stages of the equivalent (partitioned) Runge–Kutta form.
+    pub fn stages(&self) -> usize {
+        match self {
+            Table::Rk(rk) => rk.stages(),
+            Table::Prk(prk) => prk.q.stages(),
+            Table::Splitting(s) => s.to_prk().q.stages(),
+            Table::Composition(c) => c.to_splitting().to_prk().q.stages(),
+        }
+    }
+
+    /// The partitioned form, if the table is not a plain Runge–Kutta table.
+    pub fn to_prk(&self) -> Option<Prk> {
+        match self {
+            Table::Rk(_) => None,
+            Table::Prk(prk) => Some(prk.clone()),
+            Table::Splitting(s) => Some(s.to_prk()),
+            Table::Composition(c) => Some(c.to_splitting().to_prk()),
+        }
+    }
+}
