@@ -7,6 +7,7 @@
 //! syn, so the macro and the CLI share one verifier.
 
 pub mod catalogue;
+pub mod claims;
 pub mod expr;
 pub mod file;
 pub mod number;

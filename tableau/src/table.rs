@@ -199,3 +199,98 @@ impl Table {
         }
     }
 }
+
+/// A table whose dimensions do not fit, with the field that is wrong.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("{field}: {message}")]
+pub struct ShapeError {
+    /// The offending field as the author wrote it: `a`, `a[2]`, `b_hat`, `kick`…
+    pub field: String,
+    pub message: String,
+}
+
+fn shape_err(field: impl Into<String>, message: impl Into<String>) -> ShapeError {
+    ShapeError {
+        field: field.into(),
+        message: message.into(),
+    }
+}
+
+impl Rk {
+    /// `A` square `s × s` with `s ≥ 1`, `b` and `c` of length `s`. `suffix` is
+    /// `""` for the plain table and `"_hat"` for the second table of a pair.
+    pub fn check_shape(&self, suffix: &str) -> Result<(), ShapeError> {
+        let s = self.a.len();
+        if s == 0 {
+            return Err(shape_err(format!("a{suffix}"), "the table has no stages"));
+        }
+        for (i, row) in self.a.iter().enumerate() {
+            if row.len() != s {
+                return Err(shape_err(
+                    format!("a{suffix}[{i}]"),
+                    format!("A must be square: row {i} has {} entries, but A has {s} rows", row.len()),
+                ));
+            }
+        }
+        if self.b.len() != s {
+            return Err(shape_err(
+                format!("b{suffix}"),
+                format!("b has {} entries, but A has {s} stages", self.b.len()),
+            ));
+        }
+        if let Some(c) = &self.c {
+            if c.len() != s {
+                return Err(shape_err(
+                    format!("c{suffix}"),
+                    format!("c has {} entries, but A has {s} stages", c.len()),
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
+impl Table {
+    /// Dimensions that fit together; every analysis assumes this.
+    pub fn check_shape(&self) -> Result<(), ShapeError> {
+        match self {
+            Table::Rk(rk) => rk.check_shape(""),
+            Table::Prk(prk) => {
+                prk.q.check_shape("")?;
+                prk.p.check_shape("_hat")?;
+                if prk.p.stages() != prk.q.stages() {
+                    return Err(shape_err(
+                        "a_hat",
+                        format!(
+                            "the pair must have as many stages in both tables: A has {}, Â has {}",
+                            prk.q.stages(),
+                            prk.p.stages()
+                        ),
+                    ));
+                }
+                Ok(())
+            }
+            Table::Splitting(s) => {
+                let (d, k) = (s.drift.len(), s.kick.len());
+                if d == 0 && k == 0 {
+                    return Err(shape_err("drift", "the sequence is empty"));
+                }
+                if d.abs_diff(k) > 1 {
+                    return Err(shape_err(
+                        "kick",
+                        format!(
+                            "drifts and kicks alternate, so their counts differ by at most one: {d} drifts, {k} kicks"
+                        ),
+                    ));
+                }
+                Ok(())
+            }
+            Table::Composition(c) => {
+                if c.gamma.is_empty() {
+                    return Err(shape_err("compose", "the composition is empty"));
+                }
+                Ok(())
+            }
+        }
+    }
+}
