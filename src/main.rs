@@ -1,1 +1,40 @@
-fn main(){}
+//! `symlab`: the command-line program. Thin by design: argument parsing with
+//! clap, then calls into the workspace crates; each subcommand lives in its
+//! own module.
+
+mod check;
+
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+
+#[derive(Parser)]
+#[command(name = "symlab", version, about = "Butcher tables in, proven integrators out")]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Analyse a Butcher table exactly: shape, class, symplecticity, order,
+    /// symmetry, stability function, and the file's claims.
+    Check(check::CheckArgs),
+    /// List the built-in tables (use an id with `symlab check --builtin ID`).
+    List(check::ListArgs),
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Check(args) => check::run(&args),
+        Command::List(args) => check::list(&args),
+    };
+    match result {
+        Ok(code) => code,
+        Err(err) => {
+            eprintln!("error: {err:#}");
+            ExitCode::from(2)
+        }
+    }
+}

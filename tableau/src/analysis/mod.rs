@@ -1,0 +1,358 @@
+//! Every verdict about a table, decided exactly: shape, class, symplecticity,
+//! order, symmetry and the stability function. [`Analysis::of`] is what both
+//! `symlab check` and the `butcher!` macro run, so they always agree.
+
+pub mod class;
+pub mod reduce;
+pub mod stability;
+pub mod symmetry;
+pub mod symplectic;
+
+use serde::Serialize;
+
+use crate::claims::Claim;
+use crate::order::{self, OrderReport};
+use crate::table::{Composition, ShapeError, Splitting};
+use crate::{Number, Prk, Rk, Table};
+
+pub use class::Class;
+pub use stability::StabilityFunction;
+pub use symplectic::WEntry;
+
+/// The default order limits: every table is checked at least this far.
+/// Runge–Kutta tables have few rooted trees (1205 up to order 10); pairs on
+/// general partitioned systems have many bicoloured trees (24 314 up to 8).
+pub const RK_ORDER_LIMIT: usize = 10;
+pub const PRK_ORDER_LIMIT: usize = 8;
+pub const SEPARABLE_ORDER_LIMIT: usize = 10;
+pub const COMPOSITION_ORDER_LIMIT: usize = 12;
+
+/// The highest orders a claim can ask for: above these the checker refuses
+/// (it never accepts a claim it has not checked).
+pub const MAX_RK_ORDER: usize = 12;
+pub const MAX_PRK_ORDER: usize = 9;
+pub const MAX_SEPARABLE_ORDER: usize = 12;
+pub const MAX_COMPOSITION_ORDER: usize = 14;
+
+/// The four written forms of a table.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Form {
+    Rk,
+    Prk,
+    DriftKick,
+    Composition,
+}
+
+/// Everything known about a table. The fields mirror the JSON report of
+/// `symlab check --json` (see `docs` in design.md); the extra fields carry
+/// the evidence behind each verdict.
+#[derive(Clone, Debug)]
+pub struct Analysis {
+    pub form: Form,
+    pub stages: usize,
+    pub class: Class,
+    /// Rows `i` whose given `cᵢ` differs from the row sum of `A` (both tables
+    /// for a pair); empty when `c` is absent or agrees.
+    pub row_sum_mismatch: Vec<RowSumMismatch>,
+    /// RK: `W = 0` on the irreducible form. Pair: conditions hold and `b = b̂`.
+    pub symplectic: bool,
+    /// Symplectic for separable Hamiltonians (RK: same as `symplectic`).
+    pub symplectic_separable: bool,
+    /// Nonzero entries of `W` (RK) or of `bᵢâᵢⱼ + b̂ⱼaⱼᵢ − bᵢb̂ⱼ` (pair), for the
+    /// table as written.
+    pub w_nonzero: Vec<WEntry>,
+    /// The stages a reduction to irreducible form removed or merged.
+    pub reducible: bool,
+    /// Explicit (stage by stage, no solves) on separable systems.
+    pub explicit_separable: bool,
+    /// Order on general (partitioned) systems. `None` for drift–kick
+    /// sequences and compositions, which apply to separable systems only.
+    pub order: Option<OrderReport>,
+    /// Order on separable systems (RK: same as `order`).
+    pub order_separable: OrderReport,
+    /// The method is its own adjoint, decided on the irreducible form (exact
+    /// both ways).
+    pub symmetric: bool,
+    pub stability: Option<StabilityFunction>,
+    /// `|R(iy)| = 1` for all real `y` (RK only).
+    pub unimodular: Option<bool>,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct RowSumMismatch {
+    /// `"c"` or `"c_hat"`.
+    pub field: &'static str,
+    pub row: usize,
+    #[serde(serialize_with = "serialize_display")]
+    pub given: Number,
+    #[serde(serialize_with = "serialize_display")]
+    pub row_sum: Number,
+}
+
+pub(crate) fn serialize_display<S: serde::Serializer, T: std::fmt::Display>(
+    x: &T,
+    s: S,
+) -> Result<S::Ok, S::Error> {
+    s.collect_str(x)
+}
+
+impl Analysis {
+    /// Analyse a table with the default order limits. The shape is checked
+    /// first; nothing else runs on a table whose dimensions do not fit.
+    pub fn of(table: &Table) -> Result<Analysis, ShapeError> {
+        table.check_shape()?;
+        Ok(match table {
+            Table::Rk(rk) => Self::of_rk(rk),
+            Table::Prk(prk) => Self::of_prk(prk, Form::Prk, None),
+            Table::Splitting(s) => Self::of_splitting(s),
+            Table::Composition(c) => Self::of_composition(c),
+        })
+    }
+
+    fn of_rk(rk: &Rk) -> Analysis {
+        let w = symplectic::w_matrix(rk, rk);
+        let (irreducible, reducible) = reduce::reduce(&[rk]);
+        let red = &irreducible[0];
+        let symplectic = symplectic::vanishes(&symplectic::w_matrix(red, red));
+        let symmetric = symmetry::equal_up_to_permutation(&irreducible, &[symmetry::adjoint(red)]);
+        let order = order::rk_order(rk, RK_ORDER_LIMIT, None);
+        let stability = StabilityFunction::of(rk);
+        let class = class::classify(rk);
+        Analysis {
+            form: Form::Rk,
+            stages: rk.stages(),
+            class,
+            row_sum_mismatch: row_sum_mismatch(rk, "c"),
+            symplectic,
+            symplectic_separable: symplectic,
+            w_nonzero: symplectic::nonzero_entries(&w),
+            reducible,
+            explicit_separable: class == Class::Explicit,
+            order: Some(order.clone()),
+            order_separable: order,
+            symmetric,
+            unimodular: Some(stability.unimodular_on_imaginary_axis()),
+            stability: Some(stability),
+        }
+    }
+
+    /// `symmetric_override` carries the exact verdict of a drift–kick
+    /// sequence, which its normal form decides more directly.
+    fn of_prk(prk: &Prk, form: Form, symmetric_override: Option<bool>) -> Analysis {
+        let w = symplectic::w_matrix(&prk.q, &prk.p);
+        let (irreducible, reducible) = reduce::reduce(&[&prk.q, &prk.p]);
+        let (rq, rp) = (&irreducible[0], &irreducible[1]);
+        let conditions = symplectic::vanishes(&symplectic::w_matrix(rq, rp));
+        let same_weights = rq.b == rp.b;
+        let symmetric = symmetric_override.unwrap_or_else(|| {
+            symmetry::equal_up_to_permutation(&irreducible, &[symmetry::adjoint(rq), symmetry::adjoint(rp)])
+        });
+        let general = form == Form::Prk;
+        let mut mismatch = row_sum_mismatch(&prk.q, "c");
+        mismatch.extend(row_sum_mismatch(&prk.p, "c_hat"));
+        Analysis {
+            form,
+            stages: prk.q.stages(),
+            class: class::classify(&prk.q).max(class::classify(&prk.p)),
+            row_sum_mismatch: mismatch,
+            symplectic: conditions && same_weights,
+            symplectic_separable: conditions,
+            w_nonzero: symplectic::nonzero_entries(&w),
+            reducible,
+            explicit_separable: class::explicit_on_separable(&prk.q, &prk.p),
+            order: general.then(|| order::prk_order(prk, PRK_ORDER_LIMIT, None)),
+            order_separable: order::prk_order_separable(prk, SEPARABLE_ORDER_LIMIT, None),
+            symmetric,
+            stability: None,
+            unimodular: None,
+        }
+    }
+
+    fn of_splitting(s: &Splitting) -> Analysis {
+        Self::of_prk(&s.to_prk(), Form::DriftKick, Some(symmetry::splitting_is_symmetric(s)))
+    }
+
+    fn of_composition(c: &Composition) -> Analysis {
+        let split = c.to_splitting();
+        let mut a = Self::of_prk(&split.to_prk(), Form::Composition, Some(symmetry::splitting_is_symmetric(&split)));
+        a.order_separable = order::composition_order(c, COMPOSITION_ORDER_LIMIT, None);
+        a
+    }
+
+    /// JSON `kind`: `"rk"` or `"prk"` (drift–kick sequences and compositions
+    /// are partitioned methods).
+    pub fn kind(&self) -> &'static str {
+        if self.form == Form::Rk { "rk" } else { "prk" }
+    }
+
+    /// A scheme that is symplectic only for separable Hamiltonians (a pair with
+    /// `b ≠ b̂`, a drift–kick sequence, a composition) steps only separable
+    /// systems; its `order` claim means the order on separable systems.
+    pub fn separable_only(&self) -> bool {
+        match self.form {
+            Form::Rk => false,
+            Form::Prk => !self.symplectic,
+            Form::DriftKick | Form::Composition => true,
+        }
+    }
+
+    /// The order that an `order = p` claim is about.
+    pub fn claimed_order_report(&self) -> &OrderReport {
+        match (&self.order, self.separable_only()) {
+            (Some(general), false) => general,
+            _ => &self.order_separable,
+        }
+    }
+}
+
+/// Why a claim does not hold, in words that name the exact evidence.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("{0}")]
+pub struct ClaimError(pub String);
+
+/// Check one claim against a table. Order claims above the default limit are
+/// re-checked with a higher limit where the checker supports it, and refused
+/// with a message where it does not: a claim is never accepted unchecked.
+pub fn check_claim(table: &Table, analysis: &Analysis, claim: &Claim) -> Result<(), ClaimError> {
+    match claim {
+        Claim::Symplectic => check_symplectic(analysis),
+        Claim::Symmetric => {
+            if analysis.symmetric {
+                Ok(())
+            } else {
+                Err(ClaimError(match analysis.form {
+                    Form::DriftKick | Form::Composition => {
+                        "not symmetric: the drift–kick sequence (zeros dropped, neighbours merged) is not a palindrome".into()
+                    }
+                    _ => "not symmetric: the adjoint table (a*ᵢⱼ = b_{s+1−j} − a_{s+1−i,s+1−j}) is not the table under any stage permutation".into(),
+                }))
+            }
+        }
+        Claim::Explicit => {
+            if analysis.explicit_separable {
+                Ok(())
+            } else {
+                Err(ClaimError(format!("not explicit: {}", first_implicit_entry(table))))
+            }
+        }
+        Claim::Order { p, bound } => check_order(table, analysis, *p, bound.as_ref()),
+    }
+}
+
+fn check_symplectic(a: &Analysis) -> Result<(), ClaimError> {
+    if a.symplectic_separable {
+        return Ok(());
+    }
+    let shown: Vec<String> = a
+        .w_nonzero
+        .iter()
+        .take(6)
+        .map(|e| format!("W[{}][{}] = {}", e.i, e.j, e.value))
+        .collect();
+    let more = if a.w_nonzero.len() > 6 {
+        format!(" and {} more", a.w_nonzero.len() - 6)
+    } else {
+        String::new()
+    };
+    let rule = if a.form == Form::Rk {
+        "W = BA + AᵀB − bbᵀ must vanish"
+    } else {
+        "Wᵢⱼ = bᵢâᵢⱼ + b̂ⱼaⱼᵢ − bᵢb̂ⱼ must vanish"
+    };
+    Err(ClaimError(format!("not symplectic: {}{more} ({rule})", shown.join(", "))))
+}
+
+fn check_order(table: &Table, a: &Analysis, p: usize, bound: Option<&Number>) -> Result<(), ClaimError> {
+    let separable = a.separable_only();
+    let (max_limit, what) = match (a.form, separable) {
+        (Form::Rk, _) => (MAX_RK_ORDER, "Runge–Kutta tables"),
+        (Form::Composition, _) => (MAX_COMPOSITION_ORDER, "compositions"),
+        (_, true) => (MAX_SEPARABLE_ORDER, "pairs on separable systems"),
+        (_, false) => (MAX_PRK_ORDER, "pairs on general partitioned systems"),
+    };
+    if p > max_limit {
+        return Err(ClaimError(format!(
+            "order {p} cannot be decided: the checker verifies order conditions of {what} up to order {max_limit}"
+        )));
+    }
+    let default = a.claimed_order_report();
+    let report = if bound.is_none() && p <= default.limit {
+        default.clone()
+    } else {
+        match table {
+            Table::Rk(rk) => order::rk_order(rk, p, bound),
+            Table::Composition(c) => order::composition_order(c, p, bound),
+            _ => {
+                let prk = table.to_prk().expect("partitioned");
+                if separable {
+                    order::prk_order_separable(&prk, p, bound)
+                } else {
+                    order::prk_order(&prk, p, bound)
+                }
+            }
+        }
+    };
+    if report.order >= p {
+        return Ok(());
+    }
+    let f = report
+        .first_failure
+        .as_ref()
+        .expect("an order below the limit comes with its failing condition");
+    let scope = if a.form == Form::Rk {
+        ""
+    } else if separable {
+        " (on separable systems)"
+    } else {
+        " (on general partitioned systems)"
+    };
+    let how = match bound {
+        Some(b) => format!("residual {} is not below {b}", f.residual),
+        None => format!("residual {}", f.residual),
+    };
+    Err(ClaimError(format!(
+        "order {p} claimed{scope} but the order-{} condition for {} fails: {how}",
+        f.order, f.tree
+    )))
+}
+
+fn first_implicit_entry(table: &Table) -> String {
+    let check = |rk: &Rk, name: &str, strict: bool| -> Option<String> {
+        let s = rk.a.len();
+        for i in 0..s {
+            for j in (if strict { i } else { i + 1 })..s {
+                if !rk.a[i][j].is_zero() {
+                    return Some(format!("{name}[{i}][{j}] = {} ≠ 0", rk.a[i][j]));
+                }
+            }
+        }
+        None
+    };
+    match table {
+        Table::Rk(rk) => check(rk, "a", true).unwrap_or_default(),
+        _ => {
+            let prk = table.to_prk().expect("partitioned");
+            check(&prk.q, "a", false)
+                .or_else(|| check(&prk.p, "a_hat", false))
+                .map(|e| format!("{e} (a pair is explicit on separable systems when one table is strictly lower triangular and the other lower triangular)"))
+                .unwrap_or_default()
+        }
+    }
+}
+
+fn row_sum_mismatch(rk: &Rk, field: &'static str) -> Vec<RowSumMismatch> {
+    let Some(c) = &rk.c else { return Vec::new() };
+    rk.row_sums()
+        .into_iter()
+        .zip(c)
+        .enumerate()
+        .filter(|(_, (sum, given))| sum != *given)
+        .map(|(row, (row_sum, given))| RowSumMismatch {
+            field,
+            row,
+            given: given.clone(),
+            row_sum,
+        })
+        .collect()
+}
