@@ -1,1 +1,25 @@
-//! placeholder
+//! `butcher!`: declare a Runge–Kutta table, a partitioned pair, a drift–kick
+//! sequence or a composition with exact entries and claims; the claims are
+//! verified exactly at compile time by the same `tableau` analysis that
+//! `symlab check` runs.
+//!
+//! The macro is split as thiserror and serde_derive are: [`ast`] parses the
+//! tokens, [`valid`] builds the exact table and checks every claim (all
+//! errors collected, each on the token it is about), [`expand`] emits the
+//! scheme type. On error a stub type is still emitted, so one mistake does not
+//! cascade into "cannot find type" errors at every use.
+
+mod ast;
+mod expand;
+mod valid;
+
+use proc_macro::TokenStream;
+
+#[proc_macro]
+pub fn butcher(input: TokenStream) -> TokenStream {
+    let input = syn::parse_macro_input!(input as ast::Input);
+    match valid::validate(&input) {
+        Ok(verified) => expand::expand(&input, &verified).into(),
+        Err(err) => expand::stub(&input, err).into(),
+    }
+}

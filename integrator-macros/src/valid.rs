@@ -1,0 +1,252 @@
+//! Validation: build the exact table from the entries, then check every
+//! claim with `tableau`. Runs completely before expansion; every error is
+//! attached to the token it is about and all errors are reported together.
+
+use std::collections::BTreeMap;
+
+use proc_macro2::Span;
+use syn::Error;
+use tableau::analysis::{self, Analysis};
+use tableau::claims::{Claim, parse_claim};
+use tableau::expr;
+use tableau::{Composition, Number, Prk, Rk, Splitting, Table};
+
+use crate::ast::{Entry, Field, Input, Value};
+
+/// A table whose claims all hold.
+pub struct Verified {
+    pub table: Table,
+    pub analysis: Analysis,
+    pub claims: Vec<Claim>,
+    pub name: String,
+}
+
+/// Collects errors so that every mistake in one invocation is reported.
+#[derive(Default)]
+struct Errors(Option<Error>);
+
+impl Errors {
+    fn push(&mut self, span: Span, msg: impl std::fmt::Display) {
+        let e = Error::new(span, msg);
+        match &mut self.0 {
+            Some(all) => all.combine(e),
+            None => self.0 = Some(e),
+        }
+    }
+    fn finish(self) -> Result<(), Error> {
+        self.0.map_or(Ok(()), Err)
+    }
+}
+
+const KEYS: &[&str] = &[
+    "claims", "a", "b", "c", "a_hat", "b_hat", "c_hat", "drift", "kick", "compose", "from",
+];
+
+pub fn validate(input: &Input) -> Result<Verified, Error> {
+    let mut errs = Errors::default();
+    let mut fields: BTreeMap<String, &Field> = BTreeMap::new();
+    for f in &input.fields {
+        let k = f.key.to_string();
+        if !KEYS.contains(&k.as_str()) {
+            errs.push(f.span(), format!("unknown field `{k}`; the fields are {}", KEYS.join(", ")));
+        } else if fields.insert(k.clone(), f).is_some() {
+            errs.push(f.span(), format!("field `{k}` is given twice"));
+        }
+    }
+
+    // `let` bindings, in order; each may use the ones before it.
+    let mut env: BTreeMap<String, Number> = BTreeMap::new();
+    for l in &input.lets {
+        if let Some(v) = eval(&l.value, &env, &mut errs) {
+            env.insert(l.name.to_string(), v);
+        }
+    }
+
+    let mut claims = Vec::new();
+    let mut claim_spans = Vec::new();
+    if let Some(f) = fields.get("claims") {
+        match &f.value {
+            Value::Vector(items, _) => {
+                for item in items {
+                    match parse_claim(&item.text) {
+                        Ok(c) => {
+                            claims.push(c);
+                            claim_spans.push(item.span());
+                        }
+                        Err(m) => errs.push(item.span(), m),
+                    }
+                }
+            }
+            v => errs.push(v.span(), "claims are a list: `claims: [symplectic, order = 4]`"),
+        }
+    }
+
+    let table = build_table(input, &fields, &env, &mut errs);
+    errs.finish()?;
+    let Some((table, name)) = table else {
+        return Err(Error::new(input.name.span(), "no table: give `a` and `b`, `drift` and `kick`, `compose`, or `from`"));
+    };
+
+    let analysis = match Analysis::of(&table) {
+        Ok(a) => a,
+        Err(e) => {
+            let span = field_span(&fields, &e.field).unwrap_or(input.name.span());
+            return Err(Error::new(span, e.to_string()));
+        }
+    };
+    let mut errs = Errors::default();
+    for (claim, span) in claims.iter().zip(&claim_spans) {
+        if let Err(e) = analysis::check_claim(&table, &analysis, claim) {
+            errs.push(*span, e);
+        }
+    }
+    errs.finish()?;
+    Ok(Verified {
+        table,
+        analysis,
+        claims,
+        name,
+    })
+}
+
+/// The span for a shape error's field path such as `a[1]` or `b_hat`.
+fn field_span(fields: &BTreeMap<String, &Field>, path: &str) -> Option<Span> {
+    let key = path.split('[').next()?;
+    let f = fields.get(key)?;
+    let row: Option<usize> = path.split('[').nth(1).and_then(|r| r.trim_end_matches(']').parse().ok());
+    match (&f.value, row) {
+        (Value::Matrix(rows, _), Some(r)) => rows.get(r).map(|x| x.1),
+        (v, _) => Some(v.span()),
+    }
+}
+
+fn eval(entry: &Entry, env: &BTreeMap<String, Number>, errs: &mut Errors) -> Option<Number> {
+    let parsed = match expr::parse(&entry.text) {
+        Ok(p) => p,
+        Err(e) => {
+            errs.push(entry.span_at(e.pos, e.token.len()), &e.message);
+            return None;
+        }
+    };
+    match expr::eval(&parsed, &|name| env.get(name).cloned()) {
+        Ok(v) => Some(v),
+        Err(e) => {
+            errs.push(entry.span_at(e.pos, e.len), e.kind.to_string());
+            None
+        }
+    }
+}
+
+fn vector(f: Option<&&Field>, env: &BTreeMap<String, Number>, errs: &mut Errors) -> Option<Vec<Number>> {
+    let f = f?;
+    match &f.value {
+        Value::Vector(items, _) => {
+            let vals: Vec<Option<Number>> = items.iter().map(|e| eval(e, env, errs)).collect();
+            vals.into_iter().collect()
+        }
+        v => {
+            errs.push(v.span(), format!("`{}` is a list of numbers: `[1/2, 1/2]`", f.key));
+            None
+        }
+    }
+}
+
+fn matrix(f: Option<&&Field>, env: &BTreeMap<String, Number>, errs: &mut Errors) -> Option<Vec<Vec<Number>>> {
+    let f = f?;
+    match &f.value {
+        Value::Matrix(rows, _) => {
+            let mut out = Vec::new();
+            let mut ok = true;
+            for (row, _) in rows {
+                let vals: Option<Vec<Number>> = row.iter().map(|e| eval(e, env, errs)).collect::<Vec<_>>().into_iter().collect();
+                match vals {
+                    Some(v) => out.push(v),
+                    None => ok = false,
+                }
+            }
+            ok.then_some(out)
+        }
+        v => {
+            errs.push(v.span(), format!("`{}` is a matrix: `[[1/4, 0], [1/2, 1/4]]`", f.key));
+            None
+        }
+    }
+}
+
+fn build_table(
+    input: &Input,
+    fields: &BTreeMap<String, &Field>,
+    env: &BTreeMap<String, Number>,
+    errs: &mut Errors,
+) -> Option<(Table, String)> {
+    let has = |k: &str| fields.contains_key(k);
+    let name = input.name.to_string();
+    if let Some(f) = fields.get("from") {
+        let Value::Str(id) = &f.value else {
+            errs.push(f.value.span(), "`from` names a catalogue table: `from: \"rk4\"`");
+            return None;
+        };
+        if let Some(other) = KEYS.iter().find(|k| **k != "from" && **k != "claims" && has(k)) {
+            errs.push(fields[*other].span(), "a table read `from` the catalogue takes no entries of its own");
+            return None;
+        }
+        return match tableau::catalogue::load(&id.value()) {
+            Ok(tf) => Some((tf.table, tf.name)),
+            Err(e) => {
+                errs.push(id.span(), e);
+                None
+            }
+        };
+    }
+    let rk_like = has("a") || has("b") || has("c");
+    let pair = has("a_hat") || has("b_hat") || has("c_hat");
+    let split = has("drift") || has("kick");
+    let comp = has("compose");
+    let forms = [rk_like, split, comp].iter().filter(|x| **x).count();
+    if forms > 1 || (pair && !rk_like) {
+        let span = input.fields.first().map_or(input.name.span(), |f| f.span());
+        errs.push(span, "give exactly one form: `a`/`b` (with `a_hat`/`b_hat` for a pair), `drift`/`kick`, or `compose`");
+        return None;
+    }
+    let require = |k: &str, errs: &mut Errors| {
+        if !has(k) {
+            errs.push(input.name.span(), format!("missing field `{k}`"));
+        }
+    };
+    if rk_like {
+        require("a", errs);
+        require("b", errs);
+        if pair {
+            require("a_hat", errs);
+            require("b_hat", errs);
+        }
+        let q = Rk {
+            a: matrix(fields.get("a"), env, errs)?,
+            b: vector(fields.get("b"), env, errs)?,
+            c: if has("c") { Some(vector(fields.get("c"), env, errs)?) } else { None },
+        };
+        if !pair {
+            return Some((Table::Rk(q), name));
+        }
+        let p = Rk {
+            a: matrix(fields.get("a_hat"), env, errs)?,
+            b: vector(fields.get("b_hat"), env, errs)?,
+            c: if has("c_hat") { Some(vector(fields.get("c_hat"), env, errs)?) } else { None },
+        };
+        return Some((Table::Prk(Prk { q, p }), name));
+    }
+    if split {
+        require("drift", errs);
+        require("kick", errs);
+        let s = Splitting {
+            drift: vector(fields.get("drift"), env, errs)?,
+            kick: vector(fields.get("kick"), env, errs)?,
+        };
+        return Some((Table::Splitting(s), name));
+    }
+    if comp {
+        let gamma = vector(fields.get("compose"), env, errs)?;
+        return Some((Table::Composition(Composition { gamma }), name));
+    }
+    None
+}
