@@ -50,12 +50,38 @@ pub fn classify(rk: &Rk) -> Class {
 }
 
 /// Whether a partitioned pair is explicit on separable systems
-/// `q' = f(p)`, `p' = g(q)`: stage `i` of `q` may use `P_j` for `j ≤ i` when
-/// stage `i` of `p` uses only `Q_j` for `j < i`, or the other way round.
+/// `q' = f(p)`, `p' = g(q)`: stage value `Qᵢ` needs `f(Pⱼ)` wherever
+/// `aᵢⱼ ≠ 0` and `Pᵢ` needs `g(Qⱼ)` wherever `âᵢⱼ ≠ 0`. The stages can be
+/// computed one after another without solving anything exactly when this
+/// dependency graph has no cycle (Störmer–Verlet as the Lobatto IIIA–IIIB
+/// pair is explicit although neither table is strictly lower triangular).
 pub fn explicit_on_separable(q: &Rk, p: &Rk) -> bool {
     let s = q.a.len();
-    let lower = |rk: &Rk, strict: bool| {
-        (0..s).all(|i| ((if strict { i } else { i + 1 })..s).all(|j| rk.a[i][j].is_zero()))
+    // Nodes 0..s are the Qᵢ, s..2s the Pᵢ; edges point to what a node needs.
+    let needs = |node: usize| -> Vec<usize> {
+        if node < s {
+            (0..s).filter(|&j| !q.a[node][j].is_zero()).map(|j| s + j).collect()
+        } else {
+            (0..s).filter(|&j| !p.a[node - s][j].is_zero()).collect()
+        }
     };
-    (lower(q, false) && lower(p, true)) || (lower(q, true) && lower(p, false))
+    // Kahn's algorithm on the reversed graph: a cycle leaves nodes unsorted.
+    let edges: Vec<Vec<usize>> = (0..2 * s).map(needs).collect();
+    let mut pending: Vec<usize> = edges.iter().map(Vec::len).collect();
+    let mut ready: Vec<usize> = (0..2 * s).filter(|&n| pending[n] == 0).collect();
+    let mut done = 0;
+    while let Some(n) = ready.pop() {
+        done += 1;
+        for (m, e) in edges.iter().enumerate() {
+            for &k in e {
+                if k == n {
+                    pending[m] -= 1;
+                    if pending[m] == 0 {
+                        ready.push(m);
+                    }
+                }
+            }
+        }
+    }
+    done == 2 * s
 }

@@ -335,7 +335,7 @@ fn first_implicit_entry(table: &Table) -> String {
             let prk = table.to_prk().expect("partitioned");
             check(&prk.q, "a", false)
                 .or_else(|| check(&prk.p, "a_hat", false))
-                .map(|e| format!("{e} (a pair is explicit on separable systems when one table is strictly lower triangular and the other lower triangular)"))
+                .map(|e| format!("{e}, and the stages depend on each other in a cycle on separable systems"))
                 .unwrap_or_default()
         }
     }

@@ -1,0 +1,67 @@
+//! The constants `butcher!` emits: verdicts, and coefficients that are the
+//! doubles nearest to the exact values.
+
+use integrator_core::butcher;
+
+butcher! {
+    /// Störmer–Verlet: the Lobatto IIIA–IIIB pair, order 2.
+    pub StormerVerlet {
+        claims: [symplectic, symmetric, order = 2],
+        a: [[0, 0], [1/2, 1/2]],        b: [1/2, 1/2],
+        a_hat: [[1/2, 0], [1/2, 0]],    b_hat: [1/2, 1/2],
+    }
+}
+
+butcher! {
+    /// Forest–Ruth / Yoshida, order 4, as a drift–kick sequence.
+    pub ForestRuth {
+        let x = 1/(2 - cbrt(2));
+        claims: [symplectic, symmetric, explicit, order = 4],
+        drift: [x/2, (1 - x)/2, (1 - x)/2, x/2],
+        kick:  [x, 1 - 2*x, x],
+    }
+}
+
+butcher! {
+    /// RK4, without a symplectic claim: a baseline.
+    Rk4 {
+        claims: [explicit, order = 4],
+        a: [[0, 0, 0, 0], [1/2, 0, 0, 0], [0, 1/2, 0, 0], [0, 0, 1, 0]],
+        b: [1/6, 1/3, 1/3, 1/6],
+    }
+}
+
+butcher! {
+    /// Lobatto IIIB with its c, which is not the row sums.
+    LobattoIIIB2 {
+        claims: [order = 2],
+        a: [[1/2, 0], [1/2, 0]],
+        b: [1/2, 1/2],
+        c: [0, 1],
+    }
+}
+
+#[test]
+fn verdicts() {
+    assert!(StormerVerlet::SYMPLECTIC && StormerVerlet::SYMMETRIC);
+    assert_eq!(StormerVerlet::ORDER, 2);
+    assert_eq!(StormerVerlet::FORM, "prk");
+    assert!(ForestRuth::SYMPLECTIC_SEPARABLE && ForestRuth::SEPARABLE_ONLY && ForestRuth::EXPLICIT);
+    assert!(!Rk4::SYMPLECTIC && !Rk4::SYMMETRIC);
+    assert_eq!(Rk4::CLASS, "explicit");
+    assert_eq!(LobattoIIIB2::C, [0.0, 1.0]);
+}
+
+#[test]
+fn coefficients_are_the_nearest_doubles() {
+    // x = 1/(2 − 2^(1/3)) = 1.35120719195965763404…: nearest double …6575.
+    assert_eq!(ForestRuth::KICK[0], 1.351_207_191_959_657_5);
+    assert_eq!(ForestRuth::DRIFT.len(), 4);
+    assert_eq!(Rk4::B, [1.0 / 6.0, 1.0 / 3.0, 1.0 / 3.0, 1.0 / 6.0]);
+}
+
+#[test]
+fn compile_fail_diagnostics() {
+    let t = trybuild::TestCases::new();
+    t.compile_fail("tests/ui/*.rs");
+}

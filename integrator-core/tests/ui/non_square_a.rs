@@ -1,0 +1,10 @@
+use integrator_core::butcher;
+
+butcher! {
+    pub Broken {
+        a: [[1/2, 0], [1/2]],
+        b: [1/2, 1/2],
+    }
+}
+
+fn main() {}

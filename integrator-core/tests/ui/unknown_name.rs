@@ -1,0 +1,11 @@
+use integrator_core::butcher;
+
+butcher! {
+    pub Unbound {
+        let x = 1/2;
+        a: [[y]],
+        b: [1],
+    }
+}
+
+fn main() {}
