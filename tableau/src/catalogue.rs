@@ -1,1 +1,202 @@
-//! (being written)
+//! The built-in catalogue of Butcher tables.
+//!
+//! Every method is written once, as a table file in `tableau/catalogue/<id>.toml`
+//! (format: [`crate::file`]), with its literature source and the literature's
+//! claims. The files are embedded here with `include_str!`, so `symlab check
+//! --builtin ID` at run time and the `butcher!` macro at compile time read the
+//! same text. `tableau/catalogue/README.md` says how the coefficients were
+//! cross-checked.
+//!
+//! ```
+//! let gauss2 = tableau::catalogue::load("gauss2").unwrap();
+//! assert_eq!(gauss2.name, "Gauss–Legendre, 2 stages");
+//! assert!(tableau::catalogue::load("gaus2").unwrap_err().to_string().contains("gauss2"));
+//! ```
+
+use crate::file::{FileError, TableFile, parse_table_file};
+
+/// One built-in table: its id (the file name without `.toml`) and the file's text.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Entry {
+    pub id: &'static str,
+    pub text: &'static str,
+}
+
+impl Entry {
+    /// Parse this entry's table file; messages name it `builtin:ID`.
+    pub fn load(&self) -> Result<TableFile, FileError> {
+        parse_table_file(&format!("builtin:{}", self.id), self.text)
+    }
+}
+
+/// The list of ids, each embedding `../catalogue/<id>.toml`. A test checks
+/// that it names exactly the files in that directory.
+macro_rules! catalogue {
+    ($($id:literal),* $(,)?) => {
+        &[$(Entry {
+            id: $id,
+            text: include_str!(concat!("../catalogue/", $id, ".toml")),
+        }),*]
+    };
+}
+
+static ENTRIES: &[Entry] = catalogue![
+    // Explicit Runge–Kutta baselines.
+    "euler",
+    "heun",
+    "rk4",
+    "rk38",
+    // Implicit Runge–Kutta: collocation and Lobatto families.
+    "implicit-euler",
+    "midpoint",
+    "gauss1",
+    "gauss2",
+    "gauss3",
+    "radau2a-2",
+    "radau2a-3",
+    "lobatto3a-2",
+    "lobatto3a-3",
+    "lobatto3b-2",
+    "lobatto3b-3",
+    "lobatto3c-2",
+    "lobatto3c-3",
+    "lobatto3cstar-2",
+    // The semi-implicit symplectic schemes of Tan et al.
+    "paper-dirk2",
+    "paper-dirk4",
+    // Partitioned pairs.
+    "symplectic-euler-a",
+    "symplectic-euler-b",
+    "stormer-verlet",
+    "lobatto3a3b-3",
+    "lobatto3c3cstar-2",
+    // Drift–kick sequences (separable Hamiltonians).
+    "leapfrog",
+    "ruth3",
+    "forest-ruth",
+    "candy-rozmus4",
+    "mclachlan-atela2",
+    "mclachlan-atela3",
+    "mclachlan-atela4",
+    "mclachlan-atela5",
+    "calvo-sanz-serna4",
+    "mclachlan4",
+    // Compositions of Störmer–Verlet.
+    "yoshida4",
+    "yoshida6",
+    "kahan-li6",
+    "kahan-li8",
+    "mclachlan8",
+    "sofroniou-spaletta10",
+];
+
+/// Every built-in table, grouped by kind (explicit RK, implicit RK, the
+/// paper's schemes, pairs, drift–kick sequences, compositions).
+pub fn entries() -> &'static [Entry] {
+    ENTRIES
+}
+
+/// The entry with this id, if there is one.
+pub fn find(id: &str) -> Option<&'static Entry> {
+    ENTRIES.iter().find(|e| e.id == id)
+}
+
+/// Parse the built-in table `id`. An unknown id is an error that lists the
+/// closest ids (or all of them when none is close).
+pub fn load(id: &str) -> Result<TableFile, FileError> {
+    match find(id) {
+        Some(entry) => entry.load(),
+        None => Err(FileError {
+            file: format!("builtin:{id}"),
+            field: None,
+            message: unknown_message(id),
+        }),
+    }
+}
+
+/// The ids closest to `id`: those within a small edit distance, or that
+/// contain it or are contained in it (so `gauss` finds `gauss1`…`gauss3`),
+/// best first, at most five.
+pub fn close_matches(id: &str) -> Vec<&'static str> {
+    let query = id.trim().to_lowercase();
+    if query.is_empty() {
+        return Vec::new();
+    }
+    let allowed = (query.chars().count() / 3).max(2);
+    let mut scored: Vec<(usize, &'static str)> = ENTRIES
+        .iter()
+        .filter_map(|e| {
+            let d = edit_distance(&query, e.id);
+            let related = e.id.contains(query.as_str()) || query.contains(e.id);
+            (d <= allowed || related).then_some((d, e.id))
+        })
+        .collect();
+    scored.sort();
+    scored.into_iter().take(5).map(|(_, id)| id).collect()
+}
+
+fn unknown_message(id: &str) -> String {
+    let close = close_matches(id);
+    if close.is_empty() {
+        let all: Vec<&str> = ENTRIES.iter().map(|e| e.id).collect();
+        format!(
+            "no built-in table `{id}`; the catalogue has {}: {}",
+            all.len(),
+            all.join(", ")
+        )
+    } else {
+        format!(
+            "no built-in table `{id}`; did you mean {}?",
+            close.join(", ")
+        )
+    }
+}
+
+/// Levenshtein distance over chars.
+fn edit_distance(a: &str, b: &str) -> usize {
+    let b: Vec<char> = b.chars().collect();
+    let mut prev: Vec<usize> = (0..=b.len()).collect();
+    for (i, ca) in a.chars().enumerate() {
+        let mut cur = Vec::with_capacity(b.len() + 1);
+        cur.push(i + 1);
+        for (j, cb) in b.iter().enumerate() {
+            let substitute = prev[j] + usize::from(ca != *cb);
+            cur.push(substitute.min(prev[j + 1] + 1).min(cur[j] + 1));
+        }
+        prev = cur;
+    }
+    prev[b.len()]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn edit_distances() {
+        assert_eq!(edit_distance("gauss2", "gauss2"), 0);
+        assert_eq!(edit_distance("gaus2", "gauss2"), 1);
+        assert_eq!(edit_distance("kitten", "sitting"), 3);
+        assert_eq!(edit_distance("", "rk4"), 3);
+    }
+
+    #[test]
+    fn close_matches_rank_the_nearest_first() {
+        assert_eq!(close_matches("gaus2").first(), Some(&"gauss2"));
+        let gauss = close_matches("gauss");
+        for id in ["gauss1", "gauss2", "gauss3"] {
+            assert!(gauss.contains(&id), "{gauss:?}");
+        }
+        assert!(close_matches("yoshida").contains(&"yoshida6"));
+        assert!(close_matches("zzzzzzzzzzzz").is_empty());
+    }
+
+    #[test]
+    fn unknown_ids_are_errors_naming_the_builtin() {
+        let e = load("rk5").unwrap_err();
+        assert_eq!(e.file, "builtin:rk5");
+        assert!(e.message.contains("rk4"), "{}", e.message);
+        let e = load("no-such-method-at-all").unwrap_err();
+        assert!(e.message.contains("the catalogue has"), "{}", e.message);
+    }
+}
