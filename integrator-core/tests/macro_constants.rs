@@ -65,3 +65,18 @@ fn compile_fail_diagnostics() {
     let t = trybuild::TestCases::new();
     t.compile_fail("tests/ui/*.rs");
 }
+
+butcher! {
+    /// The triple jump with its coefficients rounded to 17 digits: the order
+    /// conditions hold only to a residual, which the claim states.
+    RoundedTripleJump {
+        claims: [symplectic, symmetric, order = 4 (residual < 1e-15)],
+        compose: [1.3512071919596576, -1.7024143839193152, 1.3512071919596576],
+    }
+}
+
+#[test]
+fn bounded_claims_compile() {
+    assert_eq!(RoundedTripleJump::ORDER, 4);
+    assert_eq!(RoundedTripleJump::GAMMA[1], -1.702_414_383_919_315_2);
+}

@@ -311,8 +311,15 @@ fn check_order(table: &Table, a: &Analysis, p: usize, bound: Option<&Number>) ->
         Some(b) => format!("residual {} is not below {b}", f.residual),
         None => format!("residual {}", f.residual),
     };
+    // A residual this small usually means rounded decimal coefficients: say
+    // how to claim the order honestly.
+    let hint = if bound.is_none() && f.residual.to_f64().abs() < 1e-8 {
+        format!("; if the coefficients are rounded decimals, claim a bound: `order = {p} (residual < 1e-14)`")
+    } else {
+        String::new()
+    };
     Err(ClaimError(format!(
-        "order {p} claimed{scope} but the order-{} condition for {} fails: {how}",
+        "order {p} claimed{scope} but the order-{} condition for {} fails: {how}{hint}",
         f.order, f.tree
     )))
 }
