@@ -1,7 +1,7 @@
-//! Hamiltonian systems, stage solvers and the scheme library.
+//! Hamiltonian systems, schemes and the scheme library.
 //!
-//! For now: the `butcher!` macro, which declares a scheme from a Butcher
-//! table and verifies its claims exactly at compile time.
+//! Schemes are declared with [`butcher!`], which verifies every claim of a
+//! table exactly at compile time and emits step code specialised to it:
 //!
 //! ```
 //! use integrator_core::butcher;
@@ -17,7 +17,6 @@
 //! }
 //! assert!(GaussLegendre2::SYMPLECTIC);
 //! assert_eq!(GaussLegendre2::ORDER, 4);
-//! assert_eq!(GaussLegendre2::A[0][1], 0.25 - 3f64.sqrt() / 6.0);
 //! ```
 //!
 //! A false claim does not compile:
@@ -33,4 +32,17 @@
 //! }
 //! ```
 
+// The macro's expansion names paths as `::integrator_core::…`, which must
+// resolve inside this crate too (its tests and doctests declare schemes).
+extern crate self as integrator_core;
+
+mod error;
+mod integrate;
+pub mod scheme;
+mod system;
+
+pub use error::StepError;
+pub use integrate::{check_start, integrate};
 pub use integrator_macros::butcher;
+pub use scheme::{Info, Scheme, Step};
+pub use system::{Hamiltonian, OdeSystem, Separable, energy};

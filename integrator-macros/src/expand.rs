@@ -1,16 +1,19 @@
 //! Expansion: a zero-sized scheme type with the verified facts and the
 //! coefficients as correctly rounded `f64` constants.
 //!
-//! Step code (explicit tables unrolled, kick/drift sequences, calls of the
-//! stage solver) is emitted against the traits of `integrator-core`; that
-//! part lands with the scheme traits.
+//! Step code is emitted against the traits of `integrator-core` (see
+//! [`crate::step`]): explicit tables unrolled, drift–kick sequences and
+//! explicit pairs as kick/drift code for separable systems. Implicit tables
+//! are verified and carry their constants, but get no `Step` impl until the
+//! stage solver exists; stepping one is a compile error that says so.
 
 use proc_macro2::TokenStream;
 use quote::quote;
-use tableau::analysis::Form;
+use tableau::analysis::{Class, Form, class::separable_stage_order};
 use tableau::{Number, Rk, Table};
 
 use crate::ast::Input;
+use crate::step;
 use crate::valid::Verified;
 
 fn f64s(v: &[Number]) -> TokenStream {
@@ -85,10 +88,29 @@ pub fn expand(input: &Input, v: &Verified) -> TokenStream {
         Form::DriftKick => "drift-kick",
         Form::Composition => "composition",
     };
+    let (step_impl, evaluations) = step_code(name, v);
     quote! {
         #(#attrs)*
         #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
         #vis struct #name;
+
+        impl ::integrator_core::Scheme for #name {
+            const INFO: ::integrator_core::Info = ::integrator_core::Info {
+                name: #title,
+                form: #form,
+                stages: #stages,
+                order: #order,
+                symplectic: #symplectic,
+                symplectic_separable: #symplectic_separable,
+                separable_only: #separable_only,
+                symmetric: #symmetric,
+                explicit: #explicit,
+                class: #class,
+                evaluations: #evaluations,
+            };
+        }
+
+        #step_impl
 
         impl #name {
             /// The table's name.
@@ -137,5 +159,44 @@ pub fn stub(input: &Input, err: syn::Error) -> TokenStream {
         #(#attrs)*
         #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
         #vis struct #name;
+    }
+}
+
+fn f64_vec(v: &[Number]) -> Vec<f64> {
+    v.iter().map(Number::to_f64).collect()
+}
+
+fn f64_mat(a: &[Vec<Number>]) -> Vec<Vec<f64>> {
+    a.iter().map(|r| f64_vec(r)).collect()
+}
+
+/// The `Step` impl for the table's structure, and its evaluations per step.
+fn step_code(name: &syn::Ident, v: &Verified) -> (TokenStream, usize) {
+    let drift_kick = |s: &tableau::Splitting| {
+        let ops: Vec<(tableau::table::Op, f64)> = s.normal_form().into_iter().map(|(op, x)| (op, x.to_f64())).collect();
+        (step::drift_kick(name, &ops), ops.len())
+    };
+    match &v.table {
+        Table::Rk(rk) if v.analysis.class == Class::Explicit => {
+            let c = f64_vec(&rk.abscissae());
+            (step::explicit_rk(name, &f64_mat(&rk.a), &f64_vec(&rk.b), &c), rk.stages())
+        }
+        Table::Splitting(s) => drift_kick(s),
+        Table::Composition(c) => drift_kick(&c.to_splitting()),
+        Table::Prk(prk) => match separable_stage_order(&prk.q, &prk.p) {
+            Some(order) => {
+                let code = step::explicit_prk(
+                    name,
+                    &f64_mat(&prk.q.a),
+                    &f64_vec(&prk.q.b),
+                    &f64_mat(&prk.p.a),
+                    &f64_vec(&prk.p.b),
+                    &order,
+                );
+                (code, 2 * prk.q.stages())
+            }
+            None => (TokenStream::new(), 2 * prk.q.stages()),
+        },
+        Table::Rk(rk) => (TokenStream::new(), rk.stages()),
     }
 }

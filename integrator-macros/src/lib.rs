@@ -11,6 +11,7 @@
 
 mod ast;
 mod expand;
+mod step;
 mod valid;
 
 use proc_macro::TokenStream;

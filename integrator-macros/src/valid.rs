@@ -83,10 +83,17 @@ pub fn validate(input: &Input) -> Result<Verified, Error> {
 
     let table = build_table(input, &fields, &env, &mut errs);
     errs.finish()?;
-    let Some((table, name)) = table else {
+    let Some((table, name, file_claims)) = table else {
         return Err(Error::new(input.name.span(), "no table: give `a` and `b`, `drift` and `kick`, `compose`, or `from`"));
     };
 
+    // A table read `from` the catalogue brings the claims its file states,
+    // unless the invocation states its own.
+    if claims.is_empty() && !file_claims.is_empty() {
+        let span = fields.get("from").map_or(input.name.span(), |f| f.value.span());
+        claim_spans = vec![span; file_claims.len()];
+        claims = file_claims;
+    }
     let analysis = match Analysis::of(&table) {
         Ok(a) => a,
         Err(e) => {
@@ -178,7 +185,7 @@ fn build_table(
     fields: &BTreeMap<String, &Field>,
     env: &BTreeMap<String, Number>,
     errs: &mut Errors,
-) -> Option<(Table, String)> {
+) -> Option<(Table, String, Vec<Claim>)> {
     let has = |k: &str| fields.contains_key(k);
     let name = input.name.to_string();
     if let Some(f) = fields.get("from") {
@@ -191,7 +198,7 @@ fn build_table(
             return None;
         }
         return match tableau::catalogue::load(&id.value()) {
-            Ok(tf) => Some((tf.table, tf.name)),
+            Ok(tf) => Some((tf.table, tf.name, tf.claims)),
             Err(e) => {
                 errs.push(id.span(), e);
                 None
@@ -226,14 +233,14 @@ fn build_table(
             c: if has("c") { Some(vector(fields.get("c"), env, errs)?) } else { None },
         };
         if !pair {
-            return Some((Table::Rk(q), name));
+            return Some((Table::Rk(q), name, Vec::new()));
         }
         let p = Rk {
             a: matrix(fields.get("a_hat"), env, errs)?,
             b: vector(fields.get("b_hat"), env, errs)?,
             c: if has("c_hat") { Some(vector(fields.get("c_hat"), env, errs)?) } else { None },
         };
-        return Some((Table::Prk(Prk { q, p }), name));
+        return Some((Table::Prk(Prk { q, p }), name, Vec::new()));
     }
     if split {
         require("drift", errs);
@@ -242,11 +249,11 @@ fn build_table(
             drift: vector(fields.get("drift"), env, errs)?,
             kick: vector(fields.get("kick"), env, errs)?,
         };
-        return Some((Table::Splitting(s), name));
+        return Some((Table::Splitting(s), name, Vec::new()));
     }
     if comp {
         let gamma = vector(fields.get("compose"), env, errs)?;
-        return Some((Table::Composition(Composition { gamma }), name));
+        return Some((Table::Composition(Composition { gamma }), name, Vec::new()));
     }
     None
 }

@@ -56,6 +56,14 @@ pub fn classify(rk: &Rk) -> Class {
 /// dependency graph has no cycle (Störmer–Verlet as the Lobatto IIIA–IIIB
 /// pair is explicit although neither table is strictly lower triangular).
 pub fn explicit_on_separable(q: &Rk, p: &Rk) -> bool {
+    separable_stage_order(q, p).is_some()
+}
+
+/// An order in which the stages of a pair can be computed explicitly on
+/// separable systems: node `i < s` is `Qᵢ`, node `s + i` is `Pᵢ`. `None` when
+/// the dependency graph has a cycle (the pair is implicit there). Among the
+/// ready nodes the smallest comes first, so the order is deterministic.
+pub fn separable_stage_order(q: &Rk, p: &Rk) -> Option<Vec<usize>> {
     let s = q.a.len();
     // Nodes 0..s are the Qᵢ, s..2s the Pᵢ; edges point to what a node needs.
     let needs = |node: usize| -> Vec<usize> {
@@ -65,23 +73,16 @@ pub fn explicit_on_separable(q: &Rk, p: &Rk) -> bool {
             (0..s).filter(|&j| !p.a[node - s][j].is_zero()).collect()
         }
     };
-    // Kahn's algorithm on the reversed graph: a cycle leaves nodes unsorted.
     let edges: Vec<Vec<usize>> = (0..2 * s).map(needs).collect();
     let mut pending: Vec<usize> = edges.iter().map(Vec::len).collect();
-    let mut ready: Vec<usize> = (0..2 * s).filter(|&n| pending[n] == 0).collect();
-    let mut done = 0;
-    while let Some(n) = ready.pop() {
-        done += 1;
+    let mut done = vec![false; 2 * s];
+    let mut order = Vec::with_capacity(2 * s);
+    while let Some(n) = (0..2 * s).find(|&n| !done[n] && pending[n] == 0) {
+        done[n] = true;
+        order.push(n);
         for (m, e) in edges.iter().enumerate() {
-            for &k in e {
-                if k == n {
-                    pending[m] -= 1;
-                    if pending[m] == 0 {
-                        ready.push(m);
-                    }
-                }
-            }
+            pending[m] -= e.iter().filter(|&&k| k == n).count();
         }
     }
-    done == 2 * s
+    (order.len() == 2 * s).then_some(order)
 }

@@ -1,0 +1,109 @@
+//! Schemes: what `butcher!` implements for a verified table.
+//!
+//! A scheme is a zero-sized type. [`Step<S>`] is implemented for exactly the
+//! systems `S` it may be applied to: explicit Runge–Kutta tables for every
+//! [`OdeSystem`](crate::OdeSystem) (hence every Hamiltonian), drift–kick
+//! sequences, compositions and explicit pairs for [`Separable`](crate::Separable)
+//! systems only. The caller owns the workspace, so stepping never allocates.
+
+/// Facts about a scheme, proven at compile time by `butcher!`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Info {
+    pub name: &'static str,
+    /// `"rk"`, `"prk"`, `"drift-kick"` or `"composition"`.
+    pub form: &'static str,
+    pub stages: usize,
+    pub order: usize,
+    pub symplectic: bool,
+    pub symplectic_separable: bool,
+    pub separable_only: bool,
+    pub symmetric: bool,
+    pub explicit: bool,
+    pub class: &'static str,
+    /// Right-hand-side evaluations per step (force plus velocity evaluations
+    /// for separable schemes), without first-same-as-last reuse.
+    pub evaluations: usize,
+}
+
+/// Implemented by every `butcher!` type.
+pub trait Scheme: Copy + Default + 'static {
+    const INFO: Info;
+}
+
+/// One step of a scheme on a system `S`, in place: `z ← Ψ_h(z)`.
+#[diagnostic::on_unimplemented(
+    message = "the scheme `{Self}` cannot step the system `{S}`",
+    label = "`{Self}` does not implement `Step<{S}>`",
+    note = "drift–kick sequences, compositions and explicit partitioned pairs are symplectic only for separable Hamiltonians, so they step only systems that implement `Separable`",
+    note = "implicit tables are verified but cannot step yet: their stage solver is not part of this version"
+)]
+pub trait Step<S: ?Sized> {
+    /// Scratch memory for one system size, requested up front.
+    type Workspace;
+    fn workspace(&self, sys: &S) -> Self::Workspace;
+    /// `z ← Ψ_h(z)` for the step from `t` to `t + h`.
+    fn step(&self, sys: &S, t: f64, h: f64, z: &mut [f64], ws: &mut Self::Workspace);
+    /// Like [`step`](Step::step), but when `reuse` is true the first
+    /// evaluation is taken from the end of the previous step (first same as
+    /// last). Only valid when `z` is exactly what the previous call left:
+    /// [`integrate`](crate::integrate) guarantees it; callers of `step` need
+    /// not care.
+    fn step_reusing(&self, sys: &S, t: f64, h: f64, z: &mut [f64], ws: &mut Self::Workspace, reuse: bool) {
+        let _ = reuse;
+        self.step(sys, t, h, z, ws);
+    }
+}
+
+/// Stage derivatives of an explicit Runge–Kutta step.
+#[derive(Clone, Debug)]
+pub struct RkWorkspace<const S: usize> {
+    pub k: [Vec<f64>; S],
+    pub y: Vec<f64>,
+}
+
+impl<const S: usize> RkWorkspace<S> {
+    pub fn new(dim: usize) -> Self {
+        RkWorkspace {
+            k: std::array::from_fn(|_| vec![0.0; dim]),
+            y: vec![0.0; dim],
+        }
+    }
+}
+
+/// Buffers of a drift–kick step: the last velocity and force evaluations.
+#[derive(Clone, Debug)]
+pub struct SplitWorkspace {
+    pub v: Vec<f64>,
+    pub f: Vec<f64>,
+}
+
+impl SplitWorkspace {
+    pub fn new(dof: usize) -> Self {
+        SplitWorkspace {
+            v: vec![0.0; dof],
+            f: vec![0.0; dof],
+        }
+    }
+}
+
+/// Stage values and evaluations of an explicit partitioned step.
+#[derive(Clone, Debug)]
+pub struct PrkWorkspace<const S: usize> {
+    /// `f(Pᵢ) = ∂T/∂p` at the stage momenta.
+    pub fv: [Vec<f64>; S],
+    /// `g(Qᵢ) = −∂V/∂q` at the stage positions.
+    pub gf: [Vec<f64>; S],
+    pub q: Vec<f64>,
+    pub p: Vec<f64>,
+}
+
+impl<const S: usize> PrkWorkspace<S> {
+    pub fn new(dof: usize) -> Self {
+        PrkWorkspace {
+            fv: std::array::from_fn(|_| vec![0.0; dof]),
+            gf: std::array::from_fn(|_| vec![0.0; dof]),
+            q: vec![0.0; dof],
+            p: vec![0.0; dof],
+        }
+    }
+}

@@ -1,0 +1,238 @@
+//! The step code `butcher!` emits, specialised to one table: the
+//! coefficients are literals, zero coefficients are skipped, `h·aᵢⱼ` is
+//! hoisted out of the loops, every loop runs over slices cut to the system
+//! size up front so that bounds checks vanish.
+
+use proc_macro2::TokenStream;
+use quote::{format_ident, quote};
+use tableau::table::Op;
+
+/// One stage-vector update `dst[i] = base[i] + Σ (h·cⱼ)·srcⱼ[i]`, written
+/// as a loop over slices of length `n`.
+fn axpy_loop(dst: TokenStream, base: Option<TokenStream>, terms: &[(f64, TokenStream)]) -> TokenStream {
+    let hoist: Vec<TokenStream> = terms
+        .iter()
+        .enumerate()
+        .map(|(j, (c, _))| {
+            let hc = format_ident!("hc{}", j);
+            quote!(let #hc: f64 = h * #c;)
+        })
+        .collect();
+    let slices: Vec<TokenStream> = terms
+        .iter()
+        .enumerate()
+        .map(|(j, (_, src))| {
+            let s = format_ident!("s{}", j);
+            quote!(let #s: &[f64] = &#src[..n];)
+        })
+        .collect();
+    let sum = terms.iter().enumerate().map(|(j, _)| {
+        let hc = format_ident!("hc{}", j);
+        let s = format_ident!("s{}", j);
+        quote!(+ #hc * #s[i])
+    });
+    let body = match base {
+        Some(base) => quote! {
+            let base: &[f64] = &#base[..n];
+            for i in 0..n { d[i] = base[i] #(#sum)*; }
+        },
+        None => quote! {
+            for i in 0..n { d[i] = d[i] #(#sum)*; }
+        },
+    };
+    quote! {{
+        #(#hoist)*
+        #(#slices)*
+        let d: &mut [f64] = &mut #dst[..n];
+        #body
+    }}
+}
+
+/// Nonzero `(coefficient, source)` terms of a row.
+fn terms(row: &[f64], src: impl Fn(usize) -> TokenStream) -> Vec<(f64, TokenStream)> {
+    row.iter()
+        .enumerate()
+        .filter(|(_, c)| **c != 0.0)
+        .map(|(j, c)| (*c, src(j)))
+        .collect()
+}
+
+/// An explicit Runge–Kutta step for any `OdeSystem`.
+pub fn explicit_rk(name: &syn::Ident, a: &[Vec<f64>], b: &[f64], c: &[f64]) -> TokenStream {
+    let s = b.len();
+    let ks: Vec<_> = (0..s).map(|j| format_ident!("k{}", j)).collect();
+    let mut stages = Vec::new();
+    for i in 0..s {
+        let ki = &ks[i];
+        let t_i = if c[i] == 0.0 {
+            quote!(t)
+        } else {
+            let ci = c[i];
+            quote!(t + #ci * h)
+        };
+        let row = terms(&a[i][..i], |j| {
+            let kj = &ks[j];
+            quote!(#kj)
+        });
+        if row.is_empty() {
+            stages.push(quote!(sys.rhs(#t_i, z, #ki);));
+        } else {
+            let upd = axpy_loop(quote!(y), Some(quote!(z)), &row);
+            stages.push(quote! {
+                #upd
+                sys.rhs(#t_i, y, #ki);
+            });
+        }
+    }
+    let out = terms(b, |j| {
+        let kj = &ks[j];
+        quote!(#kj)
+    });
+    let update = axpy_loop(quote!(z), None, &out);
+    quote! {
+        impl<Sys: ::integrator_core::OdeSystem + ?Sized> ::integrator_core::Step<Sys> for #name {
+            type Workspace = ::integrator_core::scheme::RkWorkspace<#s>;
+            fn workspace(&self, sys: &Sys) -> Self::Workspace {
+                ::integrator_core::scheme::RkWorkspace::new(sys.dim())
+            }
+            #[inline]
+            #[allow(unused_variables, clippy::all)]
+            fn step(&self, sys: &Sys, t: f64, h: f64, z: &mut [f64], ws: &mut Self::Workspace) {
+                let n = z.len();
+                let ::integrator_core::scheme::RkWorkspace { k, y } = ws;
+                let [#(#ks),*] = k;
+                #(#stages)*
+                #update
+            }
+        }
+    }
+}
+
+/// A drift–kick sequence (normal form) for `Separable` systems. When the
+/// sequence starts and ends with the same kind of operation, the evaluation
+/// of the last one is still valid at the start of the next step and
+/// `step_reusing` skips it.
+pub fn drift_kick(name: &syn::Ident, ops: &[(Op, f64)]) -> TokenStream {
+    let fsal = ops.len() > 1 && ops.first().map(|o| o.0) == ops.last().map(|o| o.0);
+    let code = ops.iter().enumerate().map(|(k, (op, c))| {
+        let eval = match op {
+            Op::Drift => quote!(sys.velocity(p, v);),
+            Op::Kick => quote!(sys.force(q, f);),
+        };
+        let eval = if k == 0 && fsal {
+            quote!(if !reuse { #eval })
+        } else {
+            eval
+        };
+        let upd = match op {
+            Op::Drift => quote! {{ let hc: f64 = h * #c; for i in 0..n { q[i] += hc * v[i]; } }},
+            Op::Kick => quote! {{ let hc: f64 = h * #c; for i in 0..n { p[i] += hc * f[i]; } }},
+        };
+        quote!(#eval #upd)
+    });
+    let reuse_arg = if fsal { quote!(reuse) } else { quote!(_reuse) };
+    quote! {
+        impl<Sys: ::integrator_core::Separable + ?Sized> ::integrator_core::Step<Sys> for #name {
+            type Workspace = ::integrator_core::scheme::SplitWorkspace;
+            fn workspace(&self, sys: &Sys) -> Self::Workspace {
+                ::integrator_core::scheme::SplitWorkspace::new(sys.dof())
+            }
+            #[inline]
+            fn step(&self, sys: &Sys, t: f64, h: f64, z: &mut [f64], ws: &mut Self::Workspace) {
+                self.step_reusing(sys, t, h, z, ws, false)
+            }
+            #[inline]
+            #[allow(unused_variables, clippy::all)]
+            fn step_reusing(&self, sys: &Sys, t: f64, h: f64, z: &mut [f64], ws: &mut Self::Workspace, #reuse_arg: bool) {
+                let n = sys.dof();
+                let (q, p) = z.split_at_mut(n);
+                let (q, p) = (&mut q[..n], &mut p[..n]);
+                let v: &mut [f64] = &mut ws.v[..n];
+                let f: &mut [f64] = &mut ws.f[..n];
+                #(#code)*
+            }
+        }
+    }
+}
+
+/// An explicit partitioned pair for `Separable` systems, stage by stage in
+/// the order of the dependency graph (`Qᵢ` needs `f(Pⱼ)` where `aᵢⱼ ≠ 0`,
+/// `Pᵢ` needs `g(Qⱼ)` where `âᵢⱼ ≠ 0`). Stages with identical rows share one
+/// value and one evaluation.
+pub fn explicit_prk(
+    name: &syn::Ident,
+    a: &[Vec<f64>],
+    b: &[f64],
+    a_hat: &[Vec<f64>],
+    b_hat: &[f64],
+    order: &[usize],
+) -> TokenStream {
+    let s = b.len();
+    // Canonical stage for identical rows.
+    let alias = |m: &[Vec<f64>], i: usize| (0..=i).find(|&k| m[k] == m[i]).unwrap();
+    let q_alias: Vec<usize> = (0..s).map(|i| alias(a, i)).collect();
+    let p_alias: Vec<usize> = (0..s).map(|i| alias(a_hat, i)).collect();
+    // Which evaluations are used: g(Qⱼ) where some âᵢⱼ or b̂ⱼ ≠ 0; f(Pⱼ) where aᵢⱼ or bⱼ ≠ 0.
+    let g_needed: Vec<bool> = (0..s)
+        .map(|j| (0..s).any(|k| q_alias[k] == j && (b_hat[k] != 0.0 || (0..s).any(|i| a_hat[i][k] != 0.0))))
+        .collect();
+    let f_needed: Vec<bool> = (0..s)
+        .map(|j| (0..s).any(|k| p_alias[k] == j && (b[k] != 0.0 || (0..s).any(|i| a[i][k] != 0.0))))
+        .collect();
+    // Merge coefficients of aliased stages.
+    let merged = |row: &[f64], al: &[usize]| {
+        let mut out = vec![0.0; s];
+        for (k, c) in row.iter().enumerate() {
+            out[al[k]] += c;
+        }
+        out
+    };
+    let mut code = Vec::new();
+    for &node in order {
+        if node < s {
+            let i = node;
+            if q_alias[i] != i || !g_needed[i] {
+                continue;
+            }
+            let row = terms(&merged(&a[i], &p_alias), |j| quote!(fv[#j]));
+            if row.is_empty() {
+                code.push(quote!(sys.force(q, &mut gf[#i][..n]);));
+            } else {
+                let upd = axpy_loop(quote!(qs), Some(quote!(q)), &row);
+                code.push(quote! { #upd sys.force(&qs[..n], &mut gf[#i][..n]); });
+            }
+        } else {
+            let i = node - s;
+            if p_alias[i] != i || !f_needed[i] {
+                continue;
+            }
+            let row = terms(&merged(&a_hat[i], &q_alias), |j| quote!(gf[#j]));
+            if row.is_empty() {
+                code.push(quote!(sys.velocity(p, &mut fv[#i][..n]);));
+            } else {
+                let upd = axpy_loop(quote!(ps), Some(quote!(p)), &row);
+                code.push(quote! { #upd sys.velocity(&ps[..n], &mut fv[#i][..n]); });
+            }
+        }
+    }
+    let q_out = axpy_loop(quote!(q), None, &terms(&merged(b, &p_alias), |j| quote!(fv[#j])));
+    let p_out = axpy_loop(quote!(p), None, &terms(&merged(b_hat, &q_alias), |j| quote!(gf[#j])));
+    quote! {
+        impl<Sys: ::integrator_core::Separable + ?Sized> ::integrator_core::Step<Sys> for #name {
+            type Workspace = ::integrator_core::scheme::PrkWorkspace<#s>;
+            fn workspace(&self, sys: &Sys) -> Self::Workspace {
+                ::integrator_core::scheme::PrkWorkspace::new(sys.dof())
+            }
+            #[inline]
+            #[allow(unused_variables, unused_mut, clippy::all)]
+            fn step(&self, sys: &Sys, t: f64, h: f64, z: &mut [f64], ws: &mut Self::Workspace) {
+                let n = sys.dof();
+                let (q, p) = z.split_at_mut(n);
+                let ::integrator_core::scheme::PrkWorkspace { fv, gf, q: qs, p: ps } = ws;
+                #(#code)*
+                #q_out
+                #p_out
+            }
+        }
+    }
+}
