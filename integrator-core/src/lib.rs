@@ -38,6 +38,7 @@ extern crate self as integrator_core;
 
 mod error;
 mod integrate;
+pub mod library;
 pub mod scheme;
 mod system;
 

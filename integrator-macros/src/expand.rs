@@ -89,8 +89,11 @@ pub fn expand(input: &Input, v: &Verified) -> TokenStream {
         Form::Composition => "composition",
     };
     let (step_impl, evaluations) = step_code(name, v);
+    let summary = summary(v);
     quote! {
         #(#attrs)*
+        #[doc = ""]
+        #[doc = #summary]
         #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
         #vis struct #name;
 
@@ -199,4 +202,20 @@ fn step_code(name: &syn::Ident, v: &Verified) -> (TokenStream, usize) {
         },
         Table::Rk(rk) => (TokenStream::new(), rk.stages()),
     }
+}
+
+/// A doc line stating what was proven, and the source where known.
+fn summary(v: &Verified) -> String {
+    let mut facts: Vec<String> = v.claims.iter().map(|c| format!("`{c}`")).collect();
+    if facts.is_empty() {
+        facts.push("no claims".into());
+    }
+    let mut s = format!("*{}* — verified exactly at compile time: {}.", v.name, facts.join(", "));
+    if v.analysis.separable_only() {
+        s.push_str(" Steps separable Hamiltonians only.");
+    }
+    if let Some(src) = &v.source {
+        s.push_str(&format!(" Source: {src}."));
+    }
+    s
 }

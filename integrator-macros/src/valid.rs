@@ -19,6 +19,8 @@ pub struct Verified {
     pub analysis: Analysis,
     pub claims: Vec<Claim>,
     pub name: String,
+    /// The literature source, for tables read `from` the catalogue.
+    pub source: Option<String>,
 }
 
 /// Collects errors so that every mistake in one invocation is reported.
@@ -83,7 +85,7 @@ pub fn validate(input: &Input) -> Result<Verified, Error> {
 
     let table = build_table(input, &fields, &env, &mut errs);
     errs.finish()?;
-    let Some((table, name, file_claims)) = table else {
+    let Some((table, name, file_claims, source)) = table else {
         return Err(Error::new(input.name.span(), "no table: give `a` and `b`, `drift` and `kick`, `compose`, or `from`"));
     };
 
@@ -113,6 +115,7 @@ pub fn validate(input: &Input) -> Result<Verified, Error> {
         analysis,
         claims,
         name,
+        source,
     })
 }
 
@@ -185,7 +188,7 @@ fn build_table(
     fields: &BTreeMap<String, &Field>,
     env: &BTreeMap<String, Number>,
     errs: &mut Errors,
-) -> Option<(Table, String, Vec<Claim>)> {
+) -> Option<(Table, String, Vec<Claim>, Option<String>)> {
     let has = |k: &str| fields.contains_key(k);
     let name = input.name.to_string();
     if let Some(f) = fields.get("from") {
@@ -198,7 +201,7 @@ fn build_table(
             return None;
         }
         return match tableau::catalogue::load(&id.value()) {
-            Ok(tf) => Some((tf.table, tf.name, tf.claims)),
+            Ok(tf) => Some((tf.table, tf.name, tf.claims, tf.source)),
             Err(e) => {
                 errs.push(id.span(), e);
                 None
@@ -233,14 +236,14 @@ fn build_table(
             c: if has("c") { Some(vector(fields.get("c"), env, errs)?) } else { None },
         };
         if !pair {
-            return Some((Table::Rk(q), name, Vec::new()));
+            return Some((Table::Rk(q), name, Vec::new(), None));
         }
         let p = Rk {
             a: matrix(fields.get("a_hat"), env, errs)?,
             b: vector(fields.get("b_hat"), env, errs)?,
             c: if has("c_hat") { Some(vector(fields.get("c_hat"), env, errs)?) } else { None },
         };
-        return Some((Table::Prk(Prk { q, p }), name, Vec::new()));
+        return Some((Table::Prk(Prk { q, p }), name, Vec::new(), None));
     }
     if split {
         require("drift", errs);
@@ -249,11 +252,11 @@ fn build_table(
             drift: vector(fields.get("drift"), env, errs)?,
             kick: vector(fields.get("kick"), env, errs)?,
         };
-        return Some((Table::Splitting(s), name, Vec::new()));
+        return Some((Table::Splitting(s), name, Vec::new(), None));
     }
     if comp {
         let gamma = vector(fields.get("compose"), env, errs)?;
-        return Some((Table::Composition(Composition { gamma }), name, Vec::new()));
+        return Some((Table::Composition(Composition { gamma }), name, Vec::new(), None));
     }
     None
 }
