@@ -58,17 +58,36 @@ pub fn list(args: &ListArgs) -> Result<ExitCode> {
         let v: Vec<Value> = rows
             .iter()
             .map(|(id, tf)| {
-                json!({"id": id, "name": tf.name, "form": form_name(&tf.table), "source": tf.source})
+                json!({
+                    "id": id,
+                    "name": tf.name,
+                    "form": form_name(&tf.table),
+                    "steps": steps(id),
+                    "source": tf.source,
+                })
             })
             .collect();
         println!("{}", serde_json::to_string_pretty(&v)?);
     } else {
         let w = rows.iter().map(|(id, _)| id.len()).max().unwrap_or(0);
+        println!("{:w$}  {:<12} {:<12} name", "id", "form", "steps");
         for (id, tf) in &rows {
-            println!("{id:w$}  {:<12} {}", form_name(&tf.table), tf.name);
+            println!("{id:w$}  {:<12} {:<12} {}", form_name(&tf.table), steps(id), tf.name);
         }
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// What the library scheme of this id can step: `any ODE` (explicit
+/// Runge–Kutta), `separable H` (drift–kick, compositions, explicit pairs), or
+/// `not yet` (implicit tables: verified, stage solver pending).
+fn steps(id: &str) -> &'static str {
+    match integrator_core::library::info(id) {
+        Some(i) if i.explicit && i.form == "rk" => "any ODE",
+        Some(i) if i.explicit => "separable H",
+        Some(_) => "not yet",
+        None => "-",
+    }
 }
 
 fn form_name(t: &tableau::Table) -> &'static str {
