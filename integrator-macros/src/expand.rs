@@ -115,6 +115,9 @@ pub fn expand(input: &Input, v: &Verified) -> TokenStream {
 
         #step_impl
 
+        // The constants are the doubles nearest to exact values; a few
+        // (e.g. sqrt(2)/2) coincide with std's constants, which clippy flags.
+        #[allow(clippy::approx_constant, clippy::excessive_precision)]
         impl #name {
             /// The table's name.
             pub const NAME: &'static str = #title;

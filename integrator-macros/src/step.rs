@@ -96,7 +96,7 @@ pub fn explicit_rk(name: &syn::Ident, a: &[Vec<f64>], b: &[f64], c: &[f64]) -> T
                 ::integrator_core::scheme::RkWorkspace::new(sys.dim())
             }
             #[inline]
-            #[allow(unused_variables, clippy::all)]
+            #[allow(unused_variables, clippy::all, clippy::approx_constant, clippy::excessive_precision)]
             fn step(&self, sys: &Sys, t: f64, h: f64, z: &mut [f64], ws: &mut Self::Workspace) {
                 let n = z.len();
                 let ::integrator_core::scheme::RkWorkspace { k, y } = ws;
@@ -142,7 +142,7 @@ pub fn drift_kick(name: &syn::Ident, ops: &[(Op, f64)]) -> TokenStream {
                 self.step_reusing(sys, t, h, z, ws, false)
             }
             #[inline]
-            #[allow(unused_variables, clippy::all)]
+            #[allow(unused_variables, clippy::all, clippy::approx_constant, clippy::excessive_precision)]
             fn step_reusing(&self, sys: &Sys, t: f64, h: f64, z: &mut [f64], ws: &mut Self::Workspace, #reuse_arg: bool) {
                 let n = sys.dof();
                 let (q, p) = z.split_at_mut(n);
@@ -224,7 +224,7 @@ pub fn explicit_prk(
                 ::integrator_core::scheme::PrkWorkspace::new(sys.dof())
             }
             #[inline]
-            #[allow(unused_variables, unused_mut, clippy::all)]
+            #[allow(unused_variables, unused_mut, clippy::all, clippy::approx_constant, clippy::excessive_precision)]
             fn step(&self, sys: &Sys, t: f64, h: f64, z: &mut [f64], ws: &mut Self::Workspace) {
                 let n = sys.dof();
                 let (q, p) = z.split_at_mut(n);

@@ -238,13 +238,11 @@ impl Rk {
                 format!("b has {} entries, but A has {s} stages", self.b.len()),
             ));
         }
-        if let Some(c) = &self.c {
-            if c.len() != s {
-                return Err(shape_err(
-                    format!("c{suffix}"),
-                    format!("c has {} entries, but A has {s} stages", c.len()),
-                ));
-            }
+        if let Some(c) = self.c.as_ref().filter(|c| c.len() != s) {
+            return Err(shape_err(
+                format!("c{suffix}"),
+                format!("c has {} entries, but A has {s} stages", c.len()),
+            ));
         }
         Ok(())
     }

@@ -38,9 +38,9 @@ fn dj_reduce(tables: &[Rk]) -> (Vec<Rk>, bool) {
             if !needed[i] {
                 continue;
             }
-            for j in 0..s {
-                if !needed[j] && tables.iter().any(|t| !t.a[i][j].is_zero()) {
-                    needed[j] = true;
+            for (j, need) in needed.iter_mut().enumerate() {
+                if !*need && tables.iter().any(|t| !t.a[i][j].is_zero()) {
+                    *need = true;
                     grew = true;
                 }
             }

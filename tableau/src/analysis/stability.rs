@@ -194,9 +194,9 @@ fn det(mut m: Vec<Vec<Number>>) -> Number {
                 continue;
             }
             let f = &m[r][col] * &inv;
-            for c in col..n {
-                let v = &f * &m[col][c];
-                m[r][c] -= &v;
+            let (top, bottom) = m.split_at_mut(r);
+            for (x, y) in bottom[0][col..n].iter_mut().zip(&top[col][col..n]) {
+                *x -= &(&f * y);
             }
         }
     }
