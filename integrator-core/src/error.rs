@@ -11,4 +11,26 @@ pub enum StepError {
     NonFiniteInitial { index: usize, value: f64 },
     #[error("the solution diverged at step {step} (t = {t}): z[{index}] = {value}")]
     Diverged { step: usize, t: f64, index: usize, value: f64 },
+    #[error("step {step} (from t = {t}) failed: {source}")]
+    Solve {
+        step: usize,
+        t: f64,
+        #[source]
+        source: SolveError,
+    },
+}
+
+/// Why one step could not be taken: an implicit stage solve that did not
+/// converge or met a singular matrix. Returned by [`Step::step`](crate::Step::step);
+/// [`integrate`](crate::integrate) adds the step number.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum SolveError {
+    #[error("the stage equations did not converge in {iterations} iterations (last correction {correction:e})")]
+    NotConverged { iterations: usize, correction: f64 },
+    #[error("the stage iteration diverged (correction {correction:e} after {iterations} iterations)")]
+    Diverged { iterations: usize, correction: f64 },
+    #[error("the stage matrix I − h·A⊗J is singular")]
+    Singular,
+    #[error("the system has no Jacobian; Newton's method needs one (use fixed-point iteration or implement `jacobian`)")]
+    NoJacobian,
 }

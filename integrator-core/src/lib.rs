@@ -42,7 +42,7 @@ pub mod library;
 pub mod scheme;
 mod system;
 
-pub use error::StepError;
+pub use error::{SolveError, StepError};
 pub use integrate::{check_start, integrate};
 pub use integrator_macros::butcher;
 pub use scheme::{Info, Scheme, Step};

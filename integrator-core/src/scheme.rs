@@ -6,6 +6,8 @@
 //! sequences, compositions and explicit pairs for [`Separable`](crate::Separable)
 //! systems only. The caller owns the workspace, so stepping never allocates.
 
+use crate::error::SolveError;
+
 /// Facts about a scheme, proven at compile time by `butcher!`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Info {
@@ -41,16 +43,26 @@ pub trait Step<S: ?Sized> {
     /// Scratch memory for one system size, requested up front.
     type Workspace;
     fn workspace(&self, sys: &S) -> Self::Workspace;
-    /// `z ← Ψ_h(z)` for the step from `t` to `t + h`.
-    fn step(&self, sys: &S, t: f64, h: f64, z: &mut [f64], ws: &mut Self::Workspace);
+    /// `z ← Ψ_h(z)` for the step from `t` to `t + h`. Explicit schemes never
+    /// fail; implicit ones return the reason their stage solve failed, and
+    /// leave `z` unchanged then.
+    fn step(&self, sys: &S, t: f64, h: f64, z: &mut [f64], ws: &mut Self::Workspace) -> Result<(), SolveError>;
     /// Like [`step`](Step::step), but when `reuse` is true the first
     /// evaluation is taken from the end of the previous step (first same as
     /// last). Only valid when `z` is exactly what the previous call left:
     /// [`integrate`](crate::integrate) guarantees it; callers of `step` need
     /// not care.
-    fn step_reusing(&self, sys: &S, t: f64, h: f64, z: &mut [f64], ws: &mut Self::Workspace, reuse: bool) {
+    fn step_reusing(
+        &self,
+        sys: &S,
+        t: f64,
+        h: f64,
+        z: &mut [f64],
+        ws: &mut Self::Workspace,
+        reuse: bool,
+    ) -> Result<(), SolveError> {
         let _ = reuse;
-        self.step(sys, t, h, z, ws);
+        self.step(sys, t, h, z, ws)
     }
 }
 

@@ -97,12 +97,13 @@ pub fn explicit_rk(name: &syn::Ident, a: &[Vec<f64>], b: &[f64], c: &[f64]) -> T
             }
             #[inline]
             #[allow(unused_variables, clippy::all, clippy::approx_constant, clippy::excessive_precision)]
-            fn step(&self, sys: &Sys, t: f64, h: f64, z: &mut [f64], ws: &mut Self::Workspace) {
+            fn step(&self, sys: &Sys, t: f64, h: f64, z: &mut [f64], ws: &mut Self::Workspace) -> ::core::result::Result<(), ::integrator_core::SolveError> {
                 let n = z.len();
                 let ::integrator_core::scheme::RkWorkspace { k, y } = ws;
                 let [#(#ks),*] = k;
                 #(#stages)*
                 #update
+                Ok(())
             }
         }
     }
@@ -138,18 +139,19 @@ pub fn drift_kick(name: &syn::Ident, ops: &[(Op, f64)]) -> TokenStream {
                 ::integrator_core::scheme::SplitWorkspace::new(sys.dof())
             }
             #[inline]
-            fn step(&self, sys: &Sys, t: f64, h: f64, z: &mut [f64], ws: &mut Self::Workspace) {
+            fn step(&self, sys: &Sys, t: f64, h: f64, z: &mut [f64], ws: &mut Self::Workspace) -> ::core::result::Result<(), ::integrator_core::SolveError> {
                 self.step_reusing(sys, t, h, z, ws, false)
             }
             #[inline]
             #[allow(unused_variables, clippy::all, clippy::approx_constant, clippy::excessive_precision)]
-            fn step_reusing(&self, sys: &Sys, t: f64, h: f64, z: &mut [f64], ws: &mut Self::Workspace, #reuse_arg: bool) {
+            fn step_reusing(&self, sys: &Sys, t: f64, h: f64, z: &mut [f64], ws: &mut Self::Workspace, #reuse_arg: bool) -> ::core::result::Result<(), ::integrator_core::SolveError> {
                 let n = sys.dof();
                 let (q, p) = z.split_at_mut(n);
                 let (q, p) = (&mut q[..n], &mut p[..n]);
                 let v: &mut [f64] = &mut ws.v[..n];
                 let f: &mut [f64] = &mut ws.f[..n];
                 #(#code)*
+                Ok(())
             }
         }
     }
@@ -225,13 +227,14 @@ pub fn explicit_prk(
             }
             #[inline]
             #[allow(unused_variables, unused_mut, clippy::all, clippy::approx_constant, clippy::excessive_precision)]
-            fn step(&self, sys: &Sys, t: f64, h: f64, z: &mut [f64], ws: &mut Self::Workspace) {
+            fn step(&self, sys: &Sys, t: f64, h: f64, z: &mut [f64], ws: &mut Self::Workspace) -> ::core::result::Result<(), ::integrator_core::SolveError> {
                 let n = sys.dof();
                 let (q, p) = z.split_at_mut(n);
                 let ::integrator_core::scheme::PrkWorkspace { fv, gf, q: qs, p: ps } = ws;
                 #(#code)*
                 #q_out
                 #p_out
+                Ok(())
             }
         }
     }
