@@ -123,8 +123,12 @@ fn order_text(r: &OrderReport) -> String {
     match &r.first_failure {
         None => format!("≥ {} (every condition up to the checker's limit, {}, holds)", r.order, r.limit),
         Some(f) => format!(
-            "{}   (first failing: order-{} condition for {}, residual {})",
-            r.order, f.order, f.tree, f.residual
+            "{}   (first failing: order-{} condition for {} {}, residual {})",
+            r.order,
+            f.order,
+            f.kind.noun(),
+            f.tree,
+            f.residual
         ),
     }
 }

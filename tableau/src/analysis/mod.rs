@@ -319,8 +319,10 @@ fn check_order(table: &Table, a: &Analysis, p: usize, bound: Option<&Number>) ->
         String::new()
     };
     Err(ClaimError(format!(
-        "order {p} claimed{scope} but the order-{} condition for {} fails: {how}{hint}",
-        f.order, f.tree
+        "order {p} claimed{scope} but the order-{} condition for {} {} fails: {how}{hint}",
+        f.order,
+        f.kind.noun(),
+        f.tree
     )))
 }
 
