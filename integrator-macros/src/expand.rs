@@ -63,7 +63,11 @@ pub fn expand(input: &Input, v: &Verified) -> TokenStream {
     let separable_only = a.separable_only();
     let title = &v.name;
     let coefficients = match &v.table {
-        Table::Rk(rk) => rk_consts(rk, ""),
+        Table::Rk(rk) => {
+            let consts = rk_consts(rk, "");
+            let stab = stability_consts(v);
+            quote!(#consts #stab)
+        }
         Table::Prk(prk) => {
             let q = rk_consts(&prk.q, "");
             let p = rk_consts(&prk.p, "_HAT");
@@ -221,4 +225,24 @@ fn summary(v: &Verified) -> String {
         s.push_str(&format!(" Source: {src}."));
     }
     s
+}
+
+/// `R(z) = P(z)/Q(z)`, coefficients from the constant term up, each the
+/// nearest double to the exact coefficient: what the linear model needs to
+/// form the one-step propagator `R(hH)`.
+fn stability_consts(v: &Verified) -> TokenStream {
+    let Some(r) = &v.analysis.stability else {
+        return TokenStream::new();
+    };
+    let (p, q) = (f64s(&r.numerator.0), f64s(&r.denominator.0));
+    let (np, nq) = (r.numerator.0.len(), r.denominator.0.len());
+    let text = r.to_text();
+    quote! {
+        /// Numerator `P` of the stability function `R(z) = P(z)/Q(z)`, constant term first.
+        pub const STABILITY_P: [f64; #np] = #p;
+        /// Denominator `Q` of the stability function, constant term first (`Q(0) = 1`).
+        pub const STABILITY_Q: [f64; #nq] = #q;
+        /// The stability function, exactly.
+        pub const STABILITY: &'static str = #text;
+    }
 }
