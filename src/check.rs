@@ -189,9 +189,14 @@ pub fn readable(origin: &str, tf: &TableFile, a: &Analysis) -> String {
         Some(o) if a.form == Form::Rk => {
             let _ = writeln!(s, "  order        {}", order_text(o));
         }
-        Some(o) => {
+        Some(o) if a.form == Form::Prk => {
             let _ = writeln!(s, "  order        {}  (general partitioned systems)", order_text(o));
             let _ = writeln!(s, "  separable    {}", order_text(&a.order_separable));
+        }
+        Some(o) => {
+            let what = if a.form == Form::Composition { ", composition conditions" } else { "" };
+            let _ = writeln!(s, "  order        {}  (separable systems{what})", order_text(&a.order_separable));
+            let _ = writeln!(s, "  general      {}  (as a pair on general partitioned systems)", order_text(o));
         }
         None => {
             let what = if a.form == Form::Composition { " (composition conditions)" } else { "" };

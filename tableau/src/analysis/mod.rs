@@ -66,8 +66,11 @@ pub struct Analysis {
     pub reducible: bool,
     /// Explicit (stage by stage, no solves) on separable systems.
     pub explicit_separable: bool,
-    /// Order on general (partitioned) systems. `None` for drift–kick
-    /// sequences and compositions, which apply to separable systems only.
+    /// Order on general systems (for a drift–kick sequence or a composition:
+    /// of its equivalent partitioned pair on general partitioned systems,
+    /// which is informative only — such schemes step separable systems).
+    /// `None` never occurs for the four forms; kept optional for callers
+    /// that analyse part of a table.
     pub order: Option<OrderReport>,
     /// Order on separable systems (RK: same as `order`).
     pub order_separable: OrderReport,
@@ -148,7 +151,6 @@ impl Analysis {
         let symmetric = symmetric_override.unwrap_or_else(|| {
             symmetry::equal_up_to_permutation(&irreducible, &[symmetry::adjoint(rq), symmetry::adjoint(rp)])
         });
-        let general = form == Form::Prk;
         let mut mismatch = row_sum_mismatch(&prk.q, "c");
         mismatch.extend(row_sum_mismatch(&prk.p, "c_hat"));
         Analysis {
@@ -161,7 +163,7 @@ impl Analysis {
             w_nonzero: symplectic::nonzero_entries(&w),
             reducible,
             explicit_separable: class::explicit_on_separable(&prk.q, &prk.p),
-            order: general.then(|| order::prk_order(prk, PRK_ORDER_LIMIT, None)),
+            order: Some(order::prk_order(prk, PRK_ORDER_LIMIT, None)),
             order_separable: order::prk_order_separable(prk, SEPARABLE_ORDER_LIMIT, None),
             symmetric,
             stability: None,
