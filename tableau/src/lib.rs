@@ -13,6 +13,7 @@ pub mod expr;
 pub mod file;
 pub mod number;
 pub mod order;
+pub mod rounding;
 pub mod table;
 pub mod trees;
 
