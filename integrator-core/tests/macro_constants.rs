@@ -57,7 +57,14 @@ fn coefficients_are_the_nearest_doubles() {
     // x = 1/(2 − 2^(1/3)) = 1.35120719195965763404…: nearest double …6575.
     assert_eq!(ForestRuth::KICK[0], 1.351_207_191_959_657_5);
     assert_eq!(ForestRuth::DRIFT.len(), 4);
-    assert_eq!(Rk4::B, [1.0 / 6.0, 1.0 / 3.0, 1.0 / 3.0, 1.0 / 6.0]);
+    // RK4's correctly rounded weights sum to 1 − 2⁻⁵³… in floating point; the
+    // emitted ones sum to exactly 1.0, each still within one ulp of 1/6, 1/3.
+    let nearest = [1.0 / 6.0, 1.0 / 3.0, 1.0 / 3.0, 1.0 / 6.0];
+    assert_ne!(nearest.iter().sum::<f64>(), 1.0);
+    assert_eq!(Rk4::B.iter().sum::<f64>(), 1.0);
+    for (e, n) in Rk4::B.iter().zip(nearest) {
+        assert!((e - n).abs() <= f64::EPSILON * n, "{e} vs {n}");
+    }
 }
 
 #[test]

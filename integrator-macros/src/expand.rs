@@ -1,5 +1,8 @@
 //! Expansion: a zero-sized scheme type with the verified facts and the
-//! coefficients as correctly rounded `f64` constants.
+//! coefficients as `f64` constants chosen by [`tableau::rounding`]: each
+//! within one ulp of its exact value, weights summing to 1.0 in floating
+//! point, and for symplectic tables the symplecticity defect as small as
+//! rounding allows.
 //!
 //! Step code is emitted against the traits of `integrator-core` (see
 //! [`crate::step`]): explicit tables unrolled, drift–kick sequences and
@@ -10,35 +13,35 @@
 use proc_macro2::TokenStream;
 use quote::quote;
 use tableau::analysis::{Class, Form, class::separable_stage_order};
-use tableau::{Number, Rk, Table};
+use tableau::rounding::{F64Rounded, F64Splitting, F64Table, round_table, round_weights};
+use tableau::table::Op;
+use tableau::{Number, Splitting, Table};
 
 use crate::ast::Input;
 use crate::step;
 use crate::valid::Verified;
 
-fn f64s(v: &[Number]) -> TokenStream {
-    let xs = v.iter().map(|x| {
-        let f = x.to_f64();
-        quote!(#f)
-    });
-    quote!([#(#xs),*])
+fn lit(v: &[f64]) -> TokenStream {
+    quote!([#(#v),*])
 }
 
-fn mat(a: &[Vec<Number>]) -> TokenStream {
-    let rows = a.iter().map(|r| f64s(r));
+fn lit_mat(a: &[Vec<f64>]) -> TokenStream {
+    let rows = a.iter().map(|r| lit(r));
     quote!([#(#rows),*])
 }
 
-fn rk_consts(rk: &Rk, suffix: &str) -> TokenStream {
-    let s = rk.stages();
+fn rk_consts(t: &F64Table, suffix: &str) -> TokenStream {
+    let s = t.b.len();
     let a_name = quote::format_ident!("A{}", suffix);
     let b_name = quote::format_ident!("B{}", suffix);
     let c_name = quote::format_ident!("C{}", suffix);
-    let (a, b, c) = (mat(&rk.a), f64s(&rk.b), f64s(&rk.abscissae()));
+    let (a, b, c) = (lit_mat(&t.a), lit(&t.b), lit(&t.c));
     quote! {
-        /// The coefficient matrix, each entry the `f64` nearest to the exact value.
+        /// The coefficient matrix: each entry within one ulp of the exact value,
+        /// chosen to keep the symplecticity defect as small as rounding allows.
         pub const #a_name: [[f64; #s]; #s] = #a;
-        /// The weights, correctly rounded.
+        /// The weights, within one ulp of the exact values and summing to 1.0
+        /// in floating point (left to right) where that is possible.
         pub const #b_name: [f64; #s] = #b;
         /// The abscissae (the given `c`, else the row sums), correctly rounded.
         pub const #c_name: [f64; #s] = #c;
@@ -62,25 +65,25 @@ pub fn expand(input: &Input, v: &Verified) -> TokenStream {
     let class = a.class.name();
     let separable_only = a.separable_only();
     let title = &v.name;
-    let coefficients = match &v.table {
-        Table::Rk(rk) => {
-            let consts = rk_consts(rk, "");
+    let rounded = round_table(&v.table, a);
+    let coefficients = match &rounded {
+        F64Rounded::Rk(t) => {
+            let consts = rk_consts(t, "");
             let stab = stability_consts(v);
             quote!(#consts #stab)
         }
-        Table::Prk(prk) => {
-            let q = rk_consts(&prk.q, "");
-            let p = rk_consts(&prk.p, "_HAT");
+        F64Rounded::Prk(pair) => {
+            let q = rk_consts(&pair.q, "");
+            let p = rk_consts(&pair.p, "_HAT");
             quote!(#q #p)
         }
-        Table::Splitting(s) => split_consts(&s.drift, &s.kick),
-        Table::Composition(c) => {
-            let s = c.to_splitting();
-            let g = f64s(&c.gamma);
+        F64Rounded::Splitting(s) => split_consts(s),
+        F64Rounded::Composition(c) => {
+            let g = lit(&c.gamma);
             let m = c.gamma.len();
-            let sc = split_consts(&s.drift, &s.kick);
+            let sc = split_consts(&c.splitting);
             quote! {
-                /// The composition coefficients γ, correctly rounded.
+                /// The composition coefficients γ (within one ulp, summing to 1.0).
                 pub const GAMMA: [f64; #m] = #g;
                 #sc
             }
@@ -92,7 +95,7 @@ pub fn expand(input: &Input, v: &Verified) -> TokenStream {
         Form::DriftKick => "drift-kick",
         Form::Composition => "composition",
     };
-    let (step_impl, evaluations) = step_code(name, v);
+    let (step_impl, evaluations) = step_code(name, v, &rounded);
     let summary = summary(v);
     quote! {
         #(#attrs)*
@@ -148,13 +151,13 @@ pub fn expand(input: &Input, v: &Verified) -> TokenStream {
     }
 }
 
-fn split_consts(drift: &[Number], kick: &[Number]) -> TokenStream {
-    let (nd, nk) = (drift.len(), kick.len());
-    let (d, k) = (f64s(drift), f64s(kick));
+fn split_consts(s: &F64Splitting) -> TokenStream {
+    let (nd, nk) = (s.drift.len(), s.kick.len());
+    let (d, k) = (lit(&s.drift), lit(&s.kick));
     quote! {
-        /// Drift coefficients, correctly rounded.
+        /// Drift coefficients (within one ulp, summing to 1.0).
         pub const DRIFT: [f64; #nd] = #d;
-        /// Kick coefficients, correctly rounded.
+        /// Kick coefficients (within one ulp, summing to 1.0).
         pub const KICK: [f64; #nk] = #k;
     }
 }
@@ -172,42 +175,42 @@ pub fn stub(input: &Input, err: syn::Error) -> TokenStream {
     }
 }
 
-fn f64_vec(v: &[Number]) -> Vec<f64> {
-    v.iter().map(Number::to_f64).collect()
-}
-
-fn f64_mat(a: &[Vec<Number>]) -> Vec<Vec<f64>> {
-    a.iter().map(|r| f64_vec(r)).collect()
-}
-
 /// The `Step` impl for the table's structure, and its evaluations per step.
-fn step_code(name: &syn::Ident, v: &Verified) -> (TokenStream, usize) {
-    let drift_kick = |s: &tableau::Splitting| {
-        let ops: Vec<(tableau::table::Op, f64)> = s.normal_form().into_iter().map(|(op, x)| (op, x.to_f64())).collect();
+fn step_code(name: &syn::Ident, v: &Verified, rounded: &F64Rounded) -> (TokenStream, usize) {
+    let symmetric = v.analysis.symmetric;
+    let drift_kick = |s: &Splitting| {
+        // The normal form (zeros dropped, neighbours merged), its drift and
+        // kick values rounded as weight vectors in their own right.
+        let nf = s.normal_form();
+        let values = |op: Op| -> Vec<Number> { nf.iter().filter(|o| o.0 == op).map(|o| o.1.clone()).collect() };
+        let mut drift = round_weights(&values(Op::Drift), symmetric).into_iter();
+        let mut kick = round_weights(&values(Op::Kick), symmetric).into_iter();
+        let ops: Vec<(Op, f64)> = nf
+            .iter()
+            .map(|(op, _)| {
+                let x = match op {
+                    Op::Drift => drift.next(),
+                    Op::Kick => kick.next(),
+                };
+                (*op, x.expect("one value per operation"))
+            })
+            .collect();
         (step::drift_kick(name, &ops), ops.len())
     };
-    match &v.table {
-        Table::Rk(rk) if v.analysis.class == Class::Explicit => {
-            let c = f64_vec(&rk.abscissae());
-            (step::explicit_rk(name, &f64_mat(&rk.a), &f64_vec(&rk.b), &c), rk.stages())
+    match (&v.table, rounded) {
+        (Table::Rk(_), F64Rounded::Rk(t)) if v.analysis.class == Class::Explicit => {
+            (step::explicit_rk(name, &t.a, &t.b, &t.c), t.b.len())
         }
-        Table::Splitting(s) => drift_kick(s),
-        Table::Composition(c) => drift_kick(&c.to_splitting()),
-        Table::Prk(prk) => match separable_stage_order(&prk.q, &prk.p) {
+        (Table::Splitting(s), _) => drift_kick(s),
+        (Table::Composition(c), _) => drift_kick(&c.to_splitting()),
+        (Table::Prk(prk), F64Rounded::Prk(pair)) => match separable_stage_order(&prk.q, &prk.p) {
             Some(order) => {
-                let code = step::explicit_prk(
-                    name,
-                    &f64_mat(&prk.q.a),
-                    &f64_vec(&prk.q.b),
-                    &f64_mat(&prk.p.a),
-                    &f64_vec(&prk.p.b),
-                    &order,
-                );
+                let code = step::explicit_prk(name, &pair.q.a, &pair.q.b, &pair.p.a, &pair.p.b, &order);
                 (code, 2 * prk.q.stages())
             }
             None => (TokenStream::new(), 2 * prk.q.stages()),
         },
-        Table::Rk(rk) => (TokenStream::new(), rk.stages()),
+        _ => (TokenStream::new(), v.analysis.stages),
     }
 }
 
@@ -234,7 +237,8 @@ fn stability_consts(v: &Verified) -> TokenStream {
     let Some(r) = &v.analysis.stability else {
         return TokenStream::new();
     };
-    let (p, q) = (f64s(&r.numerator.0), f64s(&r.denominator.0));
+    let to_f64 = |p: &[Number]| -> Vec<f64> { p.iter().map(Number::to_f64).collect() };
+    let (p, q) = (lit(&to_f64(&r.numerator.0)), lit(&to_f64(&r.denominator.0)));
     let (np, nq) = (r.numerator.0.len(), r.denominator.0.len());
     let text = r.to_text();
     quote! {
