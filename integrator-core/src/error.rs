@@ -33,4 +33,11 @@ pub enum SolveError {
     Singular,
     #[error("the system has no Jacobian; Newton's method needs one (use fixed-point iteration or implement `jacobian`)")]
     NoJacobian,
+    /// A stepper prepared for one step size (a cached propagator or
+    /// factorisation) was asked for another.
+    #[error("this stepper was prepared for h = {prepared}, but the step asked for h = {asked}")]
+    StepSizeMismatch { prepared: f64, asked: f64 },
+    /// A stepper prepared for one system size was given a state of another.
+    #[error("this stepper was prepared for dimension {prepared}, but the state has dimension {got}")]
+    DimensionMismatch { prepared: usize, got: usize },
 }
