@@ -39,6 +39,8 @@ extern crate self as integrator_core;
 mod error;
 mod integrate;
 pub mod library;
+pub mod linear;
+pub mod problems;
 pub mod scheme;
 mod system;
 

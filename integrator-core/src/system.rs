@@ -37,6 +37,11 @@ pub trait Hamiltonian {
 }
 
 /// A separable Hamiltonian `H = T(p) + V(q)`, typically `T = ½ pᵀM⁻¹p`.
+#[diagnostic::on_unimplemented(
+    message = "`{Self}` is not a separable Hamiltonian",
+    label = "`{Self}` does not implement `Separable`",
+    note = "drift–kick sequences, compositions and explicit partitioned pairs are symplectic only for separable Hamiltonians, so they step only systems that implement `Separable`"
+)]
 pub trait Separable {
     /// Degrees of freedom `n`; the state is `z = [q; p]` of length `2n`.
     fn dof(&self) -> usize;

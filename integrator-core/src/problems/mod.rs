@@ -1,0 +1,37 @@
+//! Smooth test problems with exact solutions and invariants, and seeded
+//! random problems for property tests.
+//!
+//! | problem | trait | exact flow | invariants |
+//! |---|---|---|---|
+//! | [`Oscillator`] `H = ½(p² + k²q²)` | [`Separable`](crate::Separable) | closed form | `H` |
+//! | [`Pendulum`] `H = p²/2 − cos q` | `Separable` | Jacobi elliptic functions (libration) | `H` |
+//! | [`QuarticPendulum`] `H = p²/2 + αp⁴/4 − cos q` | `Separable` (`T` not quadratic) | — | `H` |
+//! | [`Kepler`] `H = ½|p|² − 1/|q|` (2D) | `Separable` | Kepler's equation (bound orbits) | `H`, `L` |
+//! | [`NonSeparable`] `H = ½|p|²(1 + εq₁²) + ½|q|²` | [`Hamiltonian`](crate::Hamiltonian) only | — | `H` |
+//! | [`RandomSeparable`] quadratic + cubic + quartic `V`, optional quartic `T` | `Separable` | — | `H` |
+//!
+//! The exact flows implement [`ExactFlow`]; they are exact up to a few
+//! rounding errors, so that integration errors down to ~1e-14 can be
+//! measured against them.
+
+mod elliptic;
+mod kepler;
+mod nonseparable;
+mod oscillator;
+mod pendulum;
+mod random;
+
+pub use elliptic::{carlson_rf, complete_k, incomplete_f, jacobi};
+pub use kepler::Kepler;
+pub use nonseparable::NonSeparable;
+pub use oscillator::Oscillator;
+pub use pendulum::{Pendulum, QuarticPendulum};
+pub use random::{RandomSeparable, SplitMix64};
+
+/// A problem whose flow is known in closed form.
+pub trait ExactFlow {
+    /// The exact state at time `t` of the solution with `z(0) = z0`, or
+    /// `None` where `z0` lies outside the case the formula covers (a
+    /// rotating pendulum, an unbound Kepler orbit) or has the wrong length.
+    fn flow(&self, z0: &[f64], t: f64) -> Option<Vec<f64>>;
+}
