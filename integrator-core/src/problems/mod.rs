@@ -9,12 +9,17 @@
 //! | [`Kepler`] `H = ½|p|² − 1/|q|` (2D) | `Separable` | Kepler's equation (bound orbits) | `H`, `L` |
 //! | [`NonSeparable`] `H = ½|p|²(1 + εq₁²) + ½|q|²` | [`Hamiltonian`](crate::Hamiltonian) only | — | `H` |
 //! | [`RandomSeparable`] quadratic + cubic + quartic `V`, optional quartic `T` | `Separable` | — | `H` |
+//! | [`HenonHeiles`] chaotic at `H = 1/8` | `Separable` | numerical reference | `H` |
+//! | [`Fpu`] stiff FPU chain, `ω = 50` | `Separable` | numerical reference | `H`, `Σ Iⱼ` (adiabatic) |
+//! | [`gyroscopic`](crate::linear::gyroscopic) `Mq̈ + Gq̇ + Kq = f` | `OdeSystem` | matrix exponential | quadratic energy |
 //!
 //! The exact flows implement [`ExactFlow`]; they are exact up to a few
 //! rounding errors, so that integration errors down to ~1e-14 can be
 //! measured against them.
 
 mod elliptic;
+mod fpu;
+mod henon_heiles;
 mod kepler;
 mod nonseparable;
 mod oscillator;
@@ -22,6 +27,8 @@ mod pendulum;
 mod random;
 
 pub use elliptic::{carlson_rf, complete_k, incomplete_f, jacobi};
+pub use fpu::Fpu;
+pub use henon_heiles::HenonHeiles;
 pub use kepler::Kepler;
 pub use nonseparable::NonSeparable;
 pub use oscillator::Oscillator;
@@ -34,4 +41,19 @@ pub trait ExactFlow {
     /// `None` where `z0` lies outside the case the formula covers (a
     /// rotating pendulum, an unbound Kepler orbit) or has the wrong length.
     fn flow(&self, z0: &[f64], t: f64) -> Option<Vec<f64>>;
+}
+
+/// A high-accuracy numerical solution for problems without a closed-form
+/// flow: Sofroniou–Spaletta's order-10 composition with about
+/// `steps_per_unit` steps per unit time (rounded up to a whole number over
+/// `[0, t]`).
+pub fn reference_solution<S: crate::Separable>(sys: &S, z0: &[f64], t: f64, steps_per_unit: f64) -> Vec<f64> {
+    let n = ((t.abs() * steps_per_unit).ceil() as usize).max(1);
+    let h = t / n as f64;
+    let mut z = z0.to_vec();
+    if t != 0.0 {
+        crate::integrate(&crate::library::SofroniouSpaletta10, sys, &mut z, 0.0, h, n, |_, _, _| {})
+            .expect("the reference integration stays finite");
+    }
+    z
 }
