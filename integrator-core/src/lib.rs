@@ -37,6 +37,7 @@
 extern crate self as integrator_core;
 
 mod error;
+pub mod implicit;
 mod integrate;
 pub mod library;
 pub mod linear;

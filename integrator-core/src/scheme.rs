@@ -36,8 +36,7 @@ pub trait Scheme: Copy + Default + 'static {
 #[diagnostic::on_unimplemented(
     message = "the scheme `{Self}` cannot step the system `{S}`",
     label = "`{Self}` does not implement `Step<{S}>`",
-    note = "drift–kick sequences, compositions and explicit partitioned pairs are symplectic only for separable Hamiltonians, so they step only systems that implement `Separable`",
-    note = "implicit tables are verified but cannot step yet: their stage solver is not part of this version"
+    note = "drift–kick sequences, compositions and explicit partitioned pairs are symplectic only for separable Hamiltonians, so they step only systems that implement `Separable`; implicit partitioned pairs step systems that implement `Hamiltonian`"
 )]
 pub trait Step<S: ?Sized> {
     /// Scratch memory for one system size, requested up front.

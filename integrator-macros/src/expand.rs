@@ -6,9 +6,8 @@
 //!
 //! Step code is emitted against the traits of `integrator-core` (see
 //! [`crate::step`]): explicit tables unrolled, drift–kick sequences and
-//! explicit pairs as kick/drift code for separable systems. Implicit tables
-//! are verified and carry their constants, but get no `Step` impl until the
-//! stage solver exists; stepping one is a compile error that says so.
+//! explicit pairs as kick/drift code for separable systems, implicit tables
+//! as calls of the stage solver with the table as a constant.
 
 use proc_macro2::TokenStream;
 use quote::quote;
@@ -208,9 +207,31 @@ fn step_code(name: &syn::Ident, v: &Verified, rounded: &F64Rounded) -> (TokenStr
                 let code = step::explicit_prk(name, &pair.q.a, &pair.q.b, &pair.p.a, &pair.p.b, &order);
                 (code, 2 * prk.q.stages())
             }
-            None => (TokenStream::new(), 2 * prk.q.stages()),
+            None => {
+                let bound = if v.analysis.separable_only() {
+                    quote!(::integrator_core::Separable)
+                } else {
+                    quote!(::integrator_core::Hamiltonian)
+                };
+                let s = prk.q.stages();
+                (step::implicit(name, s, structure(v.analysis.class), true, bound), 2 * s)
+            }
         },
-        _ => (TokenStream::new(), v.analysis.stages),
+        (Table::Rk(rk), _) => {
+            let s = rk.stages();
+            let bound = quote!(::integrator_core::OdeSystem);
+            (step::implicit(name, s, structure(v.analysis.class), false, bound), s)
+        }
+        _ => unreachable!("the rounded form matches the table's form"),
+    }
+}
+
+/// The solver's name for a class of implicit table.
+fn structure(class: Class) -> &'static str {
+    match class {
+        Class::Sdirk => "Sdirk",
+        Class::Dirk => "Dirk",
+        Class::Explicit | Class::Implicit => "Full",
     }
 }
 

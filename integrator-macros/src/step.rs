@@ -75,12 +75,12 @@ pub fn explicit_rk(name: &syn::Ident, a: &[Vec<f64>], b: &[f64], c: &[f64]) -> T
             quote!(#kj)
         });
         if row.is_empty() {
-            stages.push(quote!(sys.rhs(#t_i, z, #ki);));
+            stages.push(quote!(sys.rhs(#t_i, &z[..n], &mut #ki[..n]);));
         } else {
             let upd = axpy_loop(quote!(y), Some(quote!(z)), &row);
             stages.push(quote! {
                 #upd
-                sys.rhs(#t_i, y, #ki);
+                sys.rhs(#t_i, &y[..n], &mut #ki[..n]);
             });
         }
     }
@@ -98,7 +98,8 @@ pub fn explicit_rk(name: &syn::Ident, a: &[Vec<f64>], b: &[f64], c: &[f64]) -> T
             #[inline]
             #[allow(unused_variables, clippy::all, clippy::approx_constant, clippy::excessive_precision)]
             fn step(&self, sys: &Sys, t: f64, h: f64, z: &mut [f64], ws: &mut Self::Workspace) -> ::core::result::Result<(), ::integrator_core::SolveError> {
-                let n = z.len();
+                let n = sys.dim();
+                let z: &mut [f64] = &mut z[..n];
                 let ::integrator_core::scheme::RkWorkspace { k, y } = ws;
                 let [#(#ks),*] = k;
                 #(#stages)*
@@ -235,6 +236,43 @@ pub fn explicit_prk(
                 #q_out
                 #p_out
                 Ok(())
+            }
+        }
+    }
+}
+
+/// An implicit table: the stage equations are solved by
+/// `integrator_core::implicit::step` (simplified Newton with a faer LU, or
+/// fixed-point iteration, down to round-off; DIRK tables stage by stage),
+/// with the table as a constant. `bound` is the system trait: `OdeSystem`
+/// for a Runge–Kutta table, `Hamiltonian` (or `Separable`) for a pair.
+pub fn implicit(name: &syn::Ident, stages: usize, structure: &str, pair: bool, bound: TokenStream) -> TokenStream {
+    let structure = format_ident!("{}", structure);
+    let a_hat = if pair {
+        quote!(::core::option::Option::Some((Self::A_HAT, Self::B_HAT)))
+    } else {
+        quote!(::core::option::Option::None)
+    };
+    quote! {
+        impl #name {
+            /// The table handed to the stage solver.
+            pub const TABLE: ::integrator_core::implicit::ImplicitTable<#stages> =
+                ::integrator_core::implicit::ImplicitTable {
+                    a: Self::A,
+                    b: Self::B,
+                    c: Self::C,
+                    a_hat: #a_hat,
+                    structure: ::integrator_core::implicit::Structure::#structure,
+                };
+        }
+        impl<Sys: #bound + ?Sized> ::integrator_core::Step<Sys> for #name {
+            type Workspace = ::integrator_core::implicit::ImplicitWorkspace;
+            fn workspace(&self, sys: &Sys) -> Self::Workspace {
+                ::integrator_core::implicit::ImplicitWorkspace::new(::integrator_core::OdeSystem::dim(sys), #stages)
+            }
+            #[inline]
+            fn step(&self, sys: &Sys, t: f64, h: f64, z: &mut [f64], ws: &mut Self::Workspace) -> ::core::result::Result<(), ::integrator_core::SolveError> {
+                ::integrator_core::implicit::step(&Self::TABLE, sys, t, h, z, ws)
             }
         }
     }
