@@ -70,6 +70,11 @@ pub trait Step<S: ?Sized> {
 pub struct RkWorkspace<const S: usize> {
     pub k: [Vec<f64>; S],
     pub y: Vec<f64>,
+    /// The rounding error of the last update of `z`, carried into the next
+    /// (compensated summation).
+    pub e: Vec<f64>,
+    /// Compensated summation of the update `z ← z + h Σ bᵢkᵢ` (default on).
+    pub compensated: bool,
 }
 
 impl<const S: usize> RkWorkspace<S> {
@@ -77,6 +82,8 @@ impl<const S: usize> RkWorkspace<S> {
         RkWorkspace {
             k: std::array::from_fn(|_| vec![0.0; dim]),
             y: vec![0.0; dim],
+            e: vec![0.0; dim],
+            compensated: true,
         }
     }
 }
@@ -86,6 +93,11 @@ impl<const S: usize> RkWorkspace<S> {
 pub struct SplitWorkspace {
     pub v: Vec<f64>,
     pub f: Vec<f64>,
+    /// Carried rounding errors of the drifts (`q`) and kicks (`p`).
+    pub eq: Vec<f64>,
+    pub ep: Vec<f64>,
+    /// Compensated summation of every drift and kick (default on).
+    pub compensated: bool,
 }
 
 impl SplitWorkspace {
@@ -93,6 +105,9 @@ impl SplitWorkspace {
         SplitWorkspace {
             v: vec![0.0; dof],
             f: vec![0.0; dof],
+            eq: vec![0.0; dof],
+            ep: vec![0.0; dof],
+            compensated: true,
         }
     }
 }
@@ -106,6 +121,11 @@ pub struct PrkWorkspace<const S: usize> {
     pub gf: [Vec<f64>; S],
     pub q: Vec<f64>,
     pub p: Vec<f64>,
+    /// Carried rounding errors of the updates of `q` and `p`.
+    pub eq: Vec<f64>,
+    pub ep: Vec<f64>,
+    /// Compensated summation of the update (default on).
+    pub compensated: bool,
 }
 
 impl<const S: usize> PrkWorkspace<S> {
@@ -115,6 +135,9 @@ impl<const S: usize> PrkWorkspace<S> {
             gf: std::array::from_fn(|_| vec![0.0; dof]),
             q: vec![0.0; dof],
             p: vec![0.0; dof],
+            eq: vec![0.0; dof],
+            ep: vec![0.0; dof],
+            compensated: true,
         }
     }
 }

@@ -48,6 +48,42 @@ fn axpy_loop(dst: TokenStream, base: Option<TokenStream>, terms: &[(f64, TokenSt
     }}
 }
 
+/// The update `dst[i] += Σ (h·cⱼ)·srcⱼ[i]` of the state itself, with
+/// compensated (Kahan) summation into the vector `comp` when the workspace's
+/// `compensated` flag is set: the increment is added with its rounding error
+/// carried to the next update, so round-off in long runs grows like √n
+/// (Brouwer's law) instead of n.
+fn state_update(dst: TokenStream, comp: TokenStream, terms: &[(f64, TokenStream)]) -> TokenStream {
+    let plain = axpy_loop(dst.clone(), None, terms);
+    let hoist = terms.iter().enumerate().map(|(j, (c, _))| {
+        let hc = format_ident!("hc{}", j);
+        quote!(let #hc: f64 = h * #c;)
+    });
+    let slices = terms.iter().enumerate().map(|(j, (_, src))| {
+        let s = format_ident!("s{}", j);
+        quote!(let #s: &[f64] = &#src[..n];)
+    });
+    let sum = terms.iter().enumerate().map(|(j, _)| {
+        let hc = format_ident!("hc{}", j);
+        let s = format_ident!("s{}", j);
+        quote!(+ #hc * #s[i])
+    });
+    quote! {
+        if compensated {
+            #(#hoist)*
+            #(#slices)*
+            let d: &mut [f64] = &mut #dst[..n];
+            let e: &mut [f64] = &mut #comp[..n];
+            for i in 0..n {
+                let inc = e[i] #(#sum)*;
+                let new = d[i] + inc;
+                e[i] = (d[i] - new) + inc;
+                d[i] = new;
+            }
+        } else #plain
+    }
+}
+
 /// Nonzero `(coefficient, source)` terms of a row.
 fn terms(row: &[f64], src: impl Fn(usize) -> TokenStream) -> Vec<(f64, TokenStream)> {
     row.iter()
@@ -88,7 +124,7 @@ pub fn explicit_rk(name: &syn::Ident, a: &[Vec<f64>], b: &[f64], c: &[f64]) -> T
         let kj = &ks[j];
         quote!(#kj)
     });
-    let update = axpy_loop(quote!(z), None, &out);
+    let update = state_update(quote!(z), quote!(e), &out);
     quote! {
         impl<Sys: ::integrator_core::OdeSystem + ?Sized> ::integrator_core::Step<Sys> for #name {
             type Workspace = ::integrator_core::scheme::RkWorkspace<#s>;
@@ -100,7 +136,8 @@ pub fn explicit_rk(name: &syn::Ident, a: &[Vec<f64>], b: &[f64], c: &[f64]) -> T
             fn step(&self, sys: &Sys, t: f64, h: f64, z: &mut [f64], ws: &mut Self::Workspace) -> ::core::result::Result<(), ::integrator_core::SolveError> {
                 let n = sys.dim();
                 let z: &mut [f64] = &mut z[..n];
-                let ::integrator_core::scheme::RkWorkspace { k, y } = ws;
+                let ::integrator_core::scheme::RkWorkspace { k, y, e, compensated } = ws;
+                let compensated = *compensated;
                 let [#(#ks),*] = k;
                 #(#stages)*
                 #update
@@ -127,8 +164,8 @@ pub fn drift_kick(name: &syn::Ident, ops: &[(Op, f64)]) -> TokenStream {
             eval
         };
         let upd = match op {
-            Op::Drift => quote! {{ let hc: f64 = h * #c; for i in 0..n { q[i] += hc * v[i]; } }},
-            Op::Kick => quote! {{ let hc: f64 = h * #c; for i in 0..n { p[i] += hc * f[i]; } }},
+            Op::Drift => state_update(quote!(q), quote!(eq), &[(*c, quote!(v))]),
+            Op::Kick => state_update(quote!(p), quote!(ep), &[(*c, quote!(f))]),
         };
         quote!(#eval #upd)
     });
@@ -149,8 +186,9 @@ pub fn drift_kick(name: &syn::Ident, ops: &[(Op, f64)]) -> TokenStream {
                 let n = sys.dof();
                 let (q, p) = z.split_at_mut(n);
                 let (q, p) = (&mut q[..n], &mut p[..n]);
-                let v: &mut [f64] = &mut ws.v[..n];
-                let f: &mut [f64] = &mut ws.f[..n];
+                let ::integrator_core::scheme::SplitWorkspace { v, f, eq, ep, compensated } = ws;
+                let compensated = *compensated;
+                let (v, f): (&mut [f64], &mut [f64]) = (&mut v[..n], &mut f[..n]);
                 #(#code)*
                 Ok(())
             }
@@ -218,8 +256,8 @@ pub fn explicit_prk(
             }
         }
     }
-    let q_out = axpy_loop(quote!(q), None, &terms(&merged(b, &p_alias), |j| quote!(fv[#j])));
-    let p_out = axpy_loop(quote!(p), None, &terms(&merged(b_hat, &q_alias), |j| quote!(gf[#j])));
+    let q_out = state_update(quote!(q), quote!(eq), &terms(&merged(b, &p_alias), |j| quote!(fv[#j])));
+    let p_out = state_update(quote!(p), quote!(ep), &terms(&merged(b_hat, &q_alias), |j| quote!(gf[#j])));
     quote! {
         impl<Sys: ::integrator_core::Separable + ?Sized> ::integrator_core::Step<Sys> for #name {
             type Workspace = ::integrator_core::scheme::PrkWorkspace<#s>;
@@ -231,7 +269,8 @@ pub fn explicit_prk(
             fn step(&self, sys: &Sys, t: f64, h: f64, z: &mut [f64], ws: &mut Self::Workspace) -> ::core::result::Result<(), ::integrator_core::SolveError> {
                 let n = sys.dof();
                 let (q, p) = z.split_at_mut(n);
-                let ::integrator_core::scheme::PrkWorkspace { fv, gf, q: qs, p: ps } = ws;
+                let ::integrator_core::scheme::PrkWorkspace { fv, gf, q: qs, p: ps, eq, ep, compensated } = ws;
+                let compensated = *compensated;
                 #(#code)*
                 #q_out
                 #p_out
