@@ -3,6 +3,7 @@
 //! own module.
 
 mod check;
+mod plot;
 
 use std::process::ExitCode;
 

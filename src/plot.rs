@@ -1,0 +1,178 @@
+#![allow(dead_code)] // used by the comparison commands as they land
+//! Line plots (SVG or PNG by the file's extension) with plotters, and the
+//! font they need: DejaVu Sans, committed under `assets/fonts` (permissive
+//! licence alongside), registered once, so no system library is needed.
+
+use std::path::Path;
+use std::sync::Once;
+
+use anyhow::{Context, Result, bail};
+use plotters::coord::Shift;
+use plotters::prelude::*;
+
+static FONT: Once = Once::new();
+
+/// Register the committed font as `sans-serif` (idempotent).
+pub fn register_font() {
+    FONT.call_once(|| {
+        let bytes: &'static [u8] = include_bytes!("../assets/fonts/DejaVuSans.ttf");
+        // The font is committed and known to parse; failure would be a build defect.
+        let _ = plotters::style::register_font("sans-serif", FontStyle::Normal, bytes);
+    });
+}
+
+/// One line of a plot.
+pub struct Series {
+    pub name: String,
+    pub points: Vec<(f64, f64)>,
+    /// Draw markers at the points as well as the line.
+    pub markers: bool,
+}
+
+/// What a plot shows.
+pub struct Plot<'a> {
+    pub title: &'a str,
+    pub x_label: &'a str,
+    pub y_label: &'a str,
+    pub log_x: bool,
+    pub log_y: bool,
+    pub series: &'a [Series],
+}
+
+/// Write the plot to `path` (`.svg` or `.png`, 1000×700). Points that a log
+/// axis cannot show (≤ 0, non-finite) are dropped; a plot with no drawable
+/// point is an error.
+pub fn lines(path: &Path, plot: &Plot) -> Result<()> {
+    register_font();
+    let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
+    match ext {
+        "svg" => {
+            let root = SVGBackend::new(path, (1000, 700)).into_drawing_area();
+            draw(&root, plot)?;
+            root.present().with_context(|| format!("writing {}", path.display()))?;
+        }
+        "png" => {
+            let root = BitMapBackend::new(path, (1000, 700)).into_drawing_area();
+            draw(&root, plot)?;
+            root.present().with_context(|| format!("writing {}", path.display()))?;
+        }
+        _ => bail!("{}: plots are .svg or .png", path.display()),
+    }
+    Ok(())
+}
+
+fn drawable(plot: &Plot, x: f64, y: f64) -> bool {
+    x.is_finite() && y.is_finite() && (!plot.log_x || x > 0.0) && (!plot.log_y || y > 0.0)
+}
+
+fn draw<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, plot: &Plot) -> Result<()>
+where
+    DB::ErrorType: 'static,
+{
+    root.fill(&WHITE).map_err(|e| anyhow::anyhow!("{e:?}"))?;
+    let pts: Vec<(f64, f64)> = plot
+        .series
+        .iter()
+        .flat_map(|s| s.points.iter().copied())
+        .filter(|&(x, y)| drawable(plot, x, y))
+        .collect();
+    if pts.is_empty() {
+        bail!("plot '{}' has no point to draw", plot.title);
+    }
+    let (mut x0, mut x1) = pts.iter().fold((f64::MAX, f64::MIN), |(a, b), p| (a.min(p.0), b.max(p.0)));
+    let (mut y0, mut y1) = pts.iter().fold((f64::MAX, f64::MIN), |(a, b), p| (a.min(p.1), b.max(p.1)));
+    let widen = |lo: &mut f64, hi: &mut f64, log: bool| {
+        if log {
+            if *hi <= *lo {
+                *hi = *lo * 10.0;
+            }
+            *lo /= 1.5;
+            *hi *= 1.5;
+        } else {
+            let pad = if *hi > *lo { 0.05 * (*hi - *lo) } else { 1.0f64.max(lo.abs() * 0.1) };
+            *lo -= pad;
+            *hi += pad;
+        }
+    };
+    widen(&mut x0, &mut x1, plot.log_x);
+    widen(&mut y0, &mut y1, plot.log_y);
+    let mut chart = ChartBuilder::on(root);
+    chart
+        .caption(plot.title, ("sans-serif", 24))
+        .margin(15)
+        .x_label_area_size(45)
+        .y_label_area_size(80);
+    macro_rules! finish {
+        ($c:expr) => {{
+            let mut c = $c;
+            c.configure_mesh()
+                .x_desc(plot.x_label)
+                .y_desc(plot.y_label)
+                .label_style(("sans-serif", 14))
+                .draw()
+                .map_err(|e| anyhow::anyhow!("{e:?}"))?;
+            for (k, s) in plot.series.iter().enumerate() {
+                let color = Palette99::pick(k).to_rgba();
+                let data: Vec<(f64, f64)> =
+                    s.points.iter().copied().filter(|&(x, y)| drawable(plot, x, y)).collect();
+                c.draw_series(LineSeries::new(data.clone(), color.stroke_width(2)))
+                    .map_err(|e| anyhow::anyhow!("{e:?}"))?
+                    .label(s.name.clone())
+                    .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2)));
+                if s.markers {
+                    c.draw_series(data.iter().map(|&p| Circle::new(p, 3, color.filled())))
+                        .map_err(|e| anyhow::anyhow!("{e:?}"))?;
+                }
+            }
+            c.configure_series_labels()
+                .background_style(WHITE.mix(0.85))
+                .border_style(BLACK)
+                .label_font(("sans-serif", 14))
+                .position(SeriesLabelPosition::UpperRight)
+                .draw()
+                .map_err(|e| anyhow::anyhow!("{e:?}"))?;
+        }};
+    }
+    match (plot.log_x, plot.log_y) {
+        (true, true) => finish!(chart
+            .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())
+            .map_err(|e| anyhow::anyhow!("{e:?}"))?),
+        (true, false) => finish!(chart
+            .build_cartesian_2d((x0..x1).log_scale(), y0..y1)
+            .map_err(|e| anyhow::anyhow!("{e:?}"))?),
+        (false, true) => finish!(chart
+            .build_cartesian_2d(x0..x1, (y0..y1).log_scale())
+            .map_err(|e| anyhow::anyhow!("{e:?}"))?),
+        (false, false) => finish!(chart
+            .build_cartesian_2d(x0..x1, y0..y1)
+            .map_err(|e| anyhow::anyhow!("{e:?}"))?),
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn draws_log_and_linear_plots_to_png_and_svg() {
+        let dir = std::env::temp_dir().join(format!("symlab-plot-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let series = [Series {
+            name: "x²".into(),
+            points: (1..20).map(|i| (i as f64, (i * i) as f64)).collect(),
+            markers: true,
+        }];
+        for (file, log) in [("a.png", true), ("b.svg", false)] {
+            let path = dir.join(file);
+            let plot = Plot { title: "test", x_label: "x", y_label: "y", log_x: log, log_y: log, series: &series };
+            lines(&path, &plot).unwrap();
+            assert!(std::fs::metadata(&path).unwrap().len() > 1000);
+        }
+        let empty = [Series { name: "none".into(), points: vec![(0.0, -1.0)], markers: false }];
+        let plot = Plot { title: "t", x_label: "x", y_label: "y", log_x: true, log_y: true, series: &empty };
+        assert!(lines(&dir.join("c.png"), &plot).is_err());
+        assert!(lines(&dir.join("c.jpg"), &plot).is_err());
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}
