@@ -1,0 +1,98 @@
+//! Cost of one step per spring: symplectic Euler and Störmer–Verlet, in
+//! both library forms (`stormer-verlet`, the Lobatto IIIA–IIIB pair,
+//! kick–drift–kick, which evaluates the force twice per step; `leapfrog`,
+//! drift–kick–drift, once, reusing the last velocity), on n × n grids with
+//! all three spring families. The throughput is in springs, so criterion's
+//! `thrpt` is springs per second: ns/spring = 10⁹/thrpt. Also the force
+//! evaluation alone.
+
+use std::hint::black_box;
+
+use cloth::{ClothModel, Scene};
+use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
+use integrator_core::library::{Leapfrog, StormerVerlet, SymplecticEulerA};
+use integrator_core::{Scheme, Separable, Step};
+
+fn scene(n: usize) -> Scene {
+    let text = format!(
+        r#"
+gravity = [0.0, -9.81, 0.0]
+[cloth]
+width = 1.0
+height = 1.0
+nx = {n}
+ny = {n}
+[material]
+density = 0.1
+stretch = 50.0
+shear = 10.0
+bend = 1.0
+[pins]
+edges = ["top"]
+[simulation]
+substeps = 100
+frames = 1
+method = "stormer-verlet"
+"#
+    );
+    Scene::from_toml(&text, "bench.toml").expect("bench scene")
+}
+
+/// A state a few steps into the fall, so that springs are not at rest.
+fn state(model: &ClothModel, h: f64) -> Vec<f64> {
+    let mut z = model.initial_state();
+    let mut ws = StormerVerlet.workspace(model);
+    for _ in 0..20 {
+        StormerVerlet.step(model, 0.0, h, &mut z, &mut ws).unwrap();
+    }
+    z
+}
+
+fn bench_step<S: Step<ClothModel> + Scheme>(c: &mut Criterion, scheme: S, id: &str) {
+    let mut group = c.benchmark_group(format!("step/{id}"));
+    for n in [32, 64, 128] {
+        let scene = scene(n);
+        let model = ClothModel::new(&scene).unwrap();
+        let h = 0.5
+            * model
+                .stability_at(&model.initial_state()[..model.dof()], 200)
+                .h_max;
+        let mut z = state(&model, h);
+        let mut ws = scheme.workspace(&model);
+        scheme.step(&model, 0.0, h, &mut z, &mut ws).unwrap();
+        group.throughput(Throughput::Elements(model.active_spring_count() as u64));
+        group.bench_function(BenchmarkId::from_parameter(format!("{n}x{n}")), |b| {
+            b.iter(|| {
+                // Valid reuse: z is what the previous step left.
+                scheme
+                    .step_reusing(&model, 0.0, h, black_box(&mut z), &mut ws, true)
+                    .unwrap();
+            })
+        });
+    }
+    group.finish();
+}
+
+fn springs(c: &mut Criterion) {
+    bench_step(c, SymplecticEulerA, "symplectic-euler-a");
+    bench_step(c, StormerVerlet, "stormer-verlet");
+    bench_step(c, Leapfrog, "leapfrog");
+    let mut group = c.benchmark_group("force");
+    for n in [32, 64, 128] {
+        let model = ClothModel::new(&scene(n)).unwrap();
+        let z = state(&model, 1e-5);
+        let mut f = vec![0.0; model.dof()];
+        group.throughput(Throughput::Elements(model.active_spring_count() as u64));
+        group.bench_function(BenchmarkId::from_parameter(format!("{n}x{n}")), |b| {
+            b.iter(|| model.force(black_box(&z[..model.dof()]), &mut f))
+        });
+    }
+    group.finish();
+}
+
+criterion_group! {
+    name = benches;
+    config = Criterion::default().sample_size(20).warm_up_time(std::time::Duration::from_millis(500)).measurement_time(std::time::Duration::from_secs(2));
+    targets = springs
+}
+criterion_main!(benches);

@@ -1,0 +1,66 @@
+//! The force loop, the Jacobian values and whole steps allocate nothing
+//! (counted by a global allocator; this binary has a single test so that
+//! nothing else allocates meanwhile).
+
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use cloth::{ClothModel, Scene};
+use integrator_core::library::{StormerVerlet, SymplecticEulerA};
+use integrator_core::{Separable, Step};
+
+struct Counting;
+static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
+
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        ALLOCATIONS.fetch_add(1, Ordering::SeqCst);
+        unsafe { System.alloc(layout) }
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        unsafe { System.dealloc(ptr, layout) }
+    }
+}
+
+#[global_allocator]
+static GLOBAL: Counting = Counting;
+
+fn allocations(f: impl FnOnce()) -> usize {
+    let before = ALLOCATIONS.load(Ordering::SeqCst);
+    f();
+    ALLOCATIONS.load(Ordering::SeqCst) - before
+}
+
+#[test]
+fn forces_jacobians_and_steps_do_not_allocate() {
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../scenes/sphere.toml"
+    ))
+    .unwrap();
+    let scene = Scene::from_toml(&text, "sphere.toml").unwrap();
+    let model = ClothModel::new(&scene).unwrap();
+    let mut z = model.initial_state();
+    let n = model.dof();
+    let mut f = vec![0.0; n];
+    let mut values = vec![0.0; model.force_jacobian_nnz()];
+    let mut ws_se = SymplecticEulerA.workspace(&model);
+    let mut ws_sv = StormerVerlet.workspace(&model);
+    let h = scene.simulation.step_size();
+    let count = allocations(|| {
+        model.force(&z[..n], &mut f);
+        model.velocity(&z[n..], &mut f);
+        model.force_jacobian_values(&z[..n], &mut values);
+        for _ in 0..10 {
+            SymplecticEulerA
+                .step(&model, 0.0, h, &mut z, &mut ws_se)
+                .unwrap();
+            StormerVerlet
+                .step(&model, 0.0, h, &mut z, &mut ws_sv)
+                .unwrap();
+        }
+        let _ = model.energy(&z);
+        let _ = model.max_strain(&z[..n]);
+    });
+    assert_eq!(count, 0);
+}
