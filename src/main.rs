@@ -3,6 +3,7 @@
 //! own module.
 
 mod check;
+mod paper;
 mod plot;
 
 use std::process::ExitCode;
@@ -23,6 +24,9 @@ enum Command {
     Check(check::CheckArgs),
     /// List the built-in tables (use an id with `symlab check --builtin ID`).
     List(check::ListArgs),
+    /// Reproduce the paper's experiments (Tan et al., section 5): tables,
+    /// plots and a report in out/paper/.
+    Paper(paper::PaperArgs),
 }
 
 fn main() -> ExitCode {
@@ -30,6 +34,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Check(args) => check::run(&args),
         Command::List(args) => check::list(&args),
+        Command::Paper(args) => paper::run(&args),
     };
     match result {
         Ok(code) => code,

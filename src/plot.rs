@@ -1,4 +1,3 @@
-#![allow(dead_code)] // used by the comparison commands as they land
 //! Line plots (SVG or PNG by the file's extension) with plotters, and the
 //! font they need: DejaVu Sans, committed under `assets/fonts` (permissive
 //! licence alongside), registered once, so no system library is needed.
@@ -61,8 +60,28 @@ pub fn lines(path: &Path, plot: &Plot) -> Result<()> {
     Ok(())
 }
 
+/// Values beyond this magnitude are not drawn: widening an axis near
+/// f64::MAX overflows to ∞, and plotters' tick search never ends there.
+const MAX_ABS: f64 = 1e150;
+
 fn drawable(plot: &Plot, x: f64, y: f64) -> bool {
-    x.is_finite() && y.is_finite() && (!plot.log_x || x > 0.0) && (!plot.log_y || y > 0.0)
+    x.is_finite()
+        && y.is_finite()
+        && x.abs() < MAX_ABS
+        && y.abs() < MAX_ABS
+        && (!plot.log_x || x > 0.0)
+        && (!plot.log_y || y > 0.0)
+}
+
+/// Tick labels: short scientific notation on log axes (`1e-11`, not
+/// `1.0000000000000001e-11`), plotters' default otherwise.
+fn tick(v: &f64, log: bool) -> String {
+    if log {
+        format!("{v:.0e}")
+    } else {
+        let a = v.abs();
+        if a != 0.0 && !(1e-3..1e5).contains(&a) { format!("{v:.1e}") } else { format!("{v:.3}").trim_end_matches('0').trim_end_matches('.').to_string() }
+    }
 }
 
 fn draw<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, plot: &Plot) -> Result<()>
@@ -105,7 +124,12 @@ where
     macro_rules! finish {
         ($c:expr) => {{
             let mut c = $c;
+            let (lx, ly) = (plot.log_x, plot.log_y);
+            let fx = move |v: &f64| tick(v, lx);
+            let fy = move |v: &f64| tick(v, ly);
             c.configure_mesh()
+                .x_label_formatter(&fx)
+                .y_label_formatter(&fy)
                 .x_desc(plot.x_label)
                 .y_desc(plot.y_label)
                 .label_style(("sans-serif", 14))

@@ -39,6 +39,7 @@ extern crate self as integrator_core;
 mod error;
 pub mod implicit;
 mod integrate;
+pub mod interp;
 pub mod library;
 pub mod linear;
 pub mod problems;

@@ -1,0 +1,135 @@
+//! `symlab paper`: the experiments of Tan et al.'s section 5, reproduced.
+//!
+//! 1. The oscillator `H = ½(p² + k²q²)` (their figures 2–4): six schemes at
+//!    three step sizes against the analytic solution ([`oscillator`]), a
+//!    CSV table of errors, a CSV of every step, and plots ([`figures`]).
+//! 2. The cloth comparison of their figure 5 (explicit Euler against
+//!    symplectic Euler on the undamped scene): [`cloth_section`], a hook
+//!    until the `cloth` crate is ready.
+//! 3. `report.md`: claims, measurements, differences ([`report`]).
+
+pub mod figures;
+pub mod oscillator;
+pub mod report;
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use anyhow::{Context, Result};
+
+use oscillator::{Config, Experiment, errors_csv, oscillator_experiment, series_csv};
+
+/// What the report and the terminal say while the cloth part is missing.
+pub const CLOTH_NOT_AVAILABLE: &str = "Not available yet: the cloth comparison of the paper's figure 5 (explicit \
+    Euler against symplectic Euler on the undamped paper scene at 16.7 ms frames) waits for the `cloth` crate; \
+    this section will hold it.";
+
+#[derive(clap::Args, Debug)]
+pub struct PaperArgs {
+    /// The directory to write the tables, plots and report into (created if
+    /// missing; files of the same names are overwritten).
+    #[arg(long, value_name = "DIR", default_value = "out/paper")]
+    pub out: PathBuf,
+    /// The frequency k of H = ½(p² + k²q²) (the paper does not state it).
+    #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
+    pub k: f64,
+    /// The initial position q₀.
+    #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
+    pub q0: f64,
+    /// The initial momentum p₀.
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    pub p0: f64,
+    /// Steps per run (the paper: 200).
+    #[arg(long, default_value_t = 200, allow_negative_numbers = true)]
+    pub steps: usize,
+    /// The step sizes, comma-separated (the paper: 0.01, 0.05 and 0.1).
+    #[arg(long = "h", value_name = "H,...", value_delimiter = ',', default_values_t = [0.01, 0.05, 0.1], allow_negative_numbers = true)]
+    pub step_sizes: Vec<f64>,
+}
+
+impl PaperArgs {
+    pub fn config(&self) -> Config {
+        Config {
+            k: self.k,
+            q0: self.q0,
+            p0: self.p0,
+            steps: self.steps,
+            step_sizes: self.step_sizes.clone(),
+        }
+    }
+}
+
+/// THE HOOK FOR THE CLOTH COMPARISON (the paper's figure 5): explicit Euler
+/// against symplectic Euler on the undamped paper scene at 16.7 ms frames.
+/// Writes its files into `out_dir` and returns the Markdown section of the
+/// report (without its heading), or `None` while the `cloth` crate is not
+/// available.
+pub fn cloth_section(out_dir: &Path) -> Result<Option<String>> {
+    let _ = out_dir;
+    Ok(None)
+}
+
+/// The names of every file the oscillator part writes, in the report's order.
+pub fn oscillator_files(config: &Config) -> Vec<String> {
+    let mut names = vec!["oscillator_errors.csv".to_string()];
+    for &h in &config.step_sizes {
+        names.push(format!("oscillator_h{h}_series.csv"));
+        names.extend(figures::plot_names(h));
+    }
+    names
+}
+
+fn write(path: &Path, text: &str) -> Result<()> {
+    std::fs::write(path, text).with_context(|| format!("writing {}", path.display()))
+}
+
+/// Write the oscillator's tables and plots into `dir`.
+pub fn write_oscillator(exp: &Experiment, dir: &Path) -> Result<()> {
+    write(&dir.join("oscillator_errors.csv"), &errors_csv(exp))?;
+    for &h in &exp.config.step_sizes {
+        write(
+            &dir.join(format!("oscillator_h{h}_series.csv")),
+            &series_csv(exp, h),
+        )?;
+        figures::write_plots(exp, h, dir)?;
+    }
+    Ok(())
+}
+
+/// `symlab paper`.
+pub fn run(args: &PaperArgs) -> Result<ExitCode> {
+    let config = args.config();
+    config.validate()?;
+    let dir = &args.out;
+    std::fs::create_dir_all(dir)
+        .with_context(|| format!("--out {}: cannot create the directory", dir.display()))?;
+
+    let exp = oscillator_experiment(&config)?;
+    write_oscillator(&exp, dir)?;
+    let cloth = cloth_section(dir)?;
+
+    let mut files = oscillator_files(&config);
+    files.push("report.md".into());
+    write(
+        &dir.join("report.md"),
+        &report::markdown(&exp, cloth.as_deref(), &files),
+    )?;
+
+    println!(
+        "Oscillator H = ½(p² + k²q²), k = {}, q₀ = {}, p₀ = {}, {} steps: maximum errors over the run",
+        config.k, config.q0, config.p0, config.steps
+    );
+    print!("{}", report::text_table(&exp));
+    println!();
+    match &cloth {
+        Some(_) => println!("Cloth comparison (figure 5): see the report."),
+        None => println!("Cloth comparison (figure 5): {CLOTH_NOT_AVAILABLE}"),
+    }
+    println!();
+    println!("Wrote {} files to {}:", files.len(), dir.display());
+    for name in &files {
+        println!("  {name}");
+    }
+    println!("Read {} first.", dir.join("report.md").display());
+    Ok(ExitCode::SUCCESS)
+}
