@@ -41,7 +41,10 @@ pub fn run(args: &CheckArgs) -> Result<ExitCode> {
     };
     let analysis = Analysis::of(&tf.table).map_err(|e| anyhow::anyhow!("{origin}: field {e}"))?;
     if args.json {
-        println!("{}", serde_json::to_string_pretty(&to_json(&tf, &analysis))?);
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&to_json(&tf, &analysis))?
+        );
     } else {
         print!("{}", readable(&origin, &tf, &analysis));
     }
@@ -72,7 +75,12 @@ pub fn list(args: &ListArgs) -> Result<ExitCode> {
         let w = rows.iter().map(|(id, _)| id.len()).max().unwrap_or(0);
         println!("{:w$}  {:<12} {:<12} name", "id", "form", "steps");
         for (id, tf) in &rows {
-            println!("{id:w$}  {:<12} {:<12} {}", form_name(&tf.table), steps(id), tf.name);
+            println!(
+                "{id:w$}  {:<12} {:<12} {}",
+                form_name(&tf.table),
+                steps(id),
+                tf.name
+            );
         }
     }
     Ok(ExitCode::SUCCESS)
@@ -121,7 +129,10 @@ pub fn to_json(tf: &TableFile, a: &Analysis) -> Value {
 
 fn order_text(r: &OrderReport) -> String {
     match &r.first_failure {
-        None => format!("≥ {} (every condition up to the checker's limit, {}, holds)", r.order, r.limit),
+        None => format!(
+            "≥ {} (every condition up to the checker's limit, {}, holds)",
+            r.order, r.limit
+        ),
         Some(f) => format!(
             "{}   (first failing: order-{} condition for {} {}, residual {})",
             r.order,
@@ -150,9 +161,22 @@ pub fn readable(origin: &str, tf: &TableFile, a: &Analysis) -> String {
         Form::DriftKick => "drift–kick sequence",
         Form::Composition => "composition of Störmer–Verlet",
     };
-    let _ = writeln!(s, "  form         {form}, {} stages, {}", a.stages, a.class.name());
+    let _ = writeln!(
+        s,
+        "  form         {form}, {} stages, {}",
+        a.stages,
+        a.class.name()
+    );
     if a.form != Form::Rk {
-        let _ = writeln!(s, "  separable H  {}", if a.explicit_separable { "explicit" } else { "implicit" });
+        let _ = writeln!(
+            s,
+            "  separable H  {}",
+            if a.explicit_separable {
+                "explicit"
+            } else {
+                "implicit"
+            }
+        );
     }
     if a.row_sum_mismatch.is_empty() {
         let _ = writeln!(s, "  c            equals the row sums of A");
@@ -165,11 +189,23 @@ pub fn readable(origin: &str, tf: &TableFile, a: &Analysis) -> String {
             );
         }
     }
-    let rule = if a.form == Form::Rk { "W = BA + AᵀB − bbᵀ" } else { "Wᵢⱼ = bᵢâᵢⱼ + b̂ⱼaⱼᵢ − bᵢb̂ⱼ" };
-    if a.w_nonzero.is_empty() {
-        let _ = writeln!(s, "  symplectic   {}: {rule} = 0", yes_no(a.symplectic_separable));
+    let rule = if a.form == Form::Rk {
+        "W = BA + AᵀB − bbᵀ"
     } else {
-        let _ = writeln!(s, "  symplectic   {}: {rule} has nonzero entries", yes_no(a.symplectic_separable));
+        "Wᵢⱼ = bᵢâᵢⱼ + b̂ⱼaⱼᵢ − bᵢb̂ⱼ"
+    };
+    if a.w_nonzero.is_empty() {
+        let _ = writeln!(
+            s,
+            "  symplectic   {}: {rule} = 0",
+            yes_no(a.symplectic_separable)
+        );
+    } else {
+        let _ = writeln!(
+            s,
+            "  symplectic   {}: {rule} has nonzero entries",
+            yes_no(a.symplectic_separable)
+        );
         for e in &a.w_nonzero {
             let _ = writeln!(s, "                 W[{}][{}] = {}", e.i, e.j, e.value);
         }
@@ -179,28 +215,59 @@ pub fn readable(origin: &str, tf: &TableFile, a: &Analysis) -> String {
             s,
             "  for all H    {}{}",
             yes_no(a.symplectic),
-            if a.symplectic_separable && !a.symplectic { " (b ≠ b̂: symplectic for separable H only)" } else { "" }
+            if a.symplectic_separable && !a.symplectic {
+                " (b ≠ b̂: symplectic for separable H only)"
+            } else {
+                ""
+            }
         );
     }
     if a.reducible {
-        let _ = writeln!(s, "  note         the table is reducible; verdicts are taken on its irreducible form");
+        let _ = writeln!(
+            s,
+            "  note         the table is reducible; verdicts are taken on its irreducible form"
+        );
     }
     match &a.order {
         Some(o) if a.form == Form::Rk => {
             let _ = writeln!(s, "  order        {}", order_text(o));
         }
         Some(o) if a.form == Form::Prk => {
-            let _ = writeln!(s, "  order        {}  (general partitioned systems)", order_text(o));
+            let _ = writeln!(
+                s,
+                "  order        {}  (general partitioned systems)",
+                order_text(o)
+            );
             let _ = writeln!(s, "  separable    {}", order_text(&a.order_separable));
         }
         Some(o) => {
-            let what = if a.form == Form::Composition { ", composition conditions" } else { "" };
-            let _ = writeln!(s, "  order        {}  (separable systems{what})", order_text(&a.order_separable));
-            let _ = writeln!(s, "  general      {}  (as a pair on general partitioned systems)", order_text(o));
+            let what = if a.form == Form::Composition {
+                ", composition conditions"
+            } else {
+                ""
+            };
+            let _ = writeln!(
+                s,
+                "  order        {}  (separable systems{what})",
+                order_text(&a.order_separable)
+            );
+            let _ = writeln!(
+                s,
+                "  general      {}  (as a pair on general partitioned systems)",
+                order_text(o)
+            );
         }
         None => {
-            let what = if a.form == Form::Composition { " (composition conditions)" } else { "" };
-            let _ = writeln!(s, "  order        {}  (separable systems{what})", order_text(&a.order_separable));
+            let what = if a.form == Form::Composition {
+                " (composition conditions)"
+            } else {
+                ""
+            };
+            let _ = writeln!(
+                s,
+                "  order        {}  (separable systems{what})",
+                order_text(&a.order_separable)
+            );
         }
     }
     let _ = writeln!(s, "  symmetric    {}", yes_no(a.symmetric));

@@ -48,12 +48,14 @@ pub fn lines(path: &Path, plot: &Plot) -> Result<()> {
         "svg" => {
             let root = SVGBackend::new(path, (1000, 700)).into_drawing_area();
             draw(&root, plot)?;
-            root.present().with_context(|| format!("writing {}", path.display()))?;
+            root.present()
+                .with_context(|| format!("writing {}", path.display()))?;
         }
         "png" => {
             let root = BitMapBackend::new(path, (1000, 700)).into_drawing_area();
             draw(&root, plot)?;
-            root.present().with_context(|| format!("writing {}", path.display()))?;
+            root.present()
+                .with_context(|| format!("writing {}", path.display()))?;
         }
         _ => bail!("{}: plots are .svg or .png", path.display()),
     }
@@ -80,7 +82,14 @@ fn tick(v: &f64, log: bool) -> String {
         format!("{v:.0e}")
     } else {
         let a = v.abs();
-        if a != 0.0 && !(1e-3..1e5).contains(&a) { format!("{v:.1e}") } else { format!("{v:.3}").trim_end_matches('0').trim_end_matches('.').to_string() }
+        if a != 0.0 && !(1e-3..1e5).contains(&a) {
+            format!("{v:.1e}")
+        } else {
+            format!("{v:.3}")
+                .trim_end_matches('0')
+                .trim_end_matches('.')
+                .to_string()
+        }
     }
 }
 
@@ -98,8 +107,12 @@ where
     if pts.is_empty() {
         bail!("plot '{}' has no point to draw", plot.title);
     }
-    let (mut x0, mut x1) = pts.iter().fold((f64::MAX, f64::MIN), |(a, b), p| (a.min(p.0), b.max(p.0)));
-    let (mut y0, mut y1) = pts.iter().fold((f64::MAX, f64::MIN), |(a, b), p| (a.min(p.1), b.max(p.1)));
+    let (mut x0, mut x1) = pts
+        .iter()
+        .fold((f64::MAX, f64::MIN), |(a, b), p| (a.min(p.0), b.max(p.0)));
+    let (mut y0, mut y1) = pts
+        .iter()
+        .fold((f64::MAX, f64::MIN), |(a, b), p| (a.min(p.1), b.max(p.1)));
     let widen = |lo: &mut f64, hi: &mut f64, log: bool| {
         if log {
             if *hi <= *lo {
@@ -108,7 +121,11 @@ where
             *lo /= 1.5;
             *hi *= 1.5;
         } else {
-            let pad = if *hi > *lo { 0.05 * (*hi - *lo) } else { 1.0f64.max(lo.abs() * 0.1) };
+            let pad = if *hi > *lo {
+                0.05 * (*hi - *lo)
+            } else {
+                1.0f64.max(lo.abs() * 0.1)
+            };
             *lo -= pad;
             *hi += pad;
         }
@@ -137,12 +154,18 @@ where
                 .map_err(|e| anyhow::anyhow!("{e:?}"))?;
             for (k, s) in plot.series.iter().enumerate() {
                 let color = Palette99::pick(k).to_rgba();
-                let data: Vec<(f64, f64)> =
-                    s.points.iter().copied().filter(|&(x, y)| drawable(plot, x, y)).collect();
+                let data: Vec<(f64, f64)> = s
+                    .points
+                    .iter()
+                    .copied()
+                    .filter(|&(x, y)| drawable(plot, x, y))
+                    .collect();
                 c.draw_series(LineSeries::new(data.clone(), color.stroke_width(2)))
                     .map_err(|e| anyhow::anyhow!("{e:?}"))?
                     .label(s.name.clone())
-                    .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2)));
+                    .legend(move |(x, y)| {
+                        PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
+                    });
                 if s.markers {
                     c.draw_series(data.iter().map(|&p| Circle::new(p, 3, color.filled())))
                         .map_err(|e| anyhow::anyhow!("{e:?}"))?;
@@ -158,18 +181,26 @@ where
         }};
     }
     match (plot.log_x, plot.log_y) {
-        (true, true) => finish!(chart
-            .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())
-            .map_err(|e| anyhow::anyhow!("{e:?}"))?),
-        (true, false) => finish!(chart
-            .build_cartesian_2d((x0..x1).log_scale(), y0..y1)
-            .map_err(|e| anyhow::anyhow!("{e:?}"))?),
-        (false, true) => finish!(chart
-            .build_cartesian_2d(x0..x1, (y0..y1).log_scale())
-            .map_err(|e| anyhow::anyhow!("{e:?}"))?),
-        (false, false) => finish!(chart
-            .build_cartesian_2d(x0..x1, y0..y1)
-            .map_err(|e| anyhow::anyhow!("{e:?}"))?),
+        (true, true) => finish!(
+            chart
+                .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())
+                .map_err(|e| anyhow::anyhow!("{e:?}"))?
+        ),
+        (true, false) => finish!(
+            chart
+                .build_cartesian_2d((x0..x1).log_scale(), y0..y1)
+                .map_err(|e| anyhow::anyhow!("{e:?}"))?
+        ),
+        (false, true) => finish!(
+            chart
+                .build_cartesian_2d(x0..x1, (y0..y1).log_scale())
+                .map_err(|e| anyhow::anyhow!("{e:?}"))?
+        ),
+        (false, false) => finish!(
+            chart
+                .build_cartesian_2d(x0..x1, y0..y1)
+                .map_err(|e| anyhow::anyhow!("{e:?}"))?
+        ),
     }
     Ok(())
 }
@@ -189,12 +220,30 @@ mod tests {
         }];
         for (file, log) in [("a.png", true), ("b.svg", false)] {
             let path = dir.join(file);
-            let plot = Plot { title: "test", x_label: "x", y_label: "y", log_x: log, log_y: log, series: &series };
+            let plot = Plot {
+                title: "test",
+                x_label: "x",
+                y_label: "y",
+                log_x: log,
+                log_y: log,
+                series: &series,
+            };
             lines(&path, &plot).unwrap();
             assert!(std::fs::metadata(&path).unwrap().len() > 1000);
         }
-        let empty = [Series { name: "none".into(), points: vec![(0.0, -1.0)], markers: false }];
-        let plot = Plot { title: "t", x_label: "x", y_label: "y", log_x: true, log_y: true, series: &empty };
+        let empty = [Series {
+            name: "none".into(),
+            points: vec![(0.0, -1.0)],
+            markers: false,
+        }];
+        let plot = Plot {
+            title: "t",
+            x_label: "x",
+            y_label: "y",
+            log_x: true,
+            log_y: true,
+            series: &empty,
+        };
         assert!(lines(&dir.join("c.png"), &plot).is_err());
         assert!(lines(&dir.join("c.jpg"), &plot).is_err());
         std::fs::remove_dir_all(&dir).unwrap();

@@ -34,8 +34,19 @@ fn json_has_exactly_the_documented_fields() {
     assert_eq!(
         keys,
         [
-            "class", "kind", "name", "order", "order_limit", "order_separable", "row_sums_ok", "stability_function",
-            "stages", "symmetric", "symplectic", "symplectic_separable", "w_nonzero"
+            "class",
+            "kind",
+            "name",
+            "order",
+            "order_limit",
+            "order_separable",
+            "row_sums_ok",
+            "stability_function",
+            "stages",
+            "symmetric",
+            "symplectic",
+            "symplectic_separable",
+            "w_nonzero"
         ]
     );
 }
@@ -50,7 +61,10 @@ fn gauss_legendre_2() {
     assert_eq!(v["order"], 4);
     assert_eq!(v["symmetric"], true);
     assert_eq!(v["row_sums_ok"], true);
-    assert_eq!(v["stability_function"], "(1 + z/2 + z^2/12)/(1 - z/2 + z^2/12)");
+    assert_eq!(
+        v["stability_function"],
+        "(1 + z/2 + z^2/12)/(1 - z/2 + z^2/12)"
+    );
     assert_eq!(v["w_nonzero"], Value::Array(vec![]));
 }
 
@@ -63,15 +77,31 @@ fn perturbed_entry_points_at_w() {
         .as_array()
         .unwrap()
         .iter()
-        .map(|e| (e["i"].as_u64().unwrap(), e["j"].as_u64().unwrap(), e["value"].as_str().unwrap().to_string()))
+        .map(|e| {
+            (
+                e["i"].as_u64().unwrap(),
+                e["j"].as_u64().unwrap(),
+                e["value"].as_str().unwrap().to_string(),
+            )
+        })
         .collect();
-    assert_eq!(w, [(0, 1, "1/2000".to_string()), (1, 0, "1/2000".to_string())]);
+    assert_eq!(
+        w,
+        [(0, 1, "1/2000".to_string()), (1, 0, "1/2000".to_string())]
+    );
 }
 
 #[test]
 fn rk4_lobatto3b_verlet_forest_ruth() {
     let v = check_json(&["tests/tables/rk4.toml"]);
-    assert_eq!((v["symplectic"].as_bool(), v["order"].as_u64(), v["class"].as_str()), (Some(false), Some(4), Some("explicit")));
+    assert_eq!(
+        (
+            v["symplectic"].as_bool(),
+            v["order"].as_u64(),
+            v["class"].as_str()
+        ),
+        (Some(false), Some(4), Some("explicit"))
+    );
     assert_eq!(v["stability_function"], "1 + z + z^2/2 + z^3/6 + z^4/24");
 
     let v = check_json(&["tests/tables/lobatto3b.toml"]);
@@ -80,8 +110,17 @@ fn rk4_lobatto3b_verlet_forest_ruth() {
 
     let v = check_json(&["tests/tables/verlet-pair.toml"]);
     assert_eq!(v["kind"], "prk");
-    assert_eq!((v["symplectic"].as_bool(), v["symplectic_separable"].as_bool()), (Some(true), Some(true)));
-    assert_eq!((v["order"].as_u64(), v["order_separable"].as_u64()), (Some(2), Some(2)));
+    assert_eq!(
+        (
+            v["symplectic"].as_bool(),
+            v["symplectic_separable"].as_bool()
+        ),
+        (Some(true), Some(true))
+    );
+    assert_eq!(
+        (v["order"].as_u64(), v["order_separable"].as_u64()),
+        (Some(2), Some(2))
+    );
     assert_eq!(v["symmetric"], true);
     assert_eq!(v["stability_function"], Value::Null);
 
@@ -101,7 +140,10 @@ fn readable_report_and_builtin() {
     let (code, out, _) = symlab(&["list"]);
     assert_eq!(code, 0);
     for id in ["rk4", "gauss2", "gauss3", "forest-ruth", "stormer-verlet"] {
-        assert!(out.lines().any(|l| l.starts_with(id)), "{id} missing from:\n{out}");
+        assert!(
+            out.lines().any(|l| l.starts_with(id)),
+            "{id} missing from:\n{out}"
+        );
     }
 }
 
@@ -124,7 +166,10 @@ fn bad_input_is_a_clear_error_with_exit_2() {
         let (code, out, err) = symlab(&["check", &path]);
         assert_eq!(code, 2, "{file}: stdout {out} stderr {err}");
         assert!(!err.contains("panicked"), "{file}: {err}");
-        assert!(err.contains(file), "{file}: message does not name the file: {err}");
+        assert!(
+            err.contains(file),
+            "{file}: message does not name the file: {err}"
+        );
         for n in *needles {
             assert!(err.contains(n), "{file}: message lacks {n:?}: {err}");
         }

@@ -6,7 +6,10 @@ use integrator_core::problems::Kepler;
 use integrator_core::{Step, energy};
 
 fn main() {
-    let args: Vec<f64> = std::env::args().skip(1).map(|a| a.parse().unwrap()).collect();
+    let args: Vec<f64> = std::env::args()
+        .skip(1)
+        .map(|a| a.parse().unwrap())
+        .collect();
     let e = args.first().copied().unwrap_or(0.0);
     let n = args.get(1).copied().unwrap_or(1e6) as usize;
     let h = args.get(2).copied().unwrap_or(1e-3);

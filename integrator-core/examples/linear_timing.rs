@@ -30,7 +30,9 @@ fn time_steps<M: Step<integrator_core::linear::LinearHamiltonian>>(
     if let Some(s) = solver {
         set(&mut ws, s);
     }
-    let mut z: Vec<f64> = (0..sys.dim()).map(|i| ((i % 7) as f64 - 3.0) / 10.0).collect();
+    let mut z: Vec<f64> = (0..sys.dim())
+        .map(|i| ((i % 7) as f64 - 3.0) / 10.0)
+        .collect();
     let t0 = Instant::now();
     m.step(sys, 0.0, h, &mut z, &mut ws).expect("first step");
     let first = t0.elapsed().as_secs_f64();
@@ -45,7 +47,9 @@ fn time_steps<M: Step<integrator_core::linear::LinearHamiltonian>>(
 }
 
 fn main() {
-    let n: usize = std::env::args().nth(1).map_or(100, |a| a.parse().expect("dof"));
+    let n: usize = std::env::args()
+        .nth(1)
+        .map_or(100, |a| a.parse().expect("dof"));
     let gl3 = std::env::args().nth(2).is_none_or(|a| a != "no-gl3");
     let sys = gyroscopic(n, 1, 10.0).expect("model");
     let h = 0.01;
@@ -59,7 +63,14 @@ fn main() {
         (0..reps)
             .map(|_| {
                 let t = Instant::now();
-                faer::linalg::matmul::matmul(y.as_mut(), faer::Accum::Replace, a.as_ref(), x.as_ref(), 1.0, faer::Par::Seq);
+                faer::linalg::matmul::matmul(
+                    y.as_mut(),
+                    faer::Accum::Replace,
+                    a.as_ref(),
+                    x.as_ref(),
+                    1.0,
+                    faer::Par::Seq,
+                );
                 std::hint::black_box(&y);
                 t.elapsed().as_secs_f64()
             })
@@ -67,9 +78,14 @@ fn main() {
     );
     println!("linear gyroscopic model, {n} dof (state {dim}), h = {h}");
     println!("  dense matvec {dim}×{dim}: {:.3e} s", mv);
-    let set = |ws: &mut integrator_core::implicit::ImplicitWorkspace, s: Solver| ws.settings_mut().solver = s;
+    let set = |ws: &mut integrator_core::implicit::ImplicitWorkspace, s: Solver| {
+        ws.settings_mut().solver = s
+    };
     let mut rows = Vec::new();
-    for (name, solver) in [("Newton (cached LU)", Solver::Newton), ("fixed point", Solver::FixedPoint)] {
+    for (name, solver) in [
+        ("Newton (cached LU)", Solver::Newton),
+        ("fixed point", Solver::FixedPoint),
+    ] {
         let (f, s) = time_steps(&GaussLegendre2, &sys, h, Some(solver), reps, set);
         rows.push((format!("gauss2 {name}"), f, s));
         if gl3 {
@@ -78,8 +94,16 @@ fn main() {
         }
     }
     for (name, p, q) in [
-        ("gauss2 propagator", &GaussLegendre2::STABILITY_P[..], &GaussLegendre2::STABILITY_Q[..]),
-        ("gauss3 propagator", &GaussLegendre3::STABILITY_P[..], &GaussLegendre3::STABILITY_Q[..]),
+        (
+            "gauss2 propagator",
+            &GaussLegendre2::STABILITY_P[..],
+            &GaussLegendre2::STABILITY_Q[..],
+        ),
+        (
+            "gauss3 propagator",
+            &GaussLegendre3::STABILITY_P[..],
+            &GaussLegendre3::STABILITY_Q[..],
+        ),
     ] {
         let t = Instant::now();
         let prop = Propagator::new(&sys, h, p, q).expect("propagator");
@@ -88,6 +112,9 @@ fn main() {
         rows.push((name.to_string(), build, s));
     }
     for (name, first, step) in rows {
-        println!("  {name:<28} first step / build {first:.3e} s, then {step:.3e} s per step = {:.2} matvecs", step / mv);
+        println!(
+            "  {name:<28} first step / build {first:.3e} s, then {step:.3e} s per step = {:.2} matvecs",
+            step / mv
+        );
     }
 }

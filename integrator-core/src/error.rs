@@ -10,7 +10,12 @@ pub enum StepError {
     #[error("initial state is not finite: z[{index}] = {value}")]
     NonFiniteInitial { index: usize, value: f64 },
     #[error("the solution diverged at step {step} (t = {t}): z[{index}] = {value}")]
-    Diverged { step: usize, t: f64, index: usize, value: f64 },
+    Diverged {
+        step: usize,
+        t: f64,
+        index: usize,
+        value: f64,
+    },
     #[error("step {step} (from t = {t}) failed: {source}")]
     Solve {
         step: usize,
@@ -25,19 +30,27 @@ pub enum StepError {
 /// [`integrate`](crate::integrate) adds the step number.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum SolveError {
-    #[error("the stage equations did not converge in {iterations} iterations (last correction {correction:e})")]
+    #[error(
+        "the stage equations did not converge in {iterations} iterations (last correction {correction:e})"
+    )]
     NotConverged { iterations: usize, correction: f64 },
-    #[error("the stage iteration diverged (correction {correction:e} after {iterations} iterations)")]
+    #[error(
+        "the stage iteration diverged (correction {correction:e} after {iterations} iterations)"
+    )]
     Diverged { iterations: usize, correction: f64 },
     #[error("the stage matrix I − h·A⊗J is singular")]
     Singular,
-    #[error("the system has no Jacobian; Newton's method needs one (use fixed-point iteration or implement `jacobian`)")]
+    #[error(
+        "the system has no Jacobian; Newton's method needs one (use fixed-point iteration or implement `jacobian`)"
+    )]
     NoJacobian,
     /// A stepper prepared for one step size (a cached propagator or
     /// factorisation) was asked for another.
     #[error("this stepper was prepared for h = {prepared}, but the step asked for h = {asked}")]
     StepSizeMismatch { prepared: f64, asked: f64 },
     /// A stepper prepared for one system size was given a state of another.
-    #[error("this stepper was prepared for dimension {prepared}, but the state has dimension {got}")]
+    #[error(
+        "this stepper was prepared for dimension {prepared}, but the state has dimension {got}"
+    )]
     DimensionMismatch { prepared: usize, got: usize },
 }

@@ -66,7 +66,11 @@ where
         let t = t0 + k as f64 * h;
         method
             .step_reusing(sys, t, h, z, &mut ws, k > 0)
-            .map_err(|source| StepError::Solve { step: k + 1, t, source })?;
+            .map_err(|source| StepError::Solve {
+                step: k + 1,
+                t,
+                source,
+            })?;
         let t_next = t0 + (k + 1) as f64 * h;
         if let Some((index, value)) = first_non_finite(z) {
             return Err(StepError::Diverged {

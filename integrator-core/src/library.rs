@@ -176,7 +176,10 @@ pub const REGISTRY: &[(&str, Info)] = &[
     ("kahan-li6", <KahanLi6 as Scheme>::INFO),
     ("kahan-li8", <KahanLi8 as Scheme>::INFO),
     ("mclachlan8", <McLachlan8 as Scheme>::INFO),
-    ("sofroniou-spaletta10", <SofroniouSpaletta10 as Scheme>::INFO),
+    (
+        "sofroniou-spaletta10",
+        <SofroniouSpaletta10 as Scheme>::INFO,
+    ),
 ];
 
 /// The facts of a library scheme by catalogue id.

@@ -45,7 +45,14 @@ pub trait Step<S: ?Sized> {
     /// `z ← Ψ_h(z)` for the step from `t` to `t + h`. Explicit schemes never
     /// fail; implicit ones return the reason their stage solve failed, and
     /// leave `z` unchanged then.
-    fn step(&self, sys: &S, t: f64, h: f64, z: &mut [f64], ws: &mut Self::Workspace) -> Result<(), SolveError>;
+    fn step(
+        &self,
+        sys: &S,
+        t: f64,
+        h: f64,
+        z: &mut [f64],
+        ws: &mut Self::Workspace,
+    ) -> Result<(), SolveError>;
     /// Like [`step`](Step::step), but when `reuse` is true the first
     /// evaluation is taken from the end of the previous step (first same as
     /// last). Only valid when `z` is exactly what the previous call left:

@@ -50,10 +50,21 @@ fn compensated_summation_gives_brouwer_growth() {
     let without = energy_error_growth(false, n, 1e-3);
     let (a, b) = (exponent(&with), exponent(&without));
     let (ea, eb) = (with.last().unwrap().1, without.last().unwrap().1);
-    println!("fitted exponents over 10³…10⁶ steps: compensated {a:.2} (final error {ea:.1e}), plain {b:.2} (final error {eb:.1e})");
-    assert!(a < 0.5, "compensated: exponent {a:.2} is not below √n growth");
-    assert!(b > a + 0.2, "plain summation should grow faster: {b:.2} vs {a:.2}");
-    assert!(eb > 10.0 * ea, "plain summation should end far worse: {eb:e} vs {ea:e}");
+    println!(
+        "fitted exponents over 10³…10⁶ steps: compensated {a:.2} (final error {ea:.1e}), plain {b:.2} (final error {eb:.1e})"
+    );
+    assert!(
+        a < 0.5,
+        "compensated: exponent {a:.2} is not below √n growth"
+    );
+    assert!(
+        b > a + 0.2,
+        "plain summation should grow faster: {b:.2} vs {a:.2}"
+    );
+    assert!(
+        eb > 10.0 * ea,
+        "plain summation should end far worse: {eb:e} vs {ea:e}"
+    );
 }
 
 /// The same for an explicit scheme: leapfrog conserves the angular momentum
@@ -84,7 +95,12 @@ fn generated_code_compensates_too() {
     let (with, without) = (run(true), run(false));
     let (a, b) = (exponent(&with), exponent(&without));
     let (ea, eb) = (with.last().unwrap().1, without.last().unwrap().1);
-    println!("leapfrog, angular momentum: compensated {a:.2} (final {ea:.1e}), plain {b:.2} (final {eb:.1e})");
+    println!(
+        "leapfrog, angular momentum: compensated {a:.2} (final {ea:.1e}), plain {b:.2} (final {eb:.1e})"
+    );
     assert!(a < 0.6, "compensated: exponent {a:.2}");
-    assert!(eb > 3.0 * ea, "plain summation should end worse: {eb:e} vs {ea:e}");
+    assert!(
+        eb > 3.0 * ea,
+        "plain summation should end worse: {eb:e} vs {ea:e}"
+    );
 }

@@ -15,7 +15,11 @@ fn check_gradient<S: Separable>(sys: &S, q: &[f64]) {
         qp[i] += d;
         qm[i] -= d;
         let fd = -(sys.potential(&qp) - sys.potential(&qm)) / (2.0 * d);
-        assert!((fd - f[i]).abs() <= 1e-6 * (1.0 + f[i].abs()), "component {i}: {fd} vs {}", f[i]);
+        assert!(
+            (fd - f[i]).abs() <= 1e-6 * (1.0 + f[i].abs()),
+            "component {i}: {fd} vs {}",
+            f[i]
+        );
     }
 }
 
@@ -32,15 +36,29 @@ fn references_are_converged() {
     let z0 = HenonHeiles::chaotic_start();
     let a = hh.reference(&z0, 10.0);
     let b = reference_solution(&hh, &z0, 10.0, 4000.0);
-    let diff = a.iter().zip(&b).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max);
-    assert!(diff < 1e-13, "Hénon–Heiles reference moves by {diff:e} when the step halves");
+    let diff = a
+        .iter()
+        .zip(&b)
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f64::max);
+    assert!(
+        diff < 1e-13,
+        "Hénon–Heiles reference moves by {diff:e} when the step halves"
+    );
 
     let fpu = Fpu::stiff();
     let z0 = fpu.start();
     let a = fpu.reference(&z0, 1.0);
     let b = reference_solution(&fpu, &z0, 1.0, 80.0 * fpu.omega);
-    let diff = a.iter().zip(&b).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max);
-    assert!(diff < 1e-12, "FPU reference moves by {diff:e} when the step halves");
+    let diff = a
+        .iter()
+        .zip(&b)
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f64::max);
+    assert!(
+        diff < 1e-12,
+        "FPU reference moves by {diff:e} when the step halves"
+    );
 }
 
 #[test]
@@ -49,11 +67,25 @@ fn fpu_start_is_hlw_and_stiff() {
     let z0 = fpu.start();
     // One stiff spring carries energy ½(1 + ω²·ω⁻²) = 1; the others none.
     let i = fpu.stiff_energies(&z0);
-    assert!((i[0] - 1.0).abs() < 1e-14 && i[1] == 0.0 && i[2] == 0.0, "{i:?}");
+    assert!(
+        (i[0] - 1.0).abs() < 1e-14 && i[1] == 0.0 && i[2] == 0.0,
+        "{i:?}"
+    );
     // Leapfrog is unstable beyond hω = 2: at hω = 2.2 it blows up.
     let mut z = z0.clone();
-    let r = integrate(&integrator_core::library::Leapfrog, &fpu, &mut z, 0.0, 2.2 / fpu.omega, 2000, |_, _, _| {});
-    assert!(r.is_err(), "leapfrog beyond its stability limit should diverge");
+    let r = integrate(
+        &integrator_core::library::Leapfrog,
+        &fpu,
+        &mut z,
+        0.0,
+        2.2 / fpu.omega,
+        2000,
+        |_, _, _| {},
+    );
+    assert!(
+        r.is_err(),
+        "leapfrog beyond its stability limit should diverge"
+    );
 }
 
 #[test]

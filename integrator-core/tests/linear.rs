@@ -644,7 +644,11 @@ fn stepping_with_another_h_is_an_error() {
         err.to_string(),
         "step 1 (from t = 0) failed: this stepper was prepared for h = 0.1, but the step asked for h = 0.2"
     );
-    assert_eq!(z, [1.0, 0.0, 0.0, 0.0], "a refused step leaves the state alone");
+    assert_eq!(
+        z,
+        [1.0, 0.0, 0.0, 0.0],
+        "a refused step leaves the state alone"
+    );
 }
 
 #[test]

@@ -46,7 +46,11 @@ fn verdicts() {
     const { assert!(StormerVerlet::SYMPLECTIC && StormerVerlet::SYMMETRIC) };
     assert_eq!(StormerVerlet::ORDER, 2);
     assert_eq!(StormerVerlet::FORM, "prk");
-    const { assert!(ForestRuth::SYMPLECTIC_SEPARABLE && ForestRuth::SEPARABLE_ONLY && ForestRuth::EXPLICIT) };
+    const {
+        assert!(
+            ForestRuth::SYMPLECTIC_SEPARABLE && ForestRuth::SEPARABLE_ONLY && ForestRuth::EXPLICIT
+        )
+    };
     const { assert!(!Rk4::SYMPLECTIC && !Rk4::SYMMETRIC) };
     assert_eq!(Rk4::CLASS, "explicit");
     assert_eq!(LobattoIIIB2::C, [0.0, 1.0]);

@@ -106,7 +106,9 @@ impl Entry {
             .copied()
             .or_else(|| self.tokens.last().map(|t| t.2))
             .unwrap_or_else(Span::call_site);
-        hit.iter().skip(1).fold(first, |acc, s| acc.join(*s).unwrap_or(acc))
+        hit.iter()
+            .skip(1)
+            .fold(first, |acc, s| acc.join(*s).unwrap_or(acc))
     }
 
     /// The span of the whole entry.
@@ -134,7 +136,10 @@ impl Parse for Input {
                     ts.extend([body.parse::<TokenTree>()?]);
                 }
                 if ts.is_empty() {
-                    return Err(syn::Error::new(name.span(), format!("`let {name}` has no value")));
+                    return Err(syn::Error::new(
+                        name.span(),
+                        format!("`let {name}` has no value"),
+                    ));
                 }
                 body.parse::<Token![;]>()?;
                 lets.push(Let {
@@ -183,13 +188,19 @@ fn parse_array(input: ParseStream) -> syn::Result<Value> {
                 let Some(TokenTree::Group(g)) = it.into_iter().next() else {
                     unreachable!("checked above")
                 };
-                let row = split_commas(g.stream()).into_iter().map(Entry::new).collect();
+                let row = split_commas(g.stream())
+                    .into_iter()
+                    .map(Entry::new)
+                    .collect();
                 (row, g.span())
             })
             .collect();
         Ok(Value::Matrix(rows, span))
     } else {
-        Ok(Value::Vector(items.into_iter().map(Entry::new).collect(), span))
+        Ok(Value::Vector(
+            items.into_iter().map(Entry::new).collect(),
+            span,
+        ))
     }
 }
 

@@ -48,7 +48,9 @@ fn rk_consts(t: &F64Table, suffix: &str) -> TokenStream {
 }
 
 pub fn expand(input: &Input, v: &Verified) -> TokenStream {
-    let Input { attrs, vis, name, .. } = input;
+    let Input {
+        attrs, vis, name, ..
+    } = input;
     let a = &v.analysis;
     let stages = a.stages;
     let order = v
@@ -59,7 +61,8 @@ pub fn expand(input: &Input, v: &Verified) -> TokenStream {
             _ => None,
         })
         .unwrap_or(a.claimed_order_report().order);
-    let (symplectic, symplectic_separable, symmetric) = (a.symplectic, a.symplectic_separable, a.symmetric);
+    let (symplectic, symplectic_separable, symmetric) =
+        (a.symplectic, a.symplectic_separable, a.symmetric);
     let explicit = a.explicit_separable;
     let class = a.class.name();
     let separable_only = a.separable_only();
@@ -164,7 +167,9 @@ fn split_consts(s: &F64Splitting) -> TokenStream {
 /// On error: the errors, plus the type itself so that uses of it do not add
 /// a cascade of unrelated errors.
 pub fn stub(input: &Input, err: syn::Error) -> TokenStream {
-    let Input { attrs, vis, name, .. } = input;
+    let Input {
+        attrs, vis, name, ..
+    } = input;
     let errors = err.to_compile_error();
     quote! {
         #errors
@@ -181,7 +186,12 @@ fn step_code(name: &syn::Ident, v: &Verified, rounded: &F64Rounded) -> (TokenStr
         // The normal form (zeros dropped, neighbours merged), its drift and
         // kick values rounded as weight vectors in their own right.
         let nf = s.normal_form();
-        let values = |op: Op| -> Vec<Number> { nf.iter().filter(|o| o.0 == op).map(|o| o.1.clone()).collect() };
+        let values = |op: Op| -> Vec<Number> {
+            nf.iter()
+                .filter(|o| o.0 == op)
+                .map(|o| o.1.clone())
+                .collect()
+        };
         let mut drift = round_weights(&values(Op::Drift), symmetric).into_iter();
         let mut kick = round_weights(&values(Op::Kick), symmetric).into_iter();
         let ops: Vec<(Op, f64)> = nf
@@ -204,7 +214,8 @@ fn step_code(name: &syn::Ident, v: &Verified, rounded: &F64Rounded) -> (TokenStr
         (Table::Composition(c), _) => drift_kick(&c.to_splitting()),
         (Table::Prk(prk), F64Rounded::Prk(pair)) => match separable_stage_order(&prk.q, &prk.p) {
             Some(order) => {
-                let code = step::explicit_prk(name, &pair.q.a, &pair.q.b, &pair.p.a, &pair.p.b, &order);
+                let code =
+                    step::explicit_prk(name, &pair.q.a, &pair.q.b, &pair.p.a, &pair.p.b, &order);
                 (code, 2 * prk.q.stages())
             }
             None => {
@@ -214,13 +225,19 @@ fn step_code(name: &syn::Ident, v: &Verified, rounded: &F64Rounded) -> (TokenStr
                     quote!(::integrator_core::Hamiltonian)
                 };
                 let s = prk.q.stages();
-                (step::implicit(name, s, structure(v.analysis.class), true, bound), 2 * s)
+                (
+                    step::implicit(name, s, structure(v.analysis.class), true, bound),
+                    2 * s,
+                )
             }
         },
         (Table::Rk(rk), _) => {
             let s = rk.stages();
             let bound = quote!(::integrator_core::OdeSystem);
-            (step::implicit(name, s, structure(v.analysis.class), false, bound), s)
+            (
+                step::implicit(name, s, structure(v.analysis.class), false, bound),
+                s,
+            )
         }
         _ => unreachable!("the rounded form matches the table's form"),
     }
@@ -241,7 +258,11 @@ fn summary(v: &Verified) -> String {
     if facts.is_empty() {
         facts.push("no claims".into());
     }
-    let mut s = format!("*{}* — verified exactly at compile time: {}.", v.name, facts.join(", "));
+    let mut s = format!(
+        "*{}* — verified exactly at compile time: {}.",
+        v.name,
+        facts.join(", ")
+    );
     if v.analysis.separable_only() {
         s.push_str(" Steps separable Hamiltonians only.");
     }

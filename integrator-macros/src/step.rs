@@ -9,7 +9,11 @@ use tableau::table::Op;
 
 /// One stage-vector update `dst[i] = base[i] + Σ (h·cⱼ)·srcⱼ[i]`, written
 /// as a loop over slices of length `n`.
-fn axpy_loop(dst: TokenStream, base: Option<TokenStream>, terms: &[(f64, TokenStream)]) -> TokenStream {
+fn axpy_loop(
+    dst: TokenStream,
+    base: Option<TokenStream>,
+    terms: &[(f64, TokenStream)],
+) -> TokenStream {
     let hoist: Vec<TokenStream> = terms
         .iter()
         .enumerate()
@@ -220,7 +224,10 @@ pub fn explicit_prk(
     let p_alias: Vec<usize> = (0..s).map(|i| alias(a_hat, i)).collect();
     // Which evaluations are used: g(Qⱼ) where some âᵢⱼ or b̂ⱼ ≠ 0; f(Pⱼ) where aᵢⱼ or bⱼ ≠ 0.
     let g_needed: Vec<bool> = (0..s)
-        .map(|j| (0..s).any(|k| q_alias[k] == j && (b_hat[k] != 0.0 || (0..s).any(|i| a_hat[i][k] != 0.0))))
+        .map(|j| {
+            (0..s)
+                .any(|k| q_alias[k] == j && (b_hat[k] != 0.0 || (0..s).any(|i| a_hat[i][k] != 0.0)))
+        })
         .collect();
     let f_needed: Vec<bool> = (0..s)
         .map(|j| (0..s).any(|k| p_alias[k] == j && (b[k] != 0.0 || (0..s).any(|i| a[i][k] != 0.0))))
@@ -261,8 +268,16 @@ pub fn explicit_prk(
             }
         }
     }
-    let q_out = state_update(quote!(q), quote!(eq), &terms(&merged(b, &p_alias), |j| quote!(fv[#j])));
-    let p_out = state_update(quote!(p), quote!(ep), &terms(&merged(b_hat, &q_alias), |j| quote!(gf[#j])));
+    let q_out = state_update(
+        quote!(q),
+        quote!(eq),
+        &terms(&merged(b, &p_alias), |j| quote!(fv[#j])),
+    );
+    let p_out = state_update(
+        quote!(p),
+        quote!(ep),
+        &terms(&merged(b_hat, &q_alias), |j| quote!(gf[#j])),
+    );
     quote! {
         impl<Sys: ::integrator_core::Separable + ?Sized> ::integrator_core::Step<Sys> for #name {
             type Workspace = ::integrator_core::scheme::PrkWorkspace<#s>;
@@ -290,7 +305,13 @@ pub fn explicit_prk(
 /// fixed-point iteration, down to round-off; DIRK tables stage by stage),
 /// with the table as a constant. `bound` is the system trait: `OdeSystem`
 /// for a Runge–Kutta table, `Hamiltonian` (or `Separable`) for a pair.
-pub fn implicit(name: &syn::Ident, stages: usize, structure: &str, pair: bool, bound: TokenStream) -> TokenStream {
+pub fn implicit(
+    name: &syn::Ident,
+    stages: usize,
+    structure: &str,
+    pair: bool,
+    bound: TokenStream,
+) -> TokenStream {
     let structure = format_ident!("{}", structure);
     let a_hat = if pair {
         quote!(::core::option::Option::Some((Self::A_HAT, Self::B_HAT)))

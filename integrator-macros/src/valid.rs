@@ -50,7 +50,10 @@ pub fn validate(input: &Input) -> Result<Verified, Error> {
     for f in &input.fields {
         let k = f.key.to_string();
         if !KEYS.contains(&k.as_str()) {
-            errs.push(f.span(), format!("unknown field `{k}`; the fields are {}", KEYS.join(", ")));
+            errs.push(
+                f.span(),
+                format!("unknown field `{k}`; the fields are {}", KEYS.join(", ")),
+            );
         } else if fields.insert(k.clone(), f).is_some() {
             errs.push(f.span(), format!("field `{k}` is given twice"));
         }
@@ -79,20 +82,28 @@ pub fn validate(input: &Input) -> Result<Verified, Error> {
                     }
                 }
             }
-            v => errs.push(v.span(), "claims are a list: `claims: [symplectic, order = 4]`"),
+            v => errs.push(
+                v.span(),
+                "claims are a list: `claims: [symplectic, order = 4]`",
+            ),
         }
     }
 
     let table = build_table(input, &fields, &env, &mut errs);
     errs.finish()?;
     let Some((table, name, file_claims, source)) = table else {
-        return Err(Error::new(input.name.span(), "no table: give `a` and `b`, `drift` and `kick`, `compose`, or `from`"));
+        return Err(Error::new(
+            input.name.span(),
+            "no table: give `a` and `b`, `drift` and `kick`, `compose`, or `from`",
+        ));
     };
 
     // A table read `from` the catalogue brings the claims its file states,
     // unless the invocation states its own.
     if claims.is_empty() && !file_claims.is_empty() {
-        let span = fields.get("from").map_or(input.name.span(), |f| f.value.span());
+        let span = fields
+            .get("from")
+            .map_or(input.name.span(), |f| f.value.span());
         claim_spans = vec![span; file_claims.len()];
         claims = file_claims;
     }
@@ -123,7 +134,10 @@ pub fn validate(input: &Input) -> Result<Verified, Error> {
 fn field_span(fields: &BTreeMap<String, &Field>, path: &str) -> Option<Span> {
     let key = path.split('[').next()?;
     let f = fields.get(key)?;
-    let row: Option<usize> = path.split('[').nth(1).and_then(|r| r.trim_end_matches(']').parse().ok());
+    let row: Option<usize> = path
+        .split('[')
+        .nth(1)
+        .and_then(|r| r.trim_end_matches(']').parse().ok());
     match (&f.value, row) {
         (Value::Matrix(rows, _), Some(r)) => rows.get(r).map(|x| x.1),
         (v, _) => Some(v.span()),
@@ -147,7 +161,11 @@ fn eval(entry: &Entry, env: &BTreeMap<String, Number>, errs: &mut Errors) -> Opt
     }
 }
 
-fn vector(f: Option<&&Field>, env: &BTreeMap<String, Number>, errs: &mut Errors) -> Option<Vec<Number>> {
+fn vector(
+    f: Option<&&Field>,
+    env: &BTreeMap<String, Number>,
+    errs: &mut Errors,
+) -> Option<Vec<Number>> {
     let f = f?;
     match &f.value {
         Value::Vector(items, _) => {
@@ -155,20 +173,32 @@ fn vector(f: Option<&&Field>, env: &BTreeMap<String, Number>, errs: &mut Errors)
             vals.into_iter().collect()
         }
         v => {
-            errs.push(v.span(), format!("`{}` is a list of numbers: `[1/2, 1/2]`", f.key));
+            errs.push(
+                v.span(),
+                format!("`{}` is a list of numbers: `[1/2, 1/2]`", f.key),
+            );
             None
         }
     }
 }
 
-fn matrix(f: Option<&&Field>, env: &BTreeMap<String, Number>, errs: &mut Errors) -> Option<Vec<Vec<Number>>> {
+fn matrix(
+    f: Option<&&Field>,
+    env: &BTreeMap<String, Number>,
+    errs: &mut Errors,
+) -> Option<Vec<Vec<Number>>> {
     let f = f?;
     match &f.value {
         Value::Matrix(rows, _) => {
             let mut out = Vec::new();
             let mut ok = true;
             for (row, _) in rows {
-                let vals: Option<Vec<Number>> = row.iter().map(|e| eval(e, env, errs)).collect::<Vec<_>>().into_iter().collect();
+                let vals: Option<Vec<Number>> = row
+                    .iter()
+                    .map(|e| eval(e, env, errs))
+                    .collect::<Vec<_>>()
+                    .into_iter()
+                    .collect();
                 match vals {
                     Some(v) => out.push(v),
                     None => ok = false,
@@ -177,7 +207,10 @@ fn matrix(f: Option<&&Field>, env: &BTreeMap<String, Number>, errs: &mut Errors)
             ok.then_some(out)
         }
         v => {
-            errs.push(v.span(), format!("`{}` is a matrix: `[[1/4, 0], [1/2, 1/4]]`", f.key));
+            errs.push(
+                v.span(),
+                format!("`{}` is a matrix: `[[1/4, 0], [1/2, 1/4]]`", f.key),
+            );
             None
         }
     }
@@ -193,11 +226,20 @@ fn build_table(
     let name = input.name.to_string();
     if let Some(f) = fields.get("from") {
         let Value::Str(id) = &f.value else {
-            errs.push(f.value.span(), "`from` names a catalogue table: `from: \"rk4\"`");
+            errs.push(
+                f.value.span(),
+                "`from` names a catalogue table: `from: \"rk4\"`",
+            );
             return None;
         };
-        if let Some(other) = KEYS.iter().find(|k| **k != "from" && **k != "claims" && has(k)) {
-            errs.push(fields[*other].span(), "a table read `from` the catalogue takes no entries of its own");
+        if let Some(other) = KEYS
+            .iter()
+            .find(|k| **k != "from" && **k != "claims" && has(k))
+        {
+            errs.push(
+                fields[*other].span(),
+                "a table read `from` the catalogue takes no entries of its own",
+            );
             return None;
         }
         return match tableau::catalogue::load(&id.value()) {
@@ -233,7 +275,11 @@ fn build_table(
         let q = Rk {
             a: matrix(fields.get("a"), env, errs)?,
             b: vector(fields.get("b"), env, errs)?,
-            c: if has("c") { Some(vector(fields.get("c"), env, errs)?) } else { None },
+            c: if has("c") {
+                Some(vector(fields.get("c"), env, errs)?)
+            } else {
+                None
+            },
         };
         if !pair {
             return Some((Table::Rk(q), name, Vec::new(), None));
@@ -241,7 +287,11 @@ fn build_table(
         let p = Rk {
             a: matrix(fields.get("a_hat"), env, errs)?,
             b: vector(fields.get("b_hat"), env, errs)?,
-            c: if has("c_hat") { Some(vector(fields.get("c_hat"), env, errs)?) } else { None },
+            c: if has("c_hat") {
+                Some(vector(fields.get("c_hat"), env, errs)?)
+            } else {
+                None
+            },
         };
         return Some((Table::Prk(Prk { q, p }), name, Vec::new(), None));
     }
@@ -256,7 +306,12 @@ fn build_table(
     }
     if comp {
         let gamma = vector(fields.get("compose"), env, errs)?;
-        return Some((Table::Composition(Composition { gamma }), name, Vec::new(), None));
+        return Some((
+            Table::Composition(Composition { gamma }),
+            name,
+            Vec::new(),
+            None,
+        ));
     }
     None
 }

@@ -145,8 +145,16 @@ impl Splitting {
             }
         }
         Prk {
-            q: Rk { a, b: drift, c: None },
-            p: Rk { a: a_hat, b: kick, c: None },
+            q: Rk {
+                a,
+                b: drift,
+                c: None,
+            },
+            p: Rk {
+                a: a_hat,
+                b: kick,
+                c: None,
+            },
         }
     }
 }
@@ -167,8 +175,16 @@ impl Composition {
         let half = |x: &Number| x.checked_div(&two).expect("2 is not zero");
         let mut drift = Vec::with_capacity(m + 1);
         for k in 0..=m {
-            let left = if k > 0 { half(&self.gamma[k - 1]) } else { Number::zero() };
-            let right = if k < m { half(&self.gamma[k]) } else { Number::zero() };
+            let left = if k > 0 {
+                half(&self.gamma[k - 1])
+            } else {
+                Number::zero()
+            };
+            let right = if k < m {
+                half(&self.gamma[k])
+            } else {
+                Number::zero()
+            };
             drift.push(left + right);
         }
         Splitting {
@@ -228,7 +244,10 @@ impl Rk {
             if row.len() != s {
                 return Err(shape_err(
                     format!("a{suffix}[{i}]"),
-                    format!("A must be square: row {i} has {} entries, but A has {s} rows", row.len()),
+                    format!(
+                        "A must be square: row {i} has {} entries, but A has {s} rows",
+                        row.len()
+                    ),
                 ));
             }
         }

@@ -8,7 +8,9 @@ use tableau::file::parse_table_file;
 use tableau::{Number, Table};
 
 fn table(text: &str) -> Table {
-    parse_table_file("test", text).unwrap_or_else(|e| panic!("{e}")).table
+    parse_table_file("test", text)
+        .unwrap_or_else(|e| panic!("{e}"))
+        .table
 }
 
 fn analyse(text: &str) -> Analysis {
@@ -47,7 +49,10 @@ fn gauss_legendre() {
         assert_eq!(a.unimodular, Some(true));
     }
     let r = analyse(GAUSS3).stability.unwrap();
-    assert_eq!(r.to_text(), "(1 + z/2 + z^2/10 + z^3/120)/(1 - z/2 + z^2/10 - z^3/120)");
+    assert_eq!(
+        r.to_text(),
+        "(1 + z/2 + z^2/10 + z^3/120)/(1 - z/2 + z^2/10 - z^3/120)"
+    );
 }
 
 /// Perturbing any single entry of a symplectic table by 1/1000 breaks W = 0,
@@ -55,7 +60,9 @@ fn gauss_legendre() {
 #[test]
 fn every_single_perturbation_breaks_symplecticity() {
     for text in [GAUSS2, GAUSS3] {
-        let Table::Rk(rk) = table(text) else { unreachable!() };
+        let Table::Rk(rk) = table(text) else {
+            unreachable!()
+        };
         let s = rk.stages();
         let d = Number::ratio(1, 1000).unwrap();
         for i in 0..s {
@@ -66,7 +73,8 @@ fn every_single_perturbation_breaks_symplecticity() {
                 let a = Analysis::of(&t).unwrap();
                 assert!(!a.symplectic);
                 // W[i][j] and W[j][i] change by b_i/1000 (W[i][i] by 2·b_i/1000).
-                let mut touched: Vec<(usize, usize)> = a.w_nonzero.iter().map(|e| (e.i, e.j)).collect();
+                let mut touched: Vec<(usize, usize)> =
+                    a.w_nonzero.iter().map(|e| (e.i, e.j)).collect();
                 touched.sort();
                 let mut expect = vec![(i, j), (j, i)];
                 expect.sort();
@@ -78,7 +86,10 @@ fn every_single_perturbation_breaks_symplecticity() {
                 let err = check_claim(&t, &a, &parse_claim("symplectic").unwrap())
                     .unwrap_err()
                     .to_string();
-                assert!(err.contains(&format!("W[{}][{}]", touched[0].0, touched[0].1)), "{err}");
+                assert!(
+                    err.contains(&format!("W[{}][{}]", touched[0].0, touched[0].1)),
+                    "{err}"
+                );
             }
             let mut p = rk.clone();
             p.b[i] = &p.b[i] + &d;

@@ -72,17 +72,28 @@ fn inverse_in_multi_radical_fields() {
 #[test]
 fn errors_not_panics() {
     assert_eq!(int(0).recip(), Err(NumberError::DivisionByZero));
-    assert_eq!(int(1).checked_div(&(sqrt(2) - sqrt(2))), Err(NumberError::DivisionByZero));
+    assert_eq!(
+        int(1).checked_div(&(sqrt(2) - sqrt(2))),
+        Err(NumberError::DivisionByZero)
+    );
     assert!(matches!(int(-2).sqrt(), Err(NumberError::NegativeSqrt(_))));
-    assert!(matches!((int(1) + sqrt(2)).sqrt(), Err(NumberError::NestedRadical { .. })));
+    assert!(matches!(
+        (int(1) + sqrt(2)).sqrt(),
+        Err(NumberError::NestedRadical { .. })
+    ));
     assert!(matches!(int(0).powi(-1), Err(NumberError::DivisionByZero)));
     // The product of two primes above 2^40 cannot be factored by trial
     // division: refused, not guessed.
-    let big = Number::from_bigint(BigInt::from(1_099_511_628_211u64) * BigInt::from(1_099_511_628_401u64));
+    let big = Number::from_bigint(
+        BigInt::from(1_099_511_628_211u64) * BigInt::from(1_099_511_628_401u64),
+    );
     assert!(matches!(big.sqrt(), Err(NumberError::TooLargeToFactor(_))));
     // A large but smooth radicand is fine.
     let smooth = Number::from_bigint(BigInt::from(2).pow(200) * BigInt::from(3));
-    assert_eq!(smooth.sqrt().unwrap(), Number::from_bigint(BigInt::from(2).pow(100)) * sqrt(3));
+    assert_eq!(
+        smooth.sqrt().unwrap(),
+        Number::from_bigint(BigInt::from(2).pow(100)) * sqrt(3)
+    );
 }
 
 #[test]
@@ -119,8 +130,16 @@ fn rational_rounding_edge_cases() {
     let two = BigInt::from(2);
     // Exact powers of two across the whole range, subnormals included.
     for e in -1074..=1023i32 {
-        let v = if e >= 0 { r(two.pow(e as u32), 1.into()) } else { r(1.into(), two.pow((-e) as u32)) };
-        let expected = if e >= -1022 { 2f64.powi(e) } else { f64::from_bits(1u64 << (e + 1074)) };
+        let v = if e >= 0 {
+            r(two.pow(e as u32), 1.into())
+        } else {
+            r(1.into(), two.pow((-e) as u32))
+        };
+        let expected = if e >= -1022 {
+            2f64.powi(e)
+        } else {
+            f64::from_bits(1u64 << (e + 1074))
+        };
         assert_eq!(rational_to_f64(&v), expected, "2^{e}");
     }
     // Halfway between the two smallest subnormals' neighbours: 2^-1075 ties to 0,
@@ -157,7 +176,8 @@ fn arb_number() -> impl Strategy<Value = Number> {
         let rads2 = [int(1), sqrt(3), cbrt(3)];
         q(n, d) * rads[r1].clone() * rads2[r2].clone()
     });
-    prop::collection::vec(term, 1..4).prop_map(|ts| ts.into_iter().fold(Number::zero(), |a, t| a + t))
+    prop::collection::vec(term, 1..4)
+        .prop_map(|ts| ts.into_iter().fold(Number::zero(), |a, t| a + t))
 }
 
 proptest! {

@@ -76,8 +76,12 @@ impl Separable for Fpu {
     fn potential(&self, q: &[f64]) -> f64 {
         let n = 2 * self.m;
         let at = |i: usize| if i == 0 || i > n { 0.0 } else { q[i - 1] };
-        let stiff: f64 = (1..=self.m).map(|i| (at(2 * i) - at(2 * i - 1)).powi(2)).sum();
-        let soft: f64 = (0..=self.m).map(|i| (at(2 * i + 1) - at(2 * i)).powi(4)).sum();
+        let stiff: f64 = (1..=self.m)
+            .map(|i| (at(2 * i) - at(2 * i - 1)).powi(2))
+            .sum();
+        let soft: f64 = (0..=self.m)
+            .map(|i| (at(2 * i + 1) - at(2 * i)).powi(4))
+            .sum();
         0.25 * self.omega * self.omega * stiff + soft
     }
     fn velocity(&self, p: &[f64], out: &mut [f64]) {

@@ -47,13 +47,26 @@ pub trait ExactFlow {
 /// flow: Sofroniou–Spaletta's order-10 composition with about
 /// `steps_per_unit` steps per unit time (rounded up to a whole number over
 /// `[0, t]`).
-pub fn reference_solution<S: crate::Separable>(sys: &S, z0: &[f64], t: f64, steps_per_unit: f64) -> Vec<f64> {
+pub fn reference_solution<S: crate::Separable>(
+    sys: &S,
+    z0: &[f64],
+    t: f64,
+    steps_per_unit: f64,
+) -> Vec<f64> {
     let n = ((t.abs() * steps_per_unit).ceil() as usize).max(1);
     let h = t / n as f64;
     let mut z = z0.to_vec();
     if t != 0.0 {
-        crate::integrate(&crate::library::SofroniouSpaletta10, sys, &mut z, 0.0, h, n, |_, _, _| {})
-            .expect("the reference integration stays finite");
+        crate::integrate(
+            &crate::library::SofroniouSpaletta10,
+            sys,
+            &mut z,
+            0.0,
+            h,
+            n,
+            |_, _, _| {},
+        )
+        .expect("the reference integration stays finite");
     }
     z
 }

@@ -68,7 +68,10 @@ pub fn separable_stage_order(q: &Rk, p: &Rk) -> Option<Vec<usize>> {
     // Nodes 0..s are the Qᵢ, s..2s the Pᵢ; edges point to what a node needs.
     let needs = |node: usize| -> Vec<usize> {
         if node < s {
-            (0..s).filter(|&j| !q.a[node][j].is_zero()).map(|j| s + j).collect()
+            (0..s)
+                .filter(|&j| !q.a[node][j].is_zero())
+                .map(|j| s + j)
+                .collect()
         } else {
             (0..s).filter(|&j| !p.a[node - s][j].is_zero()).collect()
         }

@@ -149,7 +149,10 @@ impl Analysis {
         let conditions = symplectic::vanishes(&symplectic::w_matrix(rq, rp));
         let same_weights = rq.b == rp.b;
         let symmetric = symmetric_override.unwrap_or_else(|| {
-            symmetry::equal_up_to_permutation(&irreducible, &[symmetry::adjoint(rq), symmetry::adjoint(rp)])
+            symmetry::equal_up_to_permutation(
+                &irreducible,
+                &[symmetry::adjoint(rq), symmetry::adjoint(rp)],
+            )
         });
         let mut mismatch = row_sum_mismatch(&prk.q, "c");
         mismatch.extend(row_sum_mismatch(&prk.p, "c_hat"));
@@ -172,12 +175,20 @@ impl Analysis {
     }
 
     fn of_splitting(s: &Splitting) -> Analysis {
-        Self::of_prk(&s.to_prk(), Form::DriftKick, Some(symmetry::splitting_is_symmetric(s)))
+        Self::of_prk(
+            &s.to_prk(),
+            Form::DriftKick,
+            Some(symmetry::splitting_is_symmetric(s)),
+        )
     }
 
     fn of_composition(c: &Composition) -> Analysis {
         let split = c.to_splitting();
-        let mut a = Self::of_prk(&split.to_prk(), Form::Composition, Some(symmetry::splitting_is_symmetric(&split)));
+        let mut a = Self::of_prk(
+            &split.to_prk(),
+            Form::Composition,
+            Some(symmetry::splitting_is_symmetric(&split)),
+        );
         a.order_separable = order::composition_order(c, COMPOSITION_ORDER_LIMIT, None);
         a
     }
@@ -235,7 +246,10 @@ pub fn check_claim(table: &Table, analysis: &Analysis, claim: &Claim) -> Result<
             if analysis.explicit_separable {
                 Ok(())
             } else {
-                Err(ClaimError(format!("not explicit: {}", first_implicit_entry(table))))
+                Err(ClaimError(format!(
+                    "not explicit: {}",
+                    first_implicit_entry(table)
+                )))
             }
         }
         Claim::Order { p, bound } => check_order(table, analysis, *p, bound.as_ref()),
@@ -262,10 +276,18 @@ fn check_symplectic(a: &Analysis) -> Result<(), ClaimError> {
     } else {
         "Wᵢⱼ = bᵢâᵢⱼ + b̂ⱼaⱼᵢ − bᵢb̂ⱼ must vanish"
     };
-    Err(ClaimError(format!("not symplectic: {}{more} ({rule})", shown.join(", "))))
+    Err(ClaimError(format!(
+        "not symplectic: {}{more} ({rule})",
+        shown.join(", ")
+    )))
 }
 
-fn check_order(table: &Table, a: &Analysis, p: usize, bound: Option<&Number>) -> Result<(), ClaimError> {
+fn check_order(
+    table: &Table,
+    a: &Analysis,
+    p: usize,
+    bound: Option<&Number>,
+) -> Result<(), ClaimError> {
     let separable = a.separable_only();
     let (max_limit, what) = match (a.form, separable) {
         (Form::Rk, _) => (MAX_RK_ORDER, "Runge–Kutta tables"),
@@ -316,7 +338,9 @@ fn check_order(table: &Table, a: &Analysis, p: usize, bound: Option<&Number>) ->
     // A residual this small usually means rounded decimal coefficients: say
     // how to claim the order honestly.
     let hint = if bound.is_none() && f.residual.to_f64().abs() < 1e-8 {
-        format!("; if the coefficients are rounded decimals, claim a bound: `order = {p} (residual < 1e-14)`")
+        format!(
+            "; if the coefficients are rounded decimals, claim a bound: `order = {p} (residual < 1e-14)`"
+        )
     } else {
         String::new()
     };
@@ -346,7 +370,11 @@ fn first_implicit_entry(table: &Table) -> String {
             let prk = table.to_prk().expect("partitioned");
             check(&prk.q, "a", false)
                 .or_else(|| check(&prk.p, "a_hat", false))
-                .map(|e| format!("{e}, and the stages depend on each other in a cycle on separable systems"))
+                .map(|e| {
+                    format!(
+                        "{e}, and the stages depend on each other in a cycle on separable systems"
+                    )
+                })
                 .unwrap_or_default()
         }
     }

@@ -56,9 +56,14 @@ fn dj_reduce(tables: &[Rk]) -> (Vec<Rk>, bool) {
     let out = tables
         .iter()
         .map(|t| Rk {
-            a: keep.iter().map(|&i| keep.iter().map(|&j| t.a[i][j].clone()).collect()).collect(),
+            a: keep
+                .iter()
+                .map(|&i| keep.iter().map(|&j| t.a[i][j].clone()).collect())
+                .collect(),
             b: keep.iter().map(|&j| t.b[j].clone()).collect(),
-            c: t.c.as_ref().map(|c| keep.iter().map(|&j| c[j].clone()).collect()),
+            c: t.c
+                .as_ref()
+                .map(|c| keep.iter().map(|&j| c[j].clone()).collect()),
         })
         .collect();
     (out, true)
@@ -73,7 +78,10 @@ fn s_reduce(tables: &[Rk]) -> (Vec<Rk>, bool) {
     // Start from the given abscissae: stages at different times differ.
     if tables.iter().any(|t| t.c.is_some()) {
         class = refine(&class, |i| {
-            tables.iter().filter_map(|t| t.c.as_ref().map(|c| c[i].clone())).collect()
+            tables
+                .iter()
+                .filter_map(|t| t.c.as_ref().map(|c| c[i].clone()))
+                .collect()
         });
     }
     loop {
@@ -100,17 +108,26 @@ fn s_reduce(tables: &[Rk]) -> (Vec<Rk>, bool) {
     if n_classes == s {
         return (tables.to_vec(), false);
     }
-    let rep: Vec<usize> = (0..n_classes).map(|k| class.iter().position(|&c| c == k).unwrap()).collect();
+    let rep: Vec<usize> = (0..n_classes)
+        .map(|k| class.iter().position(|&c| c == k).unwrap())
+        .collect();
     let out = tables
         .iter()
         .map(|t| {
             let sum_over = |row: &[Number], k: usize| {
-                (0..s).filter(|&j| class[j] == k).fold(Number::zero(), |acc, j| acc + &row[j])
+                (0..s)
+                    .filter(|&j| class[j] == k)
+                    .fold(Number::zero(), |acc, j| acc + &row[j])
             };
             Rk {
-                a: rep.iter().map(|&i| (0..n_classes).map(|k| sum_over(&t.a[i], k)).collect()).collect(),
+                a: rep
+                    .iter()
+                    .map(|&i| (0..n_classes).map(|k| sum_over(&t.a[i], k)).collect())
+                    .collect(),
                 b: (0..n_classes).map(|k| sum_over(&t.b, k)).collect(),
-                c: t.c.as_ref().map(|c| rep.iter().map(|&i| c[i].clone()).collect()),
+                c: t.c
+                    .as_ref()
+                    .map(|c| rep.iter().map(|&i| c[i].clone()).collect()),
             }
         })
         .collect();
@@ -150,7 +167,11 @@ mod tests {
 
     #[test]
     fn irreducible_tables_are_unchanged() {
-        let midpoint = Rk { a: vec![vec![half()]], b: vec![n(1)], c: None };
+        let midpoint = Rk {
+            a: vec![vec![half()]],
+            b: vec![n(1)],
+            c: None,
+        };
         let (out, changed) = reduce(&[&midpoint]);
         assert!(!changed);
         assert_eq!(out[0], midpoint);
@@ -162,12 +183,23 @@ mod tests {
         // plus a third stage that never reaches the output.
         let q = Number::ratio(1, 4).unwrap();
         let rk = Rk {
-            a: vec![vec![q.clone(), q.clone(), n(0)], vec![q.clone(), q, n(0)], vec![n(1), n(0), n(7)]],
+            a: vec![
+                vec![q.clone(), q.clone(), n(0)],
+                vec![q.clone(), q, n(0)],
+                vec![n(1), n(0), n(7)],
+            ],
             b: vec![half(), half(), n(0)],
             c: None,
         };
         let (out, changed) = reduce(&[&rk]);
         assert!(changed);
-        assert_eq!(out[0], Rk { a: vec![vec![half()]], b: vec![n(1)], c: None });
+        assert_eq!(
+            out[0],
+            Rk {
+                a: vec![vec![half()]],
+                b: vec![n(1)],
+                c: None
+            }
+        );
     }
 }

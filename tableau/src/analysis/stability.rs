@@ -102,7 +102,11 @@ impl Poly {
             };
             let neg = c.signum() == std::cmp::Ordering::Less;
             let mag = c.abs();
-            let coef = if mag.is_rational() { mag.to_string() } else { format!("({mag})") };
+            let coef = if mag.is_rational() {
+                mag.to_string()
+            } else {
+                format!("({mag})")
+            };
             let term = match (k, mag.is_one(), mag.as_rational()) {
                 (0, _, _) => coef,
                 (_, true, _) => z,
@@ -136,11 +140,19 @@ impl StabilityFunction {
         let points: Vec<Number> = (0..=s as i64).map(Number::from).collect();
         let p_vals: Vec<Number> = points
             .iter()
-            .map(|z| det((0..s).map(|i| (0..s).map(|j| ident(i, j) + ones_b(z, i, j)).collect()).collect()))
+            .map(|z| {
+                det((0..s)
+                    .map(|i| (0..s).map(|j| ident(i, j) + ones_b(z, i, j)).collect())
+                    .collect())
+            })
             .collect();
         let q_vals: Vec<Number> = points
             .iter()
-            .map(|z| det((0..s).map(|i| (0..s).map(|j| ident(i, j) - z * &rk.a[i][j]).collect()).collect()))
+            .map(|z| {
+                det((0..s)
+                    .map(|i| (0..s).map(|j| ident(i, j) - z * &rk.a[i][j]).collect())
+                    .collect())
+            })
             .collect();
         let p = interpolate(&points, &p_vals);
         let q = interpolate(&points, &q_vals);
@@ -151,7 +163,10 @@ impl StabilityFunction {
         let q0 = q.0[0].recip().expect("Q(0) is nonzero");
         p = p.scale(&q0);
         q = q.scale(&q0);
-        StabilityFunction { numerator: p, denominator: q }
+        StabilityFunction {
+            numerator: p,
+            denominator: q,
+        }
     }
 
     /// `|R(iy)| = 1` for all real `y`.
@@ -165,13 +180,21 @@ impl StabilityFunction {
         if self.denominator.degree() == Some(0) {
             self.numerator.to_text()
         } else {
-            format!("({})/({})", self.numerator.to_text(), self.denominator.to_text())
+            format!(
+                "({})/({})",
+                self.numerator.to_text(),
+                self.denominator.to_text()
+            )
         }
     }
 }
 
 fn ident(i: usize, j: usize) -> Number {
-    if i == j { Number::one() } else { Number::zero() }
+    if i == j {
+        Number::one()
+    } else {
+        Number::zero()
+    }
 }
 
 /// Exact determinant by Gaussian elimination over the field.
@@ -235,7 +258,11 @@ mod tests {
 
     #[test]
     fn implicit_midpoint_is_the_11_pade() {
-        let rk = Rk { a: vec![vec![Number::ratio(1, 2).unwrap()]], b: vec![Number::one()], c: None };
+        let rk = Rk {
+            a: vec![vec![Number::ratio(1, 2).unwrap()]],
+            b: vec![Number::one()],
+            c: None,
+        };
         let r = StabilityFunction::of(&rk);
         assert_eq!(r.to_text(), "(1 + z/2)/(1 - z/2)");
         assert!(r.unimodular_on_imaginary_axis());
@@ -243,7 +270,11 @@ mod tests {
 
     #[test]
     fn explicit_euler() {
-        let rk = Rk { a: vec![vec![Number::zero()]], b: vec![Number::one()], c: None };
+        let rk = Rk {
+            a: vec![vec![Number::zero()]],
+            b: vec![Number::one()],
+            c: None,
+        };
         let r = StabilityFunction::of(&rk);
         assert_eq!(r.to_text(), "1 + z");
         assert!(!r.unimodular_on_imaginary_axis());

@@ -72,7 +72,10 @@ impl Number {
         if den == 0 {
             return Err(NumberError::DivisionByZero);
         }
-        Ok(Number::from_rational(BigRational::new(num.into(), den.into())))
+        Ok(Number::from_rational(BigRational::new(
+            num.into(),
+            den.into(),
+        )))
     }
 
     pub fn from_rational(r: BigRational) -> Self {
@@ -145,11 +148,7 @@ impl Number {
             return Number::zero();
         }
         Number {
-            terms: self
-                .terms
-                .iter()
-                .map(|(m, c)| (m.clone(), c * r))
-                .collect(),
+            terms: self.terms.iter().map(|(m, c)| (m.clone(), c * r)).collect(),
         }
     }
 
@@ -195,10 +194,12 @@ impl Number {
 
     /// The non-negative square root of a non-negative rational.
     pub fn sqrt(&self) -> Result<Number, NumberError> {
-        let r = self.as_rational().ok_or_else(|| NumberError::NestedRadical {
-            func: "sqrt",
-            arg: self.to_string(),
-        })?;
+        let r = self
+            .as_rational()
+            .ok_or_else(|| NumberError::NestedRadical {
+                func: "sqrt",
+                arg: self.to_string(),
+            })?;
         if r.is_negative() {
             return Err(NumberError::NegativeSqrt(self.to_string()));
         }
@@ -207,10 +208,12 @@ impl Number {
 
     /// The real cube root of a rational (negative for a negative argument).
     pub fn cbrt(&self) -> Result<Number, NumberError> {
-        let r = self.as_rational().ok_or_else(|| NumberError::NestedRadical {
-            func: "cbrt",
-            arg: self.to_string(),
-        })?;
+        let r = self
+            .as_rational()
+            .ok_or_else(|| NumberError::NestedRadical {
+                func: "cbrt",
+                arg: self.to_string(),
+            })?;
         let root = Self::rational_root(&r.abs(), 2)?;
         Ok(if r.is_negative() { -root } else { root })
     }
@@ -225,8 +228,8 @@ impl Number {
         let k = 6 / e;
         let d = r.denom().clone();
         let n = r.numer() * d.pow(k - 1);
-        let factors = radical::factorize(&n)
-            .ok_or_else(|| NumberError::TooLargeToFactor(n.to_string()))?;
+        let factors =
+            radical::factorize(&n).ok_or_else(|| NumberError::TooLargeToFactor(n.to_string()))?;
         let mut coeff = BigRational::new(BigInt::one(), d);
         let mut rad = Radical::one();
         for (p, mult) in factors {

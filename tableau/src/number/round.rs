@@ -35,7 +35,11 @@ pub fn rational_to_f64(r: &BigRational) -> f64 {
     // finer than the subnormal step 2^-1074.
     let ulp_exp = (e - 52).max(-1074);
     if e > 1023 {
-        return if negative { f64::NEG_INFINITY } else { f64::INFINITY };
+        return if negative {
+            f64::NEG_INFINITY
+        } else {
+            f64::INFINITY
+        };
     }
     // q = floor(n/d / 2^ulp_exp), rem tells the rounding.
     let (num, den) = if ulp_exp >= 0 {
