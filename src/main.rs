@@ -3,6 +3,7 @@
 //! own module.
 
 mod check;
+mod compare;
 mod paper;
 mod plot;
 
@@ -11,7 +12,11 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 
 #[derive(Parser)]
-#[command(name = "symlab", version, about = "Butcher tables in, proven integrators out")]
+#[command(
+    name = "symlab",
+    version,
+    about = "Butcher tables in, proven integrators out"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -24,6 +29,9 @@ enum Command {
     Check(check::CheckArgs),
     /// List the built-in tables (use an id with `symlab check --builtin ID`).
     List(check::ListArgs),
+    /// Research comparisons: work-precision sweeps (runs.csv and log-log
+    /// plots), long runs (--long) and largest stable steps (--hard).
+    Compare(compare::CompareArgs),
     /// Reproduce the paper's experiments (Tan et al., section 5): tables,
     /// plots and a report in out/paper/.
     Paper(paper::PaperArgs),
@@ -34,6 +42,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Check(args) => check::run(&args),
         Command::List(args) => check::list(&args),
+        Command::Compare(args) => compare::run(&args),
         Command::Paper(args) => paper::run(&args),
     };
     match result {

@@ -1,0 +1,272 @@
+//! `--hard`: the largest stable step of every method on three hard
+//! problems, by bisection.
+//!
+//! **Criterion.** A step size `h` is *stable* on a problem when the run from
+//! the problem's start to its fixed end time `T` (`n = ⌈T/h⌉` steps of size
+//! `T/n`) completes — no stage-solver failure, every state finite — with
+//! `max |E(t) − E₀|/|E₀| ≤ 0.1` over all steps. The search starts at a
+//! problem-specific `h₀`, doubles (or halves) until the verdict changes,
+//! then bisects geometrically until the bracket is within 1 %. It assumes a
+//! single threshold: where stability is not monotone in `h` (resonances),
+//! it reports one of the thresholds, always a verified stable `h`. Steps
+//! above `T` (one step) are not tried; steps below `T/10⁶` neither.
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use anyhow::{Context, Result};
+use rayon::prelude::*;
+
+use super::problem::{Fixed, Problem, Setup};
+use super::runner::Status;
+
+/// The energy-error bound of the criterion.
+pub const BOUND: f64 = 0.1;
+
+/// A hard case: the problem, its end time, the first step tried and the
+/// largest frequency (for `h·ω_max`).
+pub struct Case<P: Problem> {
+    pub name: &'static str,
+    pub setup: Setup<P>,
+    pub h0: f64,
+    pub omega_max: Option<f64>,
+}
+
+/// What lies just beyond the largest stable step.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Beyond {
+    Diverged,
+    EnergyAboveBound,
+    SolverFailed(String),
+}
+
+impl Beyond {
+    pub fn label(&self) -> String {
+        match self {
+            Beyond::Diverged => "diverged".into(),
+            Beyond::EnergyAboveBound => format!("energy error above {BOUND}"),
+            Beyond::SolverFailed(why) => format!("solver failed ({why})"),
+        }
+    }
+}
+
+/// One method's result.
+pub struct HardRow {
+    pub problem: String,
+    pub method: String,
+    pub order: usize,
+    pub symplectic: bool,
+    pub t_end: f64,
+    /// The largest step verified stable; `None` if none down to `T/10⁶`.
+    pub h_stable: Option<f64>,
+    /// The smallest step found unstable with what happened there; `None`
+    /// if stable up to `h = T`.
+    pub h_unstable: Option<(f64, Beyond)>,
+    pub omega_max: Option<f64>,
+    /// Runs made by the search.
+    pub probes: usize,
+}
+
+/// `Ok(())` if `n` steps over `T` are stable, else what went wrong.
+fn probe<P: Problem>(setup: &Setup<P>, f: &Fixed<P>, n: u64) -> Result<(), Beyond> {
+    let h = setup.t_end / n as f64;
+    let mut z = setup.z0.clone();
+    let outcome = f
+        .stepper
+        .observed(&setup.sys, &mut z, h, n as usize, true, &mut |_, _, z| {
+            let de = setup.energy_error(z);
+            de.is_finite() && de <= BOUND
+        });
+    match outcome.status {
+        Status::Ok => Ok(()),
+        Status::Diverged { .. } => Err(Beyond::Diverged),
+        Status::Stopped { .. } => {
+            if z.iter().all(|x| x.is_finite()) {
+                Err(Beyond::EnergyAboveBound)
+            } else {
+                Err(Beyond::Diverged)
+            }
+        }
+        Status::SolverFailed { reason, .. } => Err(Beyond::SolverFailed(short(&reason))),
+    }
+}
+
+/// The solver's message up to its first parenthesis (the numbers in it vary
+/// from step to step).
+fn short(reason: &str) -> String {
+    reason
+        .split(" (")
+        .next()
+        .unwrap_or(reason)
+        .trim()
+        .to_string()
+}
+
+/// Bisection for one method. `tolerance`: stop when `h_hi/h_lo ≤ 1 + tolerance`.
+pub fn search<P: Problem>(case: &Case<P>, f: &Fixed<P>, tolerance: f64, floor: f64) -> HardRow {
+    let t = case.setup.t_end;
+    let steps = |h: f64| ((t / h).ceil() as u64).max(1);
+    let mut probes = 0;
+    let mut test = |n: u64| {
+        probes += 1;
+        probe(&case.setup, f, n)
+    };
+    // Brackets in step counts: `lo_n` stable (more steps), `hi_n` unstable.
+    let mut lo: Option<u64> = None;
+    let mut hi: Option<(u64, Beyond)> = None;
+    let n0 = steps(case.h0);
+    match test(n0) {
+        Ok(()) => {
+            lo = Some(n0);
+            let mut n = n0;
+            while n > 1 {
+                n = n.div_ceil(2);
+                match test(n) {
+                    Ok(()) => lo = Some(n),
+                    Err(b) => {
+                        hi = Some((n, b));
+                        break;
+                    }
+                }
+            }
+        }
+        Err(b) => {
+            hi = Some((n0, b));
+            let n_max = steps(floor * t);
+            let mut n = n0;
+            while n < n_max {
+                n = (2 * n).min(n_max);
+                match test(n) {
+                    Ok(()) => {
+                        lo = Some(n);
+                        break;
+                    }
+                    Err(b) => hi = Some((n, b)),
+                }
+            }
+        }
+    }
+    if let (Some(mut l), Some((mut u, mut why))) = (lo, hi.clone()) {
+        // l > u in steps; bisect geometrically in h (i.e. in n).
+        while (l as f64) / (u as f64) > 1.0 + tolerance && l > u + 1 {
+            let mid = ((l as f64) * (u as f64)).sqrt().round() as u64;
+            let mid = mid.clamp(u + 1, l - 1);
+            match test(mid) {
+                Ok(()) => l = mid,
+                Err(b) => {
+                    u = mid;
+                    why = b;
+                }
+            }
+        }
+        lo = Some(l);
+        hi = Some((u, why));
+    }
+    HardRow {
+        problem: case.name.into(),
+        method: f.id.clone(),
+        order: f.order,
+        symplectic: f.symplectic,
+        t_end: t,
+        h_stable: lo.map(|n| t / n as f64),
+        h_unstable: hi.map(|(n, b)| (t / n as f64, b)),
+        omega_max: case.omega_max,
+        probes,
+    }
+}
+
+/// Every method on one case, in parallel across methods.
+pub fn run_case<P: Problem>(
+    case: &Case<P>,
+    methods: &[Fixed<P>],
+    tolerance: f64,
+    floor: f64,
+) -> Vec<HardRow> {
+    methods
+        .par_iter()
+        .map(|f| search(case, f, tolerance, floor))
+        .collect()
+}
+
+fn h_label(r: &HardRow) -> String {
+    match (&r.h_stable, &r.h_unstable) {
+        (Some(h), Some(_)) => format!("{h:.4e}"),
+        (Some(h), None) => format!("≥ {h:.4e} (= T)"),
+        (None, Some((h, _))) => format!("none ≥ {h:.1e}"),
+        (None, None) => "—".into(),
+    }
+}
+
+fn h_omega(r: &HardRow) -> String {
+    match (r.h_stable, r.omega_max) {
+        (Some(h), Some(w)) => format!("{:.3}", h * w),
+        _ => "—".into(),
+    }
+}
+
+fn beyond(r: &HardRow) -> String {
+    r.h_unstable
+        .as_ref()
+        .map_or("stable at every h tried".into(), |(_, b)| b.label())
+}
+
+/// `hard.csv` and `hard.md`.
+pub fn write(dir: &Path, rows: &[HardRow], notes: &[String]) -> Result<()> {
+    let mut s = String::from(
+        "problem,method,order,symplectic,t_end,h_stable,h_unstable,h_omega_max,beyond,probes\n",
+    );
+    for r in rows {
+        let _ = writeln!(
+            s,
+            "{},{},{},{},{:e},{:e},{:e},{:e},\"{}\",{}",
+            r.problem,
+            r.method,
+            r.order,
+            r.symplectic,
+            r.t_end,
+            r.h_stable.unwrap_or(f64::NAN),
+            r.h_unstable.as_ref().map_or(f64::NAN, |x| x.0),
+            match (r.h_stable, r.omega_max) {
+                (Some(h), Some(w)) => h * w,
+                _ => f64::NAN,
+            },
+            beyond(r).replace('"', "'"),
+            r.probes
+        );
+    }
+    let path = dir.join("hard.csv");
+    std::fs::write(&path, s).with_context(|| format!("writing {}", path.display()))?;
+    let path = dir.join("hard.md");
+    std::fs::write(&path, markdown(rows, notes))
+        .with_context(|| format!("writing {}", path.display()))
+}
+
+/// The Markdown table (also printed).
+pub fn markdown(rows: &[HardRow], notes: &[String]) -> String {
+    let mut s = String::from("# Largest stable step\n\n");
+    let _ = writeln!(
+        s,
+        "Stable: the run to the end time T completes (no solver failure, finite states) with \
+         max |E − E₀|/|E₀| ≤ {BOUND}. Bisection to 1 % from a problem-specific start.\n"
+    );
+    for n in notes {
+        let _ = writeln!(s, "- {n}");
+    }
+    s.push('\n');
+    s.push_str("| problem | method | order | symplectic | largest stable h | h·ω_max | beyond |\n");
+    s.push_str("|---|---|---:|---|---:|---:|---|\n");
+    for r in rows {
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} | {} | {} | {} | {} |",
+            r.problem,
+            r.method,
+            r.order,
+            if r.symplectic { "yes" } else { "no" },
+            h_label(r),
+            h_omega(r),
+            beyond(r)
+        );
+    }
+    s
+}

@@ -1,0 +1,266 @@
+//! `--long`: 10⁶ (up to 10⁷) steps of same-order pairs, symplectic against
+//! non-symplectic, each with and without compensated summation, recording
+//! the energy error at log-spaced times and fitting its growth exponent.
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use anyhow::{Context, Result};
+use rayon::prelude::*;
+
+use super::output::loglog_slope;
+use super::problem::{Method, Problem, Setup};
+use super::runner::Status;
+use crate::plot::{self, Plot, Series};
+
+/// The pairs compared: `(symplectic, non-symplectic, order)`.
+pub const PAIRS: [(&str, &str, usize); 3] = [
+    ("leapfrog", "heun", 2),
+    ("forest-ruth", "rk4", 4),
+    ("gauss2", "rk4", 4),
+];
+
+/// Energy-error samples per decade of steps.
+const PER_DECADE: u32 = 20;
+
+/// One long run.
+pub struct LongRun {
+    pub problem: String,
+    pub method: String,
+    pub order: usize,
+    pub symplectic: bool,
+    pub compensated: bool,
+    pub h: f64,
+    pub steps: u64,
+    /// `(step, t, max |E − E₀|/|E₀| over the window of steps ending here)`;
+    /// the windows are log-spaced, `PER_DECADE` per decade of steps.
+    pub samples: Vec<(u64, f64, f64)>,
+    pub status: Status,
+    /// Least-squares slope of log energy error against log t over the last
+    /// two decades of time.
+    pub exponent: Option<f64>,
+}
+
+/// Window ends: `round(10^(j/PER_DECADE))`, distinct, ending with `n`.
+pub fn window_ends(n: u64) -> Vec<u64> {
+    let mut v: Vec<u64> = Vec::new();
+    for j in 0.. {
+        let b = 10f64.powf(j as f64 / PER_DECADE as f64).round() as u64;
+        if b >= n {
+            break;
+        }
+        if v.last() != Some(&b) {
+            v.push(b);
+        }
+    }
+    v.push(n);
+    v
+}
+
+/// The growth exponent of the energy error: the slope over samples with
+/// `t ≥ t_last/100` (the last two decades).
+pub fn growth_exponent(samples: &[(u64, f64, f64)]) -> Option<f64> {
+    let t_last = samples.last()?.1;
+    let pts: Vec<(f64, f64)> = samples
+        .iter()
+        .filter(|s| s.1 >= t_last / 100.0)
+        .map(|s| (s.1, s.2))
+        .collect();
+    loglog_slope(&pts)
+}
+
+/// Run the pairs' methods, each with and without compensated summation, in
+/// parallel (every run is independent and only its errors are recorded).
+pub fn run<P: Problem>(setup: &Setup<P>, h: f64, n: u64) -> Result<Vec<LongRun>> {
+    let mut ids: Vec<&str> = Vec::new();
+    for (a, b, _) in PAIRS {
+        for id in [a, b] {
+            if !ids.contains(&id) {
+                ids.push(id);
+            }
+        }
+    }
+    let mut jobs = Vec::new();
+    for id in ids {
+        let Method::Fixed(f) = P::method(id, setup.id)? else {
+            unreachable!("the pairs are library schemes")
+        };
+        let f = std::sync::Arc::new(f);
+        for compensated in [true, false] {
+            jobs.push((f.clone(), compensated));
+        }
+    }
+    let ends = window_ends(n);
+    let runs = jobs
+        .par_iter()
+        .map(|(f, compensated)| {
+            let mut z = setup.z0.clone();
+            let mut samples = Vec::with_capacity(ends.len());
+            let mut next = 0;
+            let mut window: f64 = 0.0;
+            let outcome = f.stepper.observed(
+                &setup.sys,
+                &mut z,
+                h,
+                n as usize,
+                *compensated,
+                &mut |k, t, z| {
+                    if k == 0 {
+                        return true;
+                    }
+                    window = window.max(setup.energy_error(z));
+                    if k as u64 == ends[next] {
+                        samples.push((k as u64, t, window));
+                        window = 0.0;
+                        next += 1;
+                    }
+                    true
+                },
+            );
+            let exponent = growth_exponent(&samples);
+            LongRun {
+                problem: setup.id.name().into(),
+                method: f.id.clone(),
+                order: f.order,
+                symplectic: f.symplectic,
+                compensated: *compensated,
+                h,
+                steps: n,
+                samples,
+                status: outcome.status,
+                exponent,
+            }
+        })
+        .collect();
+    Ok(runs)
+}
+
+fn label(r: &LongRun) -> String {
+    format!(
+        "{} ({})",
+        r.method,
+        if r.compensated {
+            "compensated"
+        } else {
+            "plain"
+        }
+    )
+}
+
+/// `long.csv` (samples), `long_fit.csv` (exponents) and `long_energy.svg`.
+pub fn write(dir: &Path, runs: &[LongRun]) -> Result<()> {
+    let mut s = String::from("problem,method,order,symplectic,compensated,h,step,t,energy_error\n");
+    for r in runs {
+        for (k, t, e) in &r.samples {
+            let _ = writeln!(
+                s,
+                "{},{},{},{},{},{:e},{},{:e},{:e}",
+                r.problem, r.method, r.order, r.symplectic, r.compensated, r.h, k, t, e
+            );
+        }
+    }
+    let path = dir.join("long.csv");
+    std::fs::write(&path, s).with_context(|| format!("writing {}", path.display()))?;
+    let mut s = String::from(
+        "problem,method,order,symplectic,compensated,h,steps,exponent,final_energy_error,status\n",
+    );
+    for r in runs {
+        let last = r.samples.last().map_or(f64::NAN, |x| x.2);
+        let _ = writeln!(
+            s,
+            "{},{},{},{},{},{:e},{},{:e},{:e},\"{}\"",
+            r.problem,
+            r.method,
+            r.order,
+            r.symplectic,
+            r.compensated,
+            r.h,
+            r.steps,
+            r.exponent.unwrap_or(f64::NAN),
+            last,
+            r.status.label()
+        );
+    }
+    let path = dir.join("long_fit.csv");
+    std::fs::write(&path, s).with_context(|| format!("writing {}", path.display()))?;
+    let series: Vec<Series> = runs
+        .iter()
+        .map(|r| Series {
+            name: label(r),
+            points: r.samples.iter().map(|s| (s.1, s.2)).collect(),
+            markers: false,
+        })
+        .collect();
+    let title = format!(
+        "{}: energy error over {} steps of h = {}",
+        runs[0].problem, runs[0].steps, runs[0].h
+    );
+    plot::lines(
+        &dir.join("long_energy.svg"),
+        &Plot {
+            title: &title,
+            x_label: "t",
+            y_label: "max |E − E₀|/|E₀| (log-spaced windows)",
+            log_x: true,
+            log_y: true,
+            series: &series,
+        },
+    )
+}
+
+/// The printed table: each pair, each run's growth exponent.
+pub fn summary(runs: &[LongRun]) -> String {
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "Growth exponent of the energy error (slope of log max|ΔE/E| against log t over the last two decades):\n\
+         ≈ 1 drift, ≈ 0.5 random walk (Brouwer), ≈ 0 bounded."
+    );
+    for (a, b, order) in PAIRS {
+        let _ = writeln!(s, "order {order}: {a} (symplectic) vs {b}");
+        for id in [a, b] {
+            for r in runs.iter().filter(|r| r.method == id) {
+                let last = r.samples.last().map_or(f64::NAN, |x| x.2);
+                let _ = writeln!(
+                    s,
+                    "  {:<12} {:<12} exponent {:>6}   final max|ΔE/E| {:>9.2e}   {}",
+                    r.method,
+                    if r.compensated {
+                        "compensated"
+                    } else {
+                        "plain"
+                    },
+                    r.exponent.map_or("—".into(), |e| format!("{e:.2}")),
+                    last,
+                    r.status.label()
+                );
+            }
+        }
+    }
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn window_ends_are_log_spaced() {
+        let w = window_ends(1000);
+        assert_eq!(w.first(), Some(&1));
+        assert_eq!(w.last(), Some(&1000));
+        assert!(w.windows(2).all(|p| p[0] < p[1]));
+        // 20 per decade, minus the duplicates among small integers.
+        assert!(w.len() > 40 && w.len() <= 61, "{}", w.len());
+    }
+
+    #[test]
+    fn exponent_of_linear_and_bounded_growth() {
+        let lin: Vec<(u64, f64, f64)> = (1..=1000u64)
+            .map(|k| (k, k as f64, 1e-9 * k as f64))
+            .collect();
+        assert!((growth_exponent(&lin).unwrap() - 1.0).abs() < 1e-9);
+        let flat: Vec<(u64, f64, f64)> = (1..=1000u64).map(|k| (k, k as f64, 1e-9)).collect();
+        assert!(growth_exponent(&flat).unwrap().abs() < 1e-9);
+    }
+}

@@ -1,0 +1,430 @@
+//! What a sweep leaves behind: `runs.csv`, the work–precision plots, the
+//! printed summary, and the figures derived from the rows (fitted orders,
+//! time to reach an error).
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use anyhow::{Context, Result};
+
+use super::problem::Family;
+use super::sweep::{COLUMNS, Row};
+use crate::plot::{self, Plot, Series};
+
+pub fn write_csv(path: &Path, rows: &[Row]) -> Result<()> {
+    let mut s = COLUMNS.join(",");
+    s.push('\n');
+    for r in rows {
+        s.push_str(&r.csv());
+        s.push('\n');
+    }
+    std::fs::write(path, s).with_context(|| format!("writing {}", path.display()))
+}
+
+/// The methods of `rows`, in order of first appearance.
+pub fn methods(rows: &[Row]) -> Vec<&str> {
+    let mut out: Vec<&str> = Vec::new();
+    for r in rows {
+        if !out.contains(&r.method.as_str()) {
+            out.push(&r.method);
+        }
+    }
+    out
+}
+
+/// Least-squares slope of `ln y` against `ln x`; `None` for fewer than two
+/// points or no spread in `x`.
+pub fn loglog_slope(points: &[(f64, f64)]) -> Option<f64> {
+    let pts: Vec<(f64, f64)> = points
+        .iter()
+        .filter(|(x, y)| *x > 0.0 && *y > 0.0 && x.is_finite() && y.is_finite())
+        .map(|(x, y)| (x.ln(), y.ln()))
+        .collect();
+    if pts.len() < 2 {
+        return None;
+    }
+    let n = pts.len() as f64;
+    let mx = pts.iter().map(|p| p.0).sum::<f64>() / n;
+    let my = pts.iter().map(|p| p.1).sum::<f64>() / n;
+    let sxx: f64 = pts.iter().map(|p| (p.0 - mx) * (p.0 - mx)).sum();
+    let sxy: f64 = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
+    (sxx > 0.0).then(|| sxy / sxx)
+}
+
+/// The observed order of a fixed-step method: the slope of log error
+/// against log h over its successful runs with error between 1e-12 (above
+/// round-off) and 1e-1 (asymptotic regime).
+pub fn fitted_order(rows: &[Row], method: &str) -> Option<f64> {
+    let pts: Vec<(f64, f64)> = rows
+        .iter()
+        .filter(|r| {
+            r.method == method && r.ok() && r.tol.is_nan() && r.error > 1e-12 && r.error < 1e-1
+        })
+        .map(|r| (r.h, r.error))
+        .collect();
+    loglog_slope(&pts)
+}
+
+/// For each method, the wall time to reach relative error `target` at the
+/// end time, interpolated linearly in log–log between the two runs of the
+/// sweep that bracket it (following the runs from the cheapest up, the
+/// first whose error is at most `target` and the one before it). Methods
+/// whose runs never bracket the target (it is not reached, or already the
+/// cheapest run is below it) are left out. Fastest first.
+pub fn time_to_error(rows: &[Row], target: f64) -> Vec<(String, f64)> {
+    let mut out = Vec::new();
+    for m in methods(rows) {
+        let mut runs: Vec<&Row> = rows
+            .iter()
+            .filter(|r| r.method == m && r.ok() && r.time_s > 0.0 && r.error > 0.0)
+            .collect();
+        // Cheapest first: by evaluations, then by time.
+        runs.sort_by(|a, b| a.evals.cmp(&b.evals).then(a.time_s.total_cmp(&b.time_s)));
+        if let Some(i) = runs.iter().position(|r| r.error <= target)
+            && i > 0
+        {
+            let (a, b) = (runs[i - 1], runs[i]);
+            let (la, lb, lt) = (a.error.ln(), b.error.ln(), target.ln());
+            let f = if la == lb { 1.0 } else { (la - lt) / (la - lb) };
+            let t = (a.time_s.ln() + f * (b.time_s.ln() - a.time_s.ln())).exp();
+            out.push((m.to_string(), t));
+        }
+    }
+    out.sort_by(|a, b| a.1.total_cmp(&b.1));
+    out
+}
+
+/// Methods of `rows` that did not reach `target` within the sweep (or were
+/// below it already at the cheapest run), for the note under the table.
+pub fn not_bracketed(rows: &[Row], target: f64) -> Vec<String> {
+    let reached: Vec<String> = time_to_error(rows, target)
+        .into_iter()
+        .map(|(m, _)| m)
+        .collect();
+    methods(rows)
+        .into_iter()
+        .filter(|m| !reached.iter().any(|r| r == m))
+        .map(str::to_string)
+        .collect()
+}
+
+/// Split one CSV line, honouring double quotes.
+fn csv_fields(line: &str) -> Vec<String> {
+    let mut out = vec![String::new()];
+    let mut quoted = false;
+    let mut chars = line.chars().peekable();
+    while let Some(c) = chars.next() {
+        let last = out.last_mut().expect("at least one field");
+        match c {
+            '"' if quoted && chars.peek() == Some(&'"') => {
+                chars.next();
+                last.push('"');
+            }
+            '"' => quoted = !quoted,
+            ',' if !quoted => out.push(String::new()),
+            c => last.push(c),
+        }
+    }
+    out
+}
+
+/// The rows of a `runs.csv` written by `symlab compare` (columns found by
+/// name), e.g. to compute [`time_to_error`] again for a report.
+pub fn read_runs(path: &Path) -> Result<Vec<Row>> {
+    let text =
+        std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
+    let mut lines = text.lines();
+    let header = csv_fields(
+        lines
+            .next()
+            .with_context(|| format!("{}: empty file", path.display()))?,
+    );
+    let col = |name: &str| {
+        header
+            .iter()
+            .position(|h| h == name)
+            .with_context(|| format!("{}: no column '{name}'", path.display()))
+    };
+    let idx: Vec<usize> = COLUMNS.iter().map(|c| col(c)).collect::<Result<_>>()?;
+    let mut rows = Vec::new();
+    for (k, line) in lines.enumerate() {
+        let f = csv_fields(line);
+        let at = |i: usize| -> Result<&str> {
+            f.get(idx[i])
+                .map(String::as_str)
+                .with_context(|| format!("{}: line {} is short", path.display(), k + 2))
+        };
+        let num = |i: usize| -> Result<f64> {
+            let v = at(i)?;
+            v.parse::<f64>().with_context(|| {
+                format!(
+                    "{}: line {}: '{v}' is not a number ({})",
+                    path.display(),
+                    k + 2,
+                    COLUMNS[i]
+                )
+            })
+        };
+        let int = |i: usize| -> Result<u64> { Ok(num(i)? as u64) };
+        let method = at(1)?.to_string();
+        let family = if method == "dop853" {
+            Family::Peer
+        } else {
+            match integrator_core::library::info(method.trim_end_matches("-propagator")) {
+                Some(i) if !i.explicit || method.ends_with("-propagator") => Family::Implicit,
+                Some(i) if i.form == "rk" => Family::ExplicitRk,
+                _ => Family::Splitting,
+            }
+        };
+        rows.push(Row {
+            problem: at(0)?.to_string(),
+            method,
+            family,
+            order: int(2)? as usize,
+            symplectic: at(3)? == "true",
+            h: num(4)?,
+            tol: num(5)?,
+            steps: int(6)?,
+            error: num(7)?,
+            energy_error: num(8)?,
+            time_s: num(9)?,
+            evals: int(10)?,
+            newton_iterations: int(11)? as usize,
+            fixed_point_iterations: int(12)? as usize,
+            factorizations: int(13)? as usize,
+            status: at(14)?.to_string(),
+        });
+    }
+    Ok(rows)
+}
+
+fn series(rows: &[Row], x: impl Fn(&Row) -> f64, keep: impl Fn(&Row) -> bool) -> Vec<Series> {
+    methods(rows)
+        .into_iter()
+        .filter_map(|m| {
+            let mut pts: Vec<(f64, f64)> = rows
+                .iter()
+                .filter(|r| r.method == m && r.ok() && keep(r))
+                .map(|r| (x(r), r.error))
+                .filter(|(x, y)| *x > 0.0 && *y > 0.0 && x.is_finite() && y.is_finite())
+                .collect();
+            pts.sort_by(|a, b| a.0.total_cmp(&b.0));
+            (!pts.is_empty()).then(|| Series {
+                name: m.to_string(),
+                points: pts,
+                markers: true,
+            })
+        })
+        .collect()
+}
+
+/// `error_vs_time.svg` and `error_vs_evals.svg` (all methods), and the same
+/// split by family (`…_explicit-rk.svg`, `…_splitting.svg`,
+/// `…_implicit.svg`; the peer is drawn in each), whose legends stay
+/// readable. Returns the files written.
+pub fn plots(dir: &Path, rows: &[Row], title: &str, evals_label: &str) -> Result<Vec<String>> {
+    let mut written = Vec::new();
+    for family in [
+        None,
+        Some(Family::ExplicitRk),
+        Some(Family::Splitting),
+        Some(Family::Implicit),
+    ] {
+        let suffix = family.map_or(String::new(), |f| format!("_{}", f.name()));
+        let keep = |r: &Row| family.is_none_or(|f| r.family == f || r.family == Family::Peer);
+        if family.is_some() && !rows.iter().any(|r| family == Some(r.family)) {
+            continue;
+        }
+        let by_time = series(rows, |r| r.time_s, keep);
+        let by_evals = series(rows, |r| r.evals as f64, keep);
+        if by_time.is_empty() {
+            continue;
+        }
+        let name_t = format!("error_vs_time{suffix}.svg");
+        let name_e = format!("error_vs_evals{suffix}.svg");
+        let t_title = format!("{title}: error against wall time");
+        let e_title = format!("{title}: error against evaluations");
+        plot::lines(
+            &dir.join(&name_t),
+            &Plot {
+                title: &t_title,
+                x_label: "wall time (s)",
+                y_label: "relative error at t_end",
+                log_x: true,
+                log_y: true,
+                series: &by_time,
+            },
+        )?;
+        plot::lines(
+            &dir.join(&name_e),
+            &Plot {
+                title: &e_title,
+                x_label: evals_label,
+                y_label: "relative error at t_end",
+                log_x: true,
+                log_y: true,
+                series: &by_evals,
+            },
+        )?;
+        written.push(name_t);
+        written.push(name_e);
+    }
+    Ok(written)
+}
+
+fn fmt_opt(x: Option<f64>, prec: usize) -> String {
+    x.map_or("—".into(), |v| format!("{v:.prec$}"))
+}
+
+fn fmt_e(x: f64) -> String {
+    if x.is_finite() {
+        format!("{x:.2e}")
+    } else {
+        "—".into()
+    }
+}
+
+/// The printed summary: one line per method.
+pub fn summary(rows: &[Row], target: f64) -> String {
+    let tte = time_to_error(rows, target);
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "{:<22} {:>5} {:>5} {:>6} {:>7} {:>10} {:>10} {:>12}",
+        "method",
+        "order",
+        "sympl",
+        "ok",
+        "slope",
+        "min error",
+        "best dE/E",
+        format!("t(err={target:.0e})")
+    );
+    for m in methods(rows) {
+        let mine: Vec<&Row> = rows.iter().filter(|r| r.method == m).collect();
+        let first = mine[0];
+        let ok = mine.iter().filter(|r| r.ok()).count();
+        let min_err = mine
+            .iter()
+            .filter(|r| r.ok())
+            .map(|r| r.error)
+            .fold(f64::INFINITY, f64::min);
+        let best_de = mine
+            .iter()
+            .filter(|r| r.ok())
+            .map(|r| r.energy_error)
+            .fold(f64::INFINITY, f64::min);
+        let slope = if first.tol.is_nan() {
+            fitted_order(rows, m)
+        } else {
+            None
+        };
+        let t = tte
+            .iter()
+            .find(|(n, _)| n == m)
+            .map(|(_, t)| format!("{t:.3e} s"));
+        let _ = writeln!(
+            s,
+            "{:<22} {:>5} {:>5} {:>6} {:>7} {:>10} {:>10} {:>12}",
+            m,
+            first.order,
+            if first.symplectic { "yes" } else { "no" },
+            format!("{ok}/{}", mine.len()),
+            fmt_opt(slope, 2),
+            fmt_e(min_err),
+            fmt_e(best_de),
+            t.unwrap_or_else(|| "—".into()),
+        );
+    }
+    s
+}
+
+/// The time-to-error table, fastest first, as printed.
+pub fn time_to_error_table(rows: &[Row], target: f64, what: &str) -> String {
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "Wall time to reach relative error {target:.0e} ({what}), fastest first:"
+    );
+    let tte = time_to_error(rows, target);
+    for (i, (m, t)) in tte.iter().enumerate() {
+        let _ = writeln!(s, "{:>3}. {:<22} {:>10.3e} s", i + 1, m, t);
+    }
+    let missing = not_bracketed(rows, target);
+    if !missing.is_empty() {
+        let _ = writeln!(s, "not bracketed by the sweep: {}", missing.join(", "));
+    }
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn row(method: &str, h: f64, error: f64, time_s: f64, evals: u64) -> Row {
+        Row {
+            problem: "p".into(),
+            method: method.into(),
+            family: Family::ExplicitRk,
+            order: 2,
+            symplectic: false,
+            h,
+            tol: f64::NAN,
+            steps: 1,
+            error,
+            energy_error: 0.0,
+            time_s,
+            evals,
+            newton_iterations: 0,
+            fixed_point_iterations: 0,
+            factorizations: 0,
+            status: "ok".into(),
+        }
+    }
+
+    #[test]
+    fn runs_csv_round_trips() {
+        let mut rows = vec![
+            row("rk4", 0.1, 1e-6, 1e-3, 10),
+            row("dop853", 0.2, 1e-9, 2e-3, 30),
+        ];
+        rows[0].status = "solver failed at step 3: a, \"b\"".into();
+        rows[1].family = Family::Peer;
+        let path = std::env::temp_dir().join(format!("symlab-runs-{}.csv", std::process::id()));
+        write_csv(&path, &rows).unwrap();
+        let back = read_runs(&path).unwrap();
+        std::fs::remove_file(&path).unwrap();
+        assert_eq!(back.len(), 2);
+        assert_eq!(back[0].status, rows[0].status);
+        assert_eq!(back[0].family, Family::ExplicitRk);
+        assert_eq!(back[1].family, Family::Peer);
+        assert_eq!(back[1].time_s, 2e-3);
+        assert!(back[0].tol.is_nan());
+    }
+
+    #[test]
+    fn slope_of_a_power_law() {
+        let pts: Vec<(f64, f64)> = (1..6)
+            .map(|i| (i as f64, 3.0 * (i as f64).powi(4)))
+            .collect();
+        assert!((loglog_slope(&pts).unwrap() - 4.0).abs() < 1e-12);
+        assert!(loglog_slope(&[(1.0, 1.0)]).is_none());
+    }
+
+    #[test]
+    fn time_to_error_interpolates_in_log_log_and_sorts() {
+        let rows = vec![
+            row("a", 0.1, 1e-6, 1e-3, 10),
+            row("a", 0.01, 1e-10, 1e-1, 100),
+            row("b", 0.1, 1e-7, 1e-4, 10),
+            row("b", 0.01, 1e-9, 1e-2, 100),
+            row("c", 0.1, 1e-3, 1e-4, 10),
+        ];
+        let t = time_to_error(&rows, 1e-8);
+        assert_eq!(t.len(), 2);
+        assert_eq!(t[0].0, "b");
+        assert!((t[0].1 - 1e-3).abs() < 1e-12);
+        assert!((t[1].1 - 1e-2).abs() < 1e-12);
+        assert_eq!(not_bracketed(&rows, 1e-8), vec!["c".to_string()]);
+    }
+}

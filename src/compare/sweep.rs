@@ -1,0 +1,298 @@
+//! Work–precision sweeps: every method over a range of step sizes (or, for
+//! the adaptive peer, tolerances), one row per run.
+
+use std::time::Instant;
+
+use indicatif::{ProgressBar, ProgressStyle};
+
+use super::problem::{Family, Fixed, Method, Problem, Setup};
+
+/// One run: a row of `runs.csv` (see the module docs for the columns).
+#[derive(Clone, Debug)]
+pub struct Row {
+    pub problem: String,
+    pub method: String,
+    pub family: Family,
+    pub order: usize,
+    pub symplectic: bool,
+    /// Step size (the average step for the adaptive peer).
+    pub h: f64,
+    /// `rtol = atol` of the adaptive peer; NaN for fixed-step methods.
+    pub tol: f64,
+    pub steps: u64,
+    /// `‖z − z_ref‖₂/‖z_ref‖₂` at `t_end`; NaN unless `status` is ok.
+    pub error: f64,
+    /// `max |E − E₀|/|E₀|` over the run (the steps taken).
+    pub energy_error: f64,
+    /// Median wall time of the timed runs, seconds; NaN unless ok.
+    pub time_s: f64,
+    pub evals: u64,
+    pub newton_iterations: usize,
+    pub fixed_point_iterations: usize,
+    pub factorizations: usize,
+    pub status: String,
+}
+
+impl Row {
+    pub fn ok(&self) -> bool {
+        self.status == "ok"
+    }
+}
+
+/// The CSV header of `runs.csv`.
+pub const COLUMNS: &[&str] = &[
+    "problem",
+    "method",
+    "order",
+    "symplectic",
+    "h",
+    "tol",
+    "steps",
+    "error",
+    "energy_error",
+    "time_s",
+    "evals",
+    "newton_iterations",
+    "fixed_point_iterations",
+    "factorizations",
+    "status",
+];
+
+impl Row {
+    pub fn csv(&self) -> String {
+        let status = if self.status.contains([',', '"']) {
+            format!("\"{}\"", self.status.replace('"', "\"\""))
+        } else {
+            self.status.clone()
+        };
+        format!(
+            "{},{},{},{},{:e},{:e},{},{:e},{:e},{:e},{},{},{},{},{}",
+            self.problem,
+            self.method,
+            self.order,
+            self.symplectic,
+            self.h,
+            self.tol,
+            self.steps,
+            self.error,
+            self.energy_error,
+            self.time_s,
+            self.evals,
+            self.newton_iterations,
+            self.fixed_point_iterations,
+            self.factorizations,
+            status
+        )
+    }
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    if v.is_empty() {
+        return f64::NAN;
+    }
+    v.sort_by(f64::total_cmp);
+    let m = v.len() / 2;
+    if v.len() % 2 == 1 {
+        v[m]
+    } else {
+        0.5 * (v[m - 1] + v[m])
+    }
+}
+
+/// Step counts for the log-spaced step sizes from `h_max` down to `h_min`
+/// (`points` of them), each rounded to a whole number of steps over
+/// `t_end`, duplicates dropped.
+pub fn step_counts(t_end: f64, h_min: f64, h_max: f64, points: usize) -> Vec<u64> {
+    let mut out: Vec<u64> = (0..points)
+        .map(|i| {
+            let f = if points == 1 {
+                0.0
+            } else {
+                i as f64 / (points - 1) as f64
+            };
+            let h = h_max * (h_min / h_max).powf(f);
+            ((t_end / h).round() as u64).max(1)
+        })
+        .collect();
+    out.dedup();
+    out
+}
+
+/// Tolerances of the peer, log-spaced from 1e-4 to 1e-13.
+pub fn tolerances(points: usize) -> Vec<f64> {
+    (0..points)
+        .map(|i| {
+            let f = if points == 1 {
+                0.0
+            } else {
+                i as f64 / (points - 1) as f64
+            };
+            10f64.powf(-4.0 - 9.0 * f)
+        })
+        .collect()
+}
+
+fn progress(len: u64) -> ProgressBar {
+    let pb = ProgressBar::new(len);
+    if let Ok(style) = ProgressStyle::with_template("{bar:40} {pos}/{len} {msg} [{elapsed}]") {
+        pb.set_style(style);
+    }
+    pb
+}
+
+/// Run every method: fixed-step methods at each step count, the peer at
+/// each tolerance. For each: one observed run on the counting wrapper
+/// (error, energy error, evaluations, solver counters), then, if it
+/// succeeded, one untimed warm-up run and `repeats` timed runs on the bare
+/// system, strictly one after another; the time is their median.
+pub fn sweep<P: Problem>(
+    setup: &Setup<P>,
+    methods: &[Method<P>],
+    steps: &[u64],
+    tols: &[f64],
+    repeats: usize,
+) -> Vec<Row> {
+    let total: usize = methods
+        .iter()
+        .map(|m| match m {
+            Method::Fixed(_) => steps.len(),
+            Method::Dop853 => tols.len(),
+        })
+        .sum();
+    let pb = progress(total as u64);
+    let mut rows = Vec::with_capacity(total);
+    for m in methods {
+        pb.set_message(m.id().to_string());
+        match m {
+            Method::Fixed(f) => {
+                for &n in steps {
+                    rows.push(fixed_run(setup, f, n, repeats));
+                    pb.inc(1);
+                }
+            }
+            Method::Dop853 => {
+                for &tol in tols {
+                    rows.push(peer_run(setup, tol, repeats));
+                    pb.inc(1);
+                }
+            }
+        }
+    }
+    pb.finish_and_clear();
+    rows
+}
+
+/// One fixed-step run of `n` steps over `[0, t_end]`.
+pub fn fixed_run<P: Problem>(setup: &Setup<P>, f: &Fixed<P>, n: u64, repeats: usize) -> Row {
+    let h = setup.t_end / n as f64;
+    let mut z = setup.z0.clone();
+    let mut energy_error: f64 = 0.0;
+    let outcome = f
+        .stepper
+        .observed(&setup.sys, &mut z, h, n as usize, true, &mut |_, _, z| {
+            energy_error = energy_error.max(setup.energy_error(z));
+            true
+        });
+    let ok = outcome.status.is_ok();
+    let (error, time_s) = if ok {
+        let error = setup.error(&z);
+        let mut w = setup.z0.clone();
+        let mut fine = f.stepper.bare(&setup.sys, &mut w, h, n as usize);
+        let mut times = Vec::with_capacity(repeats);
+        for _ in 0..repeats {
+            let mut w = setup.z0.clone();
+            let start = Instant::now();
+            fine &= f.stepper.bare(&setup.sys, &mut w, h, n as usize);
+            times.push(start.elapsed().as_secs_f64());
+            std::hint::black_box(&w);
+        }
+        (error, if fine { median(times) } else { f64::NAN })
+    } else {
+        (f64::NAN, f64::NAN)
+    };
+    Row {
+        problem: setup.id.name().into(),
+        method: f.id.clone(),
+        family: f.family,
+        order: f.order,
+        symplectic: f.symplectic,
+        h,
+        tol: f64::NAN,
+        steps: n,
+        error,
+        energy_error,
+        time_s,
+        evals: outcome.evals,
+        newton_iterations: outcome.newton_iterations,
+        fixed_point_iterations: outcome.fixed_point_iterations,
+        factorizations: outcome.factorizations,
+        status: outcome.status.label(),
+    }
+}
+
+/// One DOP853 run at `rtol = atol = tol`: the first call gives the error
+/// and counts (and warms up), then `repeats` timed calls.
+pub fn peer_run<P: Problem>(setup: &Setup<P>, tol: f64, repeats: usize) -> Row {
+    let first = P::dop853(setup, tol);
+    let mut row = Row {
+        problem: setup.id.name().into(),
+        method: "dop853".into(),
+        family: Family::Peer,
+        order: 8,
+        symplectic: false,
+        h: f64::NAN,
+        tol,
+        steps: 0,
+        error: f64::NAN,
+        energy_error: f64::NAN,
+        time_s: f64::NAN,
+        evals: 0,
+        newton_iterations: 0,
+        fixed_point_iterations: 0,
+        factorizations: 0,
+        status: "solver failed: the peer is not available".into(),
+    };
+    let Some(first) = first else { return row };
+    row.steps = first.accepted;
+    row.evals = first.evals;
+    row.energy_error = first.energy_error;
+    row.h = if first.accepted > 0 {
+        setup.t_end / first.accepted as f64
+    } else {
+        f64::NAN
+    };
+    match &first.end {
+        Ok(z) => {
+            row.error = setup.error(z);
+            row.status = "ok".into();
+            let times: Vec<f64> = (0..repeats)
+                .filter_map(|_| P::dop853(setup, tol).map(|o| o.seconds))
+                .collect();
+            row.time_s = median(times);
+        }
+        Err(e) => row.status = format!("solver failed: {e}"),
+    }
+    row
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn step_counts_are_log_spaced_and_distinct() {
+        let s = step_counts(10.0, 1e-3, 0.1, 5);
+        assert_eq!(s, vec![100, 316, 1000, 3162, 10000]);
+        assert_eq!(step_counts(1.0, 0.5, 0.5, 3), vec![2]);
+        let t = tolerances(10);
+        assert_eq!(t.len(), 10);
+        assert!((t[0] - 1e-4).abs() < 1e-18 && (t[9] - 1e-13).abs() < 1e-25);
+    }
+
+    #[test]
+    fn median_of_even_and_odd() {
+        assert_eq!(median(vec![3.0, 1.0, 2.0]), 2.0);
+        assert_eq!(median(vec![4.0, 1.0, 2.0, 3.0]), 2.5);
+        assert!(median(vec![]).is_nan());
+    }
+}
