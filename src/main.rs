@@ -3,6 +3,7 @@
 //! own module.
 
 mod check;
+mod cloth_cmd;
 mod compare;
 mod paper;
 mod plot;
@@ -35,6 +36,10 @@ enum Command {
     /// Reproduce the paper's experiments (Tan et al., section 5): tables,
     /// plots and a report in out/paper/.
     Paper(paper::PaperArgs),
+    /// Simulate a cloth scene (scenes/*.toml) with any method: energy.csv,
+    /// an energy plot, OBJ frames, PNG renderings and a summary in
+    /// out/<scene-name>/; or --stability: the largest stable step per method.
+    Cloth(cloth_cmd::ClothArgs),
 }
 
 fn main() -> ExitCode {
@@ -44,6 +49,7 @@ fn main() -> ExitCode {
         Command::List(args) => check::list(&args),
         Command::Compare(args) => compare::run(&args),
         Command::Paper(args) => paper::run(&args),
+        Command::Cloth(args) => cloth_cmd::run(&args),
     };
     match result {
         Ok(code) => code,

@@ -1,0 +1,724 @@
+//! `symlab cloth SCENE.toml`: run a cloth scene with any method that steps
+//! cloth (explicit library schemes, and the implicit ones through the
+//! sparse Newton solver), writing `energy.csv`, an energy plot, OBJ frames
+//! and PNG renderings to `out/<scene-name>/`, and printing a one-screen
+//! summary; or, with `--stability`, the largest stable step of each method.
+
+mod energy;
+mod render;
+mod stability;
+
+use std::collections::BTreeMap;
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::time::Instant;
+
+use anyhow::{Context, Result, anyhow, bail};
+use clap::Args;
+use cloth::implicit::{self as cloth_implicit};
+use cloth::{FrameStats, RunError, RunOptions, Scene, Simulation, Vec3};
+use indicatif::{ProgressBar, ProgressStyle};
+
+/// Arguments of `symlab cloth`.
+#[derive(Args, Debug)]
+pub struct ClothArgs {
+    /// The scene file (TOML; see scenes/ and the cloth crate's documentation).
+    pub scene: PathBuf,
+    /// The method (default: the scene's): an explicit library scheme
+    /// (symplectic-euler-a, stormer-verlet, leapfrog, forest-ruth, …, euler,
+    /// rk4) or an implicit one stepped with sparse Newton (gauss2, midpoint,
+    /// implicit-euler, gauss3, radau2a-3, paper-dirk2, paper-dirk4).
+    #[arg(long, value_name = "NAME")]
+    pub method: Option<String>,
+    /// Frames to simulate after the initial one (default: the scene's).
+    #[arg(long, value_name = "N")]
+    pub frames: Option<usize>,
+    /// Steps per frame (default: the scene's).
+    #[arg(long, value_name = "K", conflicts_with = "dt")]
+    pub substeps: Option<usize>,
+    /// The step size in seconds instead of --substeps: the frame is split
+    /// into round(1/(frame_rate·H)) steps and the frame rate adjusted
+    /// slightly so that the step is exactly H (one step per frame when H is
+    /// longer than a frame).
+    #[arg(long, value_name = "H", allow_negative_numbers = true)]
+    pub dt: Option<f64>,
+    /// Output directory (default: out/<scene-name>/).
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Write an OBJ file every N frames (and always the last); 0: none.
+    #[arg(long, value_name = "N", default_value_t = 10)]
+    pub obj_every: usize,
+    /// Frames to render as PNG, comma-separated (default: first, middle and
+    /// last), or "none".
+    #[arg(long, value_name = "FRAME,FRAME,...")]
+    pub render: Option<String>,
+    /// Override the resolution: NX×NY particles, e.g. 64x64 (the scene is
+    /// otherwise unchanged: same size, material and pins).
+    #[arg(long, value_name = "NXxNY")]
+    pub grid: Option<String>,
+    /// Instead of a run: the largest stable step of each method, by bisection
+    /// on h over --duration simulated seconds ("stable": the run finishes,
+    /// no NaN, Newton converges, and the relative energy error stays within
+    /// --tolerance at every frame), beside the linear estimate 2/ω_max;
+    /// writes stability.csv.
+    #[arg(long)]
+    pub stability: bool,
+    /// With --stability: the largest relative energy error |H − H₀|/E_ref
+    /// a stable run may show.
+    #[arg(long, value_name = "X", default_value_t = 0.1, requires = "stability")]
+    pub tolerance: f64,
+    /// With --stability: simulated seconds per trial run.
+    #[arg(long, value_name = "T", default_value_t = 1.0, requires = "stability")]
+    pub duration: f64,
+    /// With --stability: the methods to test, comma-separated (default: the
+    /// explicit symplectic ones, euler, rk4, gauss2, midpoint, implicit-euler).
+    #[arg(long, value_name = "NAME,NAME,...", requires = "stability")]
+    pub methods: Option<String>,
+}
+
+/// Exit code of a run that blew up or whose Newton iteration failed.
+const EXIT_RUN_FAILED: u8 = 1;
+
+pub fn run(args: &ClothArgs) -> Result<ExitCode> {
+    // Library errors print their cause in their own message: pass the
+    // message on, not the chain (which would print the cause twice).
+    let mut scene = Scene::load(&args.scene).map_err(|e| anyhow!("{e}"))?;
+    let file = args.scene.display().to_string();
+    if let Some(grid) = &args.grid {
+        let (nx, ny) = parse_grid(grid)?;
+        regrid(&mut scene, nx, ny);
+        scene
+            .validate()
+            .map_err(|e| anyhow!("--grid {grid}: {e}"))?;
+    }
+    if args.stability {
+        if !(args.tolerance > 0.0 && args.tolerance.is_finite()) {
+            bail!("--tolerance: must be positive (got {})", args.tolerance);
+        }
+        if !(args.duration > 0.0 && args.duration.is_finite()) {
+            bail!("--duration: must be positive (got {})", args.duration);
+        }
+        let methods = match &args.methods {
+            Some(list) => {
+                let names: Vec<String> = list
+                    .split(',')
+                    .map(|s| s.trim().to_string())
+                    .filter(|s| !s.is_empty())
+                    .collect();
+                for m in &names {
+                    check_method(m, "--methods")?;
+                }
+                if names.is_empty() {
+                    bail!("--methods: no method given");
+                }
+                names
+            }
+            None => stability::default_methods(),
+        };
+        let dir = output_dir(args, &scene)?;
+        return stability::run(&scene, &file, &methods, args.tolerance, args.duration, &dir);
+    }
+    let method = match &args.method {
+        Some(m) => {
+            check_method(m, "--method")?;
+            m.clone()
+        }
+        None => scene.simulation.method.clone(),
+    };
+    let (opts, note) = run_options(&scene, args)?;
+    let renders = render_frames(args.render.as_deref(), opts.frames)?;
+    let dir = output_dir(args, &scene)?;
+    simulate(&scene, &method, &opts, note, &renders, args.obj_every, &dir)
+}
+
+fn parse_grid(text: &str) -> Result<(usize, usize)> {
+    let parts: Vec<&str> = text.split(['x', 'X', '×']).collect();
+    let parse = |s: &str| s.trim().parse::<usize>().ok().filter(|&n| n >= 2);
+    match parts.as_slice() {
+        [n] => parse(n).map(|n| (n, n)),
+        [a, b] => parse(a).zip(parse(b)),
+        _ => None,
+    }
+    .with_context(|| {
+        format!("--grid: expected NX×NY with both at least 2, e.g. 64x64 (got \"{text}\")")
+    })
+}
+
+/// The scene at another resolution: pinned edges stay pinned edges, other
+/// pins (corners, points) move to the nearest particle at the same place.
+fn regrid(scene: &mut Scene, nx: usize, ny: usize) {
+    let (nx0, ny0) = (scene.cloth.nx, scene.cloth.ny);
+    let old: std::collections::BTreeSet<(usize, usize)> = scene.pins.iter().copied().collect();
+    let edges = [
+        (0..nx0).all(|i| old.contains(&(i, 0))),
+        (0..nx0).all(|i| old.contains(&(i, ny0 - 1))),
+        (0..ny0).all(|j| old.contains(&(0, j))),
+        (0..ny0).all(|j| old.contains(&(nx0 - 1, j))),
+    ];
+    let on_full_edge = |&(i, j): &(usize, usize)| {
+        (edges[0] && j == 0)
+            || (edges[1] && j == ny0 - 1)
+            || (edges[2] && i == 0)
+            || (edges[3] && i == nx0 - 1)
+    };
+    let mut pins = std::collections::BTreeSet::new();
+    if edges[0] {
+        pins.extend((0..nx).map(|i| (i, 0)));
+    }
+    if edges[1] {
+        pins.extend((0..nx).map(|i| (i, ny - 1)));
+    }
+    if edges[2] {
+        pins.extend((0..ny).map(|j| (0, j)));
+    }
+    if edges[3] {
+        pins.extend((0..ny).map(|j| (nx - 1, j)));
+    }
+    let map =
+        |k: usize, n0: usize, n: usize| ((k * (n - 1)) as f64 / (n0 - 1) as f64).round() as usize;
+    pins.extend(
+        old.iter()
+            .filter(|p| !on_full_edge(p))
+            .map(|&(i, j)| (map(i, nx0, nx), map(j, ny0, ny))),
+    );
+    scene.pins = pins.into_iter().collect();
+    scene.cloth.nx = nx;
+    scene.cloth.ny = ny;
+}
+
+/// A method name that can step cloth, or an error listing those that can.
+fn check_method(id: &str, flag: &str) -> Result<()> {
+    if cloth_implicit::all_methods().contains(&id) {
+        return Ok(());
+    }
+    let why = if integrator_core::library::info(id).is_some() {
+        "is a library scheme that does not step cloth here"
+    } else {
+        "is not a known method"
+    };
+    bail!(
+        "{flag}: \"{id}\" {why}; explicit: {}; implicit (sparse Newton): {}",
+        cloth::STEPPABLE.join(", "),
+        cloth_implicit::IMPLICIT.join(", ")
+    )
+}
+
+/// Frames, substeps and frame rate from the scene and the flags, and a note
+/// when the frame rate had to change for --dt.
+fn run_options(scene: &Scene, args: &ClothArgs) -> Result<(RunOptions, Option<String>)> {
+    let mut opts = RunOptions::from_scene(scene);
+    let duration = scene.simulation.frames as f64 / scene.simulation.frame_rate;
+    let mut note = None;
+    if let Some(k) = args.substeps {
+        if k == 0 {
+            bail!("--substeps: must be at least 1");
+        }
+        opts.substeps = k;
+    }
+    if let Some(h) = args.dt {
+        if !(h > 0.0 && h.is_finite()) {
+            bail!("--dt: must be a positive step size in seconds (got {h})");
+        }
+        let rate = opts.frame_rate;
+        let k = ((1.0 / (rate * h)).round() as usize).max(1);
+        opts.substeps = k;
+        let exact = 1.0 / (k as f64 * h);
+        if (exact - rate).abs() > 1e-9 * rate {
+            opts.frame_rate = exact;
+            note = Some(format!(
+                "frame rate {exact:.4} Hz instead of {rate} Hz so that {k} step{} of h = {h:e} s make a frame",
+                if k == 1 { "" } else { "s" }
+            ));
+            if args.frames.is_none() {
+                opts.frames = ((duration * exact).round() as usize).max(1);
+            }
+        }
+    }
+    if let Some(n) = args.frames {
+        opts.frames = n;
+    }
+    Ok((opts, note))
+}
+
+/// The frames to render: the list given, or first, middle and last.
+fn render_frames(spec: Option<&str>, frames: usize) -> Result<Vec<usize>> {
+    let mut out: Vec<usize> = match spec.map(str::trim) {
+        None => vec![0, frames / 2, frames],
+        Some("none") | Some("") => Vec::new(),
+        Some(list) => {
+            let mut v = Vec::new();
+            for item in list.split(',') {
+                let n: usize = item.trim().parse().with_context(|| {
+                    format!(
+                        "--render: \"{}\" is not a frame number (expected e.g. 0,150,300 or none)",
+                        item.trim()
+                    )
+                })?;
+                if n > frames {
+                    bail!("--render: frame {n} is after the last frame ({frames})");
+                }
+                v.push(n);
+            }
+            v
+        }
+    };
+    out.sort_unstable();
+    out.dedup();
+    Ok(out)
+}
+
+/// A name that is safe as a directory name.
+fn file_safe(name: &str) -> String {
+    let s: String = name
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '-' || c == '_' || c == '.' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect();
+    if s.is_empty() || s.chars().all(|c| c == '.') {
+        "cloth".to_string()
+    } else {
+        s
+    }
+}
+
+fn output_dir(args: &ClothArgs, scene: &Scene) -> Result<PathBuf> {
+    let dir = match &args.out {
+        Some(d) => d.clone(),
+        None => Path::new("out").join(file_safe(&scene.name)),
+    };
+    std::fs::create_dir_all(&dir).with_context(|| {
+        format!(
+            "--out: cannot create the output directory {}",
+            dir.display()
+        )
+    })?;
+    Ok(dir)
+}
+
+/// Remove what an earlier run left that this one may not overwrite:
+/// `frames/frame_*.obj` and `render_*.png`.
+fn clear_stale(dir: &Path) -> Result<()> {
+    let remove = |d: &Path, prefix: &str, ext: &str| -> Result<()> {
+        let Ok(entries) = std::fs::read_dir(d) else {
+            return Ok(());
+        };
+        for entry in entries.flatten() {
+            let name = entry.file_name().to_string_lossy().into_owned();
+            if name.starts_with(prefix) && name.ends_with(ext) && entry.path().is_file() {
+                std::fs::remove_file(entry.path()).with_context(|| {
+                    format!("{}: cannot remove the old file", entry.path().display())
+                })?;
+            }
+        }
+        Ok(())
+    };
+    remove(&dir.join("frames"), "frame_", ".obj")?;
+    remove(dir, "render_", ".png")
+}
+
+/// What the frame callback collects.
+struct Collected {
+    stats: Vec<FrameStats>,
+    objs: usize,
+    /// Positions of the frames to render, with their time.
+    kept: BTreeMap<usize, (f64, Vec<Vec3>)>,
+    /// The state of the last frame that passed the blow-up check.
+    good_state: Vec<f64>,
+    /// The frame that failed it, and its relative energy error.
+    blown: Option<(FrameStats, f64)>,
+}
+
+/// A run has blown up once `|H − H₀|/E_ref` exceeds this (or is not
+/// finite): the cloth holds a hundred times the energy of its own fall.
+pub const BLOWUP: f64 = 100.0;
+
+/// The callback's way of stopping a run that blew up.
+#[derive(Debug)]
+struct BlownUp;
+impl std::fmt::Display for BlownUp {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "the energy error exceeded {BLOWUP}·E_ref")
+    }
+}
+impl std::error::Error for BlownUp {}
+
+fn simulate(
+    scene: &Scene,
+    method: &str,
+    opts: &RunOptions,
+    note: Option<String>,
+    renders: &[usize],
+    obj_every: usize,
+    dir: &Path,
+) -> Result<ExitCode> {
+    let clock = Instant::now();
+    let mut sim = Simulation::new(scene).map_err(|e| anyhow!("{e}"))?;
+    let e_ref = energy::reference_energy(scene, &sim);
+    let h0 = sim.stats().energy.total();
+    let triangles = sim.model.triangles();
+    clear_stale(dir)?;
+    let frames_dir = dir.join("frames");
+    if obj_every > 0 {
+        std::fs::create_dir_all(&frames_dir)
+            .with_context(|| format!("{}: cannot create the directory", frames_dir.display()))?;
+    }
+    let bar = if std::io::stderr().is_terminal() {
+        let bar = ProgressBar::new(opts.frames as u64);
+        if let Ok(style) =
+            ProgressStyle::with_template("{bar:30} {pos}/{len} frames  {msg}  [{elapsed} < {eta}]")
+        {
+            bar.set_style(style.progress_chars("=> "));
+        }
+        bar
+    } else {
+        ProgressBar::hidden()
+    };
+    let mut col = Collected {
+        stats: Vec::with_capacity(opts.frames.min(1 << 16) + 1),
+        objs: 0,
+        kept: BTreeMap::new(),
+        good_state: sim.state.clone(),
+        blown: None,
+    };
+    let last = opts.frames;
+    let result = cloth_implicit::run_method(&mut sim, method, opts, |frame| {
+        let k = frame.stats.frame;
+        let rel = ((frame.stats.energy.total() - h0) / e_ref).abs();
+        if rel.is_nan() || rel > BLOWUP {
+            col.blown = Some((frame.stats, rel));
+            return Err(Box::new(BlownUp));
+        }
+        col.good_state.copy_from_slice(frame.state);
+        col.stats.push(frame.stats);
+        if obj_every > 0 && (k % obj_every == 0 || k == last) {
+            let path = frames_dir.join(format!("frame_{k:04}.obj"));
+            cloth::write_obj(&path, &frame.positions(), &triangles)?;
+            col.objs += 1;
+        }
+        if renders.binary_search(&k).is_ok() {
+            col.kept.insert(k, (frame.stats.time, frame.positions()));
+        }
+        if k > 0 {
+            bar.inc(1);
+            bar.set_message(format!("t = {:.3} s", frame.stats.time));
+        }
+        Ok(())
+    });
+    bar.finish_and_clear();
+    let title = |name: &str| format!("{} — {name}, h = {:.3e} s", scene.name, opts.step_size());
+    let failure = match result {
+        Ok((report, solver)) => {
+            let mut written = vec!["energy.csv".to_string(), "energy.svg".to_string()];
+            energy::write_csv(&dir.join("energy.csv"), &report.frames, e_ref)?;
+            energy::plot(
+                &dir.join("energy.svg"),
+                &report.frames,
+                e_ref,
+                &title(report.method),
+            )?;
+            written.extend(render_kept(scene, &triangles, &col.kept, dir, method)?);
+            let wall = clock.elapsed().as_secs_f64();
+            let s = Summary {
+                scene,
+                sim: &sim,
+                method,
+                report: &report,
+                opts,
+                solver: solver.as_ref(),
+                wall,
+                e_ref,
+                note: note.as_deref(),
+                dir,
+                objs: col.objs,
+                written: &written,
+            };
+            print!("{}", s.render());
+            return Ok(ExitCode::SUCCESS);
+        }
+        Err(err @ (RunError::Diverged { .. } | RunError::Solve { .. })) => err.to_string(),
+        Err(RunError::Callback { .. }) if col.blown.is_some() => {
+            let (bad, rel) = col.blown.expect("checked");
+            let good = *col.stats.last().expect("the initial frame passes");
+            locate_blowup(&mut sim, method, opts, &col.good_state, good, h0, e_ref)
+                .unwrap_or_else(|| {
+                    format!(
+                        "{}: the cloth blew up between step {} and step {} (t = {} s to {} s): |H − H₀|/E_ref = {rel:.3e} at frame {} (limit {BLOWUP})",
+                        method_name(method),
+                        good.step,
+                        bad.step,
+                        good.time,
+                        bad.time,
+                        bad.frame
+                    )
+                })
+        }
+        Err(err) => return Err(anyhow!("{err}")),
+    };
+    // Keep what was good: the frames up to the last good one.
+    let good = *col.stats.last().expect("the initial frame is recorded");
+    energy::write_csv(&dir.join("energy.csv"), &col.stats, e_ref)?;
+    let mut written = vec!["energy.csv".to_string()];
+    if col.stats.len() >= 2 {
+        energy::plot(
+            &dir.join("energy.svg"),
+            &col.stats,
+            e_ref,
+            &title(&method_name(method)),
+        )?;
+        written.push("energy.svg".into());
+    }
+    let positions = sim
+        .model
+        .positions(&col.good_state[..col.good_state.len() / 2]);
+    if obj_every > 0 {
+        let path = frames_dir.join(format!("frame_{:04}.obj", good.frame));
+        if !path.exists() {
+            cloth::write_obj(&path, &positions, &triangles)?;
+            col.objs += 1;
+        }
+    }
+    col.kept.insert(good.frame, (good.time, positions));
+    written.extend(render_kept(scene, &triangles, &col.kept, dir, method)?);
+    if col.objs > 0 {
+        written.push(format!("{} OBJ in frames/", col.objs));
+    }
+    eprintln!("error: {failure}");
+    eprintln!(
+        "  output up to the last good frame, {} (t = {:.4} s), was written to {}: {}; nothing after it",
+        good.frame,
+        good.time,
+        dir.display(),
+        written.join(", ")
+    );
+    Ok(ExitCode::from(EXIT_RUN_FAILED))
+}
+
+/// Find the step at which a run blew up, by replaying the frame from the
+/// last good state one step at a time with the energy checked after each.
+fn locate_blowup(
+    sim: &mut Simulation,
+    method: &str,
+    opts: &RunOptions,
+    state: &[f64],
+    good: FrameStats,
+    h0: f64,
+    e_ref: f64,
+) -> Option<String> {
+    sim.state.copy_from_slice(state);
+    sim.time = good.time;
+    sim.steps = good.step;
+    sim.frame = good.frame;
+    let replay = RunOptions {
+        frames: opts.substeps,
+        substeps: 1,
+        frame_rate: opts.frame_rate * opts.substeps as f64,
+    };
+    let mut found = None;
+    let result = cloth_implicit::run_method(sim, method, &replay, |frame| {
+        let rel = ((frame.stats.energy.total() - h0) / e_ref).abs();
+        if rel.is_nan() || rel > BLOWUP {
+            found = Some((frame.stats, rel));
+            return Err(Box::new(BlownUp));
+        }
+        Ok(())
+    });
+    match (result, found) {
+        (_, Some((at, rel))) => Some(format!(
+            "{}: the cloth blew up at step {} (t = {} s, frame {}): |H − H₀|/E_ref = {rel:.3e} (limit {BLOWUP})",
+            method_name(method),
+            at.step,
+            at.time,
+            good.frame + 1
+        )),
+        (Err(err @ (RunError::Diverged { .. } | RunError::Solve { .. })), None) => {
+            Some(err.to_string())
+        }
+        _ => None,
+    }
+}
+
+/// The scheme's name for a method id.
+fn method_name(id: &str) -> String {
+    integrator_core::library::info(id).map_or(id.to_string(), |i| i.name.to_string())
+}
+
+/// Render the kept frames with one camera fitted to all of them.
+fn render_kept(
+    scene: &Scene,
+    triangles: &[[usize; 3]],
+    kept: &BTreeMap<usize, (f64, Vec<Vec3>)>,
+    dir: &Path,
+    method: &str,
+) -> Result<Vec<String>> {
+    if kept.is_empty() {
+        return Ok(Vec::new());
+    }
+    let all: Vec<Vec3> = kept.values().flat_map(|(_, p)| p.iter().copied()).collect();
+    let stage = render::Stage {
+        colliders: scene.colliders.clone(),
+        triangles: triangles.to_vec(),
+        nx: scene.cloth.nx,
+    };
+    let camera = render::Camera::fit(&all, &scene.colliders);
+    let mut names = Vec::new();
+    for (k, (t, positions)) in kept {
+        let name = format!("render_{k:04}.png");
+        let caption = format!("{} · {method} · frame {k} · t = {t:.3} s", scene.name);
+        render::render_png(&dir.join(&name), &stage, &camera, positions, &caption)?;
+        names.push(name);
+    }
+    Ok(names)
+}
+
+/// The one-screen summary of a finished run.
+struct Summary<'a> {
+    scene: &'a Scene,
+    sim: &'a Simulation,
+    method: &'a str,
+    report: &'a cloth::RunReport,
+    opts: &'a RunOptions,
+    solver: Option<&'a integrator_core::implicit::Stats>,
+    wall: f64,
+    e_ref: f64,
+    note: Option<&'a str>,
+    dir: &'a Path,
+    objs: usize,
+    written: &'a [String],
+}
+
+impl Summary<'_> {
+    fn render(&self) -> String {
+        use std::fmt::Write;
+        let (scene, model, r) = (self.scene, &self.sim.model, self.report);
+        let mut s = String::new();
+        let (nx, ny) = model.grid();
+        let families: Vec<String> = cloth::Family::ALL
+            .iter()
+            .zip(model.family_counts())
+            .filter(|(_, n)| *n > 0)
+            .map(|(f, n)| format!("{} {n}", f.name()))
+            .collect();
+        let _ = writeln!(
+            s,
+            "cloth: {}{}",
+            scene.name,
+            scene
+                .description
+                .as_ref()
+                .map_or(String::new(), |d| format!(" — {d}"))
+        );
+        let _ = writeln!(
+            s,
+            "  grid         {nx} × {ny} particles ({} free, {} pinned), {} springs ({})",
+            model.free_count(),
+            model.pinned_count(),
+            model.spring_count(),
+            families.join(", ")
+        );
+        let kind = integrator_core::library::info(self.method).map_or(String::new(), |i| {
+            format!(
+                " — {}, order {}, {}",
+                if i.explicit { "explicit" } else { "implicit" },
+                i.order,
+                if i.symplectic || i.symplectic_separable {
+                    "symplectic"
+                } else {
+                    "not symplectic"
+                }
+            )
+        });
+        let _ = writeln!(s, "  method       {} ({}){kind}", self.method, r.method);
+        let stab = model.stability();
+        let _ = writeln!(
+            s,
+            "  step         h = {:.4e} s ({} per frame at {:.4} Hz); 2/ω_max = {:.4e} s, h·ω_max = {:.3}",
+            r.h,
+            self.opts.substeps,
+            self.opts.frame_rate,
+            stab.h_max,
+            r.h * stab.omega_max
+        );
+        if let Some(note) = self.note {
+            let _ = writeln!(s, "               ({note})");
+        }
+        let simulated =
+            r.frames.last().map_or(0.0, |f| f.time) - r.frames.first().map_or(0.0, |f| f.time);
+        let _ = writeln!(
+            s,
+            "  steps        {} over {} frames, {simulated:.4} s simulated",
+            r.steps,
+            r.frames.len() - 1
+        );
+        let _ = writeln!(
+            s,
+            "  wall time    {:.3} s ({:.3} s stepping; the rest is statistics and output)",
+            self.wall, r.stepping_seconds
+        );
+        if simulated > 0.0 {
+            let per_frame = r.stepping_seconds / (simulated * 60.0) * 1e3;
+            let _ = writeln!(
+                s,
+                "  per frame    {per_frame:.3} ms of stepping per 60 Hz frame (1/60 s simulated)"
+            );
+            let _ = writeln!(
+                s,
+                "  real time    {:.3}× (simulated s / stepping s; {:.3}× with output)",
+                simulated / r.stepping_seconds.max(1e-12),
+                simulated / self.wall.max(1e-12)
+            );
+        }
+        let rel = energy::relative_errors(&r.frames, self.e_ref);
+        let (worst, at) = rel
+            .iter()
+            .zip(&r.frames)
+            .fold((0.0f64, 0.0f64), |(w, t), (e, f)| {
+                if e.abs() > w {
+                    (e.abs(), f.time)
+                } else {
+                    (w, t)
+                }
+            });
+        let _ = writeln!(
+            s,
+            "  energy       max relative error {worst:.3e} (at t = {at:.3} s; |H − H₀|/E_ref, E_ref = {:.4e} J)",
+            self.e_ref
+        );
+        let (strain, frame) = r.frames.iter().fold((0.0f64, 0usize), |(m, k), f| {
+            if f.max_strain > m {
+                (f.max_strain, f.frame)
+            } else {
+                (m, k)
+            }
+        });
+        let _ = writeln!(s, "  max strain   {:.3} % (frame {frame})", 100.0 * strain);
+        if let Some(st) = self.solver {
+            let steps = st.steps.max(1) as f64;
+            let _ = writeln!(
+                s,
+                "  newton       {:.2} iterations per step, {} numeric LU ({} symbolic), {} Jacobians, {} failed steps",
+                st.newton_iterations as f64 / steps,
+                st.factorizations,
+                st.symbolic_factorizations,
+                st.jacobian_evaluations,
+                st.failures
+            );
+        }
+        let mut files = self.written.to_vec();
+        if self.objs > 0 {
+            files.insert(2, format!("{} OBJ in frames/", self.objs));
+        }
+        let _ = writeln!(
+            s,
+            "  output       {}: {}",
+            self.dir.display(),
+            files.join(", ")
+        );
+        s
+    }
+}

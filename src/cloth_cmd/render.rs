@@ -1,0 +1,582 @@
+//! A small software rasteriser for cloth frames: a fixed oblique
+//! perspective camera fitted to what is drawn, z-buffered triangles with
+//! smooth two-sided Lambert shading (a directional light plus a headlight),
+//! the quads' edges drawn faintly where they are large enough to see,
+//! colliders ray-cast (spheres shaded, planes as a grid floor; a floor grid
+//! below the cloth when the scene has no plane), 2× supersampled, written
+//! as PNG through plotters' bitmap backend with a caption.
+
+use std::path::Path;
+
+use anyhow::{Context, Result, anyhow};
+use cloth::{Collider, Vec3};
+use plotters::prelude::*;
+
+/// Image size (pixels).
+pub const WIDTH: u32 = 640;
+pub const HEIGHT: u32 = 480;
+/// Supersampling factor per axis.
+const SS: usize = 2;
+/// Vertical field of view (radians).
+const FOV: f64 = 0.6;
+
+/// What a picture shows besides the cloth.
+pub struct Stage {
+    pub colliders: Vec<Collider>,
+    /// The cloth's triangles (particle ids, counter-clockwise seen from the
+    /// front, `u × v`).
+    pub triangles: Vec<[usize; 3]>,
+    /// Particles per grid row: an edge between particles that share a row
+    /// or a column is a quad edge (drawn), any other a cell's diagonal.
+    pub nx: usize,
+}
+
+/// A fixed camera, the same for every frame of a run.
+#[derive(Clone, Copy, Debug)]
+pub struct Camera {
+    eye: Vec3,
+    right: Vec3,
+    up: Vec3,
+    forward: Vec3,
+    /// Pixels per unit of `x/z` at the supersampled resolution.
+    focal: f64,
+    /// The floor drawn when the scene has no plane collider: `y = floor`.
+    floor: f64,
+    /// Grid spacing of floors (m).
+    spacing: f64,
+    /// Size of the scene (m), for fading the floor with distance.
+    radius: f64,
+}
+
+impl Camera {
+    /// A camera looking down at 25° from the front-right (azimuth 35°) at
+    /// the centre of the bounding box of `points` (all frames to be drawn)
+    /// and of the colliders' extents, far enough for the bounding sphere to
+    /// fit.
+    pub fn fit(points: &[Vec3], colliders: &[Collider]) -> Camera {
+        let finite = |x: &Vec3| x.iter().all(|v| v.is_finite());
+        let bounds = |pts: &mut dyn Iterator<Item = Vec3>| {
+            pts.filter(finite).fold(
+                (Vec3::repeat(f64::INFINITY), Vec3::repeat(f64::NEG_INFINITY)),
+                |(lo, hi), x| (lo.inf(&x), hi.sup(&x)),
+            )
+        };
+        let (cloth_lo, _) = bounds(&mut points.iter().copied());
+        let extents = colliders.iter().filter_map(|c| match c {
+            Collider::Sphere { center, radius, .. } => Some([
+                Vec3::from(*center) - Vec3::repeat(*radius),
+                Vec3::from(*center) + Vec3::repeat(*radius),
+            ]),
+            _ => None,
+        });
+        let (mut lo, mut hi) = bounds(&mut points.iter().copied().chain(extents.flatten()));
+        if !(finite(&lo) && finite(&hi)) {
+            lo = Vec3::zeros();
+            hi = Vec3::repeat(1.0);
+        }
+        let center = (lo + hi) / 2.0;
+        let radius = ((hi - lo).norm() / 2.0).max(1e-3);
+        let (az, el): (f64, f64) = (35f64.to_radians(), 25f64.to_radians());
+        // From the target towards the eye: in front (+z), to the right (+x), above.
+        let back = Vec3::new(el.cos() * az.sin(), el.sin(), el.cos() * az.cos());
+        let forward = -back;
+        let right = forward.cross(&Vec3::y()).normalize();
+        let up = right.cross(&forward);
+        // Back off until every corner of the box is inside the picture, with
+        // a margin: a corner at offset o needs |o·right| ≤ T·(d + o·forward).
+        let tv = (FOV / 2.0).tan() * 0.9;
+        let th = tv * WIDTH as f64 / HEIGHT as f64;
+        let mut dist: f64 = 0.0;
+        for k in 0..8 {
+            let corner = Vec3::new(
+                if k & 1 == 0 { lo.x } else { hi.x },
+                if k & 2 == 0 { lo.y } else { hi.y },
+                if k & 4 == 0 { lo.z } else { hi.z },
+            );
+            let o = corner - center;
+            let depth = o.dot(&forward);
+            dist = dist
+                .max(o.dot(&right).abs() / th - depth)
+                .max(o.dot(&up).abs() / tv - depth)
+                .max(0.1 * radius - depth);
+        }
+        let eye = center + back * dist;
+        let focal = (HEIGHT as usize * SS) as f64 / 2.0 / (FOV / 2.0).tan();
+        // Below the cloth and the spheres.
+        let floor_y = if cloth_lo.y.is_finite() {
+            cloth_lo.y.min(lo.y)
+        } else {
+            lo.y
+        };
+        Camera {
+            eye,
+            right,
+            up,
+            forward,
+            focal,
+            floor: floor_y - 0.15 * radius,
+            spacing: nice_spacing(radius),
+            radius,
+        }
+    }
+}
+
+/// A round grid spacing, about a tenth of the scene's radius.
+fn nice_spacing(radius: f64) -> f64 {
+    let raw = radius / 5.0;
+    let p = 10f64.powf(raw.log10().floor());
+    let m = raw / p;
+    p * if m < 2.0 {
+        1.0
+    } else if m < 5.0 {
+        2.0
+    } else {
+        5.0
+    }
+}
+
+#[derive(Clone, Copy)]
+struct Rgb([f64; 3]);
+
+impl Rgb {
+    fn scale(self, s: f64) -> Rgb {
+        Rgb(self.0.map(|c| c * s))
+    }
+    fn mix(self, o: Rgb, t: f64) -> Rgb {
+        Rgb([0, 1, 2].map(|k| self.0[k] * (1.0 - t) + o.0[k] * t))
+    }
+}
+
+const FRONT: Rgb = Rgb([0.80, 0.30, 0.22]);
+const BACK: Rgb = Rgb([0.93, 0.74, 0.32]);
+const SPHERE: Rgb = Rgb([0.45, 0.55, 0.70]);
+const FLOOR: Rgb = Rgb([0.86, 0.86, 0.84]);
+const LINE: Rgb = Rgb([0.55, 0.55, 0.55]);
+const SKY_TOP: Rgb = Rgb([0.80, 0.86, 0.93]);
+const SKY_BOTTOM: Rgb = Rgb([0.97, 0.97, 0.98]);
+
+struct Canvas {
+    w: usize,
+    h: usize,
+    color: Vec<Rgb>,
+    depth: Vec<f64>,
+}
+
+/// A plane `n·x = d` drawn as a gridded floor.
+struct Floor {
+    normal: Vec3,
+    d: f64,
+    /// Tangent axes for the grid.
+    a: Vec3,
+    b: Vec3,
+}
+
+impl Floor {
+    fn new(normal: Vec3, point: Vec3) -> Floor {
+        let n = normal.normalize();
+        let helper = if n.x.abs() < 0.9 {
+            Vec3::x()
+        } else {
+            Vec3::z()
+        };
+        let a = n.cross(&helper).normalize();
+        let b = n.cross(&a);
+        Floor {
+            normal: n,
+            d: n.dot(&point),
+            a,
+            b,
+        }
+    }
+}
+
+/// Render the cloth at `positions` (all particles, by id) to a PNG file.
+pub fn render_png(
+    path: &Path,
+    stage: &Stage,
+    camera: &Camera,
+    positions: &[Vec3],
+    caption: &str,
+) -> Result<()> {
+    let pixels = rasterise(stage, camera, positions);
+    crate::plot::register_font();
+    let root = BitMapBackend::new(path, (WIDTH, HEIGHT)).into_drawing_area();
+    let image = BitMapElement::with_owned_buffer((0, 0), (WIDTH, HEIGHT), pixels)
+        .ok_or_else(|| anyhow!("{}: image buffer of the wrong size", path.display()))?;
+    root.draw(&image)
+        .map_err(|e| anyhow!("{}: {e:?}", path.display()))?;
+    root.draw(&Text::new(
+        caption.to_string(),
+        (10, 10),
+        ("sans-serif", 16).into_font().color(&BLACK),
+    ))
+    .map_err(|e| anyhow!("{}: {e:?}", path.display()))?;
+    root.present()
+        .map_err(|e| anyhow!("{e:?}"))
+        .with_context(|| format!("{}: cannot write the PNG", path.display()))?;
+    Ok(())
+}
+
+/// The picture as RGB bytes, `WIDTH × HEIGHT`, rows top to bottom.
+pub fn rasterise(stage: &Stage, camera: &Camera, positions: &[Vec3]) -> Vec<u8> {
+    let (w, h) = (WIDTH as usize * SS, HEIGHT as usize * SS);
+    let mut canvas = Canvas {
+        w,
+        h,
+        color: vec![Rgb([0.0; 3]); w * h],
+        depth: vec![f64::INFINITY; w * h],
+    };
+    let light = (camera.up * 1.0 - camera.right * 0.5 - camera.forward * 0.6).normalize();
+    let mut floors: Vec<Floor> = stage
+        .colliders
+        .iter()
+        .filter_map(|c| match c {
+            Collider::Plane { point, normal, .. } => {
+                Some(Floor::new(Vec3::from(*normal), Vec3::from(*point)))
+            }
+            _ => None,
+        })
+        .collect();
+    if floors.is_empty() {
+        floors.push(Floor::new(Vec3::y(), Vec3::new(0.0, camera.floor, 0.0)));
+    }
+    background(&mut canvas, camera, &floors, &stage.colliders, light);
+    cloth(
+        &mut canvas,
+        camera,
+        positions,
+        &stage.triangles,
+        stage.nx.max(1),
+        light,
+    );
+    downsample(&canvas)
+}
+
+fn ray(camera: &Camera, px: f64, py: f64, w: usize, h: usize) -> Vec3 {
+    let sx = (px - w as f64 / 2.0) / camera.focal;
+    let sy = -(py - h as f64 / 2.0) / camera.focal;
+    camera.forward + camera.right * sx + camera.up * sy
+}
+
+/// Sky, floors and spheres, ray-cast per pixel; depths are the distance
+/// along the view axis, as for the triangles.
+fn background(
+    canvas: &mut Canvas,
+    camera: &Camera,
+    floors: &[Floor],
+    colliders: &[Collider],
+    light: Vec3,
+) {
+    let (w, h) = (canvas.w, canvas.h);
+    for py in 0..h {
+        let sky = SKY_TOP.mix(SKY_BOTTOM, py as f64 / h as f64);
+        for px in 0..w {
+            let d = ray(camera, px as f64 + 0.5, py as f64 + 0.5, w, h);
+            let mut best = f64::INFINITY;
+            let mut color = sky;
+            for f in floors {
+                let denom = f.normal.dot(&d);
+                if denom.abs() < 1e-12 {
+                    continue;
+                }
+                let t = (f.d - f.normal.dot(&camera.eye)) / denom;
+                // Only the side of the plane the camera is on.
+                if t > 0.0 && t < best && f.normal.dot(&camera.eye) > f.d {
+                    best = t;
+                    let x = camera.eye + d * t;
+                    let (u, v) = (f.a.dot(&x) / camera.spacing, f.b.dot(&x) / camera.spacing);
+                    // Grid lines about a pixel wide: scale by the footprint.
+                    let fw = (t / camera.focal) / camera.spacing * 1.2;
+                    let du = (u - u.round()).abs();
+                    let dv = (v - v.round()).abs();
+                    let line = (1.0 - (du.min(dv) / fw).min(1.0)).max(0.0);
+                    let base = FLOOR.mix(LINE, 0.8 * line);
+                    // Fade into the sky far away.
+                    let fade = ((t - 3.0 * camera.radius) / (6.0 * camera.radius)).clamp(0.0, 1.0);
+                    color = base.mix(sky, fade);
+                }
+            }
+            for c in colliders {
+                if let Collider::Sphere { center, radius, .. } = c {
+                    let oc = camera.eye - Vec3::from(*center);
+                    let a = d.dot(&d);
+                    let b = 2.0 * oc.dot(&d);
+                    let cc = oc.dot(&oc) - radius * radius;
+                    let disc = b * b - 4.0 * a * cc;
+                    if disc >= 0.0 {
+                        let t = (-b - disc.sqrt()) / (2.0 * a);
+                        if t > 0.0 && t < best {
+                            best = t;
+                            let x = camera.eye + d * t;
+                            let n = (x - Vec3::from(*center)).normalize();
+                            let view = -d.normalize();
+                            color = SPHERE.scale(shade(n, light, view));
+                        }
+                    }
+                }
+            }
+            let i = py * w + px;
+            canvas.color[i] = color;
+            canvas.depth[i] = best;
+        }
+    }
+}
+
+/// Ambient, a directional light and a headlight.
+fn shade(n: Vec3, light: Vec3, view: Vec3) -> f64 {
+    0.18 + 0.55 * n.dot(&light).max(0.0) + 0.32 * n.dot(&view).max(0.0)
+}
+
+fn cloth(
+    canvas: &mut Canvas,
+    camera: &Camera,
+    positions: &[Vec3],
+    triangles: &[[usize; 3]],
+    nx: usize,
+    light: Vec3,
+) {
+    let (w, h) = (canvas.w, canvas.h);
+    // Smooth normals: area-weighted sums of the faces' (front-side) normals.
+    let mut normals = vec![Vec3::zeros(); positions.len()];
+    for t in triangles {
+        let [a, b, c] = t.map(|k| positions[k]);
+        let n = (b - a).cross(&(c - a));
+        if n.iter().all(|v| v.is_finite()) {
+            for &k in t {
+                normals[k] += n;
+            }
+        }
+    }
+    for n in &mut normals {
+        let len = n.norm();
+        if len > 0.0 {
+            *n /= len;
+        }
+    }
+    // Camera coordinates and screen positions.
+    let near = 1e-3 * camera.radius;
+    let cam: Vec<Vec3> = positions
+        .iter()
+        .map(|p| {
+            let r = p - camera.eye;
+            Vec3::new(
+                r.dot(&camera.right),
+                r.dot(&camera.up),
+                r.dot(&camera.forward),
+            )
+        })
+        .collect();
+    let screen: Vec<(f64, f64)> = cam
+        .iter()
+        .map(|c| {
+            (
+                w as f64 / 2.0 + c.x / c.z * camera.focal,
+                h as f64 / 2.0 - c.y / c.z * camera.focal,
+            )
+        })
+        .collect();
+    for t in triangles {
+        let z = t.map(|k| cam[k].z);
+        if z.iter().any(|&z| !(z > near && z.is_finite())) {
+            continue;
+        }
+        let s = t.map(|k| screen[k]);
+        let area = (s[1].0 - s[0].0) * (s[2].1 - s[0].1) - (s[2].0 - s[0].0) * (s[1].1 - s[0].1);
+        if area.abs() < 1e-12 || !area.is_finite() {
+            continue;
+        }
+        // Which side faces the camera: the face normal against the view ray.
+        let [a, b, c] = t.map(|k| positions[k]);
+        let face = (b - a).cross(&(c - a));
+        let front = face.dot(&(camera.eye - a)) > 0.0;
+        let (base, sign) = if front { (FRONT, 1.0) } else { (BACK, -1.0) };
+        // Quad edges (not the cell's diagonal) drawn faintly when they are
+        // at least 10 (supersampled) pixels long. Edge k is opposite vertex k.
+        let len =
+            |i: usize, j: usize| ((s[i].0 - s[j].0).powi(2) + (s[i].1 - s[j].1).powi(2)).sqrt();
+        let quad = |i: usize, j: usize| {
+            let (p, q) = (t[i], t[j]);
+            p % nx == q % nx || p / nx == q / nx
+        };
+        let edges = [(1, 2), (2, 0), (0, 1)].map(|(i, j)| (quad(i, j), len(i, j)));
+        let lines = edges.iter().filter(|e| e.0).all(|e| e.1 >= 10.0);
+        let x0 = s
+            .iter()
+            .map(|p| p.0)
+            .fold(f64::INFINITY, f64::min)
+            .floor()
+            .max(0.0) as usize;
+        let x1 = s
+            .iter()
+            .map(|p| p.0)
+            .fold(f64::NEG_INFINITY, f64::max)
+            .ceil()
+            .min(w as f64 - 1.0);
+        let y0 = s
+            .iter()
+            .map(|p| p.1)
+            .fold(f64::INFINITY, f64::min)
+            .floor()
+            .max(0.0) as usize;
+        let y1 = s
+            .iter()
+            .map(|p| p.1)
+            .fold(f64::NEG_INFINITY, f64::max)
+            .ceil()
+            .min(h as f64 - 1.0);
+        if x1 < 0.0 || y1 < 0.0 {
+            continue;
+        }
+        let (x1, y1) = (x1 as usize, y1 as usize);
+        let n = t.map(|k| normals[k]);
+        for py in y0..=y1 {
+            for px in x0..=x1 {
+                let (x, y) = (px as f64 + 0.5, py as f64 + 0.5);
+                let edge = |i: usize, j: usize| {
+                    (s[j].0 - s[i].0) * (y - s[i].1) - (s[j].1 - s[i].1) * (x - s[i].0)
+                };
+                let l0 = edge(1, 2) / area;
+                let l1 = edge(2, 0) / area;
+                let l2 = edge(0, 1) / area;
+                if l0 < 0.0 || l1 < 0.0 || l2 < 0.0 {
+                    continue;
+                }
+                // Perspective-correct depth and normal.
+                let inv = l0 / z[0] + l1 / z[1] + l2 / z[2];
+                let depth = 1.0 / inv;
+                let i = py * w + px;
+                if depth >= canvas.depth[i] {
+                    continue;
+                }
+                let mut normal =
+                    (n[0] * (l0 / z[0]) + n[1] * (l1 / z[1]) + n[2] * (l2 / z[2])) * depth * sign;
+                let view = (camera.eye - (a * l0 + b * l1 + c * l2)).normalize();
+                if normal.norm() > 0.0 {
+                    normal = normal.normalize();
+                }
+                // Keep interpolated normals on the visible side.
+                if normal.dot(&view) < 0.0 {
+                    normal -= view * (1.01 * normal.dot(&view));
+                    normal = normal.normalize();
+                }
+                let mut color = base.scale(shade(normal, light, view));
+                if lines {
+                    let d = [l0, l1, l2]
+                        .iter()
+                        .zip(&edges)
+                        .filter(|(_, e)| e.0)
+                        .map(|(l, e)| l * area.abs() / e.1)
+                        .fold(f64::INFINITY, f64::min);
+                    color = color.scale(1.0 - 0.35 * (1.0 - (d / 1.5).min(1.0)));
+                }
+                canvas.color[i] = color;
+                canvas.depth[i] = depth;
+            }
+        }
+    }
+}
+
+fn downsample(canvas: &Canvas) -> Vec<u8> {
+    let (w, h) = (WIDTH as usize, HEIGHT as usize);
+    let mut out = Vec::with_capacity(w * h * 3);
+    for y in 0..h {
+        for x in 0..w {
+            let mut acc = [0.0; 3];
+            for dy in 0..SS {
+                for dx in 0..SS {
+                    let c = canvas.color[(y * SS + dy) * canvas.w + x * SS + dx];
+                    for (a, v) in acc.iter_mut().zip(c.0) {
+                        *a += v;
+                    }
+                }
+            }
+            for a in acc {
+                let v = (a / (SS * SS) as f64).clamp(0.0, 1.0);
+                // Gamma 2.2 for a less flat look.
+                out.push((v.powf(1.0 / 2.2) * 255.0).round() as u8);
+            }
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn sheet(n: usize, y: f64) -> (Vec<Vec3>, Vec<[usize; 3]>) {
+        let mut pts = Vec::new();
+        for j in 0..n {
+            for i in 0..n {
+                pts.push(Vec3::new(
+                    i as f64 / (n - 1) as f64,
+                    y,
+                    j as f64 / (n - 1) as f64,
+                ));
+            }
+        }
+        let mut tris = Vec::new();
+        for j in 0..n - 1 {
+            for i in 0..n - 1 {
+                let a = j * n + i;
+                tris.push([a, a + 1, a + n + 1]);
+                tris.push([a, a + n + 1, a + n]);
+            }
+        }
+        (pts, tris)
+    }
+
+    #[test]
+    fn the_cloth_covers_the_middle_of_the_picture() {
+        let (pts, triangles) = sheet(6, 0.0);
+        let stage = Stage {
+            colliders: vec![],
+            triangles,
+            nx: 6,
+        };
+        let camera = Camera::fit(&pts, &stage.colliders);
+        let img = rasterise(&stage, &camera, &pts);
+        assert_eq!(img.len(), (WIDTH * HEIGHT * 3) as usize);
+        let px = |x: u32, y: u32| {
+            let i = ((y * WIDTH + x) * 3) as usize;
+            [img[i], img[i + 1], img[i + 2]]
+        };
+        // The centre pixel is cloth (red or gold, whichever side is up).
+        let c = px(WIDTH / 2, HEIGHT / 2);
+        assert!(c[0] > c[2] + 40, "centre pixel {c:?}");
+        // A corner is background (bluish-grey sky or floor).
+        let k = px(2, 2);
+        assert!(k[2] >= k[0], "corner pixel {k:?}");
+    }
+
+    #[test]
+    fn a_sphere_is_drawn_and_the_png_is_written() {
+        let (pts, triangles) = sheet(4, 1.0);
+        let stage = Stage {
+            colliders: vec![Collider::Sphere {
+                center: [0.5, 0.0, 0.5],
+                radius: 0.3,
+                stiffness: 1.0,
+                skin: 0.0,
+            }],
+            triangles,
+            nx: 4,
+        };
+        let camera = Camera::fit(&pts, &stage.colliders);
+        let img = rasterise(&stage, &camera, &pts);
+        // Some pixels have the sphere's blue.
+        let blue = img
+            .chunks(3)
+            .filter(|p| p[2] as i32 > p[0] as i32 + 30)
+            .count();
+        assert!(blue > 100, "{blue} bluish pixels");
+        // Writing the PNG works and gives a PNG.
+        let dir = std::env::temp_dir().join(format!("symlab-render-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("x.png");
+        render_png(&path, &stage, &camera, &pts, "test").unwrap();
+        let bytes = std::fs::read(&path).unwrap();
+        assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}
