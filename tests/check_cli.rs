@@ -1,22 +1,10 @@
 //! End-to-end tests of `symlab check` and `symlab list`: verdicts from table
 //! files, the JSON fields of design.md, and clear errors with exit code 2.
 
-use std::process::Command;
-
 use serde_json::Value;
 
-fn symlab(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_symlab"))
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .expect("runs");
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
+mod common;
+use common::symlab;
 
 fn check_json(args: &[&str]) -> Value {
     let mut all = vec!["check", "--json"];

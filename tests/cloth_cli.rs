@@ -5,23 +5,12 @@
 //! implicit methods and the stability search.
 
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 /// The documented header of energy.csv (README, "Cloth").
 const ENERGY_HEADER: &str = "frame,step,time,kinetic,potential,total,relative_energy_error,springs,gravity,colliders,momentum_x,momentum_y,momentum_z,max_strain";
 
-fn symlab(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_symlab"))
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .expect("runs");
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
+mod common;
+use common::symlab;
 
 /// A fresh directory under the system's temporary directory.
 fn temp_dir(name: &str) -> PathBuf {
