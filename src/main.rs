@@ -38,7 +38,7 @@ enum Command {
     Paper(paper::PaperArgs),
     /// Simulate a cloth scene (scenes/*.toml) with any method: energy.csv,
     /// an energy plot, OBJ frames, PNG renderings and a summary in
-    /// out/<scene-name>/; or --stability: the largest stable step per method.
+    /// out/cloth/<scene-name>/; or --stability: the largest stable step per method.
     Cloth(cloth_cmd::ClothArgs),
 }
 

@@ -100,7 +100,7 @@
 //! frame_rate = 60.0              # optional, Hz
 //! substeps = 100                 # steps per frame
 //! frames = 300
-//! method = "symplectic-euler-a"  # see methods::STEPPABLE
+//! method = "symplectic-euler-a"  # methods::STEPPABLE (explicit) or implicit::IMPLICIT
 //! ```
 //!
 //! Unknown keys, missing fields, non-positive sizes or density, negative
@@ -119,7 +119,8 @@
 //!   [`Frame::positions`] and [`ClothModel::triangles`] feed [`write_obj`].
 //!   [`RunReport::frames`] feeds [`write_stats_csv`].
 //! * [`methods::with_scheme`] dispatches a name to a scheme type;
-//!   [`methods::STEPPABLE`] lists the names.
+//!   [`methods::STEPPABLE`] lists the names; implicit ones ([`implicit::IMPLICIT`])
+//!   run through [`implicit::run_method`], which takes either kind.
 //! * [`ClothModel::stability`] estimates `ω_max` and `2/ω_max` at the initial
 //!   state (power iteration on `M⁻¹K`, plus a Gershgorin upper bound).
 //!

@@ -23,6 +23,7 @@
 use integrator_core::library::{self, *};
 use integrator_core::{Scheme, Step};
 
+use crate::implicit::{IMPLICIT, is_implicit};
 use crate::model::ClothModel;
 
 /// Called with the scheme a name stands for.
@@ -34,10 +35,14 @@ pub trait SchemeVisitor {
 /// Why a method name was refused.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
 pub enum MethodError {
-    #[error("unknown method \"{0}\"; the methods that can step cloth are: {list}", list = STEPPABLE.join(", "))]
+    #[error("unknown method \"{0}\"; the methods that step cloth are, explicit: {explicit}; implicit (sparse Newton): {implicit}", explicit = STEPPABLE.join(", "), implicit = IMPLICIT.join(", "))]
     Unknown(String),
-    #[error("method \"{0}\" is implicit and cannot step cloth yet (its stage solver is not wired to the cloth model); the methods that can are: {list}", list = STEPPABLE.join(", "))]
+    #[error("method \"{0}\" is a library scheme that does not step cloth (it is neither explicit nor one of the implicit schemes wired to the sparse stage solver: {implicit})", implicit = IMPLICIT.join(", "))]
     NotSteppable(String),
+    #[error(
+        "method \"{0}\" is implicit: it steps cloth through the sparse stage solver (`cloth::implicit::run_method`), not as an explicit scheme"
+    )]
+    Implicit(String),
 }
 
 /// The ids (as in `tableau/catalogue`) of the library schemes that step a
@@ -69,9 +74,10 @@ pub const STEPPABLE: &[&str] = &[
     "lobatto3cstar-2",
 ];
 
-/// Whether `id` names a scheme that can step cloth.
+/// Whether `id` names a scheme that can step cloth: an explicit one
+/// ([`STEPPABLE`]) or an implicit one ([`IMPLICIT`]).
 pub fn check(id: &str) -> Result<(), MethodError> {
-    if STEPPABLE.contains(&id) {
+    if STEPPABLE.contains(&id) || is_implicit(id) {
         Ok(())
     } else if library::info(id).is_some() {
         Err(MethodError::NotSteppable(id.to_string()))
@@ -108,11 +114,11 @@ pub fn with_scheme<V: SchemeVisitor>(id: &str, visitor: V) -> Result<V::Output, 
         "rk38" => visitor.visit(Rk38),
         "lobatto3cstar-2" => visitor.visit(LobattoIIICStar2),
         other => {
-            // `check` refuses every name the match does not cover (a test
-            // keeps `STEPPABLE` and the match in step).
+            // `check` refuses every name the match does not cover except the
+            // implicit ones (a test keeps `STEPPABLE` and the match in step).
             return Err(check(other)
                 .err()
-                .unwrap_or_else(|| MethodError::NotSteppable(other.to_string())));
+                .unwrap_or_else(|| MethodError::Implicit(other.to_string())));
         }
     })
 }

@@ -341,12 +341,20 @@ fn add_block(values: &mut [f64], [base, stride]: [u32; 2], m: &Matrix3<f64>, sig
     }
 }
 
-/// `∂F_a/∂x_b` of a spring with `d = x_b − x_a`: `(k/L)[(1 − L/ℓ) I + (L/ℓ) d̂d̂ᵀ]`.
+/// `∂F_a/∂x_b` of a spring with `d = x_b − x_a`: `(k/L)[(1 − L/ℓ) I + (L/ℓ) d̂d̂ᵀ]`;
+/// `definite`: with `1 − L/ℓ` clamped at 0 (see
+/// [`ClothModel::force_jacobian_values_definite`]).
 #[inline]
-fn spring_block(d: &Vector3<f64>, kl: f64, rest: f64) -> Matrix3<f64> {
+fn spring_block(d: &Vector3<f64>, kl: f64, rest: f64, definite: bool) -> Matrix3<f64> {
     let l = d.norm();
     let dh = d / l;
-    Matrix3::from_diagonal_element(kl * (1.0 - rest / l)) + (dh * dh.transpose()) * (kl * rest / l)
+    let transverse = 1.0 - rest / l;
+    let transverse = if definite {
+        transverse.max(0.0)
+    } else {
+        transverse
+    };
+    Matrix3::from_diagonal_element(kl * transverse) + (dh * dh.transpose()) * (kl * rest / l)
 }
 
 /// The cloth of a scene as a [`Separable`](integrator_core::Separable)
@@ -705,6 +713,23 @@ impl ClothModel {
     /// # Panics
     /// If `values` is not exactly as long as the pattern or `q` shorter than `3·free`.
     pub fn force_jacobian_values(&self, q: &[f64], values: &mut [f64]) {
+        self.jacobian_into(q, values, false);
+    }
+
+    /// [`force_jacobian_values`](Self::force_jacobian_values) with the
+    /// transverse term `(k/L)(1 − L/ℓ)` of every compressed spring (`ℓ < L`)
+    /// clamped to 0, so that `K = −∂F/∂q` is positive semidefinite (the
+    /// springs and gravity; colliders as they are). This is the matrix the
+    /// implicit stage solver factorises: a compressed spring makes the exact
+    /// `K` indefinite, and then `I + h²M⁻¹K` can be nearly singular at large
+    /// `h`, which sends Newton's corrections far off. Newton's method only
+    /// needs an approximate Jacobian, so the converged steps are the same;
+    /// only the iteration is better behaved (the clamp of Choi and Ko, 2002).
+    pub fn force_jacobian_values_definite(&self, q: &[f64], values: &mut [f64]) {
+        self.jacobian_into(q, values, true);
+    }
+
+    fn jacobian_into(&self, q: &[f64], values: &mut [f64], definite: bool) {
         assert_eq!(
             values.len(),
             self.jac.pattern.len(),
@@ -714,7 +739,7 @@ impl ClothModel {
         let q3 = self.chunks(q);
         for (s, loc) in self.ff.iter().zip(&self.jac.ff) {
             let d = Vector3::from(q3[s.b as usize]) - Vector3::from(q3[s.a as usize]);
-            let k = spring_block(&d, s.kl, s.rest);
+            let k = spring_block(&d, s.kl, s.rest, definite);
             add_block(values, [loc[0], loc[1]], &k, -1.0);
             add_block(values, [loc[2], loc[3]], &k, 1.0);
             add_block(values, [loc[4], loc[5]], &k, 1.0);
@@ -722,7 +747,7 @@ impl ClothModel {
         }
         for (s, &loc) in self.fp.iter().zip(&self.jac.fp) {
             let d = Vector3::from(s.pin) - Vector3::from(q3[s.a as usize]);
-            add_block(values, loc, &spring_block(&d, s.kl, s.rest), -1.0);
+            add_block(values, loc, &spring_block(&d, s.kl, s.rest, definite), -1.0);
         }
         for (x, &loc) in q3.iter().zip(&self.jac.diag) {
             let x = Vector3::from(*x);

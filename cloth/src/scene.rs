@@ -148,7 +148,8 @@ pub struct SimulationSpec {
     pub substeps: usize,
     /// Frames to simulate after the initial one.
     pub frames: usize,
-    /// A scheme id accepted by [`methods::with_scheme`].
+    /// A scheme id accepted by [`methods::check`]: explicit
+    /// ([`methods::STEPPABLE`]) or implicit ([`crate::implicit::IMPLICIT`]).
     pub method: String,
 }
 

@@ -300,14 +300,16 @@ impl Simulation {
     }
 }
 
-/// Load nothing, build everything: run `scene` with its own method and
-/// settings, calling `on_frame` for the initial state and every frame.
+/// Load nothing, build everything: run `scene` with its own method (explicit,
+/// or implicit through [`crate::implicit::run_method`]) and settings,
+/// calling `on_frame` for the initial state and every frame.
 pub fn run_scene<F>(scene: &Scene, on_frame: F) -> Result<(Simulation, RunReport), RunError>
 where
     F: FnMut(&Frame<'_>) -> Result<(), CallbackError>,
 {
     let mut sim = Simulation::new(scene)?;
-    let report = sim.run_named(
+    let (report, _) = crate::implicit::run_method(
+        &mut sim,
         &scene.simulation.method,
         &RunOptions::from_scene(scene),
         on_frame,

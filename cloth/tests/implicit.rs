@@ -257,12 +257,13 @@ fn gauss2_is_stable_far_above_the_explicit_limit() {
     let last = run.report.frames.last().unwrap();
     assert!(last.energy.kinetic > 0.01 * scale);
     assert!(last.max_strain < 0.5, "strain {}", last.max_strain);
-    // One symbolic factorisation for the run, numeric ones when the Newton
-    // iteration asked for a fresh Jacobian.
+    // One symbolic factorisation for the run, numeric ones only when the
+    // Newton iteration asked for a fresh Jacobian (slow contraction, within a
+    // step or across steps): far fewer than iterations.
     let s = run.solver;
     assert_eq!(s.symbolic_factorizations, 1, "{s:?}");
     assert!(
-        s.factorizations >= 1 && s.factorizations <= s.steps,
+        s.factorizations >= 1 && 4 * s.factorizations < s.newton_iterations,
         "{s:?}"
     );
     assert!(s.newton_iterations >= s.steps, "{s:?}");

@@ -1,11 +1,11 @@
 //! `symlab cloth SCENE.toml`: run a cloth scene with any method that steps
 //! cloth (explicit library schemes, and the implicit ones through the
 //! sparse Newton solver), writing `energy.csv`, an energy plot, OBJ frames
-//! and PNG renderings to `out/<scene-name>/`, and printing a one-screen
+//! and PNG renderings to `out/cloth/<scene-name>/`, and printing a one-screen
 //! summary; or, with `--stability`, the largest stable step of each method.
 
-mod energy;
-mod render;
+pub(crate) mod energy;
+pub(crate) mod render;
 mod stability;
 
 use std::collections::BTreeMap;
@@ -43,7 +43,8 @@ pub struct ClothArgs {
     /// longer than a frame).
     #[arg(long, value_name = "H", allow_negative_numbers = true)]
     pub dt: Option<f64>,
-    /// Output directory (default: out/<scene-name>/).
+    /// Output directory (default: out/cloth/<scene-name>/, apart from
+    /// `symlab paper`'s out/paper/).
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
     /// Write an OBJ file every N frames (and always the last); 0: none.
@@ -290,7 +291,7 @@ fn file_safe(name: &str) -> String {
 fn output_dir(args: &ClothArgs, scene: &Scene) -> Result<PathBuf> {
     let dir = match &args.out {
         Some(d) => d.clone(),
-        None => Path::new("out").join(file_safe(&scene.name)),
+        None => Path::new("out").join("cloth").join(file_safe(&scene.name)),
     };
     std::fs::create_dir_all(&dir).with_context(|| {
         format!(

@@ -4,10 +4,11 @@
 //!    three step sizes against the analytic solution ([`oscillator`]), a
 //!    CSV table of errors, a CSV of every step, and plots ([`figures`]).
 //! 2. The cloth comparison of their figure 5 (explicit Euler against
-//!    symplectic Euler on the undamped scene): [`cloth_section`], a hook
-//!    until the `cloth` crate is ready.
+//!    symplectic Euler on the undamped scene at 16.7 ms frames, with
+//!    Störmer–Verlet, implicit Euler and Gauss–Legendre 2): [`cloth`].
 //! 3. `report.md`: claims, measurements, differences ([`report`]).
 
+pub mod cloth;
 pub mod figures;
 pub mod oscillator;
 pub mod report;
@@ -18,11 +19,6 @@ use std::process::ExitCode;
 use anyhow::{Context, Result};
 
 use oscillator::{Config, Experiment, errors_csv, oscillator_experiment, series_csv};
-
-/// What the report and the terminal say while the cloth part is missing.
-pub const CLOTH_NOT_AVAILABLE: &str = "Not available yet: the cloth comparison of the paper's figure 5 (explicit \
-    Euler against symplectic Euler on the undamped paper scene at 16.7 ms frames) waits for the `cloth` crate; \
-    this section will hold it.";
 
 #[derive(clap::Args, Debug)]
 pub struct PaperArgs {
@@ -45,6 +41,9 @@ pub struct PaperArgs {
     /// The step sizes, comma-separated (the paper: 0.01, 0.05 and 0.1).
     #[arg(long = "h", value_name = "H,...", value_delimiter = ',', default_values_t = [0.01, 0.05, 0.1], allow_negative_numbers = true)]
     pub step_sizes: Vec<f64>,
+    /// Frames of the cloth comparison (figure 5), at 60 Hz; 0 skips it.
+    #[arg(long, value_name = "N", default_value_t = cloth::DEFAULT_FRAMES)]
+    pub cloth_frames: usize,
 }
 
 impl PaperArgs {
@@ -57,16 +56,6 @@ impl PaperArgs {
             step_sizes: self.step_sizes.clone(),
         }
     }
-}
-
-/// THE HOOK FOR THE CLOTH COMPARISON (the paper's figure 5): explicit Euler
-/// against symplectic Euler on the undamped paper scene at 16.7 ms frames.
-/// Writes its files into `out_dir` and returns the Markdown section of the
-/// report (without its heading), or `None` while the `cloth` crate is not
-/// available.
-pub fn cloth_section(out_dir: &Path) -> Result<Option<String>> {
-    let _ = out_dir;
-    Ok(None)
 }
 
 /// The names of every file the oscillator part writes, in the report's order.
@@ -106,13 +95,14 @@ pub fn run(args: &PaperArgs) -> Result<ExitCode> {
 
     let exp = oscillator_experiment(&config)?;
     write_oscillator(&exp, dir)?;
-    let cloth = cloth_section(dir)?;
+    let cloth = cloth::section(dir, args.cloth_frames)?;
 
     let mut files = oscillator_files(&config);
+    files.extend(cloth.files.iter().cloned());
     files.push("report.md".into());
     write(
         &dir.join("report.md"),
-        &report::markdown(&exp, cloth.as_deref(), &files),
+        &report::markdown(&exp, &cloth.markdown, &files),
     )?;
 
     println!(
@@ -121,10 +111,8 @@ pub fn run(args: &PaperArgs) -> Result<ExitCode> {
     );
     print!("{}", report::text_table(&exp));
     println!();
-    match &cloth {
-        Some(_) => println!("Cloth comparison (figure 5): see the report."),
-        None => println!("Cloth comparison (figure 5): {CLOTH_NOT_AVAILABLE}"),
-    }
+    println!("Cloth comparison (figure 5), paper scene at 60 Hz frames:");
+    print!("{}", cloth.terminal);
     println!();
     println!("Wrote {} files to {}:", files.len(), dir.display());
     for name in &files {

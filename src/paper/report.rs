@@ -198,9 +198,9 @@ fn max_rel_energy(exp: &Experiment, m: Method, h: f64) -> f64 {
     run(exp, m, h).summary().max_rel_energy_error
 }
 
-/// The whole report. `cloth` is the cloth section (figure 5) when it is
-/// available; `files` the names of the files written alongside.
-pub fn markdown(exp: &Experiment, cloth: Option<&str>, files: &[String]) -> String {
+/// The whole report. `cloth` is the cloth section (figure 5, without its
+/// heading); `files` the names of the files written alongside.
+pub fn markdown(exp: &Experiment, cloth: &str, files: &[String]) -> String {
     let c: &Config = &exp.config;
     let f = Findings::of(exp);
     let (h_max, h_min, n) = (f.h_max, f.h_min, c.steps);
@@ -836,14 +836,7 @@ pub fn markdown(exp: &Experiment, cloth: Option<&str>, files: &[String]) -> Stri
 
     // ---------------------------------------------------------------- cloth
     let _ = writeln!(w, "## The cloth comparison (figure 5)\n");
-    match cloth {
-        Some(section) => {
-            let _ = writeln!(w, "{}\n", section.trim_end());
-        }
-        None => {
-            let _ = writeln!(w, "{}\n", super::CLOTH_NOT_AVAILABLE);
-        }
-    }
+    let _ = writeln!(w, "{}\n", cloth.trim_end());
 
     // ---------------------------------------------------------------- files
     let _ = writeln!(w, "## Files\n");

@@ -93,6 +93,9 @@ enum Verdict {
     Refresh {
         restart: bool,
     },
+    /// Re-evaluate this step's Jacobian at the current iterate and go on
+    /// from it (Newton proper on a strongly nonlinear step).
+    Update,
     Fail(SolveError),
 }
 
@@ -134,8 +137,10 @@ impl Monitor {
     /// by the contraction observed (the correction is then round-off,
     /// whatever its size); or when the corrections, relative to the stage
     /// values, stop decreasing at round-off level. `stale`: the Jacobian is
-    /// from an earlier step.
-    fn check(&mut self, sweep: Sweep, s: &Settings, stale: bool) -> Verdict {
+    /// from an earlier step; `updatable`: it is from this step and may be
+    /// re-evaluated at the current iterate
+    /// ([`Settings::jacobian_updates`]).
+    fn check(&mut self, sweep: Sweep, s: &Settings, stale: bool, updatable: bool) -> Verdict {
         let Sweep { delta, rel, abs } = sweep;
         self.k += 1;
         let k = self.k;
@@ -170,6 +175,9 @@ impl Monitor {
             if stale {
                 return Verdict::Refresh { restart: true };
             }
+            if updatable {
+                return Verdict::Update;
+            }
             self.rises += 1;
             if theta > 2.0 || self.rises >= 2 {
                 return Verdict::Fail(SolveError::Diverged {
@@ -184,6 +192,9 @@ impl Monitor {
             self.prev_delta = delta;
             self.prev_abs = abs;
             return Verdict::Refresh { restart: false };
+        }
+        if updatable && theta > s.update_rate && delta > s.stagnation_limit {
+            return Verdict::Update;
         }
         if k >= s.max_iterations {
             return Verdict::Fail(SolveError::NotConverged {
@@ -584,6 +595,7 @@ impl Core {
         let coefs = tab.stacked();
         self.prepare(sys, t, z, lin, Slot::Stacked, &coefs, h, &mut fresh)?;
         let mut mon = Monitor::new();
+        let mut updates = 0;
         loop {
             let mut finite = true;
             for i in 0..S {
@@ -621,10 +633,34 @@ impl Core {
                 Sweep::INFINITE
             };
             self.stats.newton_iterations += 1;
-            match mon.check(sweep, &self.settings, !fresh) {
+            let updatable = fresh && updates < self.settings.jacobian_updates;
+            match mon.check(sweep, &self.settings, !fresh, updatable) {
                 Verdict::Continue => {}
                 Verdict::Converged => return Ok(()),
                 Verdict::Fail(e) => return Err(e),
+                Verdict::Update => {
+                    // J at the mean of the current stage values.
+                    let scale = 1.0 / S as f64;
+                    for k in 0..d {
+                        let mut acc = 0.0;
+                        for i in 0..S {
+                            acc += self.zs[i * d + k];
+                        }
+                        self.y[k] = z[k] + scale * acc;
+                    }
+                    let tc = t + h * tab.c.iter().sum::<f64>() * scale;
+                    lin.evaluate(
+                        sys,
+                        tc,
+                        &self.y,
+                        self.attempt,
+                        &self.settings,
+                        &mut self.stats,
+                    )?;
+                    self.prepare(sys, t, z, lin, Slot::Stacked, &coefs, h, &mut fresh)?;
+                    updates += 1;
+                    mon.refreshed();
+                }
                 Verdict::Refresh { restart } => {
                     lin.evaluate(sys, t, z, self.attempt, &self.settings, &mut self.stats)?;
                     fresh = true;
@@ -679,8 +715,8 @@ impl Core {
                 Sweep::INFINITE
             };
             self.stats.fixed_point_iterations += 1;
-            match mon.check(sweep, &self.settings, false) {
-                Verdict::Continue | Verdict::Refresh { .. } => {}
+            match mon.check(sweep, &self.settings, false, false) {
+                Verdict::Continue | Verdict::Refresh { .. } | Verdict::Update => {}
                 Verdict::Converged => return Ok(()),
                 Verdict::Fail(e) => return Err(e),
             }
@@ -752,6 +788,7 @@ impl Core {
                 fresh = Some(is_fresh);
             }
             let mut mon = Monitor::new();
+            let mut updates = 0;
             loop {
                 let finite = self.eval_stage(tab, sys, t, h, z, i);
                 let sweep = if !finite {
@@ -786,10 +823,29 @@ impl Core {
                 } else {
                     self.stats.fixed_point_iterations += 1;
                 }
-                match mon.check(sweep, &self.settings, newton && !is_fresh) {
+                let updatable = newton && is_fresh && updates < self.settings.jacobian_updates;
+                match mon.check(sweep, &self.settings, newton && !is_fresh, updatable) {
                     Verdict::Continue => {}
                     Verdict::Converged => break,
                     Verdict::Fail(e) => return Err(e),
+                    Verdict::Update => {
+                        // J at the current stage value.
+                        for k in 0..d {
+                            self.y[k] = z[k] + self.zs[i * d + k];
+                        }
+                        let ti = t + tab.c[i] * h;
+                        lin.evaluate(
+                            sys,
+                            ti,
+                            &self.y,
+                            self.attempt,
+                            &self.settings,
+                            &mut self.stats,
+                        )?;
+                        self.prepare(sys, t, z, lin, Slot::Diag(slot), &coefs, h, &mut is_fresh)?;
+                        updates += 1;
+                        mon.refreshed();
+                    }
                     Verdict::Refresh { restart } => {
                         lin.evaluate(sys, t, z, self.attempt, &self.settings, &mut self.stats)?;
                         is_fresh = true;

@@ -71,6 +71,23 @@ pub struct Settings {
     /// Contraction factor `‖ΔZₖ‖/‖ΔZₖ₋₁‖` above which a kept Jacobian is
     /// re-evaluated. Default 0.1.
     pub refresh_rate: f64,
+    /// Within one step, how many times the Jacobian may be re-evaluated at
+    /// the current iterate (the mean of the stage values `z + Zᵢ`; for
+    /// DIRK tables the stage value) and the Newton matrix refactorised,
+    /// when the iteration with a Jacobian of this step contracts slower
+    /// than [`update_rate`](Self::update_rate) or grows. Simplified Newton
+    /// keeps `J` at the start of the step, which fails when the stages move
+    /// far along a strongly nonlinear flow within one step (a cloth released
+    /// from rest with one step per 60 Hz frame: at rest the springs have no
+    /// transverse stiffness, so `J(z)` does not see the forces the stages
+    /// meet). Updating turns it into Newton's method proper on such steps;
+    /// on ordinary steps the contraction is fast and nothing changes.
+    /// Default 8; 0 is classical simplified Newton.
+    pub jacobian_updates: usize,
+    /// Contraction factor above which a Jacobian evaluated in this step is
+    /// re-evaluated at the current iterate (see
+    /// [`jacobian_updates`](Self::jacobian_updates)). Default 0.5.
+    pub update_rate: f64,
     /// Approximate the Jacobian by forward differences (`d + 1` evaluations
     /// of `f`) when the system has none. Default `true`.
     pub finite_differences: bool,
@@ -95,6 +112,8 @@ impl Default for Settings {
             compensated: true,
             reuse_jacobian: true,
             refresh_rate: 0.1,
+            jacobian_updates: 8,
+            update_rate: 0.5,
             finite_differences: true,
             extrapolate: true,
             parallel: false,
