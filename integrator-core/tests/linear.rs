@@ -689,3 +689,44 @@ fn generator_is_deterministic_and_has_the_requested_spread() {
         Err(LinearError::Parameter { name: "spread", .. })
     ));
 }
+
+#[test]
+fn gauss_stage_solver_steps_a_stiff_gyroscopic_system_far_beyond_the_explicit_limit() {
+    // Frequencies 1 … 10⁴ and h = 0.01: h·ω_max = 100. Newton on the exact
+    // Jacobian solves the (linear) stage equations in one iteration; what
+    // is left is the round-off floor of an ill-conditioned stage matrix,
+    // which the solver must recognise as convergence, not as divergence.
+    let sys = gyroscopic(10, 1, 1e4)
+        .unwrap()
+        .with_force(&[0.0; 10])
+        .unwrap();
+    let h = 0.01;
+    let steps = 100;
+    // q(0) = 0, p(0) = 1, as `symlab compare --hard` starts it.
+    let z0: Vec<f64> = (0..20).map(|i| if i < 10 { 0.0 } else { 1.0 }).collect();
+    let e0 = sys.energy(&z0);
+    let prop = Propagator::new(
+        &sys,
+        h,
+        &GaussLegendre2::STABILITY_P,
+        &GaussLegendre2::STABILITY_Q,
+    )
+    .unwrap();
+    let mut a = z0.clone();
+    let mut worst: f64 = 0.0;
+    integrate(&GaussLegendre2, &sys, &mut a, 0.0, h, steps, |_, _, z| {
+        worst = worst.max((sys.energy(z) - e0).abs() / e0.abs());
+    })
+    .unwrap_or_else(|e| panic!("{e}"));
+    // The same map as the exact propagator R(hH).
+    let mut b = z0.clone();
+    prop.integrate(&sys, &mut b, 0.0, steps, |_, _, _| {})
+        .unwrap();
+    assert!(
+        max_abs_diff(&a, &b) < 1e-8 * max_abs(&b),
+        "stage solver vs propagator: {:e}",
+        max_abs_diff(&a, &b)
+    );
+    // A symplectic Runge–Kutta method conserves quadratic energies.
+    assert!(worst < 1e-9, "relative energy error {worst:e}");
+}

@@ -109,7 +109,14 @@ struct Monitor {
     /// increments, predicted from the contraction: `θ/(1 − θ)·rel`.
     prev_est: f64,
     rises: usize,
+    /// The largest correction of this solve, `|ΔZ|` (kept across refreshes).
+    peak_abs: f64,
 }
+
+/// How far the corrections must have fallen from the largest of the solve
+/// before a plateau counts as the round-off floor
+/// ([`Settings::plateau_limit`]).
+const PLATEAU_DROP: f64 = 1e4;
 
 impl Monitor {
     fn new() -> Self {
@@ -119,6 +126,7 @@ impl Monitor {
             prev_abs: 0.0,
             prev_est: f64::INFINITY,
             rises: 0,
+            peak_abs: 0.0,
         }
     }
 
@@ -166,6 +174,14 @@ impl Monitor {
         } else {
             0.0
         };
+        self.peak_abs = self.peak_abs.max(abs);
+        // The round-off floor of an ill-conditioned stage system: the
+        // corrections fell by orders of magnitude, then stopped falling
+        // (noise fluctuates by any factor, but stays far below the peak).
+        if k >= 2 && theta >= 1.0 && delta <= s.plateau_limit && abs * PLATEAU_DROP <= self.peak_abs
+        {
+            return Verdict::Converged;
+        }
         self.prev_est = if k >= 2 && theta < 1.0 {
             theta / (1.0 - theta) * rel
         } else {

@@ -56,6 +56,19 @@ pub struct Settings {
     /// ([`SolveError::Diverged`](crate::SolveError::Diverged)).
     /// Default `1e-12`; raise it for very ill-conditioned stage matrices.
     pub stagnation_limit: f64,
+    /// The round-off floor of ill-conditioned stage systems: when the
+    /// corrections have fallen by a factor 10⁴ from the largest of the
+    /// solve and then stop decreasing (`‖ΔZₖ‖ ≥ ‖ΔZₖ₋₁‖`; noise may rise by
+    /// any factor, but stays 10⁴ below the largest correction), at most this
+    /// large relative to the stage values, the iteration has reached what
+    /// the conditioning of
+    /// `I − h·A⊗J` allows and stops converged. A stiff system stepped far
+    /// beyond its explicit limit (a cloth at `h·ω_max ≈ 100`: condition
+    /// number ~10⁴, and momenta that are small sums of large spring forces)
+    /// stalls there at a few `1e-9`, above any fixed
+    /// [`stagnation_limit`](Self::stagnation_limit) one would dare to set for
+    /// every problem. Default `1e-8`; 0 disables it.
+    pub plateau_limit: f64,
     /// Add the increments `h·Σ bᵢ·F(Yᵢ)` to the state with compensated
     /// (Kahan) summation, the compensation carried from step to step, so
     /// that round-off in `z` grows like √n. Default `true`.
@@ -109,6 +122,7 @@ impl Default for Settings {
             max_iterations: 50,
             tolerance: f64::EPSILON,
             stagnation_limit: 1e-12,
+            plateau_limit: 1e-8,
             compensated: true,
             reuse_jacobian: true,
             refresh_rate: 0.1,
