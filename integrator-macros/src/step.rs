@@ -209,6 +209,15 @@ pub fn drift_kick(name: &syn::Ident, ops: &[(Op, f64)]) -> TokenStream {
 /// the order of the dependency graph (`Qᵢ` needs `f(Pⱼ)` where `aᵢⱼ ≠ 0`,
 /// `Pᵢ` needs `g(Qⱼ)` where `âᵢⱼ ≠ 0`). Stages with identical rows share one
 /// value and one evaluation.
+///
+/// First same as last: when one position stage is `Q = q` (a zero row) and
+/// the last position stage computed is `Q = q_{n+1}` (its row equals `b`,
+/// as in Lobatto IIIA–IIIB: Störmer–Verlet), the new `q` is computed in
+/// place at that point (with compensated summation) and the force evaluated
+/// there, at the very `q` the next step starts from; `step_reusing` then
+/// skips the force at `Q = q`, so Störmer–Verlet costs one force per step.
+/// (Rows are compared as the correctly rounded coefficients; two distinct
+/// exact rows that round to the same doubles would differ below round-off.)
 pub fn explicit_prk(
     name: &syn::Ident,
     a: &[Vec<f64>],
@@ -240,6 +249,23 @@ pub fn explicit_prk(
         }
         out
     };
+    // First same as last (see above).
+    let q_nodes: Vec<usize> = order
+        .iter()
+        .copied()
+        .filter(|&i| i < s && q_alias[i] == i && g_needed[i])
+        .collect();
+    let b_merged = merged(b, &p_alias);
+    let first = q_nodes
+        .iter()
+        .copied()
+        .find(|&i| merged(&a[i], &p_alias).iter().all(|c| *c == 0.0));
+    let last = q_nodes
+        .last()
+        .copied()
+        .filter(|&i| Some(i) != first && merged(&a[i], &p_alias) == b_merged);
+    let fsal = first.zip(last);
+    let q_out = state_update(quote!(q), quote!(eq), &terms(&b_merged, |j| quote!(fv[#j])));
     let mut code = Vec::new();
     for &node in order {
         if node < s {
@@ -248,7 +274,11 @@ pub fn explicit_prk(
                 continue;
             }
             let row = terms(&merged(&a[i], &p_alias), |j| quote!(fv[#j]));
-            if row.is_empty() {
+            if fsal.is_some_and(|(_, l)| l == i) {
+                code.push(quote! { #q_out sys.force(q, &mut gf[#i][..n]); });
+            } else if row.is_empty() && fsal.is_some_and(|(f, _)| f == i) {
+                code.push(quote!(if !reuse { sys.force(q, &mut gf[#i][..n]); }));
+            } else if row.is_empty() {
                 code.push(quote!(sys.force(q, &mut gf[#i][..n]);));
             } else {
                 let upd = axpy_loop(quote!(qs), Some(quote!(q)), &row);
@@ -268,16 +298,22 @@ pub fn explicit_prk(
             }
         }
     }
-    let q_out = state_update(
-        quote!(q),
-        quote!(eq),
-        &terms(&merged(b, &p_alias), |j| quote!(fv[#j])),
-    );
     let p_out = state_update(
         quote!(p),
         quote!(ep),
         &terms(&merged(b_hat, &q_alias), |j| quote!(gf[#j])),
     );
+    // With FSAL, q is already updated, and g(q_{n+1}) moves to the first
+    // stage's slot for the next step (a swap of two vectors).
+    let (q_out, keep) = match fsal {
+        Some((f, l)) => (quote!(), quote!(gf.swap(#f, #l);)),
+        None => (q_out, quote!()),
+    };
+    let reuse_arg = if fsal.is_some() {
+        quote!(reuse)
+    } else {
+        quote!(_reuse)
+    };
     quote! {
         impl<Sys: ::integrator_core::Separable + ?Sized> ::integrator_core::Step<Sys> for #name {
             type Workspace = ::integrator_core::scheme::PrkWorkspace<#s>;
@@ -285,8 +321,12 @@ pub fn explicit_prk(
                 ::integrator_core::scheme::PrkWorkspace::new(sys.dof())
             }
             #[inline]
-            #[allow(unused_variables, unused_mut, clippy::all, clippy::approx_constant, clippy::excessive_precision)]
             fn step(&self, sys: &Sys, t: f64, h: f64, z: &mut [f64], ws: &mut Self::Workspace) -> ::core::result::Result<(), ::integrator_core::SolveError> {
+                self.step_reusing(sys, t, h, z, ws, false)
+            }
+            #[inline]
+            #[allow(unused_variables, unused_mut, clippy::all, clippy::approx_constant, clippy::excessive_precision)]
+            fn step_reusing(&self, sys: &Sys, t: f64, h: f64, z: &mut [f64], ws: &mut Self::Workspace, #reuse_arg: bool) -> ::core::result::Result<(), ::integrator_core::SolveError> {
                 let n = sys.dof();
                 let (q, p) = z.split_at_mut(n);
                 let ::integrator_core::scheme::PrkWorkspace { fv, gf, q: qs, p: ps, eq, ep, compensated } = ws;
@@ -294,6 +334,7 @@ pub fn explicit_prk(
                 #(#code)*
                 #q_out
                 #p_out
+                #keep
                 Ok(())
             }
         }
