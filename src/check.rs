@@ -121,6 +121,7 @@ pub fn to_json(tf: &TableFile, a: &Analysis) -> Value {
         "order": a.order.as_ref().map(|o| o.order),
         "order_separable": a.order_separable.order,
         "order_limit": order_report.limit,
+        "order_rkn": a.order_rkn.order,
         "symmetric": a.symmetric,
         "stability_function": a.stability.as_ref().map(|r| r.to_text()),
         "w_nonzero": a.w_nonzero,
@@ -270,6 +271,11 @@ pub fn readable(origin: &str, tf: &TableFile, a: &Analysis) -> String {
             );
         }
     }
+    let _ = writeln!(
+        s,
+        "  T quadratic  {}  (Runge–Kutta–Nyström systems, T = ½pᵀM⁻¹p)",
+        order_text(&a.order_rkn)
+    );
     let _ = writeln!(s, "  symmetric    {}", yes_no(a.symmetric));
     if let Some(r) = &a.stability {
         let _ = writeln!(

@@ -27,6 +27,7 @@ fn json_has_exactly_the_documented_fields() {
             "name",
             "order",
             "order_limit",
+            "order_rkn",
             "order_separable",
             "row_sums_ok",
             "stability_function",
@@ -47,6 +48,7 @@ fn gauss_legendre_2() {
     assert_eq!(v["class"], "implicit");
     assert_eq!(v["symplectic"], true);
     assert_eq!(v["order"], 4);
+    assert_eq!(v["order_rkn"], 4);
     assert_eq!(v["symmetric"], true);
     assert_eq!(v["row_sums_ok"], true);
     assert_eq!(
@@ -116,7 +118,32 @@ fn rk4_lobatto3b_verlet_forest_ruth() {
     assert_eq!(v["kind"], "prk");
     assert_eq!(v["symplectic_separable"], true);
     assert_eq!(v["order_separable"], 4);
+    assert_eq!(v["order_rkn"], 4);
     assert_eq!(v["symmetric"], true);
+}
+
+#[test]
+fn order_on_runge_kutta_nystrom_systems() {
+    // McLachlan–Atela 4: order 3 on separable systems, 4 when T is quadratic,
+    // both within the bounds its decimals need.
+    let (code, out, err) = symlab(&["check", "--builtin", "mclachlan-atela4"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        out.contains(
+            "\n  T quadratic  1   (first failing: order-2 condition for tree [τ_p]_q, residual -"
+        ),
+        "{out}"
+    );
+    assert!(out.contains("✓ order = 3 (residual < 1e-17)"), "{out}");
+    assert!(out.contains("✓ order_rkn = 4 (residual < 1e-17)"), "{out}");
+    let v = check_json(&["--builtin", "leapfrog"]);
+    assert_eq!(
+        (v["order_separable"].as_u64(), v["order_rkn"].as_u64()),
+        (Some(2), Some(2))
+    );
+    let v = check_json(&["--builtin", "mclachlan-atela5"]);
+    // Without a bound the decimals fail τ_q = Σb = 1 by 1e-19.
+    assert_eq!(v["order_rkn"], 0);
 }
 
 #[test]

@@ -86,8 +86,26 @@ butcher! {
     }
 }
 
+butcher! {
+    /// McLachlan–Atela 4 typed in (catalogue: mclachlan-atela4): order 3 on
+    /// separable systems, 4 on Runge–Kutta–Nyström systems (T quadratic).
+    McAte4 {
+        claims: [
+            symplectic,
+            order = 3 (residual < 1e-17),
+            order_rkn = 4 (residual < 1e-17),
+        ],
+        drift: [0, 0.5153528374311229364, -0.085782019412973646, 0.4415830236164665242,
+                0.1288461583653841854],
+        kick: [0.1344961992774310892, -0.2248198030794208058, 0.7563200005156682911,
+               0.3340036032863214255],
+    }
+}
+
 #[test]
 fn bounded_claims_compile() {
+    // The order constant is the `order` claim, on general separable systems.
+    assert_eq!(McAte4::ORDER, 3);
     assert_eq!(RoundedTripleJump::ORDER, 4);
     assert_eq!(RoundedTripleJump::GAMMA[1], -1.702_414_383_919_315);
 }

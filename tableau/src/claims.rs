@@ -1,7 +1,9 @@
 //! What a table claims about itself: `symplectic`, `symmetric`, `explicit`,
 //! `order = 4`, or `order = 8 (residual < 1e-24)` for a table whose order
 //! conditions hold only up to a stated residual (coefficients published as
-//! decimals).
+//! decimals), and the same two forms of `order_rkn`, the order on
+//! Runge–Kutta–Nyström systems (separable `H = T(p) + V(q)` with `T`
+//! quadratic): `order_rkn = 4`, `order_rkn = 4 (residual < 1e-16)`.
 
 use std::fmt;
 use std::str::FromStr;
@@ -21,9 +23,20 @@ pub enum Claim {
         p: usize,
         bound: Option<Number>,
     },
+    /// Order `p` on Runge–Kutta–Nyström systems: separable `H = T(p) + V(q)`
+    /// with `T = ½pᵀM⁻¹p` quadratic (the Nyström trees, see
+    /// [`crate::trees::Colouring::Nystrom`]); `bound` as for [`Claim::Order`].
+    OrderRkn {
+        p: usize,
+        bound: Option<Number>,
+    },
 }
 
-const SYNTAX: &str = "the claims are symplectic, symmetric, explicit, `order = N` and `order = N (residual < BOUND)`";
+const SYNTAX: &str = "the claims are symplectic, symmetric, explicit, `order = N`, `order = N (residual < BOUND)`, `order_rkn = N` and `order_rkn = N (residual < BOUND)`";
+
+/// The keywords of the order claims; the longer first, since `order` is a
+/// prefix of `order_rkn`.
+const ORDER_KEYWORDS: [&str; 2] = ["order_rkn", "order"];
 
 /// Parse one claim. Whitespace around the words and symbols is free:
 /// `order=4` and `order = 4` are the same claim.
@@ -35,14 +48,26 @@ pub fn parse_claim(text: &str) -> Result<Claim, String> {
         "explicit" => return Ok(Claim::Explicit),
         _ => {}
     }
-    let Some(rest) = t.strip_prefix("order") else {
+    let Some((keyword, rest)) = ORDER_KEYWORDS.iter().find_map(|k| {
+        t.strip_prefix(k)
+            .filter(|rest| !rest.starts_with(|c: char| c.is_alphanumeric() || c == '_'))
+            .map(|rest| (*k, rest))
+    }) else {
         return Err(unknown(t));
     };
+    let (p, bound) = parse_order(t, keyword, rest)?;
+    Ok(if keyword == "order" {
+        Claim::Order { p, bound }
+    } else {
+        Claim::OrderRkn { p, bound }
+    })
+}
+
+/// The rest of an order claim after its keyword: `= N` and an optional
+/// `(residual < BOUND)`. `t` is the whole claim, for messages.
+fn parse_order(t: &str, keyword: &str, rest: &str) -> Result<(usize, Option<Number>), String> {
     let Some(rest) = rest.trim_start().strip_prefix('=') else {
-        if rest.starts_with(|c: char| c.is_alphanumeric() || c == '_') {
-            return Err(unknown(t));
-        }
-        return Err(format!("`{t}`: expected `order = N`, with N the order"));
+        return Err(format!("`{t}`: expected `{keyword} = N`, with N the order"));
     };
     let rest = rest.trim_start();
     let digits_end = rest
@@ -52,7 +77,7 @@ pub fn parse_claim(text: &str) -> Result<Claim, String> {
     if digits.is_empty() {
         let found = rest.split_whitespace().next().unwrap_or("nothing");
         return Err(format!(
-            "`{t}`: expected a whole number after `order =`, found `{found}`"
+            "`{t}`: expected a whole number after `{keyword} =`, found `{found}`"
         ));
     }
     let p: usize = digits
@@ -63,7 +88,7 @@ pub fn parse_claim(text: &str) -> Result<Claim, String> {
     }
     let rest = rest.trim();
     if rest.is_empty() {
-        return Ok(Claim::Order { p, bound: None });
+        return Ok((p, None));
     }
     let bound_text = rest
         .strip_prefix('(')
@@ -85,10 +110,7 @@ pub fn parse_claim(text: &str) -> Result<Claim, String> {
             "`{t}`: the residual bound must be positive, not {bound}"
         ));
     }
-    Ok(Claim::Order {
-        p,
-        bound: Some(bound),
-    })
+    Ok((p, Some(bound)))
 }
 
 fn unknown(t: &str) -> String {
@@ -104,25 +126,26 @@ impl FromStr for Claim {
 
 impl fmt::Display for Claim {
     /// The text [`parse_claim`] reads: `symplectic`, `order = 4`,
-    /// `order = 8 (residual < 1e-24)`. A bound that is an exact decimal is
-    /// written as one; any other bound in the canonical form of [`Number`].
+    /// `order = 8 (residual < 1e-24)`, `order_rkn = 4`. A bound that is an
+    /// exact decimal is written as one; any other bound in the canonical form
+    /// of [`Number`].
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            Claim::Symplectic => f.write_str("symplectic"),
-            Claim::Symmetric => f.write_str("symmetric"),
-            Claim::Explicit => f.write_str("explicit"),
-            Claim::Order { p, bound: None } => write!(f, "order = {p}"),
-            Claim::Order {
-                p,
-                bound: Some(bound),
-            } => {
-                let text = bound
-                    .as_rational()
-                    .and_then(|r| decimal_text(&r))
-                    .unwrap_or_else(|| bound.to_string());
-                write!(f, "order = {p} (residual < {text})")
-            }
+        let (keyword, p, bound) = match self {
+            Claim::Symplectic => return f.write_str("symplectic"),
+            Claim::Symmetric => return f.write_str("symmetric"),
+            Claim::Explicit => return f.write_str("explicit"),
+            Claim::Order { p, bound } => ("order", p, bound),
+            Claim::OrderRkn { p, bound } => ("order_rkn", p, bound),
+        };
+        write!(f, "{keyword} = {p}")?;
+        if let Some(bound) = bound {
+            let text = bound
+                .as_rational()
+                .and_then(|r| decimal_text(&r))
+                .unwrap_or_else(|| bound.to_string());
+            write!(f, " (residual < {text})")?;
         }
+        Ok(())
     }
 }
 
@@ -141,6 +164,9 @@ mod tests {
             "order = 6 (residual < 2.5e-10)",
             "order = 2 (residual < 0.001)",
             "order = 3 (residual < sqrt(2)/1000)",
+            "order_rkn = 4",
+            "order_rkn = 5 (residual < 1e-16)",
+            "order_rkn = 4 (residual < sqrt(3)/1000)",
         ] {
             let claim = parse_claim(text).unwrap_or_else(|e| panic!("{text}: {e}"));
             let printed = claim.to_string();
@@ -161,6 +187,18 @@ mod tests {
             panic!()
         };
         assert_eq!(b, parse_number("1/1000000000000000000000000").unwrap());
+        assert_eq!(
+            parse_claim("order_rkn=4").unwrap(),
+            Claim::OrderRkn { p: 4, bound: None }
+        );
+        let Claim::OrderRkn {
+            p: 5,
+            bound: Some(b),
+        } = parse_claim(" order_rkn = 5 ( residual < 1e-16 ) ").unwrap()
+        else {
+            panic!()
+        };
+        assert_eq!(b, parse_number("1/10000000000000000").unwrap());
     }
 
     #[test]
@@ -180,10 +218,26 @@ mod tests {
             ("order = 4 (residual < -1)", "positive"),
             ("order = 4 (residual < 0)", "positive"),
             ("order = 4.5", "expected `(residual < BOUND)`"),
+            ("order_rkns = 4", "unknown claim"),
+            ("order_rk = 4", "unknown claim"),
+            ("order_rkn 4", "expected `order_rkn = N`"),
+            ("order_rkn = five", "after `order_rkn =`, found `five`"),
+            ("order_rkn =", "found `nothing`"),
+            ("order_rkn = 0", "at least 1"),
+            ("order_rkn = 99999999999999999999999", "too large"),
+            (
+                "order_rkn = 4 (residual 1e-16)",
+                "expected `(residual < BOUND)`",
+            ),
+            ("order_rkn = 4 (residual < 1e-)", "residual bound `1e-`"),
+            ("order_rkn = 4 (residual < 0)", "positive"),
         ];
         for (text, phrase) in cases {
             let e = parse_claim(text).unwrap_err();
             assert!(e.contains(phrase), "{text}: {e}");
         }
+        // An unknown claim lists the order_rkn forms among the claims.
+        let e = parse_claim("order_rkns = 4").unwrap_err();
+        assert!(e.contains("`order_rkn = N (residual < BOUND)`"), "{e}");
     }
 }

@@ -29,12 +29,13 @@
 //! Coloured vertices carry a suffix after the leaf symbol or after the closing
 //! bracket of the subtree they root:
 //!
-//! * bicoloured trees ([`Colouring::Bicoloured`], [`Colouring::Separable`]):
-//!   `_q` for a black vertex (an evaluation of `q' = ∂H/∂p`, weighted by the
-//!   table `(A, b)` of the `q` component), `_p` for a white vertex (an
-//!   evaluation of `p' = −∂H/∂q`, weighted by `(Â, b̂)`). `[τ_p]_q` is a black
-//!   root with one white child; `[τ_p²]_q` a black root with two white leaves
-//!   (the superscript counts the whole subtree `τ_p`).
+//! * bicoloured trees ([`Colouring::Bicoloured`], [`Colouring::Separable`],
+//!   [`Colouring::Nystrom`]): `_q` for a black vertex (an evaluation of
+//!   `q' = ∂H/∂p`, weighted by the table `(A, b)` of the `q` component), `_p`
+//!   for a white vertex (an evaluation of `p' = −∂H/∂q`, weighted by
+//!   `(Â, b̂)`). `[τ_p]_q` is a black root with one white child; `[τ_p²]_q` a
+//!   black root with two white leaves (the superscript counts the whole
+//!   subtree `τ_p`).
 //! * trees with time leaves ([`Colouring::TimeLeaves`]): ordinary vertices are
 //!   unmarked, a time leaf is `τ_t`. `[τ,τ_t]` is a root with one ordinary
 //!   leaf and one time leaf.
@@ -86,6 +87,26 @@ pub enum Colouring {
     /// colours (twice A000081): the order conditions on separable systems
     /// `q' = f(p)`, `p' = g(q)`, where `f` does not depend on `q` nor `g` on `p`.
     Separable,
+    /// The [`Separable`](Colouring::Separable) trees in which every black
+    /// vertex ([`Colour::Q`], an evaluation of the velocity `q' = ∂H/∂p`) has
+    /// at most one child: the order conditions on Runge–Kutta–Nyström
+    /// systems, separable `H = T(p) + V(q)` with `T = ½pᵀM⁻¹p` quadratic, so
+    /// that `q' = M⁻¹p` is linear in `p` and its second and higher
+    /// derivatives (the elementary differentials of a black vertex with two
+    /// or more children) vanish. These are the Nyström trees of
+    /// Hairer–Nørsett–Wanner I, II.14 (black = "meagre", white = "fat").
+    ///
+    /// Counts per order `n` (`Pₙ` white roots, `Qₙ` black roots): `Q₁ = 1`,
+    /// `Qₙ = Pₙ₋₁` (a black root has one white child), and `Pₙ` is the
+    /// number of multisets of black subtrees of total order `n − 1`. From
+    /// `n = 1`:
+    ///
+    /// * white roots (conditions on `b̂`, the `p` component): 1, 1, 2, 3, 6,
+    ///   10, 20, 36, 72, 137, 275, 541;
+    /// * black roots (conditions on `b`, the `q` component): 1, 1, 1, 2, 3,
+    ///   6, 10, 20, 36, 72, 137, 275;
+    /// * both: 2, 2, 3, 5, 9, 16, 30, 56, 108, 209, 412, 816.
+    Nystrom,
     /// Trees whose leaves may be time leaves ([`Colour::T`]); the root is an
     /// ordinary vertex. The order conditions of a Runge–Kutta method with
     /// abscissae `c` on non-autonomous problems `y' = f(t, y)`: a time leaf
@@ -100,7 +121,9 @@ impl Colouring {
         match self {
             Colouring::Plain => &[Colour::Y],
             Colouring::TimeLeaves => &[Colour::Y, Colour::T],
-            Colouring::Bicoloured | Colouring::Separable => &[Colour::Q, Colour::P],
+            Colouring::Bicoloured | Colouring::Separable | Colouring::Nystrom => {
+                &[Colour::Q, Colour::P]
+            }
         }
     }
 
@@ -115,8 +138,15 @@ impl Colouring {
         match self {
             Colouring::Plain | Colouring::Bicoloured => true,
             Colouring::TimeLeaves => parent == Colour::Y,
-            Colouring::Separable => parent != child,
+            Colouring::Separable | Colouring::Nystrom => parent != child,
         }
+    }
+
+    /// Whether a vertex of this colour has at most one child (otherwise any
+    /// number). Only the black vertices of [`Colouring::Nystrom`] are so
+    /// limited.
+    pub fn at_most_one_child(self, colour: Colour) -> bool {
+        self == Colouring::Nystrom && colour == Colour::Q
     }
 
     /// Whether a vertex of this colour may have children at all.
@@ -301,6 +331,12 @@ impl Forest {
     /// `colour` whose child list starts with `stack` (that prefix tree is
     /// `prefix`), the remaining children having total order `remaining` and
     /// ids `≥ min_id`.
+    ///
+    /// A root limited to one child ([`Colouring::at_most_one_child`]) is only
+    /// called with an empty `stack` and takes one child of order
+    /// `remaining`: its prefix is the leaf of its colour, which exists, so
+    /// every tree's prefix (the tree without its last child) is still in the
+    /// forest.
     fn children_dfs(
         &mut self,
         n: usize,
@@ -311,7 +347,13 @@ impl Forest {
         stack: &mut Vec<TreeId>,
     ) {
         let end = self.levels[remaining].end;
-        for c in min_id..end {
+        let start = if self.colouring.at_most_one_child(colour) {
+            debug_assert!(stack.is_empty(), "a one-child root gets one child");
+            self.levels[remaining].start.max(min_id)
+        } else {
+            min_id
+        };
+        for c in start..end {
             let child = &self.trees[c];
             if !self.colouring.allows_child(colour, child.colour) {
                 continue;
@@ -444,6 +486,116 @@ mod tests {
         }
     }
 
+    /// Whether a tree of the Separable forest has every black vertex with at
+    /// most one child: brute force, vertex by vertex.
+    fn black_vertices_have_one_child(f: &Forest, id: TreeId) -> bool {
+        let t = f.tree(id);
+        (t.colour != Colour::Q || t.children.len() <= 1)
+            && t.children
+                .iter()
+                .all(|&c| black_vertices_have_one_child(f, c))
+    }
+
+    /// The RKN counts: per order, (white roots, black roots), by the
+    /// recurrence `Q₁ = 1`, `Qₙ = Pₙ₋₁`, `Pₙ` = the Euler transform of `Q` at
+    /// `n − 1` (multisets of black subtrees).
+    fn nystrom_recurrence(max: usize) -> Vec<(u64, u64)> {
+        let mut p = vec![0u64; max + 1];
+        let mut q = vec![0u64; max + 1];
+        p[1] = 1;
+        q[1] = 1;
+        for n in 2..=max {
+            q[n] = p[n - 1];
+            // b[m]: multisets of black subtrees of total order m.
+            let m = n - 1;
+            let mut b = vec![0u64; m + 1];
+            b[0] = 1;
+            for k in 1..=m {
+                let mut sum = 0;
+                for j in 1..=k {
+                    let s: u64 = (1..=j)
+                        .filter(|d| j % d == 0)
+                        .map(|d| d as u64 * q[d])
+                        .sum();
+                    sum += s * b[k - j];
+                }
+                b[k] = sum / k as u64;
+            }
+            p[n] = b[m];
+        }
+        (1..=max).map(|n| (p[n], q[n])).collect()
+    }
+
+    #[test]
+    fn nystrom_trees_are_the_separable_trees_with_one_child_per_black_vertex() {
+        let max = 10;
+        let nystrom = Forest::new(Colouring::Nystrom, max);
+        let separable = Forest::new(Colouring::Separable, max);
+        let recurrence = nystrom_recurrence(max);
+        let mut totals = Vec::new();
+        for n in 1..=max {
+            // The same trees, in the same canonical order, with the same σ, γ.
+            let filtered: Vec<(String, u64, u64)> = separable
+                .conditions(n)
+                .filter(|&id| black_vertices_have_one_child(&separable, id))
+                .map(|id| {
+                    (
+                        separable.bracket(id),
+                        separable.tree(id).sigma,
+                        separable.tree(id).gamma,
+                    )
+                })
+                .collect();
+            let generated: Vec<(String, u64, u64)> = nystrom
+                .conditions(n)
+                .map(|id| {
+                    (
+                        nystrom.bracket(id),
+                        nystrom.tree(id).sigma,
+                        nystrom.tree(id).gamma,
+                    )
+                })
+                .collect();
+            assert_eq!(generated, filtered, "order {n}");
+            let per_root = |colour| {
+                nystrom
+                    .conditions(n)
+                    .filter(|&id| nystrom.tree(id).colour == colour)
+                    .count() as u64
+            };
+            assert_eq!(
+                (per_root(Colour::P), per_root(Colour::Q)),
+                recurrence[n - 1]
+            );
+            totals.push(nystrom.count(n));
+        }
+        // The counts quoted for Runge–Kutta–Nyström methods (Hairer–Nørsett–
+        // Wanner I, II.14): the conditions on y' (white roots) number 1, 1, 2,
+        // 3, 6, 10, 20, 36, 72, 137 by order, those on y (black roots) the
+        // same shifted by one. The filter and the recurrence above derive
+        // them independently of the generator.
+        let white: Vec<u64> = recurrence.iter().map(|r| r.0).collect();
+        assert_eq!(white, [1, 1, 2, 3, 6, 10, 20, 36, 72, 137]);
+        assert_eq!(totals, [2, 2, 3, 5, 9, 16, 30, 56, 108, 209]);
+        let three: Vec<String> = nystrom
+            .conditions(3)
+            .map(|id| nystrom.bracket(id))
+            .collect();
+        assert_eq!(three, ["[[τ_q]_p]_q", "[τ_q²]_p", "[[τ_p]_q]_p"]);
+        for id in 0..nystrom.len() {
+            let t = nystrom.tree(id);
+            if t.colour == Colour::Q {
+                assert!(t.children.len() <= 1, "{}", nystrom.bracket(id));
+            }
+        }
+        // Further out, the recurrence (the doc comment's sequences).
+        let far = nystrom_recurrence(12);
+        let f12 = Forest::new(Colouring::Nystrom, 12);
+        assert_eq!(f12.count(11), 412);
+        assert_eq!(f12.count(12), 816);
+        assert_eq!(far[11], (541, 275));
+    }
+
     #[test]
     fn time_leaf_counts_match_the_euler_transform() {
         // Children: ordinary subtrees, plus the time leaf at order 1.
@@ -552,7 +704,13 @@ mod tests {
 
     #[test]
     fn extension_keeps_ids_and_splits_are_consistent() {
-        let mut f = Forest::new(Colouring::Bicoloured, 4);
+        for colouring in [Colouring::Bicoloured, Colouring::Nystrom] {
+            extension_keeps_ids_and_splits(colouring);
+        }
+    }
+
+    fn extension_keeps_ids_and_splits(colouring: Colouring) {
+        let mut f = Forest::new(colouring, 4);
         let before: Vec<String> = (0..f.len()).map(|id| f.bracket(id)).collect();
         f.extend_to(6);
         let after: Vec<String> = (0..before.len()).map(|id| f.bracket(id)).collect();

@@ -212,3 +212,76 @@ b = ["1/6", "1/3", "1/3", "1/6"]"#;
     assert_eq!(a.row_sum_mismatch.len(), 1);
     assert!(check_claim(&t, &a, &parse_claim("order = 4").unwrap()).is_err());
 }
+
+#[test]
+fn order_rkn_claims_are_checked_like_order_claims() {
+    // Störmer–Verlet as a drift–kick sequence: order 2 on every system.
+    let verlet = table(
+        r#"name = "sv"
+drift = ["1/2", "1/2"]
+kick = [1]"#,
+    );
+    let a = Analysis::of(&verlet).unwrap();
+    assert_eq!(a.order_rkn.order, 2);
+    assert_eq!(a.order_rkn.limit, tableau::analysis::RKN_ORDER_LIMIT);
+    let check = |t: &Table, a: &Analysis, c: &str| {
+        check_claim(t, a, &parse_claim(c).unwrap()).map_err(|e| e.to_string())
+    };
+    assert!(check(&verlet, &a, "order_rkn = 2").is_ok());
+    assert!(check(&verlet, &a, "order_rkn = 2 (residual < 1e-30)").is_ok());
+    let e = check(&verlet, &a, "order_rkn = 3").unwrap_err();
+    assert_eq!(
+        e,
+        "order_rkn 3 claimed (on Runge–Kutta–Nyström systems, T quadratic) but the order-3 condition for tree [[τ_q]_p]_q fails: residual 1/12"
+    );
+    let e = check(&verlet, &a, "order_rkn = 3 (residual < 1/100)").unwrap_err();
+    assert!(e.ends_with("residual 1/12 is not below 1/100"), "{e}");
+    // Above the default limit the claim is re-checked, up to 14; above, refused.
+    let e = check(&verlet, &a, "order_rkn = 14").unwrap_err();
+    assert!(e.contains("order-3 condition"), "{e}");
+    let e = check(&verlet, &a, "order_rkn = 15").unwrap_err();
+    assert_eq!(
+        e,
+        "order_rkn 15 cannot be decided: the checker verifies order conditions on Runge–Kutta–Nyström systems (T quadratic) up to order 14"
+    );
+    // The order claim and the order_rkn claim are distinct.
+    assert!(check(&verlet, &a, "order = 2").is_ok());
+
+    // A Runge–Kutta table is checked as the pair (A, b), (A, b).
+    let rk4 = table(
+        r#"name = "rk4"
+a = [[0, 0, 0, 0], ["1/2", 0, 0, 0], [0, "1/2", 0, 0], [0, 0, 1, 0]]
+b = ["1/6", "1/3", "1/3", "1/6"]"#,
+    );
+    let a = Analysis::of(&rk4).unwrap();
+    assert!(check(&rk4, &a, "order_rkn = 4").is_ok());
+    let e = check(&rk4, &a, "order_rkn = 5").unwrap_err();
+    assert!(e.contains("order-5 condition for tree [[τ_q³]_p]_q"), "{e}");
+
+    // A composition is checked as its drift–kick sequence: the triple jump.
+    let tj = table(
+        r#"name = "tj"
+let = { x = "1/(2 - cbrt(2))" }
+compose = ["x", "1 - 2*x", "x"]"#,
+    );
+    let a = Analysis::of(&tj).unwrap();
+    assert_eq!((a.order_separable.order, a.order_rkn.order), (4, 4));
+    assert!(check(&tj, &a, "order_rkn = 4").is_ok());
+    assert!(check(&tj, &a, "order_rkn = 6").is_err());
+
+    // Decimal coefficients without a bound: the message says how to claim it.
+    let ma4 = tableau::catalogue::load("mclachlan-atela4").unwrap().table;
+    let a = Analysis::of(&ma4).unwrap();
+    let e = check(&ma4, &a, "order_rkn = 4").unwrap_err();
+    assert!(
+        e.ends_with(
+            "if the coefficients are rounded decimals, claim a bound: `order_rkn = 4 (residual < 1e-14)`"
+        ),
+        "{e}"
+    );
+    assert!(check(&ma4, &a, "order_rkn = 4 (residual < 1e-14)").is_ok());
+    // On general separable systems it is order 3: the order-4 failure is a
+    // tree with a q-vertex of two or more children, which T quadratic removes.
+    let e = check(&ma4, &a, "order = 4 (residual < 1e-14)").unwrap_err();
+    assert!(e.contains("order-4 condition for tree [τ_p³]_q"), "{e}");
+}

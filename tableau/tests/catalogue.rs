@@ -143,3 +143,140 @@ fn every_claim_verifies() {
         failures.join("\n")
     );
 }
+
+/// The claim of `id` as written in its file.
+fn claim(id: &str, text: &str) -> Claim {
+    let file = catalogue::load(id).unwrap();
+    file.claims
+        .into_iter()
+        .find(|c| c.to_string() == text)
+        .unwrap_or_else(|| panic!("{id} does not claim `{text}`"))
+}
+
+/// The order on Runge–Kutta–Nyström systems (T quadratic), exactly: the three
+/// RKN methods reach their literature orders there (within the bounds their
+/// decimals need) and not one more, while on general separable systems they
+/// have order 3; the exact tables have the order they have on separable
+/// systems.
+#[test]
+fn orders_on_runge_kutta_nystrom_systems() {
+    use tableau::order::{prk_order_nystrom, prk_order_separable};
+    let analyse = |id: &str| {
+        let file = catalogue::load(id).unwrap();
+        let a = Analysis::of(&file.table).unwrap();
+        (file.table, a)
+    };
+    // Exact coefficients: the default analysis decides it.
+    for (id, p) in [
+        ("leapfrog", 2),
+        ("stormer-verlet", 2),
+        ("ruth3", 3),
+        ("forest-ruth", 4),
+        ("yoshida4", 4),
+        ("gauss2", 4),
+        ("rk4", 4),
+    ] {
+        let (_, a) = analyse(id);
+        assert_eq!(a.order_rkn.order, p, "{id}: {}", a.order_rkn);
+        let fail = a.order_rkn.first_failure.as_ref().expect("an exact order");
+        assert_eq!(fail.order, p + 1, "{id}");
+    }
+    let (_, fr) = analyse("forest-ruth");
+    assert_eq!(
+        fr.order_rkn.first_failure.unwrap().tree,
+        "[[τ_q³]_p]_q",
+        "the first Nyström tree of order 5"
+    );
+    // Decimal coefficients: order p within the claimed bound, p + 1 fails by
+    // far more than the bound, and the separable order is 3.
+    for (id, p, bound, order_bound) in [
+        ("mclachlan-atela4", 4, "1e-17", "1e-17"),
+        ("mclachlan-atela5", 5, "1e-16", "1e-17"),
+        ("calvo-sanz-serna4", 4, "1e-16", "1e-16"),
+    ] {
+        let (table, a) = analyse(id);
+        let c = claim(id, &format!("order_rkn = {p} (residual < {bound})"));
+        check_claim(&table, &a, &c).unwrap_or_else(|e| panic!("{id}: {e}"));
+        let Claim::OrderRkn {
+            bound: Some(eps), ..
+        } = c
+        else {
+            unreachable!()
+        };
+        let prk = table.to_prk().unwrap();
+        let rkn = prk_order_nystrom(&prk, 12, Some(&eps));
+        assert_eq!(rkn.order, p, "{id}: {rkn}");
+        let miss = rkn.first_failure.unwrap().residual.abs();
+        assert!(miss > tableau::expr::parse_number("1e-4").unwrap(), "{id}");
+        assert_eq!(prk_order_separable(&prk, 12, Some(&eps)).order, 3, "{id}");
+        claim(id, &format!("order = 3 (residual < {order_bound})"));
+        let too_many = Claim::OrderRkn {
+            p: p + 1,
+            bound: Some(eps.clone()),
+        };
+        let e = check_claim(&table, &a, &too_many).unwrap_err().to_string();
+        assert!(
+            e.starts_with(&format!(
+                "order_rkn {} claimed (on Runge–Kutta–Nyström systems, T quadratic) but the order-{} condition for tree ",
+                p + 1,
+                p + 1
+            )),
+            "{id}: {e}"
+        );
+        // A thousand times below the bound, the rounding of the decimals shows.
+        let tight = &eps * &tableau::Number::ratio(1, 1000).unwrap();
+        assert!(prk_order_nystrom(&prk, 12, Some(&tight)).order < p, "{id}");
+    }
+    // With drifts and kicks exchanged, the order is 3 even for T quadratic.
+    for id in ["mclachlan-atela4", "calvo-sanz-serna4"] {
+        let Table::Splitting(s) = catalogue::load(id).unwrap().table else {
+            unreachable!()
+        };
+        let mut kick = s.kick.clone();
+        let mut drift = s.drift.clone();
+        if drift.len() == kick.len() {
+            assert!(drift[0].is_zero(), "{id}: a leading zero drift");
+            drift.remove(0);
+        }
+        std::mem::swap(&mut kick, &mut drift);
+        let swapped = tableau::Splitting { drift, kick }.to_prk();
+        let eps = tableau::expr::parse_number("1e-16").unwrap();
+        assert_eq!(prk_order_nystrom(&swapped, 8, Some(&eps)).order, 3, "{id}");
+    }
+}
+
+/// Every explicit symplectic entry has an RKN order at least its separable
+/// order, each within the bound the entry claims for its order; only the
+/// three RKN methods gain.
+#[test]
+fn rkn_order_of_every_explicit_symplectic_entry() {
+    use tableau::order::{prk_order_nystrom, prk_order_separable};
+    let mut gains = Vec::new();
+    for e in entries() {
+        let file = catalogue::load(e.id).unwrap();
+        let a = Analysis::of(&file.table).unwrap();
+        if !(a.symplectic_separable && a.explicit_separable) || file.table.to_prk().is_none() {
+            continue;
+        }
+        let bound = file.claims.iter().find_map(|c| match c {
+            Claim::Order { bound, .. } => bound.clone(),
+            _ => None,
+        });
+        let prk = file.table.to_prk().unwrap();
+        let rkn = prk_order_nystrom(&prk, 10, bound.as_ref()).order;
+        let separable = prk_order_separable(&prk, 10, bound.as_ref()).order;
+        assert!(rkn >= separable, "{}: {rkn} < {separable}", e.id);
+        assert!(a.order_rkn.order >= a.order_separable.order.min(a.order_rkn.limit));
+        if rkn > separable {
+            gains.push((e.id, separable, rkn));
+        }
+    }
+    assert_eq!(
+        gains,
+        [
+            ("mclachlan-atela4", 3, 4),
+            ("mclachlan-atela5", 3, 5),
+            ("calvo-sanz-serna4", 3, 4)
+        ]
+    );
+}

@@ -5,7 +5,8 @@ use num_rational::BigRational;
 use proptest::prelude::*;
 use tableau::Number;
 use tableau::order::{
-    self, ConditionKind, OrderReport, composition_order, prk_order, prk_order_separable, rk_order,
+    self, ConditionKind, OrderReport, composition_order, prk_order, prk_order_nystrom,
+    prk_order_separable, rk_order, rk_order_nystrom,
 };
 use tableau::table::{Composition, Prk, Rk, Splitting};
 use tableau::trees::{Colouring, Forest};
@@ -716,6 +717,76 @@ fn elementary_weights_line_up() {
     assert_eq!(words[0].tree, "Y₁");
     let sep = order::prk_elementary_weights_separable(&forest_ruth().to_prk(), 4);
     assert_eq!(sep.len(), 2 + 2 + 4 + 8);
+}
+
+/// The Nyström conditions are the separable conditions of the trees whose
+/// q-vertices have at most one child: the same values, in the same order.
+#[test]
+fn nystrom_weights_are_the_separable_weights_of_the_nystrom_trees() {
+    let mut pairs = vec![
+        forest_ruth().to_prk(),
+        lobatto_pair(collocation(&[int(0), r(1, 2), int(1)])),
+    ];
+    pairs.push(Prk { q: rk4(), p: rk4() });
+    for pair in &pairs {
+        let nystrom = order::prk_elementary_weights_nystrom(pair, 7);
+        let separable = order::prk_elementary_weights_separable(pair, 7);
+        assert_eq!(nystrom.len(), 2 + 2 + 3 + 5 + 9 + 16 + 30);
+        let kept: Vec<_> = separable
+            .into_iter()
+            .filter(|c| nystrom.iter().any(|n| n.tree == c.tree))
+            .collect();
+        assert_eq!(kept, nystrom);
+    }
+    // A Runge–Kutta table: the pair with both tables equal to it.
+    assert_eq!(
+        order::rk_elementary_weights_nystrom(&rk4(), 7),
+        order::prk_elementary_weights_nystrom(&pairs[2], 7)
+    );
+}
+
+#[test]
+fn orders_on_runge_kutta_nystrom_systems() {
+    let sv = Prk {
+        q: rk(rows(&[&[], &[(1, 2), (1, 2)]]), ratios(&[(1, 2), (1, 2)])),
+        p: rk(rows(&[&[(1, 2)], &[(1, 2)]]), ratios(&[(1, 2), (1, 2)])),
+    };
+    assert_order(&prk_order_nystrom(&sv, 8, None), 2);
+    let se = Prk {
+        q: rk(rows(&[&[]]), ratios(&[(1, 1)])),
+        p: rk(rows(&[&[(1, 1)]]), ratios(&[(1, 1)])),
+    };
+    let f = prk_order_nystrom(&se, 8, None);
+    assert_order(&f, 1);
+    assert_eq!(f.first_failure.unwrap().tree, "[τ_p]_q");
+    let fr = prk_order_nystrom(&forest_ruth().to_prk(), 8, None);
+    assert_order(&fr, 4);
+    let f = fr.first_failure.unwrap();
+    assert_eq!(f.tree, "[[τ_q³]_p]_q");
+    // The triple jump as the drift–kick sequence of its Verlet steps.
+    let tj = triple_jump().to_splitting().to_prk();
+    assert_order(&prk_order_nystrom(&tj, 8, None), 4);
+    for (t, p) in [
+        (euler(), 1),
+        (heun(), 2),
+        (rk4(), 4),
+        (gauss2(), 4),
+        (gauss3(), 6),
+    ] {
+        assert_order(&rk_order_nystrom(&t, 8, None), p);
+    }
+    // Lobatto IIIA–IIIB, 5 stages: order 8 everywhere, at the RKN limit too,
+    // with every Nyström tree up to 10 checked.
+    let pair = lobatto_pair(lobatto_iiia5());
+    let rkn = prk_order_nystrom(&pair, 10, None);
+    assert_order(&rkn, 8);
+    assert_eq!(rkn.conditions_checked, 2 + 2 + 3 + 5 + 9 + 16 + 30 + 56 + 1);
+    let at_limit = prk_order_nystrom(&pair, 8, None);
+    assert!(at_limit.reached_limit());
+    assert_eq!(
+        at_limit.conditions_checked,
+        2 + 2 + 3 + 5 + 9 + 16 + 30 + 56
+    );
 }
 
 proptest! {

@@ -26,6 +26,8 @@ pub const RK_ORDER_LIMIT: usize = 10;
 pub const PRK_ORDER_LIMIT: usize = 8;
 pub const SEPARABLE_ORDER_LIMIT: usize = 10;
 pub const COMPOSITION_ORDER_LIMIT: usize = 12;
+/// Runge–Kutta–Nyström systems have few trees (1668 up to order 12).
+pub const RKN_ORDER_LIMIT: usize = 12;
 
 /// The highest orders a claim can ask for: above these the checker refuses
 /// (it never accepts a claim it has not checked).
@@ -33,6 +35,7 @@ pub const MAX_RK_ORDER: usize = 12;
 pub const MAX_PRK_ORDER: usize = 9;
 pub const MAX_SEPARABLE_ORDER: usize = 12;
 pub const MAX_COMPOSITION_ORDER: usize = 14;
+pub const MAX_RKN_ORDER: usize = 14;
 
 /// The four written forms of a table.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
@@ -74,6 +77,19 @@ pub struct Analysis {
     pub order: Option<OrderReport>,
     /// Order on separable systems (RK: same as `order`).
     pub order_separable: OrderReport,
+    /// Order on Runge–Kutta–Nyström systems: separable `H = T(p) + V(q)` with
+    /// `T = ½pᵀM⁻¹p` quadratic, so that `q' = M⁻¹p` is linear in `p` (the
+    /// Nyström trees, [`crate::trees::Colouring::Nystrom`]); at least
+    /// `order_separable`. Every form is checked as the partitioned pair it
+    /// is: a Runge–Kutta table as the pair `(A, b)`, `(A, b)` on autonomous
+    /// systems (a given `c` is not used), a drift–kick sequence as its
+    /// equivalent pair, and a composition of Störmer–Verlet as the pair of
+    /// its drift–kick sequence (`D(γ/2) K(γ) D(γ/2)` per factor, neighbouring
+    /// drifts merged). For a composition this is therefore the order of
+    /// composing that particular base method, not the order of the
+    /// composition conditions, which hold for any symmetric second-order base
+    /// method and are what `order_separable` reports.
+    pub order_rkn: OrderReport,
     /// The method is its own adjoint, decided on the irreducible form (exact
     /// both ways).
     pub symmetric: bool,
@@ -134,6 +150,7 @@ impl Analysis {
             explicit_separable: class == Class::Explicit,
             order: Some(order.clone()),
             order_separable: order,
+            order_rkn: order::rk_order_nystrom(rk, RKN_ORDER_LIMIT, None),
             symmetric,
             unimodular: Some(stability.unimodular_on_imaginary_axis()),
             stability: Some(stability),
@@ -168,6 +185,7 @@ impl Analysis {
             explicit_separable: class::explicit_on_separable(&prk.q, &prk.p),
             order: Some(order::prk_order(prk, PRK_ORDER_LIMIT, None)),
             order_separable: order::prk_order_separable(prk, SEPARABLE_ORDER_LIMIT, None),
+            order_rkn: order::prk_order_nystrom(prk, RKN_ORDER_LIMIT, None),
             symmetric,
             stability: None,
             unimodular: None,
@@ -253,6 +271,7 @@ pub fn check_claim(table: &Table, analysis: &Analysis, claim: &Claim) -> Result<
             }
         }
         Claim::Order { p, bound } => check_order(table, analysis, *p, bound.as_ref()),
+        Claim::OrderRkn { p, bound } => check_order_rkn(table, analysis, *p, bound.as_ref()),
     }
 }
 
@@ -317,13 +336,6 @@ fn check_order(
             }
         }
     };
-    if report.order >= p {
-        return Ok(());
-    }
-    let f = report
-        .first_failure
-        .as_ref()
-        .expect("an order below the limit comes with its failing condition");
     let scope = if a.form == Form::Rk {
         ""
     } else if separable {
@@ -331,6 +343,58 @@ fn check_order(
     } else {
         " (on general partitioned systems)"
     };
+    verdict(&report, "order", p, bound, scope)
+}
+
+/// An `order_rkn = p` claim: the order on Runge–Kutta–Nyström systems (see
+/// [`Analysis::order_rkn`]), for every form.
+fn check_order_rkn(
+    table: &Table,
+    a: &Analysis,
+    p: usize,
+    bound: Option<&Number>,
+) -> Result<(), ClaimError> {
+    if p > MAX_RKN_ORDER {
+        return Err(ClaimError(format!(
+            "order_rkn {p} cannot be decided: the checker verifies order conditions on Runge–Kutta–Nyström systems (T quadratic) up to order {MAX_RKN_ORDER}"
+        )));
+    }
+    let report = if bound.is_none() && p <= a.order_rkn.limit {
+        a.order_rkn.clone()
+    } else {
+        match table {
+            Table::Rk(rk) => order::rk_order_nystrom(rk, p, bound),
+            _ => {
+                let prk = table.to_prk().expect("partitioned");
+                order::prk_order_nystrom(&prk, p, bound)
+            }
+        }
+    };
+    verdict(
+        &report,
+        "order_rkn",
+        p,
+        bound,
+        " (on Runge–Kutta–Nyström systems, T quadratic)",
+    )
+}
+
+/// Whether `report` reaches `p`; if not, the failing condition, for a claim
+/// `keyword = p` about the systems named in `scope`.
+fn verdict(
+    report: &OrderReport,
+    keyword: &str,
+    p: usize,
+    bound: Option<&Number>,
+    scope: &str,
+) -> Result<(), ClaimError> {
+    if report.order >= p {
+        return Ok(());
+    }
+    let f = report
+        .first_failure
+        .as_ref()
+        .expect("an order below the limit comes with its failing condition");
     let how = match bound {
         Some(b) => format!("residual {} is not below {b}", f.residual),
         None => format!("residual {}", f.residual),
@@ -339,13 +403,13 @@ fn check_order(
     // how to claim the order honestly.
     let hint = if bound.is_none() && f.residual.to_f64().abs() < 1e-8 {
         format!(
-            "; if the coefficients are rounded decimals, claim a bound: `order = {p} (residual < 1e-14)`"
+            "; if the coefficients are rounded decimals, claim a bound: `{keyword} = {p} (residual < 1e-14)`"
         )
     } else {
         String::new()
     };
     Err(ClaimError(format!(
-        "order {p} claimed{scope} but the order-{} condition for {} {} fails: {how}{hint}",
+        "{keyword} {p} claimed{scope} but the order-{} condition for {} {} fails: {how}{hint}",
         f.order,
         f.kind.noun(),
         f.tree

@@ -31,8 +31,16 @@
 //! the root colour picks `b` or `b̂`. [`prk_order`] checks every bicoloured tree
 //! (general partitioned systems); [`prk_order_separable`] only the trees whose
 //! edges join vertices of different colours (separable systems `q' = f(p)`,
-//! `p' = g(q)`, i.e. `H = T(p) + V(q)`). The given `c`, `ĉ` are not used: the
+//! `p' = g(q)`, i.e. `H = T(p) + V(q)`); [`prk_order_nystrom`] only those of
+//! them whose black vertices have at most one child (Runge–Kutta–Nyström
+//! systems: `T = ½pᵀM⁻¹p` quadratic, so `q' = M⁻¹p` is linear and every
+//! elementary differential in which `f` is differentiated twice or more
+//! vanishes; [`Colouring::Nystrom`]). The given `c`, `ĉ` are not used: the
 //! pairs are applied to autonomous Hamiltonian systems.
+//!
+//! A Runge–Kutta table `(A, b)` applied to a partitioned system is the pair
+//! with both tables equal to it; [`rk_order_nystrom`] checks that pair on the
+//! Nyström trees.
 //!
 //! # Compositions
 //!
@@ -307,6 +315,35 @@ pub fn prk_order_separable(prk: &Prk, limit: usize, bound: Option<&Number>) -> O
     )
 }
 
+/// The order of a partitioned pair on Runge–Kutta–Nyström systems: separable
+/// `H = T(p) + V(q)` with `T = ½pᵀM⁻¹p` quadratic (the separable bicoloured
+/// trees whose black vertices have at most one child, [`Colouring::Nystrom`]),
+/// checked up to `limit` (at most [`MAX_ORDER`]). At least
+/// [`prk_order_separable`], since these conditions are a subset of its.
+pub fn prk_order_nystrom(prk: &Prk, limit: usize, bound: Option<&Number>) -> OrderReport {
+    let limit = limit.min(MAX_ORDER);
+    check(
+        limit,
+        bound,
+        &mut *weights::prk(prk, Colouring::Nystrom, limit),
+    )
+}
+
+/// The order of a Runge–Kutta table on Runge–Kutta–Nyström systems (see
+/// [`prk_order_nystrom`]): the pair `(rk, rk)`, on autonomous systems, so a
+/// given `c` is not used. At least the order of `rk` on autonomous problems.
+pub fn rk_order_nystrom(rk: &Rk, limit: usize, bound: Option<&Number>) -> OrderReport {
+    prk_order_nystrom(&rk_as_pair(rk), limit, bound)
+}
+
+/// The pair with both tables equal to `rk`.
+fn rk_as_pair(rk: &Rk) -> Prk {
+    Prk {
+        q: rk.clone(),
+        p: rk.clone(),
+    }
+}
+
 /// The order of a composition `Φ_{γₘh} ∘ … ∘ Φ_{γ₁h}` of a symmetric method
 /// of order 2 (Störmer–Verlet), checked up to `limit` (at most
 /// [`MAX_ORDER`]).
@@ -386,4 +423,20 @@ pub fn prk_elementary_weights_separable(prk: &Prk, max_order: usize) -> Vec<Cond
         max_order,
         &mut *weights::prk(prk, Colouring::Separable, max_order),
     )
+}
+
+/// The elementary weights of a pair over the Nyström trees of order
+/// `≤ max_order` (see [`prk_order_nystrom`]), in canonical order.
+pub fn prk_elementary_weights_nystrom(prk: &Prk, max_order: usize) -> Vec<Condition> {
+    let max_order = max_order.min(MAX_ORDER);
+    collect(
+        max_order,
+        &mut *weights::prk(prk, Colouring::Nystrom, max_order),
+    )
+}
+
+/// The elementary weights of a Runge–Kutta table over the Nyström trees (the
+/// pair `(rk, rk)`, see [`rk_order_nystrom`]).
+pub fn rk_elementary_weights_nystrom(rk: &Rk, max_order: usize) -> Vec<Condition> {
+    prk_elementary_weights_nystrom(&rk_as_pair(rk), max_order)
 }

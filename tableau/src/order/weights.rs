@@ -135,7 +135,7 @@ pub(crate) fn rk(rk: &Rk, time: bool, top: usize) -> Box<dyn Conditions> {
     engine(colouring, specs, top)
 }
 
-/// A partitioned pair over `Bicoloured` or `Separable` trees.
+/// A partitioned pair over `Bicoloured`, `Separable` or `Nystrom` trees.
 pub(crate) fn prk(prk: &Prk, colouring: Colouring, top: usize) -> Box<dyn Conditions> {
     let specs = vec![
         Spec {
