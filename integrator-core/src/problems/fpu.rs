@@ -102,7 +102,7 @@ impl Separable for Fpu {
             // Soft spring between masses 2i and 2i+1 (0 and 2m+1 are walls).
             let d = at(2 * i + 1) - at(2 * i);
             let f = 4.0 * d * d * d;
-            if 2 * i + 1 <= n {
+            if 2 * i < n {
                 out[2 * i] -= f;
             }
             if i >= 1 {
