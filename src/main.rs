@@ -30,8 +30,9 @@ enum Command {
     Check(check::CheckArgs),
     /// List the built-in tables (use an id with `symlab check --builtin ID`).
     List(check::ListArgs),
-    /// Research comparisons: work-precision sweeps (runs.csv and log-log
-    /// plots), long runs (--long) and largest stable steps (--hard).
+    /// Research comparisons: work-precision sweeps (runs.csv, log-log plots
+    /// and report.md), the DOP853 peer over 10-1000 orbits (--peer-study),
+    /// long runs (--long) and largest stable steps (--hard).
     Compare(compare::CompareArgs),
     /// Reproduce the paper's experiments (Tan et al., section 5): tables,
     /// plots and a report in out/paper/.

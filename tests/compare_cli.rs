@@ -328,3 +328,164 @@ fn quick_long_and_hard_runs_write_their_files() {
     assert!(dir.join("hard.md").exists());
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// The cells of the Markdown table rows that follow `heading` (up to the
+/// next heading), header and separator skipped.
+fn table_after(md: &str, heading: &str) -> Vec<Vec<String>> {
+    let start = md
+        .find(heading)
+        .unwrap_or_else(|| panic!("no {heading:?} in\n{md}"));
+    let rest = &md[start + heading.len()..];
+    let end = rest.find("\n#").unwrap_or(rest.len());
+    rest[..end]
+        .lines()
+        .filter(|l| l.starts_with('|'))
+        .skip(2)
+        .map(|l| {
+            l.trim_matches('|')
+                .split('|')
+                .map(|c| c.trim().to_string())
+                .collect()
+        })
+        .collect()
+}
+
+#[test]
+fn quick_run_writes_a_report_with_a_sorted_time_table() {
+    let dir = temp_dir("report");
+    let (code, out, err) = symlab(&[
+        "compare",
+        "--problem",
+        "kepler",
+        "--methods",
+        "kahan-li6,rk4,leapfrog,dop853",
+        "--quick",
+        "--target",
+        "1e-6",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "stderr: {err}");
+    assert!(out.contains("report.md"), "{out}");
+    let md = std::fs::read_to_string(dir.join("report.md")).unwrap();
+    for heading in [
+        "# Work–precision sweep: Kepler e = 0.6",
+        "## Summary",
+        "## Wall time to reach relative error 1e-6 over T = 62.8319 (10 orbits), fastest first",
+        "## Did not reach 1e-6 within the sweep",
+    ] {
+        assert!(md.contains(heading), "no {heading:?} in\n{md}");
+    }
+    let summary = table_after(&md, "## Summary");
+    assert_eq!(summary.len(), 4, "{md}");
+    let times = table_after(&md, "fastest first");
+    assert!(!times.is_empty(), "{md}");
+    let t: Vec<f64> = times.iter().map(|r| r[3].parse().unwrap()).collect();
+    assert!(t.windows(2).all(|w| w[0] <= w[1]), "not sorted: {t:?}");
+    let ranks: Vec<&str> = times.iter().map(|r| r[0].as_str()).collect();
+    assert_eq!(ranks[0], "1");
+    // Leapfrog stays far above 1e-6 at 10⁴ steps; the reason is spelled out.
+    assert!(
+        md.contains("- leapfrog: smallest error") && md.contains("at 10⁴ steps"),
+        "{md}"
+    );
+    if cfg!(feature = "peer") {
+        assert!(
+            md.contains("## Peer: DOP853 against our fastest method"),
+            "{md}"
+        );
+        let duels = table_after(&md, "## Peer");
+        assert!(!duels.is_empty(), "{md}");
+        for d in &duels {
+            assert!(
+                ["ours", "dop853", "undetermined", "tie (within 10 %)"].contains(&d[6].as_str()),
+                "{d:?}"
+            );
+        }
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn quick_peer_study_writes_rows_for_each_run_length() {
+    if !cfg!(feature = "peer") {
+        return;
+    }
+    let dir = temp_dir("peer");
+    let (code, out, err) = symlab(&[
+        "compare",
+        "--peer-study",
+        "--quick",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "stderr: {err}");
+    assert!(out.contains("peer.md"), "{out}");
+    let (header, rows) = read_csv(&dir.join("peer.csv"));
+    assert_eq!(header[..15], COLUMNS);
+    assert_eq!(header[15], "t_end");
+    let two_pi = 2.0 * std::f64::consts::PI;
+    for orbits in [1.0, 10.0] {
+        let mine: Vec<_> = rows
+            .iter()
+            .filter(|r| {
+                let t: f64 = r["t_end"].parse().unwrap();
+                (t - orbits * two_pi).abs() < 1e-9
+            })
+            .collect();
+        assert!(mine.iter().any(|r| r["method"] == "dop853"), "{orbits}");
+        assert!(mine.iter().any(|r| r["method"] == "kahan-li8"), "{orbits}");
+    }
+    let md = std::fs::read_to_string(dir.join("peer.md")).unwrap();
+    assert!(md.contains("## Verdict"), "{md}");
+    let verdict = table_after(&md, "## Verdict");
+    // One row per run length and target 1e-6, 1e-8, 1e-10.
+    assert_eq!(verdict.len(), 6, "{md}");
+    for (row, (orbits, target)) in verdict.iter().zip([
+        ("1", "1e-6"),
+        ("1", "1e-8"),
+        ("1", "1e-10"),
+        ("10", "1e-6"),
+        ("10", "1e-8"),
+        ("10", "1e-10"),
+    ]) {
+        assert_eq!((row[0].as_str(), row[1].as_str()), (orbits, target));
+    }
+    for heading in ["## 1 orbit (T = 6.28)", "## 10 orbits (T = 62.83)"] {
+        assert!(md.contains(heading), "no {heading:?} in\n{md}");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn the_peer_study_refuses_other_modes_and_settings() {
+    let cases: &[(&[&str], &str)] = &[
+        (&["--peer-study", "--hard"], "cannot be used with"),
+        (&["--peer-study", "--long"], "cannot be used with"),
+        (&["--peer-study", "--from", "x.csv"], "cannot be used with"),
+        (
+            &["--peer-study", "--problem", "fpu"],
+            "--peer-study runs on kepler (e = 0.6) only",
+        ),
+        (
+            &["--peer-study", "--t-end", "10"],
+            "--t-end does not apply to --peer-study",
+        ),
+        (
+            &["--peer-study", "--methods", "rk4"],
+            "keep it in --methods",
+        ),
+        (&["--peer-study", "--target", "0"], "--target must be"),
+    ];
+    for (args, needle) in cases {
+        let mut all = vec!["compare", "--quick"];
+        all.extend_from_slice(args);
+        let (code, _, err) = symlab(&all);
+        assert_eq!(code, 2, "{args:?}: {err}");
+        assert!(
+            err.contains(needle),
+            "{args:?}: expected {needle:?} in {err}"
+        );
+        assert!(!err.contains("panicked"), "{args:?}: {err}");
+    }
+}

@@ -11,7 +11,9 @@
 //! one-step maps `gaussN-propagator`; on Kepler also DOP853) runs at `N`
 //! log-spaced step sizes from `h-max` down to `h-min` (each rounded to a
 //! whole number of steps over `[0, T]`), to the fixed end time `T`. The
-//! adaptive peer `dop853` sweeps `rtol = atol` from 1e-4 to 1e-13 instead.
+//! adaptive peer `dop853` sweeps `rtol = atol` from 1e-4 to 1e-18 instead,
+//! one per decade (`--points N`: N of them; `--quick`: 4), down to where
+//! round-off stops its error from falling (see [`sweep::tolerances`]).
 //! Each run is made once observed — on a counting wrapper of the system,
 //! the energy checked at every step — and then, if it succeeded, once more
 //! untimed (warm-up) and `R` times timed on the bare system, strictly one
@@ -46,10 +48,43 @@
 //! * A printed summary (fitted order, best error, time to `--target`) and
 //!   the wall time of each method to reach relative error `--target`
 //!   (default 1e-8), interpolated from the sweep ([`time_to_error`]).
+//! * `report.md` ([`report::sweep_report`]): the problem, `T` and the sweep
+//!   settings; the summary as a Markdown table (method, order, symplectic,
+//!   ok runs, fitted slope, min error, best energy error, time to target);
+//!   "Wall time to reach relative error E over T, fastest first" (rank,
+//!   method, symplectic, time in ms, interpolated steps and evaluations);
+//!   "Did not reach E within the sweep", each method with the reason in
+//!   words (its smallest error and where: `at 10⁶ steps`, or for DOP853
+//!   `at rtol = atol = …`; failed runs; or already below E at its cheapest
+//!   run); and, when DOP853 ran, "Peer: DOP853 against our fastest method":
+//!   for each decade 1e-2 … 1e-12 that either side reaches, our fastest
+//!   method and its time, DOP853's time, their ratio and the faster side,
+//!   with the verdict computed from those rows.
 //!
 //! The references: exact flows (oscillator, pendulum, Kepler), the matrix
 //! exponential (gyroscopic), Sofroniou–Spaletta order 10 with tiny steps
 //! (Hénon–Heiles, FPU; trustworthy for Hénon–Heiles up to `T ≈ 10`).
+//!
+//! # The peer over longer runs
+//!
+//! `symlab compare --peer-study [--methods id,…] [--repeats R] [--target E]
+//! [--out DIR] [--quick]` (Kepler e = 0.6 only; not with `--hard`, `--long`,
+//! `--from` or the sweep settings): kahan-li8, sofroniou-spaletta10,
+//! mclachlan8, kahan-li6, yoshida6, rk4, gauss3 and dop853 at T = 10, 100
+//! and 1000 orbits (period 2π), each a sweep as above with step counts of
+//! its own (200–10⁵, 2000–10⁶, 2·10⁴–10⁶: from 20 steps per orbit, at most
+//! 10⁶ per run) and DOP853 at `rtol = atol` = 1e-4 … 1e-18, one per decade
+//! (over 1000 orbits it reaches 1e-8 only near 1e-16).
+//! Five timed runs per point by default (the median; the close calls need
+//! it). `--quick`: 1 and 10 orbits, 4 step counts and tolerances,
+//! kahan-li8, rk4 and dop853, one timed run.
+//! Writes (default directory `out/compare/peer/`) `peer.csv`, the columns
+//! of `runs.csv` followed by `t_end`, and `peer.md`: for each run length
+//! and target 1e-6, 1e-8, 1e-10 (and `--target`) our fastest method against
+//! DOP853 — times, ratio, the faster side, and the max energy error of the
+//! cheapest run of each that reaches the target — then per run length
+//! every method's time to each target and its smallest error. See
+//! [`peer_study`].
 //!
 //! # Long runs
 //!
@@ -75,7 +110,9 @@ mod hard;
 mod long;
 mod output;
 mod peer;
+mod peer_study;
 mod problem;
+mod report;
 mod runner;
 mod sweep;
 
@@ -118,6 +155,16 @@ runs.csv columns (one row per run):
   factorizations     LU factorisations of the stage solver
   status             ok | diverged at step k | solver failed at step k: why
 
+A sweep also writes report.md: the problem, T and the settings; the summary table; the wall
+time of each method to reach --target (default 1e-8), fastest first, with steps and
+evaluations; the methods that did not reach it and why (smallest error and where); and,
+when dop853 ran, our fastest method against it at each decade 1e-2 ... 1e-12.
+
+--peer-study (Kepler e = 0.6) runs kahan-li8, sofroniou-spaletta10, mclachlan8, kahan-li6,
+yoshida6, rk4, gauss3 and dop853 at 10, 100 and 1000 orbits (--quick: 1 and 10) and writes
+peer.csv (the runs.csv columns, then t_end) and peer.md (per run length and target 1e-6,
+1e-8, 1e-10: our fastest method against dop853, times, ratio, energy errors).
+
 --long writes long.csv (problem,method,order,symplectic,compensated,h,step,t,energy_error),
 long_fit.csv and long_energy.svg; --hard writes hard.csv and hard.md.";
 
@@ -139,16 +186,17 @@ pub struct CompareArgs {
     /// Largest step size of the sweep.
     #[arg(long, value_name = "H", allow_negative_numbers = true)]
     h_max: Option<f64>,
-    /// Number of step sizes (log-spaced), also the number of DOP853
-    /// tolerances.
+    /// Number of step sizes (log-spaced; default 10), also the number of
+    /// DOP853 tolerances (default 15, one per decade from 1e-4 to 1e-18).
     #[arg(long, value_name = "N")]
     points: Option<usize>,
     /// Timed runs per point (the median is reported), after one warm-up.
     #[arg(long, value_name = "R")]
     repeats: Option<usize>,
-    /// Error for the time-to-error table.
-    #[arg(long, value_name = "E", default_value = "1e-8")]
-    target: f64,
+    /// Error for the time-to-error table (default 1e-8); --peer-study adds
+    /// it to its targets 1e-6, 1e-8, 1e-10.
+    #[arg(long, value_name = "E", allow_negative_numbers = true)]
+    target: Option<f64>,
     /// Output directory (default out/compare/<problem>/, out/compare/hard/).
     #[arg(long, value_name = "DIR")]
     out: Option<PathBuf>,
@@ -170,6 +218,18 @@ pub struct CompareArgs {
     /// time-to-error table (with --target).
     #[arg(long, value_name = "CSV", conflicts_with_all = ["hard", "long", "problem"])]
     from: Option<PathBuf>,
+    /// Run-length study against the peer on Kepler (e = 0.6): strong
+    /// schemes and DOP853 at 10, 100 and 1000 orbits; writes peer.csv and
+    /// peer.md (default directory out/compare/peer/).
+    #[arg(long, conflicts_with_all = ["hard", "long", "from"])]
+    peer_study: bool,
+}
+
+impl CompareArgs {
+    /// `--target`, default 1e-8.
+    fn target(&self) -> f64 {
+        self.target.unwrap_or(1e-8)
+    }
 }
 
 fn positive(name: &str, x: f64) -> Result<f64> {
@@ -207,7 +267,9 @@ fn method_ids(args: &CompareArgs) -> Result<Option<Vec<String>>> {
 
 pub fn run(args: &CompareArgs) -> Result<ExitCode> {
     let start = Instant::now();
-    positive("target", args.target)?;
+    if let Some(t) = args.target {
+        positive("target", t)?;
+    }
     if args.repeats == Some(0) {
         bail!("--repeats must be at least 1");
     }
@@ -216,14 +278,16 @@ pub fn run(args: &CompareArgs) -> Result<ExitCode> {
         if rows.is_empty() {
             bail!("{}: no runs", path.display());
         }
-        print!("{}", output::summary(&rows, args.target));
+        print!("{}", output::summary(&rows, args.target()));
         print!(
             "{}",
-            output::time_to_error_table(&rows, args.target, &path.display().to_string())
+            output::time_to_error_table(&rows, args.target(), &path.display().to_string())
         );
         return Ok(ExitCode::SUCCESS);
     }
-    if args.hard {
+    if args.peer_study {
+        peer_study::run(args)?;
+    } else if args.hard {
         hard_cases(args)?;
     } else if args.long {
         long_runs(args)?;
@@ -245,6 +309,8 @@ struct Plan {
     h_min: f64,
     h_max: f64,
     points: usize,
+    /// DOP853's tolerances.
+    tolerances: usize,
     repeats: usize,
 }
 
@@ -280,11 +346,17 @@ fn plan(args: &CompareArgs, problem: ProblemId) -> Result<Plan> {
     if repeats > 100 {
         bail!("--repeats must be at most 100, got {repeats}");
     }
+    let tolerances = args.points.unwrap_or(if args.quick {
+        4
+    } else {
+        sweep::PEER_TOLERANCES
+    });
     Ok(Plan {
         t_end,
         h_min,
         h_max,
         points,
+        tolerances,
         repeats,
     })
 }
@@ -342,7 +414,7 @@ fn sweep_problem<P: Problem>(args: &CompareArgs, plan: &Plan, setup: Setup<P>) -
     let methods = resolve::<P>(args, problem)?;
     let dir = out_dir(args, problem.name())?;
     let steps = sweep::step_counts(plan.t_end, plan.h_min, plan.h_max, plan.points);
-    let tols = sweep::tolerances(plan.points);
+    let tols = sweep::tolerances(plan.tolerances);
     println!(
         "{}: T = {}, {} methods, {} step sizes from h = {:.3e} to {:.3e} ({}–{} steps), {} timed run(s) each",
         problem.description(),
@@ -369,9 +441,21 @@ fn sweep_problem<P: Problem>(args: &CompareArgs, plan: &Plan, setup: Setup<P>) -
     } else {
         vec![]
     };
-    print!("{}", output::summary(&rows, args.target));
+    let target = args.target();
+    print!("{}", output::summary(&rows, target));
     let what = format!("{}, T = {:.4}", problem.description(), plan.t_end);
-    print!("{}", output::time_to_error_table(&rows, args.target, &what));
+    print!("{}", output::time_to_error_table(&rows, target, &what));
+    let over = run_length(problem, plan.t_end);
+    let head = report_head(problem, plan, &methods, &steps, &tols);
+    let md = report::sweep_report(
+        &format!("Work–precision sweep: {}", problem.description()),
+        &head,
+        &rows,
+        target,
+        &over,
+    );
+    std::fs::write(dir.join("report.md"), md)
+        .with_context(|| format!("writing {}", dir.join("report.md").display()))?;
     println!(
         "wrote {} ({} rows)",
         dir.join("runs.csv").display(),
@@ -380,7 +464,69 @@ fn sweep_problem<P: Problem>(args: &CompareArgs, plan: &Plan, setup: Setup<P>) -
     for f in files {
         println!("wrote {}", dir.join(f).display());
     }
+    println!("wrote {}", dir.join("report.md").display());
     Ok(())
+}
+
+/// `T = 628.3185` (and the orbits of period 2π on Kepler).
+fn run_length(problem: ProblemId, t_end: f64) -> String {
+    let orbits = t_end / (2.0 * std::f64::consts::PI);
+    if matches!(problem, ProblemId::Kepler | ProblemId::KeplerHard) {
+        format!("T = {t_end:.4} ({orbits:.4} orbits)").replace(".0000 orbits", " orbits")
+    } else {
+        format!("T = {t_end:.4}")
+    }
+}
+
+/// The head of `report.md`: the problem, the run length, the sweep.
+fn report_head<P: Problem>(
+    problem: ProblemId,
+    plan: &Plan,
+    methods: &[Method<P>],
+    steps: &[u64],
+    tols: &[f64],
+) -> Vec<String> {
+    let fixed = methods
+        .iter()
+        .filter(|m| matches!(m, Method::Fixed(_)))
+        .count();
+    let peer = methods.iter().any(|m| matches!(m, Method::Dop853));
+    let first = steps[0];
+    let last = *steps.last().expect("at least one");
+    let mut head = vec![
+        format!(
+            "Problem: {} (`{}`), {}; relative error ‖z(T) − z_ref(T)‖₂/‖z_ref(T)‖₂ at the end",
+            problem.description(),
+            problem.name(),
+            run_length(problem, plan.t_end)
+        ),
+        format!(
+            "Sweep: {fixed} fixed-step method(s) at {} step counts from {first} to {last} \
+             (h = {:.3e} … {:.3e}, log-spaced)",
+            steps.len(),
+            plan.t_end / first as f64,
+            plan.t_end / last as f64
+        ),
+    ];
+    if peer {
+        head.push(format!(
+            "Peer: dop853 (ode_solvers) at {} tolerances rtol = atol from {:.0e} to {:.0e} (log-spaced)",
+            tols.len(),
+            tols[0],
+            tols.last().expect("at least one")
+        ));
+    }
+    head.push(format!(
+        "Timing: median of {} timed run(s) after one warm-up, one run at a time; {}",
+        plan.repeats,
+        if cfg!(debug_assertions) {
+            "a debug build, so the times are not representative"
+        } else {
+            "a release build"
+        }
+    ));
+    head.push("Data: runs.csv and the error_vs_*.svg plots in this directory".into());
+    head
 }
 
 fn long_runs(args: &CompareArgs) -> Result<()> {

@@ -12,10 +12,29 @@ use super::sweep::{COLUMNS, Row};
 use crate::plot::{self, Plot, Series};
 
 pub fn write_csv(path: &Path, rows: &[Row]) -> Result<()> {
+    write_csv_with(path, rows, &[], |_| vec![])
+}
+
+/// The columns of `runs.csv` followed by `extra` columns, whose values for
+/// row `i` are `values(i)`.
+pub fn write_csv_with(
+    path: &Path,
+    rows: &[Row],
+    extra: &[&str],
+    values: impl Fn(usize) -> Vec<String>,
+) -> Result<()> {
     let mut s = COLUMNS.join(",");
+    for c in extra {
+        s.push(',');
+        s.push_str(c);
+    }
     s.push('\n');
-    for r in rows {
+    for (i, r) in rows.iter().enumerate() {
         s.push_str(&r.csv());
+        for v in values(i) {
+            s.push(',');
+            s.push_str(&v);
+        }
         s.push('\n');
     }
     std::fs::write(path, s).with_context(|| format!("writing {}", path.display()))
@@ -65,33 +84,93 @@ pub fn fitted_order(rows: &[Row], method: &str) -> Option<f64> {
     loglog_slope(&pts)
 }
 
-/// For each method, the wall time to reach relative error `target` at the
-/// end time, interpolated linearly in log–log between the two runs of the
-/// sweep that bracket it (following the runs from the cheapest up, the
-/// first whose error is at most `target` and the one before it). Methods
-/// whose runs never bracket the target (it is not reached, or already the
-/// cheapest run is below it) are left out. Fastest first.
-pub fn time_to_error(rows: &[Row], target: f64) -> Vec<(String, f64)> {
+/// How a method reaches a relative error at the end time.
+#[derive(Clone, Debug)]
+pub struct Reach {
+    pub method: String,
+    pub symplectic: bool,
+    /// Wall time, seconds: interpolated, or (for an upper bound) that of
+    /// the cheapest run.
+    pub time_s: f64,
+    /// Steps and evaluations, interpolated like the time.
+    pub steps: f64,
+    pub evals: f64,
+    /// `max |E − E₀|/|E₀|` of the cheapest run that reaches the target (a
+    /// measured run, not interpolated).
+    pub energy_error: f64,
+    /// The cheapest successful run is already below the target: the figures
+    /// are that run's, an upper bound on the time to reach the target.
+    pub upper_bound: bool,
+}
+
+/// The successful, timed runs of `method`, cheapest first (by evaluations,
+/// then by time).
+pub fn ladder<'a>(rows: &'a [Row], method: &str) -> Vec<&'a Row> {
+    let mut runs: Vec<&Row> = rows
+        .iter()
+        .filter(|r| r.method == method && r.ok() && r.time_s > 0.0 && r.error > 0.0)
+        .collect();
+    runs.sort_by(|a, b| a.evals.cmp(&b.evals).then(a.time_s.total_cmp(&b.time_s)));
+    runs
+}
+
+/// For each method, how it reaches relative error `target` at the end
+/// time: following its runs from the cheapest up, the first run whose error
+/// is at most `target` and the one before it bracket the target, and the
+/// time (steps, evaluations) is interpolated linearly in log–log between
+/// them. A method whose cheapest run is already below the target is
+/// included as an [`upper_bound`](Reach::upper_bound); one that never
+/// reaches it is left out. Fastest first.
+pub fn reach(rows: &[Row], target: f64) -> Vec<Reach> {
     let mut out = Vec::new();
     for m in methods(rows) {
-        let mut runs: Vec<&Row> = rows
-            .iter()
-            .filter(|r| r.method == m && r.ok() && r.time_s > 0.0 && r.error > 0.0)
-            .collect();
-        // Cheapest first: by evaluations, then by time.
-        runs.sort_by(|a, b| a.evals.cmp(&b.evals).then(a.time_s.total_cmp(&b.time_s)));
-        if let Some(i) = runs.iter().position(|r| r.error <= target)
-            && i > 0
-        {
-            let (a, b) = (runs[i - 1], runs[i]);
+        let runs = ladder(rows, m);
+        let Some(i) = runs.iter().position(|r| r.error <= target) else {
+            continue;
+        };
+        let b = runs[i];
+        let r = if i == 0 {
+            Reach {
+                method: m.to_string(),
+                symplectic: b.symplectic,
+                time_s: b.time_s,
+                steps: b.steps as f64,
+                evals: b.evals as f64,
+                energy_error: b.energy_error,
+                upper_bound: true,
+            }
+        } else {
+            let a = runs[i - 1];
             let (la, lb, lt) = (a.error.ln(), b.error.ln(), target.ln());
             let f = if la == lb { 1.0 } else { (la - lt) / (la - lb) };
-            let t = (a.time_s.ln() + f * (b.time_s.ln() - a.time_s.ln())).exp();
-            out.push((m.to_string(), t));
-        }
+            let lerp = |x: f64, y: f64| (x.ln() + f * (y.ln() - x.ln())).exp();
+            Reach {
+                method: m.to_string(),
+                symplectic: b.symplectic,
+                time_s: lerp(a.time_s, b.time_s),
+                steps: lerp(a.steps.max(1) as f64, b.steps.max(1) as f64),
+                evals: lerp(a.evals.max(1) as f64, b.evals.max(1) as f64),
+                energy_error: b.energy_error,
+                upper_bound: false,
+            }
+        };
+        out.push(r);
     }
-    out.sort_by(|a, b| a.1.total_cmp(&b.1));
+    out.sort_by(|a, b| a.time_s.total_cmp(&b.time_s));
     out
+}
+
+/// For each method, the wall time to reach relative error `target` at the
+/// end time, interpolated linearly in log–log between the two runs of the
+/// sweep that bracket it (see [`reach`]). Methods whose runs never bracket
+/// the target (it is not reached, or already the cheapest run is below it)
+/// are left out. Fastest first.
+pub fn time_to_error(rows: &[Row], target: f64) -> Vec<(String, f64)> {
+    reach(rows, target)
+        .into_iter()
+        .filter(|r| !r.upper_bound)
+        .map(|r| (r.method, r.time_s))
+        .collect()
 }
 
 /// Methods of `rows` that did not reach `target` within the sweep (or were
@@ -284,9 +363,53 @@ fn fmt_e(x: f64) -> String {
     }
 }
 
+/// What the summary says about one method.
+pub struct MethodStats {
+    pub method: String,
+    pub order: usize,
+    pub symplectic: bool,
+    pub ok: usize,
+    pub runs: usize,
+    /// [`fitted_order`] (fixed-step methods only).
+    pub slope: Option<f64>,
+    /// The smallest error and the smallest energy error over the
+    /// successful runs (infinite when none succeeded).
+    pub min_error: f64,
+    pub best_energy_error: f64,
+    /// [`time_to_error`] at the summary's target.
+    pub time_to_target: Option<f64>,
+}
+
+/// One [`MethodStats`] per method, in order of first appearance.
+pub fn stats(rows: &[Row], target: f64) -> Vec<MethodStats> {
+    let tte = time_to_error(rows, target);
+    methods(rows)
+        .into_iter()
+        .map(|m| {
+            let mine: Vec<&Row> = rows.iter().filter(|r| r.method == m).collect();
+            let first = mine[0];
+            let good = || mine.iter().filter(|r| r.ok());
+            MethodStats {
+                method: m.to_string(),
+                order: first.order,
+                symplectic: first.symplectic,
+                ok: good().count(),
+                runs: mine.len(),
+                slope: if first.tol.is_nan() {
+                    fitted_order(rows, m)
+                } else {
+                    None
+                },
+                min_error: good().map(|r| r.error).fold(f64::INFINITY, f64::min),
+                best_energy_error: good().map(|r| r.energy_error).fold(f64::INFINITY, f64::min),
+                time_to_target: tte.iter().find(|(n, _)| n == m).map(|(_, t)| *t),
+            }
+        })
+        .collect()
+}
+
 /// The printed summary: one line per method.
 pub fn summary(rows: &[Row], target: f64) -> String {
-    let tte = time_to_error(rows, target);
     let mut s = String::new();
     let _ = writeln!(
         s,
@@ -300,40 +423,19 @@ pub fn summary(rows: &[Row], target: f64) -> String {
         "best dE/E",
         format!("t(err={target:.0e})")
     );
-    for m in methods(rows) {
-        let mine: Vec<&Row> = rows.iter().filter(|r| r.method == m).collect();
-        let first = mine[0];
-        let ok = mine.iter().filter(|r| r.ok()).count();
-        let min_err = mine
-            .iter()
-            .filter(|r| r.ok())
-            .map(|r| r.error)
-            .fold(f64::INFINITY, f64::min);
-        let best_de = mine
-            .iter()
-            .filter(|r| r.ok())
-            .map(|r| r.energy_error)
-            .fold(f64::INFINITY, f64::min);
-        let slope = if first.tol.is_nan() {
-            fitted_order(rows, m)
-        } else {
-            None
-        };
-        let t = tte
-            .iter()
-            .find(|(n, _)| n == m)
-            .map(|(_, t)| format!("{t:.3e} s"));
+    for st in stats(rows, target) {
         let _ = writeln!(
             s,
             "{:<22} {:>5} {:>5} {:>6} {:>7} {:>10} {:>10} {:>12}",
-            m,
-            first.order,
-            if first.symplectic { "yes" } else { "no" },
-            format!("{ok}/{}", mine.len()),
-            fmt_opt(slope, 2),
-            fmt_e(min_err),
-            fmt_e(best_de),
-            t.unwrap_or_else(|| "—".into()),
+            st.method,
+            st.order,
+            if st.symplectic { "yes" } else { "no" },
+            format!("{}/{}", st.ok, st.runs),
+            fmt_opt(st.slope, 2),
+            fmt_e(st.min_error),
+            fmt_e(st.best_energy_error),
+            st.time_to_target
+                .map_or_else(|| "—".into(), |t| format!("{t:.3e} s")),
         );
     }
     s

@@ -1,0 +1,407 @@
+//! `symlab compare --peer-study`: our strongest schemes against DOP853 on
+//! Kepler (e = 0.6) as the run grows from 10 to 1000 orbits. The same
+//! sweeps as the work–precision comparison ([`sweep::sweep`]), one per run
+//! length, with step ranges chosen per length so that the good methods
+//! bracket errors around 1e-6 … 1e-12.
+
+use std::f64::consts::PI;
+use std::fmt::Write as _;
+
+use anyhow::{Result, bail};
+use integrator_core::problems::Kepler;
+
+use super::output::{self, Reach, reach};
+use super::problem::{self, Method, Problem, ProblemId};
+use super::report::{self, Duel, PEER, duel, fmt_err, fmt_ms, time_cell};
+use super::sweep::{self, Row};
+use super::{CompareArgs, method_ids, out_dir};
+
+/// The methods of the study (`--methods` replaces them).
+pub const METHODS: &[&str] = &[
+    "kahan-li8",
+    "sofroniou-spaletta10",
+    "mclachlan8",
+    "kahan-li6",
+    "yoshida6",
+    "rk4",
+    "gauss3",
+    "dop853",
+];
+const QUICK_METHODS: &[&str] = &["kahan-li8", "rk4", "dop853"];
+
+/// The relative errors of the verdict (`--target` adds one).
+pub const TARGETS: [f64; 3] = [1e-6, 1e-8, 1e-10];
+
+/// One run length: `orbits` orbits of period 2π, fixed-step methods at
+/// `points` log-spaced step counts from `min_steps` to `max_steps`.
+#[derive(Clone, Copy, Debug)]
+pub struct Leg {
+    pub orbits: f64,
+    pub min_steps: u64,
+    pub max_steps: u64,
+    pub points: usize,
+}
+
+/// From 20 steps per orbit (errors of order one for the eighth-order
+/// schemes) up, at most 10⁶ steps per run, about four points per decade.
+pub const LEGS: [Leg; 3] = [
+    Leg {
+        orbits: 10.0,
+        min_steps: 200,
+        max_steps: 100_000,
+        points: 12,
+    },
+    Leg {
+        orbits: 100.0,
+        min_steps: 2_000,
+        max_steps: 1_000_000,
+        points: 12,
+    },
+    Leg {
+        orbits: 1000.0,
+        min_steps: 20_000,
+        max_steps: 1_000_000,
+        points: 8,
+    },
+];
+const QUICK_LEGS: [Leg; 2] = [
+    Leg {
+        orbits: 1.0,
+        min_steps: 20,
+        max_steps: 2_000,
+        points: 4,
+    },
+    Leg {
+        orbits: 10.0,
+        min_steps: 200,
+        max_steps: 20_000,
+        points: 4,
+    },
+];
+
+/// DOP853's tolerances: one per decade from 1e-4 to 1e-18 (over 1000
+/// orbits DOP853 reaches 1e-8 only near 1e-16, its round-off floor near
+/// 1e-17), four of them in `--quick`.
+fn tolerances(quick: bool) -> Vec<f64> {
+    sweep::tolerances(if quick { 4 } else { sweep::PEER_TOLERANCES })
+}
+
+/// The results of one run length.
+struct LegRows {
+    leg: Leg,
+    t_end: f64,
+    rows: Vec<Row>,
+}
+
+pub fn run(args: &CompareArgs) -> Result<()> {
+    if let Some(p) = args.problem
+        && p != ProblemId::Kepler
+    {
+        bail!(
+            "--peer-study runs on kepler (e = 0.6) only, not on {}",
+            p.name()
+        );
+    }
+    for (set, name) in [
+        (args.t_end.is_some(), "t-end"),
+        (args.h_min.is_some(), "h-min"),
+        (args.h_max.is_some(), "h-max"),
+        (args.points.is_some(), "points"),
+        (args.steps.is_some(), "steps"),
+    ] {
+        if set {
+            bail!(
+                "--{name} does not apply to --peer-study: it runs 10, 100 and 1000 orbits with step ranges of its own"
+            );
+        }
+    }
+    let repeats = args.repeats.unwrap_or(if args.quick { 1 } else { 5 });
+    if repeats > 100 {
+        bail!("--repeats must be at most 100, got {repeats}");
+    }
+    let mut targets = TARGETS.to_vec();
+    if let Some(t) = args.target
+        && !targets.contains(&t)
+    {
+        targets.push(t);
+    }
+    targets.sort_by(|a, b| b.total_cmp(a));
+    let ids: Vec<String> = match method_ids(args)? {
+        Some(ids) => ids,
+        None if args.quick => QUICK_METHODS.iter().map(|s| s.to_string()).collect(),
+        None => METHODS.iter().map(|s| s.to_string()).collect(),
+    };
+    let methods: Vec<Method<Kepler>> = ids
+        .iter()
+        .map(|id| Kepler::method(id, ProblemId::Kepler))
+        .collect::<Result<_>>()?;
+    if !methods.iter().any(|m| matches!(m, Method::Dop853)) {
+        bail!("--peer-study compares against dop853: keep it in --methods");
+    }
+    let dir = out_dir(args, "peer")?;
+    let legs: &[Leg] = if args.quick { &QUICK_LEGS } else { &LEGS };
+    let tols = tolerances(args.quick);
+    let mut results = Vec::new();
+    for &leg in legs {
+        let t_end = 2.0 * PI * leg.orbits;
+        let setup = problem::kepler(ProblemId::Kepler, t_end, true);
+        let steps = sweep::step_counts(
+            t_end,
+            t_end / leg.max_steps as f64,
+            t_end / leg.min_steps as f64,
+            leg.points,
+        );
+        println!(
+            "Kepler e = 0.6, {} orbits (T = {t_end:.2}): {} methods, {} step counts ({}–{}), dop853 at {} tolerances, {repeats} timed run(s) each",
+            leg.orbits,
+            methods.len(),
+            steps.len(),
+            steps[0],
+            steps.last().expect("at least one"),
+            tols.len()
+        );
+        let rows = sweep::sweep(&setup, &methods, &steps, &tols, repeats);
+        results.push(LegRows { leg, t_end, rows });
+    }
+    let all: Vec<Row> = results.iter().flat_map(|l| l.rows.clone()).collect();
+    let t_ends: Vec<f64> = results
+        .iter()
+        .flat_map(|l| std::iter::repeat_n(l.t_end, l.rows.len()))
+        .collect();
+    output::write_csv_with(&dir.join("peer.csv"), &all, &["t_end"], |i| {
+        vec![format!("{:e}", t_ends[i])]
+    })?;
+    let energy_target = args.target.unwrap_or(1e-8);
+    let md = markdown(&results, &ids, &targets, energy_target, &tols, repeats);
+    std::fs::write(dir.join("peer.md"), &md)?;
+    print!("{}", verdict_table(&results, &targets));
+    println!(
+        "wrote {} ({} rows)",
+        dir.join("peer.csv").display(),
+        all.len()
+    );
+    println!("wrote {}", dir.join("peer.md").display());
+    Ok(())
+}
+
+fn orbits(leg: &Leg) -> String {
+    format!("{}", leg.orbits)
+}
+
+/// `1 orbit`, `10 orbits`.
+fn orbits_words(leg: &Leg) -> String {
+    if leg.orbits == 1.0 {
+        "1 orbit".into()
+    } else {
+        format!("{} orbits", leg.orbits)
+    }
+}
+
+fn energy_cell(r: Option<&Reach>) -> String {
+    r.map_or("—".into(), |r| fmt_err(r.energy_error))
+}
+
+/// The verdict: for each run length and target, our fastest method against
+/// DOP853 with their times and energy errors.
+fn verdict_table(results: &[LegRows], targets: &[f64]) -> String {
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "| orbits | target | fastest of ours | ours (ms) | ours max energy error | dop853 (ms) | dop853 max energy error | dop853 / ours | faster |"
+    );
+    let _ = writeln!(s, "|---:|---:|---|---:|---:|---:|---:|---:|---|");
+    for l in results {
+        for &t in targets {
+            match duel(&l.rows, t) {
+                Some(d) => {
+                    let _ = writeln!(
+                        s,
+                        "| {} | {t:.0e} | {} | {} | {} | {} | {} | {} | {} |",
+                        orbits(&l.leg),
+                        d.ours.as_ref().map_or("—", |o| o.method.as_str()),
+                        time_cell(d.ours.as_ref()),
+                        energy_cell(d.ours.as_ref()),
+                        time_cell(d.peer.as_ref()),
+                        energy_cell(d.peer.as_ref()),
+                        report::ratio_cell(&d),
+                        d.winner.label()
+                    );
+                }
+                None => {
+                    let _ = writeln!(
+                        s,
+                        "| {} | {t:.0e} | — | not reached | — | not reached | — | — | neither |",
+                        orbits(&l.leg)
+                    );
+                }
+            }
+        }
+    }
+    s
+}
+
+/// `peer.md`.
+fn markdown(
+    results: &[LegRows],
+    ids: &[String],
+    targets: &[f64],
+    energy_target: f64,
+    tols: &[f64],
+    repeats: usize,
+) -> String {
+    let mut s = String::new();
+    let lengths: Vec<String> = results.iter().map(|l| orbits(&l.leg)).collect();
+    let _ = writeln!(
+        s,
+        "# Kepler e = 0.6: our strongest schemes against DOP853 over {} orbits\n",
+        match lengths.split_last() {
+            Some((last, rest)) if !rest.is_empty() => format!("{} and {last}", rest.join(", ")),
+            _ => lengths.join(""),
+        }
+    );
+    let _ = writeln!(
+        s,
+        "- Problem: Kepler, e = 0.6, from pericentre, orbit period 2π; error ‖z(T) − z_ref(T)‖₂/‖z_ref(T)‖₂ \
+         against the exact flow; energy error max |E − E₀|/|E₀| along the run."
+    );
+    let _ = writeln!(s, "- Methods: {}.", ids.join(", "));
+    for l in results {
+        let steps = sweep::step_counts(
+            l.t_end,
+            l.t_end / l.leg.max_steps as f64,
+            l.t_end / l.leg.min_steps as f64,
+            l.leg.points,
+        );
+        let _ = writeln!(
+            s,
+            "- {} (T = {:.2}): fixed-step methods at {} step counts from {} to {} (log-spaced).",
+            orbits_words(&l.leg),
+            l.t_end,
+            steps.len(),
+            steps[0],
+            steps.last().expect("at least one")
+        );
+    }
+    let _ = writeln!(
+        s,
+        "- DOP853 (ode_solvers, Hairer's 8(5,3) with its default controller) at rtol = atol = {}.",
+        tols.iter()
+            .map(|t| format!("{t:.0e}"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
+    let _ = writeln!(
+        s,
+        "- Timing: median of {repeats} timed run(s) after one warm-up, one run at a time; times to a target are \
+         interpolated in log–log between the two runs that bracket it. DOP853's time is that of a whole call \
+         (building the solver, storing the state at each accepted step)."
+    );
+    let _ = writeln!(
+        s,
+        "- Round-off: our fixed-step schemes add each step's increment with compensated summation (the \
+         library's default); DOP853 does not, so on long runs its error levels off higher."
+    );
+    let _ = writeln!(
+        s,
+        "- Data: peer.csv (the columns of runs.csv, then t_end).\n"
+    );
+
+    let _ = writeln!(s, "## Verdict\n");
+    let _ = writeln!(
+        s,
+        "Our fastest method against DOP853 at each run length and relative error. Max energy error: that of \
+         the cheapest run reaching the target (measured, not interpolated). `≤`: an upper bound (the cheapest \
+         run is already below the target). Ratio above 1: ours is faster.\n"
+    );
+    s.push_str(&verdict_table(results, targets));
+    let _ = writeln!(s);
+    for l in results {
+        let duels: Vec<Duel> = targets.iter().filter_map(|&t| duel(&l.rows, t)).collect();
+        let _ = writeln!(s, "**{}.**\n", orbits_words(&l.leg));
+        let v = report::verdict(&duels, &l.rows);
+        if v.is_empty() {
+            let _ = writeln!(s, "- Neither side reaches any of the targets.");
+        } else {
+            s.push_str(&v);
+        }
+        let _ = writeln!(s);
+    }
+
+    for l in results {
+        let _ = writeln!(
+            s,
+            "## {} (T = {:.2}): time to each target\n",
+            orbits_words(&l.leg),
+            l.t_end
+        );
+        let _ = write!(s, "| method | symplectic |");
+        for t in targets {
+            let _ = write!(s, " {t:.0e} (ms) |");
+        }
+        let _ = writeln!(
+            s,
+            " smallest error | max energy error at {energy_target:.0e} |"
+        );
+        let _ = write!(s, "|---|---|");
+        for _ in targets {
+            let _ = write!(s, "---:|");
+        }
+        let _ = writeln!(s, "---|---:|");
+        let reaches: Vec<Vec<Reach>> = targets.iter().map(|&t| reach(&l.rows, t)).collect();
+        for st in output::stats(&l.rows, targets[0]) {
+            let m = st.method.as_str();
+            let _ = write!(s, "| {m} | {} |", if st.symplectic { "yes" } else { "no" });
+            for r in &reaches {
+                let _ = write!(s, " {} |", time_cell(r.iter().find(|x| x.method == m)));
+            }
+            let smallest = output::ladder(&l.rows, m)
+                .into_iter()
+                .min_by(|a, b| a.error.total_cmp(&b.error))
+                .map_or("no successful run".into(), |r| {
+                    let at = if r.method == PEER {
+                        format!("rtol {:.0e}", r.tol)
+                    } else {
+                        format!("{} steps", report::fmt_count(r.steps as f64))
+                    };
+                    format!("{} at {at}", fmt_err(r.error))
+                });
+            let de = reach(&l.rows, energy_target)
+                .into_iter()
+                .find(|x| x.method == m);
+            let _ = writeln!(s, " {smallest} | {} |", energy_cell(de.as_ref()));
+        }
+        let _ = writeln!(s);
+        let timings: Vec<(f64, f64)> = l
+            .rows
+            .iter()
+            .filter(|r| r.method == PEER && r.ok())
+            .map(|r| (r.tol, r.time_s))
+            .collect();
+        if let Some(&(tol, t)) = timings.last() {
+            let _ = writeln!(
+                s,
+                "DOP853 at its tightest tolerance ({tol:.0e}): {} ms.\n",
+                fmt_ms(t)
+            );
+        }
+        let failed: Vec<&Row> = l.rows.iter().filter(|r| !r.ok()).collect();
+        if !failed.is_empty() {
+            let _ = writeln!(s, "Failed runs:\n");
+            for r in failed {
+                let _ = writeln!(
+                    s,
+                    "- {} at {}: {}",
+                    r.method,
+                    if r.method == PEER {
+                        format!("rtol = atol = {:.0e}", r.tol)
+                    } else {
+                        format!("{} steps", r.steps)
+                    },
+                    r.status
+                );
+            }
+            let _ = writeln!(s);
+        }
+    }
+    s
+}

@@ -1,0 +1,553 @@
+//! `report.md` of a work–precision sweep, and the Markdown pieces it shares
+//! with `--peer-study`: the summary and fastest-first tables, why a method
+//! did not reach the target, and our fastest method against the peer.
+
+use std::fmt::Write as _;
+
+use super::output::{Reach, ladder, not_bracketed, reach, stats};
+use super::sweep::Row;
+
+/// The method id of the peer.
+pub const PEER: &str = "dop853";
+
+/// Wall time in milliseconds, three significant digits.
+pub fn fmt_ms(seconds: f64) -> String {
+    let x = seconds * 1e3;
+    if !x.is_finite() {
+        "—".into()
+    } else if x >= 100.0 {
+        format!("{x:.0}")
+    } else if x >= 10.0 {
+        format!("{x:.1}")
+    } else if x >= 1.0 {
+        format!("{x:.2}")
+    } else if x >= 0.1 {
+        format!("{x:.3}")
+    } else if x >= 0.01 {
+        format!("{x:.4}")
+    } else if x >= 0.001 {
+        format!("{x:.5}")
+    } else {
+        format!("{x:.2e}")
+    }
+}
+
+/// An error, two significant digits (`1.8e-3`); `—` when not finite.
+pub fn fmt_err(x: f64) -> String {
+    if x.is_finite() {
+        format!("{x:.1e}")
+    } else {
+        "—".into()
+    }
+}
+
+/// A count: `10⁶` for a power of ten from 100 up, else the integer.
+pub fn fmt_count(n: f64) -> String {
+    const SUP: [char; 10] = ['⁰', '¹', '²', '³', '⁴', '⁵', '⁶', '⁷', '⁸', '⁹'];
+    let k = n.round() as u64;
+    let mut p = 100u64;
+    let mut e = 2;
+    while p < k && p <= u64::MAX / 10 {
+        p *= 10;
+        e += 1;
+    }
+    if k == p {
+        let digits: String = e
+            .to_string()
+            .bytes()
+            .map(|d| SUP[(d - b'0') as usize])
+            .collect();
+        format!("10{digits}")
+    } else {
+        k.to_string()
+    }
+}
+
+fn yes_no(b: bool) -> &'static str {
+    if b { "yes" } else { "no" }
+}
+
+/// Where on its sweep a run lies: its step count, or the peer's tolerance.
+fn at(r: &Row) -> String {
+    if r.tol.is_nan() {
+        format!("{} steps", fmt_count(r.steps as f64))
+    } else {
+        format!(
+            "rtol = atol = {:.0e} ({} steps)",
+            r.tol,
+            fmt_count(r.steps as f64)
+        )
+    }
+}
+
+/// Why `method` has no interpolated time to `target`, in words.
+pub fn miss_reason(rows: &[Row], method: &str, target: f64) -> String {
+    let mine: Vec<&Row> = rows.iter().filter(|r| r.method == method).collect();
+    let failed: Vec<&Row> = mine.iter().filter(|r| !r.ok()).copied().collect();
+    let runs = ladder(rows, method);
+    let Some(cheapest) = runs.first() else {
+        return match failed.first() {
+            Some(f) if failed.len() == mine.len() => format!(
+                "no successful run: all {} failed (first: {})",
+                mine.len(),
+                f.status
+            ),
+            _ => "no successful run with a measurable time and error".into(),
+        };
+    };
+    let failures = match failed.first() {
+        Some(f) => format!(
+            "; {} of {} runs failed (first: {})",
+            failed.len(),
+            mine.len(),
+            f.status
+        ),
+        None => String::new(),
+    };
+    if cheapest.error <= target {
+        return format!(
+            "below the target already at its cheapest run (error {} at {}, {} ms): at most that time{failures}",
+            fmt_err(cheapest.error),
+            at(cheapest),
+            fmt_ms(cheapest.time_s)
+        );
+    }
+    let best = runs
+        .iter()
+        .min_by(|a, b| a.error.total_cmp(&b.error))
+        .expect("at least one run");
+    format!(
+        "smallest error {} at {}{failures}",
+        fmt_err(best.error),
+        at(best)
+    )
+}
+
+/// The summary as a Markdown table, one row per method.
+pub fn summary_table(rows: &[Row], target: f64) -> String {
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "| method | order | symplectic | ok runs | fitted slope | min error | best energy error | time to {target:.0e} (ms) |"
+    );
+    let _ = writeln!(s, "|---|---:|---|---:|---:|---:|---:|---:|");
+    for st in stats(rows, target) {
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} | {}/{} | {} | {} | {} | {} |",
+            st.method,
+            st.order,
+            yes_no(st.symplectic),
+            st.ok,
+            st.runs,
+            st.slope.map_or("—".into(), |x| format!("{x:.2}")),
+            fmt_err(st.min_error),
+            fmt_err(st.best_energy_error),
+            st.time_to_target.map_or("—".into(), fmt_ms),
+        );
+    }
+    s
+}
+
+/// The bracketed times to `target` as a Markdown table, fastest first.
+pub fn time_table(rows: &[Row], target: f64) -> String {
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "| rank | method | symplectic | time (ms) | steps | evaluations |"
+    );
+    let _ = writeln!(s, "|---:|---|---|---:|---:|---:|");
+    let bracketed = reach(rows, target).into_iter().filter(|r| !r.upper_bound);
+    for (i, r) in bracketed.enumerate() {
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} | {} | {:.0} | {:.0} |",
+            i + 1,
+            r.method,
+            yes_no(r.symplectic),
+            fmt_ms(r.time_s),
+            r.steps,
+            r.evals
+        );
+    }
+    s
+}
+
+/// The methods without an interpolated time to `target`, one list item
+/// each with the reason.
+pub fn misses(rows: &[Row], target: f64) -> String {
+    let mut s = String::new();
+    for m in not_bracketed(rows, target) {
+        let _ = writeln!(s, "- {m}: {}", miss_reason(rows, &m, target));
+    }
+    s
+}
+
+/// Which side is faster at a target.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Winner {
+    Ours,
+    Peer,
+    /// The slower side's figure is only an upper bound.
+    Undetermined,
+    /// Both times interpolated and within [`TIE`] of each other: closer than
+    /// the timings can tell apart.
+    Tie,
+}
+
+/// Times within this factor of each other are a tie.
+pub const TIE: f64 = 1.1;
+
+impl Winner {
+    pub fn label(self) -> &'static str {
+        match self {
+            Winner::Ours => "ours",
+            Winner::Peer => "dop853",
+            Winner::Undetermined => "undetermined",
+            Winner::Tie => "tie (within 10 %)",
+        }
+    }
+}
+
+/// Our fastest method against the peer at one target.
+#[derive(Clone, Debug)]
+pub struct Duel {
+    pub target: f64,
+    pub ours: Option<Reach>,
+    pub peer: Option<Reach>,
+    pub winner: Winner,
+}
+
+impl Duel {
+    /// Peer time over ours (above 1: ours is faster); `None` unless both
+    /// are interpolated times.
+    pub fn ratio(&self) -> Option<f64> {
+        match (&self.ours, &self.peer) {
+            (Some(o), Some(p)) if !o.upper_bound && !p.upper_bound => Some(p.time_s / o.time_s),
+            _ => None,
+        }
+    }
+}
+
+/// The fastest of our methods and the peer at `target`, or `None` when
+/// neither reaches it. A side that does not reach the target loses; when
+/// the slower side's time is only an upper bound the winner is
+/// undetermined; times within 10 % of each other are a tie.
+pub fn duel(rows: &[Row], target: f64) -> Option<Duel> {
+    let all = reach(rows, target);
+    let ours = all.iter().find(|r| r.method != PEER).cloned();
+    let peer = all.iter().find(|r| r.method == PEER).cloned();
+    let winner = match (&ours, &peer) {
+        (None, None) => return None,
+        (Some(_), None) => Winner::Ours,
+        (None, Some(_)) => Winner::Peer,
+        (Some(o), Some(p)) => {
+            let (slow, ours_faster) = if o.time_s <= p.time_s {
+                (p, true)
+            } else {
+                (o, false)
+            };
+            if slow.upper_bound {
+                Winner::Undetermined
+            } else if !o.upper_bound
+                && !p.upper_bound
+                && slow.time_s <= TIE * o.time_s.min(p.time_s)
+            {
+                Winner::Tie
+            } else if ours_faster {
+                Winner::Ours
+            } else {
+                Winner::Peer
+            }
+        }
+    };
+    Some(Duel {
+        target,
+        ours,
+        peer,
+        winner,
+    })
+}
+
+/// `smallest error is 1.7e-11, at rtol = atol = 1e-17 (…)`: the peer's best run.
+fn peer_best(rows: &[Row]) -> String {
+    ladder(rows, PEER)
+        .into_iter()
+        .min_by(|a, b| a.error.total_cmp(&b.error))
+        .map_or("runs all failed".into(), |r| {
+            format!("smallest error is {}, at {}", fmt_err(r.error), at(r))
+        })
+}
+
+/// A time cell: `≤ t` for an upper bound, `not reached` for none.
+pub fn time_cell(r: Option<&Reach>) -> String {
+    match r {
+        Some(r) if r.upper_bound => format!("≤ {}", fmt_ms(r.time_s)),
+        Some(r) => fmt_ms(r.time_s),
+        None => "not reached".into(),
+    }
+}
+
+/// A ratio, two significant digits.
+pub fn fmt_ratio(x: f64) -> String {
+    if x >= 10.0 {
+        format!("{x:.0}")
+    } else if x >= 1.0 {
+        format!("{x:.1}")
+    } else if x >= 0.1 {
+        format!("{x:.2}")
+    } else {
+        format!("{x:.3}")
+    }
+}
+
+/// The ratio cell of a duel.
+pub fn ratio_cell(d: &Duel) -> String {
+    d.ratio().map_or("—".into(), fmt_ratio)
+}
+
+/// One sentence per outcome: at which targets ours is faster (and at
+/// which the peer does not reach the target at all), at which the peer
+/// (and at which none of ours reaches it), with the range of the speed-ups.
+/// `rows` are the runs the duels were computed from (for the peer's
+/// smallest error).
+pub fn verdict(duels: &[Duel], rows: &[Row]) -> String {
+    let pick =
+        |f: &dyn Fn(&Duel) -> bool| -> Vec<&Duel> { duels.iter().filter(|d| f(d)).collect() };
+    let targets = |ds: &[&Duel]| -> String {
+        ds.iter()
+            .map(|d| format!("{:.0e}", d.target))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let range = |ds: &[&Duel], invert: bool| -> String {
+        let r: Vec<f64> = ds
+            .iter()
+            .filter_map(|d| d.ratio())
+            .map(|x| if invert { 1.0 / x } else { x })
+            .collect();
+        if r.is_empty() {
+            return String::new();
+        }
+        let lo = r.iter().copied().fold(f64::INFINITY, f64::min);
+        let hi = r.iter().copied().fold(0.0, f64::max);
+        if fmt_ratio(lo) == fmt_ratio(hi) {
+            format!(", {}× faster", fmt_ratio(lo))
+        } else {
+            format!(", {}–{}× faster", fmt_ratio(lo), fmt_ratio(hi))
+        }
+    };
+    let say = |ds: Vec<&Duel>, text: &str, invert: Option<bool>| -> String {
+        if ds.is_empty() {
+            return String::new();
+        }
+        let r = invert.map_or(String::new(), |inv| range(&ds, inv));
+        format!("- {text} {}{r}.\n", targets(&ds))
+    };
+    let mut s = say(
+        pick(&|d| d.winner == Winner::Ours && d.peer.is_some()),
+        "Our fastest method beats DOP853 at",
+        Some(false),
+    );
+    let only_ours = pick(&|d| d.winner == Winner::Ours && d.peer.is_none());
+    if !only_ours.is_empty() {
+        let _ = writeln!(
+            s,
+            "- Only ours reach {}; DOP853's {}.",
+            targets(&only_ours),
+            peer_best(rows)
+        );
+    }
+    s += &say(
+        pick(&|d| d.winner == Winner::Peer && d.ours.is_some()),
+        "DOP853 beats our fastest method at",
+        Some(true),
+    );
+    s += &say(
+        pick(&|d| d.winner == Winner::Peer && d.ours.is_none()),
+        "Only DOP853 reaches (none of ours does within the sweep):",
+        None,
+    );
+    s += &say(
+        pick(&|d| d.winner == Winner::Tie),
+        "A tie (times within 10 %, closer than the timings tell apart) at",
+        None,
+    );
+    s += &say(
+        pick(&|d| d.winner == Winner::Undetermined),
+        "Undetermined (the slower side is below the target already at its cheapest run):",
+        None,
+    );
+    s
+}
+
+/// The "Peer" section of `report.md`: our fastest method against DOP853
+/// at each decade 1e-2 … 1e-12 that either side reaches; `None` without
+/// successful peer runs.
+pub fn peer_section(rows: &[Row]) -> Option<String> {
+    if !rows.iter().any(|r| r.method == PEER && r.ok()) {
+        return None;
+    }
+    let duels: Vec<Duel> = (2..=12)
+        .filter_map(|k| duel(rows, 10f64.powi(-k)))
+        .collect();
+    let mut s = String::new();
+    let _ = writeln!(s, "## Peer: DOP853 against our fastest method\n");
+    let _ = writeln!(
+        s,
+        "For each relative error from 1e-2 to 1e-12 (by decades) that either side reaches within the sweep: \
+         the fastest of our methods at that error, DOP853's time (interpolated between its tolerances as ours \
+         between step sizes), their ratio (above 1: ours is faster) and the faster side. `≤` marks a time \
+         that is only an upper bound (the cheapest run is already below the target). DOP853's time is that of \
+         a whole call: building the solver and storing the state at each accepted step (four numbers).\n"
+    );
+    if duels.is_empty() {
+        let _ = writeln!(s, "Neither side reaches 1e-2 within the sweep.");
+        return Some(s);
+    }
+    let _ = writeln!(
+        s,
+        "| target | fastest of ours | symplectic | ours (ms) | dop853 (ms) | dop853 / ours | faster |"
+    );
+    let _ = writeln!(s, "|---:|---|---|---:|---:|---:|---|");
+    for d in &duels {
+        let _ = writeln!(
+            s,
+            "| {:.0e} | {} | {} | {} | {} | {} | {} |",
+            d.target,
+            d.ours.as_ref().map_or("—", |o| o.method.as_str()),
+            d.ours.as_ref().map_or("—", |o| yes_no(o.symplectic)),
+            time_cell(d.ours.as_ref()),
+            time_cell(d.peer.as_ref()),
+            ratio_cell(d),
+            d.winner.label()
+        );
+    }
+    let _ = writeln!(s);
+    s.push_str(&verdict(&duels, rows));
+    Some(s)
+}
+
+/// `report.md` of a work–precision sweep: `title`, the `head` lines (the
+/// problem, `T`, the sweep settings), the summary, the fastest-first times
+/// to `target`, the methods that do not reach it and why, and (when the
+/// peer ran) the peer section. `over` names the run length in the heading
+/// (e.g. `T = 62.83`).
+pub fn sweep_report(title: &str, head: &[String], rows: &[Row], target: f64, over: &str) -> String {
+    let mut s = String::new();
+    let _ = writeln!(s, "# {title}\n");
+    for line in head {
+        let _ = writeln!(s, "- {line}");
+    }
+    let _ = writeln!(s, "\n## Summary\n");
+    s.push_str(&summary_table(rows, target));
+    let _ = writeln!(
+        s,
+        "\nFitted slope: least-squares slope of log error against log h over the runs with error in \
+         (1e-12, 1e-1) (fixed-step methods). Best energy error: the smallest over the runs of \
+         max |E − E₀|/|E₀| along the run.\n"
+    );
+    let _ = writeln!(
+        s,
+        "## Wall time to reach relative error {target:.0e} over {over}, fastest first\n"
+    );
+    let _ = writeln!(
+        s,
+        "Interpolated in log–log between the two runs of the sweep that bracket the error (steps and \
+         evaluations likewise).\n"
+    );
+    s.push_str(&time_table(rows, target));
+    let missing = misses(rows, target);
+    let _ = writeln!(s, "\n## Did not reach {target:.0e} within the sweep\n");
+    if missing.is_empty() {
+        let _ = writeln!(s, "Every method brackets the target.");
+    } else {
+        s.push_str(&missing);
+    }
+    if let Some(peer) = peer_section(rows) {
+        let _ = writeln!(s);
+        s.push_str(&peer);
+    }
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::compare::problem::Family;
+
+    fn row(method: &str, steps: u64, error: f64, time_s: f64) -> Row {
+        Row {
+            problem: "p".into(),
+            method: method.into(),
+            family: Family::Splitting,
+            order: 2,
+            symplectic: method != PEER,
+            h: 1.0 / steps as f64,
+            tol: if method == PEER { 1e-6 } else { f64::NAN },
+            steps,
+            error,
+            energy_error: 1e-9,
+            time_s,
+            evals: steps,
+            newton_iterations: 0,
+            fixed_point_iterations: 0,
+            factorizations: 0,
+            status: "ok".into(),
+        }
+    }
+
+    #[test]
+    fn counts_and_times_read_well() {
+        assert_eq!(fmt_count(1e6), "10⁶");
+        assert_eq!(fmt_count(100.0), "10²");
+        assert_eq!(fmt_count(4642.0), "4642");
+        assert_eq!(fmt_count(10.0), "10");
+        assert_eq!(fmt_ms(2.887e-4), "0.289");
+        assert_eq!(fmt_ms(0.0123), "12.3");
+        assert_eq!(fmt_ms(1.45e-5), "0.0145");
+        assert_eq!(fmt_err(1.8e-3), "1.8e-3");
+    }
+
+    #[test]
+    fn duels_pick_the_faster_side_and_say_why_others_miss() {
+        let rows = vec![
+            row("a", 100, 1e-4, 1e-3),
+            row("a", 1000, 1e-8, 1e-2),
+            row(PEER, 50, 1e-3, 1e-4),
+            row(PEER, 500, 1e-6, 1e-3),
+            row("b", 1000, 1e-3, 1e-3),
+            row("b", 1_000_000, 1.8e-3, 1.0),
+        ];
+        let d = duel(&rows, 1e-5).unwrap();
+        assert_eq!(d.winner, Winner::Peer);
+        assert_eq!(d.ours.as_ref().unwrap().method, "a");
+        let close = vec![row("a", 100, 1e-4, 1.0), row(PEER, 100, 1e-4, 1.05)];
+        assert_eq!(duel(&close, 1e-4).unwrap().winner, Winner::Undetermined);
+        let close = vec![
+            row("a", 10, 1e-2, 0.1),
+            row("a", 100, 1e-6, 1.0),
+            row(PEER, 10, 1e-2, 0.1),
+            row(PEER, 100, 1e-6, 1.05),
+        ];
+        assert_eq!(duel(&close, 1e-6).unwrap().winner, Winner::Tie);
+        let d = duel(&rows, 1e-7).unwrap();
+        assert_eq!(d.winner, Winner::Ours);
+        assert!(d.peer.is_none());
+        assert!(duel(&rows, 1e-9).is_none());
+        assert_eq!(
+            miss_reason(&rows, "b", 1e-5),
+            "smallest error 1.0e-3 at 10³ steps"
+        );
+        assert!(miss_reason(&rows, PEER, 1e-8).contains("rtol = atol = 1e-6"));
+        let report = sweep_report("t", &["x".into()], &rows, 1e-5, "T = 1");
+        assert!(report.contains("## Peer: DOP853 against our fastest method"));
+        assert!(report.contains("- b: smallest error"));
+        assert!(
+            report.contains(
+                "- Only ours reach 1e-7, 1e-8; DOP853's smallest error is 1.0e-6, at rtol = atol = 1e-6 (500 steps)."
+            ),
+            "{report}"
+        );
+    }
+}
