@@ -72,15 +72,24 @@ pub fn loglog_slope(points: &[(f64, f64)]) -> Option<f64> {
 
 /// The observed order of a fixed-step method: the slope of log error
 /// against log h over its successful runs with error between 1e-12 (above
-/// round-off) and 1e-1 (asymptotic regime).
+/// round-off) and 1e-1 (asymptotic regime), less the round-off plateau at
+/// the small-h end: over long runs round-off accumulates above 1e-12, and
+/// the smallest steps no longer lower the error. Points are dropped from
+/// the smallest h up while the error falls by less than `h` does to the
+/// next larger step (local slope below 1; every method here has order ≥ 1).
 pub fn fitted_order(rows: &[Row], method: &str) -> Option<f64> {
-    let pts: Vec<(f64, f64)> = rows
+    let mut pts: Vec<(f64, f64)> = rows
         .iter()
         .filter(|r| {
             r.method == method && r.ok() && r.tol.is_nan() && r.error > 1e-12 && r.error < 1e-1
         })
         .map(|r| (r.h, r.error))
         .collect();
+    pts.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let local = |a: (f64, f64), b: (f64, f64)| (b.1 / a.1).ln() / (b.0 / a.0).ln();
+    while pts.len() > 2 && !(local(pts[0], pts[1]) >= 1.0) {
+        pts.remove(0);
+    }
     loglog_slope(&pts)
 }
 
@@ -502,6 +511,28 @@ mod tests {
         assert_eq!(back[1].family, Family::Peer);
         assert_eq!(back[1].time_s, 2e-3);
         assert!(back[0].tol.is_nan());
+    }
+
+    #[test]
+    fn fitted_order_drops_the_round_off_plateau() {
+        // error = h⁴ down to a floor of 1e-10 (round-off accumulated over a
+        // long run): the plateau must not pull the slope down.
+        let rows: Vec<Row> = (0..12)
+            .map(|i| {
+                let h = 0.2 * 0.6f64.powi(i);
+                row("m", h, (h.powi(4)).max(1e-10), 1.0, 1)
+            })
+            .collect();
+        let p = fitted_order(&rows, "m").unwrap();
+        assert!((p - 4.0).abs() < 0.05, "fitted order {p}");
+        // Without a plateau every point counts.
+        let clean: Vec<Row> = (0..6)
+            .map(|i| {
+                let h = 0.1 * 0.5f64.powi(i);
+                row("m", h, 2.0 * h * h, 1.0, 1)
+            })
+            .collect();
+        assert!((fitted_order(&clean, "m").unwrap() - 2.0).abs() < 1e-9);
     }
 
     #[test]
