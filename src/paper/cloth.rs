@@ -566,8 +566,9 @@ pub fn markdown(exp: &ClothExperiment, files: &[String]) -> String {
             w,
             "- At 16.7 ms the implicit methods are stable in theory (A-stable) but their stage equations are not \
              solved here: {} failed (see the table). Released from rest with no transverse stiffness, the first row \
-             of springs becomes stiff within the step (a slack cable pulled taut), and Newton's method without a \
-             line search overshoots. Smaller steps fix it: see the runs at {IMPLICIT_SUBSTEPS} steps per frame.",
+             of springs becomes stiff within the step (a slack cable pulled taut), and Newton's iteration does not \
+             converge (a backtracking line search on the stage residual was tried and did not help). Smaller steps \
+             do: see the runs at {IMPLICIT_SUBSTEPS} steps per frame.",
             imp_failed.join(" and ")
         );
     } else {
