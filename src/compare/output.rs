@@ -87,7 +87,12 @@ pub fn fitted_order(rows: &[Row], method: &str) -> Option<f64> {
         .collect();
     pts.sort_by(|a, b| a.0.total_cmp(&b.0));
     let local = |a: (f64, f64), b: (f64, f64)| (b.1 / a.1).ln() / (b.0 / a.0).ln();
-    while pts.len() > 2 && !(local(pts[0], pts[1]) >= 1.0) {
+    // A NaN slope (two runs at the same h) counts as flat.
+    let flat = |a, b| {
+        let l = local(a, b);
+        l.is_nan() || l < 1.0
+    };
+    while pts.len() > 2 && flat(pts[0], pts[1]) {
         pts.remove(0);
     }
     loglog_slope(&pts)
