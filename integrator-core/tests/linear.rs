@@ -2,9 +2,11 @@
 //! (paper eqs. (11)–(12)), its exact flow and Runge–Kutta propagators.
 
 use faer::Mat;
-use integrator_core::library::{GaussLegendre1, GaussLegendre2, GaussLegendre3, RadauIIA2, Rk4};
+use integrator_core::library::{
+    GaussLegendre1, GaussLegendre2, GaussLegendre3, LobattoIIIA3, RadauIIA2, Rk4,
+};
 use integrator_core::linear::{LinearError, LinearHamiltonian, Propagator, gyroscopic};
-use integrator_core::{OdeSystem, integrate};
+use integrator_core::{OdeSystem, Scheme, Step, integrate};
 
 fn err_of(r: Result<LinearHamiltonian, LinearError>) -> LinearError {
     match r {
@@ -691,11 +693,14 @@ fn generator_is_deterministic_and_has_the_requested_spread() {
 }
 
 #[test]
-fn gauss_stage_solver_steps_a_stiff_gyroscopic_system_far_beyond_the_explicit_limit() {
+fn stage_solver_steps_a_stiff_gyroscopic_system_far_beyond_the_explicit_limit() {
     // Frequencies 1 … 10⁴ and h = 0.01: h·ω_max = 100. Newton on the exact
     // Jacobian solves the (linear) stage equations in one iteration; what
     // is left is the round-off floor of an ill-conditioned stage matrix,
-    // which the solver must recognise as convergence, not as divergence.
+    // which the solver must recognise as convergence, not as divergence —
+    // also for Lobatto IIIA, whose first stage is explicit (Z₁ = 0 exactly).
+    // The Jacobian is constant: one evaluation and one factorisation serve
+    // the whole run.
     let sys = gyroscopic(10, 1, 1e4)
         .unwrap()
         .with_force(&[0.0; 10])
@@ -705,28 +710,58 @@ fn gauss_stage_solver_steps_a_stiff_gyroscopic_system_far_beyond_the_explicit_li
     // q(0) = 0, p(0) = 1, as `symlab compare --hard` starts it.
     let z0: Vec<f64> = (0..20).map(|i| if i < 10 { 0.0 } else { 1.0 }).collect();
     let e0 = sys.energy(&z0);
-    let prop = Propagator::new(
-        &sys,
-        h,
-        &GaussLegendre2::STABILITY_P,
-        &GaussLegendre2::STABILITY_Q,
-    )
-    .unwrap();
-    let mut a = z0.clone();
-    let mut worst: f64 = 0.0;
-    integrate(&GaussLegendre2, &sys, &mut a, 0.0, h, steps, |_, _, z| {
-        worst = worst.max((sys.energy(z) - e0).abs() / e0.abs());
-    })
-    .unwrap_or_else(|e| panic!("{e}"));
-    // The same map as the exact propagator R(hH).
-    let mut b = z0.clone();
-    prop.integrate(&sys, &mut b, 0.0, steps, |_, _, _| {})
-        .unwrap();
+    fn run<M: Step<LinearHamiltonian> + Scheme>(
+        m: &M,
+        sys: &LinearHamiltonian,
+        z0: &[f64],
+        h: f64,
+        steps: usize,
+        e0: f64,
+    ) -> (Vec<f64>, f64, M::Workspace) {
+        let mut z = z0.to_vec();
+        let mut ws = m.workspace(sys);
+        let mut worst: f64 = 0.0;
+        for k in 0..steps {
+            m.step(sys, k as f64 * h, h, &mut z, &mut ws)
+                .unwrap_or_else(|e| panic!("{} at step {k}: {e}", M::INFO.name));
+            worst = worst.max((sys.energy(&z) - e0).abs() / e0.abs());
+        }
+        (z, worst, ws)
+    }
+    let exact = |p: &[f64], q: &[f64]| {
+        let prop = Propagator::new(&sys, h, p, q).unwrap();
+        let mut b = z0.clone();
+        prop.integrate(&sys, &mut b, 0.0, steps, |_, _, _| {})
+            .unwrap();
+        b
+    };
+    // Gauss–Legendre 2 (symplectic: conserves the quadratic energy).
+    let (a, worst, ws) = run(&GaussLegendre2, &sys, &z0, h, steps, e0);
+    let b = exact(&GaussLegendre2::STABILITY_P, &GaussLegendre2::STABILITY_Q);
     assert!(
         max_abs_diff(&a, &b) < 1e-8 * max_abs(&b),
-        "stage solver vs propagator: {:e}",
+        "gauss2: stage solver vs propagator {:e}",
         max_abs_diff(&a, &b)
     );
-    // A symplectic Runge–Kutta method conserves quadratic energies.
-    assert!(worst < 1e-9, "relative energy error {worst:e}");
+    assert!(worst < 1e-9, "gauss2: relative energy error {worst:e}");
+    let st = ws.stats();
+    assert_eq!(
+        (st.jacobian_evaluations, st.factorizations),
+        (1, 1),
+        "{st:?}"
+    );
+    // Lobatto IIIA, 3 stages (A-stable, not symplectic).
+    let (a, _, ws) = run(&LobattoIIIA3, &sys, &z0, h, steps, e0);
+    let b = exact(&LobattoIIIA3::STABILITY_P, &LobattoIIIA3::STABILITY_Q);
+    assert!(
+        max_abs_diff(&a, &b) < 1e-8 * max_abs(&b),
+        "lobatto3a-3: stage solver vs propagator {:e}",
+        max_abs_diff(&a, &b)
+    );
+    let st = ws.stats();
+    assert_eq!(
+        (st.jacobian_evaluations, st.factorizations),
+        (1, 1),
+        "{st:?}"
+    );
 }

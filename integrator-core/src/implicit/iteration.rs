@@ -191,7 +191,7 @@ impl Monitor {
             if stale {
                 return Verdict::Refresh { restart: true };
             }
-            if updatable {
+            if updatable && delta > s.plateau_limit {
                 return Verdict::Update;
             }
             self.rises += 1;
@@ -204,12 +204,14 @@ impl Monitor {
         } else {
             self.rises = 0;
         }
-        if stale && theta > s.refresh_rate && delta > s.stagnation_limit {
+        if stale && theta > s.refresh_rate && delta > s.plateau_limit.max(s.stagnation_limit) {
             self.prev_delta = delta;
             self.prev_abs = abs;
             return Verdict::Refresh { restart: false };
         }
-        if updatable && theta > s.update_rate && delta > s.stagnation_limit {
+        // Not at the round-off floor, where corrections are noise and a new
+        // Jacobian would change nothing.
+        if updatable && theta > s.update_rate && delta > s.plateau_limit.max(s.stagnation_limit) {
             return Verdict::Update;
         }
         if k >= s.max_iterations {
@@ -607,6 +609,28 @@ impl Core {
     ) -> Result<(), SolveError> {
         let d = self.d;
         self.zs.copy_from_slice(&self.z0);
+        // Explicit stages (a zero row of A, or of Â for the p part) have
+        // Zᵢ = 0 exactly. Solving for them anyway leaves round-off in
+        // corrections of components that are exactly zero, which no relative
+        // test can call converged (Lobatto IIIA's first stage).
+        let explicit = |i: usize, k: usize| {
+            let row = if k < tab.split {
+                &tab.aq[i]
+            } else {
+                &tab.ap[i]
+            };
+            row.iter().all(|&a| a == 0.0)
+        };
+        let zero_explicit = |v: &mut [f64]| {
+            for i in 0..S {
+                for k in 0..d {
+                    if explicit(i, k) {
+                        v[i * d + k] = 0.0;
+                    }
+                }
+            }
+        };
+        zero_explicit(&mut self.zs);
         let mut fresh = self.ensure_jacobian(sys, t, z, lin)?;
         let coefs = tab.stacked();
         self.prepare(sys, t, z, lin, Slot::Stacked, &coefs, h, &mut fresh)?;
@@ -634,6 +658,7 @@ impl Core {
                     }
                 }
                 lin.solve(Slot::Stacked, &mut self.res, &self.settings)?;
+                zero_explicit(&mut self.res);
                 let mut norms = Norms::new();
                 for k in 0..d {
                     for i in 0..S {
@@ -683,6 +708,7 @@ impl Core {
                     self.prepare(sys, t, z, lin, Slot::Stacked, &coefs, h, &mut fresh)?;
                     if restart {
                         self.zs.copy_from_slice(&self.z0);
+                        zero_explicit(&mut self.zs);
                     }
                     mon.refreshed();
                 }
