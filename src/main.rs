@@ -6,7 +6,6 @@ mod check;
 mod cloth_cmd;
 mod compare;
 mod paper;
-mod plot;
 
 use std::process::ExitCode;
 

@@ -72,7 +72,7 @@ pub fn write_csv(path: &Path, frames: &[FrameStats], e_ref: f64) -> Result<()> {
 /// relative energy error `|H − H₀|/E_ref` on a log axis. SVG or PNG by the
 /// file's extension, 1000 × 800.
 pub fn plot(path: &Path, frames: &[FrameStats], e_ref: f64, title: &str) -> Result<()> {
-    crate::plot::register_font();
+    compare::plot::register_font();
     let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
     let size = (1000, 800);
     match ext {

@@ -199,7 +199,7 @@ pub fn render_png(
     caption: &str,
 ) -> Result<()> {
     let pixels = rasterise(stage, camera, positions);
-    crate::plot::register_font();
+    compare::plot::register_font();
     let root = BitMapBackend::new(path, (WIDTH, HEIGHT)).into_drawing_area();
     let image = BitMapElement::with_owned_buffer((0, 0), (WIDTH, HEIGHT), pixels)
         .ok_or_else(|| anyhow!("{}: image buffer of the wrong size", path.display()))?;

@@ -27,7 +27,7 @@ use cloth::implicit as cloth_implicit;
 use cloth::{FrameStats, RunError, RunOptions, Scene, Simulation, Vec3};
 
 use crate::cloth_cmd::{BLOWUP, energy, render};
-use crate::plot::{self, Plot, Series};
+use compare::plot::{self, Plot, Series};
 
 /// The paper scene, as shipped (compiled in, so `symlab paper` does not
 /// depend on the working directory).

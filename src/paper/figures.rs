@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use anyhow::Result;
 
 use super::oscillator::{ENERGY_CEILING, ENERGY_FLOOR, Experiment};
-use crate::plot::{self, Plot, Series};
+use compare::plot::{self, Plot, Series};
 
 /// The file names of the three plots at step size `h`.
 pub fn plot_names(h: f64) -> [String; 3] {

@@ -7,14 +7,16 @@
 use std::f64::consts::PI;
 use std::fmt::Write as _;
 
-use anyhow::{Result, bail};
+use std::path::Path;
+
 use integrator_core::problems::Kepler;
 
-use super::output::{self, Reach, reach};
-use super::problem::{self, Method, Problem, ProblemId};
-use super::report::{self, Duel, PEER, duel, fmt_err, fmt_ms, time_cell};
-use super::sweep::{self, Row};
-use super::{CompareArgs, method_ids, out_dir};
+use crate::builtin;
+use crate::error::{CompareError, Result, write};
+use crate::method::Method;
+use crate::output::{self, Reach, reach};
+use crate::report::{self, Duel, PEER, duel, fmt_err, fmt_ms, time_cell};
+use crate::sweep::{self, Row};
 
 /// The methods of the study (`--methods` replaces them).
 pub const METHODS: &[&str] = &[
@@ -27,7 +29,8 @@ pub const METHODS: &[&str] = &[
     "gauss3",
     "dop853",
 ];
-const QUICK_METHODS: &[&str] = &["kahan-li8", "rk4", "dop853"];
+/// The methods of `--quick`.
+pub const QUICK_METHODS: &[&str] = &["kahan-li8", "rk4", "dop853"];
 
 /// The relative errors of the verdict (`--target` adds one).
 pub const TARGETS: [f64; 3] = [1e-6, 1e-8, 1e-10];
@@ -64,7 +67,8 @@ pub const LEGS: [Leg; 3] = [
         points: 8,
     },
 ];
-const QUICK_LEGS: [Leg; 2] = [
+/// The run lengths of `--quick`: 1 and 10 orbits.
+pub const QUICK_LEGS: [Leg; 2] = [
     Leg {
         orbits: 1.0,
         min_steps: 20,
@@ -79,72 +83,133 @@ const QUICK_LEGS: [Leg; 2] = [
     },
 ];
 
-/// DOP853's tolerances: one per decade from 1e-4 to 1e-18 (over 1000
-/// orbits DOP853 reaches 1e-8 only near 1e-16, its round-off floor near
-/// 1e-17), four of them in `--quick`.
-fn tolerances(quick: bool) -> Vec<f64> {
-    sweep::tolerances(if quick { 4 } else { sweep::PEER_TOLERANCES })
+/// The settings of a peer study.
+#[derive(Clone, Debug)]
+pub struct PeerStudySettings {
+    pub legs: Vec<Leg>,
+    /// Method ids; `dop853` must be among them.
+    pub methods: Vec<String>,
+    /// DOP853's `rtol = atol`.
+    pub tolerances: Vec<f64>,
+    /// Timed runs per point (the median is reported).
+    pub repeats: usize,
+    /// The relative errors of the verdict, largest first.
+    pub targets: Vec<f64>,
+    /// The error at which the max energy error of each method is reported.
+    pub energy_target: f64,
+}
+
+impl PeerStudySettings {
+    /// 10, 100 and 1000 orbits, [`METHODS`], DOP853 at 1e-4 … 1e-18 (one
+    /// per decade; over 1000 orbits it reaches 1e-8 only near 1e-16, its
+    /// round-off floor near 1e-17), five timed runs per point (the close
+    /// calls need it), targets [`TARGETS`].
+    pub fn full() -> Self {
+        PeerStudySettings {
+            legs: LEGS.to_vec(),
+            methods: METHODS.iter().map(|s| s.to_string()).collect(),
+            tolerances: sweep::tolerances(sweep::PEER_TOLERANCES),
+            repeats: 5,
+            targets: TARGETS.to_vec(),
+            energy_target: 1e-8,
+        }
+    }
+
+    /// A smoke run: 1 and 10 orbits, 4 step counts and tolerances,
+    /// kahan-li8, rk4 and dop853, one timed run.
+    pub fn quick() -> Self {
+        PeerStudySettings {
+            legs: QUICK_LEGS.to_vec(),
+            methods: QUICK_METHODS.iter().map(|s| s.to_string()).collect(),
+            tolerances: sweep::tolerances(4),
+            repeats: 1,
+            ..Self::full()
+        }
+    }
+
+    /// Add a target (kept sorted, largest first, without duplicates).
+    pub fn with_target(mut self, target: f64) -> Self {
+        if !self.targets.contains(&target) {
+            self.targets.push(target);
+        }
+        self.targets.sort_by(|a, b| b.total_cmp(a));
+        self
+    }
+
+    fn validate(&self) -> Result<()> {
+        if !(1..=100).contains(&self.repeats) {
+            return Err(CompareError::setting(
+                "repeats",
+                format!("between 1 and 100 timed runs, got {}", self.repeats),
+            ));
+        }
+        if !self.methods.iter().any(|m| m == PEER) {
+            return Err(CompareError::setting(
+                "methods",
+                "--peer-study compares against dop853: keep it in --methods",
+            ));
+        }
+        if self.legs.is_empty() || self.tolerances.is_empty() || self.targets.is_empty() {
+            return Err(CompareError::setting(
+                "legs",
+                "a peer study needs at least one run length, tolerance and target",
+            ));
+        }
+        for l in &self.legs {
+            if !(l.orbits.is_finite() && l.orbits > 0.0)
+                || l.min_steps == 0
+                || l.min_steps > l.max_steps
+                || l.max_steps > 100_000_000
+                || l.points == 0
+            {
+                return Err(CompareError::setting(
+                    "legs",
+                    format!(
+                        "a run length needs orbits > 0 and 1 ≤ min_steps ≤ max_steps ≤ 10⁸, points ≥ 1; got {l:?}"
+                    ),
+                ));
+            }
+        }
+        for (name, v) in [("tolerances", &self.tolerances), ("targets", &self.targets)] {
+            if let Some(x) = v.iter().find(|x| !(x.is_finite() && **x > 0.0)) {
+                return Err(CompareError::setting(
+                    name,
+                    format!("must be finite numbers > 0, got {x}"),
+                ));
+            }
+        }
+        Ok(())
+    }
 }
 
 /// The results of one run length.
-struct LegRows {
-    leg: Leg,
-    t_end: f64,
-    rows: Vec<Row>,
+pub struct LegRows {
+    pub leg: Leg,
+    pub t_end: f64,
+    pub rows: Vec<Row>,
 }
 
-pub fn run(args: &CompareArgs) -> Result<()> {
-    if let Some(p) = args.problem
-        && p != ProblemId::Kepler
-    {
-        bail!(
-            "--peer-study runs on kepler (e = 0.6) only, not on {}",
-            p.name()
-        );
-    }
-    for (set, name) in [
-        (args.t_end.is_some(), "t-end"),
-        (args.h_min.is_some(), "h-min"),
-        (args.h_max.is_some(), "h-max"),
-        (args.points.is_some(), "points"),
-        (args.steps.is_some(), "steps"),
-    ] {
-        if set {
-            bail!(
-                "--{name} does not apply to --peer-study: it runs 10, 100 and 1000 orbits with step ranges of its own"
-            );
-        }
-    }
-    let repeats = args.repeats.unwrap_or(if args.quick { 1 } else { 5 });
-    if repeats > 100 {
-        bail!("--repeats must be at most 100, got {repeats}");
-    }
-    let mut targets = TARGETS.to_vec();
-    if let Some(t) = args.target
-        && !targets.contains(&t)
-    {
-        targets.push(t);
-    }
-    targets.sort_by(|a, b| b.total_cmp(a));
-    let ids: Vec<String> = match method_ids(args)? {
-        Some(ids) => ids,
-        None if args.quick => QUICK_METHODS.iter().map(|s| s.to_string()).collect(),
-        None => METHODS.iter().map(|s| s.to_string()).collect(),
-    };
-    let methods: Vec<Method<Kepler>> = ids
+/// A finished peer study.
+pub struct PeerStudy {
+    pub settings: PeerStudySettings,
+    pub legs: Vec<LegRows>,
+}
+
+/// Run the study: for each run length a sweep (see [`sweep::sweep`]).
+/// Progress lines go to standard output.
+pub fn run(settings: PeerStudySettings) -> Result<PeerStudy> {
+    settings.validate()?;
+    let sys = Kepler { e: 0.6 };
+    let methods: Vec<Method<Kepler>> = settings
+        .methods
         .iter()
-        .map(|id| Kepler::method(id, ProblemId::Kepler))
+        .map(|id| Method::by_id(id, &sys))
         .collect::<Result<_>>()?;
-    if !methods.iter().any(|m| matches!(m, Method::Dop853)) {
-        bail!("--peer-study compares against dop853: keep it in --methods");
-    }
-    let dir = out_dir(args, "peer")?;
-    let legs: &[Leg] = if args.quick { &QUICK_LEGS } else { &LEGS };
-    let tols = tolerances(args.quick);
+    let repeats = settings.repeats;
     let mut results = Vec::new();
-    for &leg in legs {
+    for &leg in &settings.legs {
         let t_end = 2.0 * PI * leg.orbits;
-        let setup = problem::kepler(ProblemId::Kepler, t_end, true);
+        let setup = builtin::kepler(false, t_end, true)?;
         let steps = sweep::step_counts(
             t_end,
             t_end / leg.max_steps as f64,
@@ -158,30 +223,52 @@ pub fn run(args: &CompareArgs) -> Result<()> {
             steps.len(),
             steps[0],
             steps.last().expect("at least one"),
-            tols.len()
+            settings.tolerances.len()
         );
-        let rows = sweep::sweep(&setup, &methods, &steps, &tols, repeats);
+        let rows = sweep::sweep(&setup, &methods, &steps, &settings.tolerances, repeats);
         results.push(LegRows { leg, t_end, rows });
     }
-    let all: Vec<Row> = results.iter().flat_map(|l| l.rows.clone()).collect();
-    let t_ends: Vec<f64> = results
-        .iter()
-        .flat_map(|l| std::iter::repeat_n(l.t_end, l.rows.len()))
-        .collect();
-    output::write_csv_with(&dir.join("peer.csv"), &all, &["t_end"], |i| {
-        vec![format!("{:e}", t_ends[i])]
-    })?;
-    let energy_target = args.target.unwrap_or(1e-8);
-    let md = markdown(&results, &ids, &targets, energy_target, &tols, repeats);
-    std::fs::write(dir.join("peer.md"), &md)?;
-    print!("{}", verdict_table(&results, &targets));
-    println!(
-        "wrote {} ({} rows)",
-        dir.join("peer.csv").display(),
-        all.len()
-    );
-    println!("wrote {}", dir.join("peer.md").display());
-    Ok(())
+    Ok(PeerStudy {
+        settings,
+        legs: results,
+    })
+}
+
+impl PeerStudy {
+    /// Every row, in the order run, and the end time of each.
+    pub fn rows(&self) -> (Vec<Row>, Vec<f64>) {
+        let all: Vec<Row> = self.legs.iter().flat_map(|l| l.rows.clone()).collect();
+        let t_ends: Vec<f64> = self
+            .legs
+            .iter()
+            .flat_map(|l| std::iter::repeat_n(l.t_end, l.rows.len()))
+            .collect();
+        (all, t_ends)
+    }
+
+    /// `peer.csv` and `peer.md` in `dir`.
+    pub fn write(&self, dir: &Path) -> Result<()> {
+        let (all, t_ends) = self.rows();
+        output::write_csv_with(&dir.join("peer.csv"), &all, &["t_end"], |i| {
+            vec![format!("{:e}", t_ends[i])]
+        })?;
+        let s = &self.settings;
+        let md = markdown(
+            &self.legs,
+            &s.methods,
+            &s.targets,
+            s.energy_target,
+            &s.tolerances,
+            s.repeats,
+        );
+        write(&dir.join("peer.md"), md)
+    }
+
+    /// The verdict: for each run length and target, our fastest method
+    /// against DOP853 (Markdown).
+    pub fn verdict(&self) -> String {
+        verdict_table(&self.legs, &self.settings.targets)
+    }
 }
 
 fn orbits(leg: &Leg) -> String {

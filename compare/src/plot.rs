@@ -5,7 +5,7 @@
 use std::path::Path;
 use std::sync::Once;
 
-use anyhow::{Context, Result, bail};
+use crate::error::{CompareError, Result};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
@@ -14,7 +14,7 @@ static FONT: Once = Once::new();
 /// Register the committed font as `sans-serif` (idempotent).
 pub fn register_font() {
     FONT.call_once(|| {
-        let bytes: &'static [u8] = include_bytes!("../assets/fonts/DejaVuSans.ttf");
+        let bytes: &'static [u8] = include_bytes!("../../assets/fonts/DejaVuSans.ttf");
         // The font is committed and known to parse; failure would be a build defect.
         let _ = plotters::style::register_font("sans-serif", FontStyle::Normal, bytes);
     });
@@ -43,21 +43,25 @@ pub struct Plot<'a> {
 /// point is an error.
 pub fn lines(path: &Path, plot: &Plot) -> Result<()> {
     register_font();
+    let err = |why: String| CompareError::Plot {
+        path: path.to_path_buf(),
+        why,
+    };
     let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
     match ext {
         "svg" => {
             let root = SVGBackend::new(path, (1000, 700)).into_drawing_area();
-            draw(&root, plot)?;
+            draw(&root, plot).map_err(err)?;
             root.present()
-                .with_context(|| format!("writing {}", path.display()))?;
+                .map_err(|e| err(format!("writing the file: {e}")))?;
         }
         "png" => {
             let root = BitMapBackend::new(path, (1000, 700)).into_drawing_area();
-            draw(&root, plot)?;
+            draw(&root, plot).map_err(err)?;
             root.present()
-                .with_context(|| format!("writing {}", path.display()))?;
+                .map_err(|e| err(format!("writing the file: {e}")))?;
         }
-        _ => bail!("{}: plots are .svg or .png", path.display()),
+        _ => return Err(err("plots are .svg or .png".into())),
     }
     Ok(())
 }
@@ -93,11 +97,14 @@ fn tick(v: &f64, log: bool) -> String {
     }
 }
 
-fn draw<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, plot: &Plot) -> Result<()>
+fn draw<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    plot: &Plot,
+) -> std::result::Result<(), String>
 where
     DB::ErrorType: 'static,
 {
-    root.fill(&WHITE).map_err(|e| anyhow::anyhow!("{e:?}"))?;
+    root.fill(&WHITE).map_err(|e| format!("{e:?}"))?;
     let pts: Vec<(f64, f64)> = plot
         .series
         .iter()
@@ -105,7 +112,7 @@ where
         .filter(|&(x, y)| drawable(plot, x, y))
         .collect();
     if pts.is_empty() {
-        bail!("plot '{}' has no point to draw", plot.title);
+        return Err(format!("plot '{}' has no point to draw", plot.title));
     }
     let (mut x0, mut x1) = pts
         .iter()
@@ -151,7 +158,7 @@ where
                 .y_desc(plot.y_label)
                 .label_style(("sans-serif", 14))
                 .draw()
-                .map_err(|e| anyhow::anyhow!("{e:?}"))?;
+                .map_err(|e| format!("{e:?}"))?;
             for (k, s) in plot.series.iter().enumerate() {
                 let color = Palette99::pick(k).to_rgba();
                 let data: Vec<(f64, f64)> = s
@@ -161,14 +168,14 @@ where
                     .filter(|&(x, y)| drawable(plot, x, y))
                     .collect();
                 c.draw_series(LineSeries::new(data.clone(), color.stroke_width(2)))
-                    .map_err(|e| anyhow::anyhow!("{e:?}"))?
+                    .map_err(|e| format!("{e:?}"))?
                     .label(s.name.clone())
                     .legend(move |(x, y)| {
                         PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
                     });
                 if s.markers {
                     c.draw_series(data.iter().map(|&p| Circle::new(p, 3, color.filled())))
-                        .map_err(|e| anyhow::anyhow!("{e:?}"))?;
+                        .map_err(|e| format!("{e:?}"))?;
                 }
             }
             c.configure_series_labels()
@@ -177,29 +184,29 @@ where
                 .label_font(("sans-serif", 14))
                 .position(SeriesLabelPosition::UpperRight)
                 .draw()
-                .map_err(|e| anyhow::anyhow!("{e:?}"))?;
+                .map_err(|e| format!("{e:?}"))?;
         }};
     }
     match (plot.log_x, plot.log_y) {
         (true, true) => finish!(
             chart
                 .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())
-                .map_err(|e| anyhow::anyhow!("{e:?}"))?
+                .map_err(|e| format!("{e:?}"))?
         ),
         (true, false) => finish!(
             chart
                 .build_cartesian_2d((x0..x1).log_scale(), y0..y1)
-                .map_err(|e| anyhow::anyhow!("{e:?}"))?
+                .map_err(|e| format!("{e:?}"))?
         ),
         (false, true) => finish!(
             chart
                 .build_cartesian_2d(x0..x1, (y0..y1).log_scale())
-                .map_err(|e| anyhow::anyhow!("{e:?}"))?
+                .map_err(|e| format!("{e:?}"))?
         ),
         (false, false) => finish!(
             chart
                 .build_cartesian_2d(x0..x1, y0..y1)
-                .map_err(|e| anyhow::anyhow!("{e:?}"))?
+                .map_err(|e| format!("{e:?}"))?
         ),
     }
     Ok(())

@@ -14,11 +14,12 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use anyhow::{Context, Result};
 use rayon::prelude::*;
 
-use super::problem::{Fixed, Problem, Setup};
-use super::runner::Status;
+use crate::error::{Result, write as write_file};
+use crate::method::Fixed;
+use crate::problem::{Problem, Setup};
+use crate::stepper::Status;
 
 /// The energy-error bound of the criterion.
 pub const BOUND: f64 = 0.1;
@@ -235,10 +236,9 @@ pub fn write(dir: &Path, rows: &[HardRow], notes: &[String]) -> Result<()> {
         );
     }
     let path = dir.join("hard.csv");
-    std::fs::write(&path, s).with_context(|| format!("writing {}", path.display()))?;
+    write_file(&path, s)?;
     let path = dir.join("hard.md");
-    std::fs::write(&path, markdown(rows, notes))
-        .with_context(|| format!("writing {}", path.display()))
+    write_file(&path, markdown(rows, notes))
 }
 
 /// The Markdown table (also printed).

@@ -5,24 +5,31 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use anyhow::{Context, Result};
-
-use super::problem::Family;
-use super::sweep::{COLUMNS, Row};
+use crate::error::{CompareError, Result, write};
 use crate::plot::{self, Plot, Series};
+use crate::problem::Family;
+use crate::sweep::{COLUMNS, Row};
 
+/// `runs.csv`: the [`COLUMNS`], and `interpreted` after them when a table
+/// file ran (the rows of built-in and generated schemes keep the documented
+/// columns exactly).
 pub fn write_csv(path: &Path, rows: &[Row]) -> Result<()> {
     write_csv_with(path, rows, &[], |_| vec![])
 }
 
 /// The columns of `runs.csv` followed by `extra` columns, whose values for
-/// row `i` are `values(i)`.
+/// row `i` are `values(i)` (and `interpreted` last when a table file ran).
 pub fn write_csv_with(
     path: &Path,
     rows: &[Row],
     extra: &[&str],
     values: impl Fn(usize) -> Vec<String>,
 ) -> Result<()> {
+    let interpreted = rows.iter().any(|r| r.interpreted);
+    let mut extra: Vec<&str> = extra.to_vec();
+    if interpreted {
+        extra.push("interpreted");
+    }
     let mut s = COLUMNS.join(",");
     for c in extra {
         s.push(',');
@@ -35,9 +42,13 @@ pub fn write_csv_with(
             s.push(',');
             s.push_str(&v);
         }
+        if interpreted {
+            s.push(',');
+            s.push_str(if r.interpreted { "true" } else { "false" });
+        }
         s.push('\n');
     }
-    std::fs::write(path, s).with_context(|| format!("writing {}", path.display()))
+    write(path, s)
 }
 
 /// The methods of `rows`, in order of first appearance.
@@ -222,43 +233,52 @@ fn csv_fields(line: &str) -> Vec<String> {
 }
 
 /// The rows of a `runs.csv` written by `symlab compare` (columns found by
-/// name), e.g. to compute [`time_to_error`] again for a report.
+/// name; `interpreted` optional), e.g. to compute [`time_to_error`] again
+/// for a report. Read with a size limit of 256 MiB.
 pub fn read_runs(path: &Path) -> Result<Vec<Row>> {
-    let text =
-        std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
-    let mut lines = text.lines();
-    let header = csv_fields(
-        lines
-            .next()
-            .with_context(|| format!("{}: empty file", path.display()))?,
-    );
-    let col = |name: &str| {
-        header
-            .iter()
-            .position(|h| h == name)
-            .with_context(|| format!("{}: no column '{name}'", path.display()))
+    let err = |why: String| CompareError::Csv {
+        path: path.to_path_buf(),
+        why,
     };
-    let idx: Vec<usize> = COLUMNS.iter().map(|c| col(c)).collect::<Result<_>>()?;
+    let text = crate::interpreted::read_limited(path, 256 << 20).map_err(err)?;
+    let mut lines = text.lines();
+    let header = csv_fields(lines.next().ok_or_else(|| err("empty file".into()))?);
+    let col = |name: &str| header.iter().position(|h| h == name);
+    let idx: Vec<usize> = COLUMNS
+        .iter()
+        .map(|c| col(c).ok_or_else(|| err(format!("no column '{c}'"))))
+        .collect::<Result<_>>()?;
+    let interpreted_col = col("interpreted");
     let mut rows = Vec::new();
     for (k, line) in lines.enumerate() {
         let f = csv_fields(line);
         let at = |i: usize| -> Result<&str> {
             f.get(idx[i])
                 .map(String::as_str)
-                .with_context(|| format!("{}: line {} is short", path.display(), k + 2))
+                .ok_or_else(|| err(format!("line {} is short", k + 2)))
         };
         let num = |i: usize| -> Result<f64> {
             let v = at(i)?;
-            v.parse::<f64>().with_context(|| {
-                format!(
-                    "{}: line {}: '{v}' is not a number ({})",
-                    path.display(),
+            v.parse::<f64>().map_err(|_| {
+                err(format!(
+                    "line {}: '{v}' is not a number ({})",
                     k + 2,
                     COLUMNS[i]
-                )
+                ))
             })
         };
-        let int = |i: usize| -> Result<u64> { Ok(num(i)? as u64) };
+        let int = |i: usize| -> Result<u64> {
+            let v = num(i)?;
+            if v.is_finite() && v >= 0.0 {
+                Ok(v as u64)
+            } else {
+                Err(err(format!(
+                    "line {}: '{v}' is not a count ({})",
+                    k + 2,
+                    COLUMNS[i]
+                )))
+            }
+        };
         let method = at(1)?.to_string();
         let family = if method == "dop853" {
             Family::Peer
@@ -286,6 +306,9 @@ pub fn read_runs(path: &Path) -> Result<Vec<Row>> {
             fixed_point_iterations: int(12)? as usize,
             factorizations: int(13)? as usize,
             status: at(14)?.to_string(),
+            interpreted: interpreted_col
+                .and_then(|i| f.get(i))
+                .is_some_and(|v| v == "true"),
         });
     }
     Ok(rows)
@@ -495,6 +518,7 @@ mod tests {
             fixed_point_iterations: 0,
             factorizations: 0,
             status: "ok".into(),
+            interpreted: false,
         }
     }
 

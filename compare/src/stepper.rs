@@ -1,14 +1,16 @@
 //! Stepping one method on one problem: the generic inner loop, instantiated
-//! once per (scheme, problem) pair by [`library!`], behind the object-safe
-//! [`Stepper`] so that the experiments themselves are written once.
+//! once per (scheme, problem) pair, behind the object-safe [`Stepper`] so
+//! that the experiments themselves are written once. [`Lib`] makes any type
+//! that implements [`Step`] for the problem a stepper: the library's
+//! schemes, a user's `butcher!` scheme, the run-time interpreters.
 
 use integrator_core::implicit::ImplicitWorkspace;
-use integrator_core::library::*;
+use integrator_core::interp::RkInterpWorkspace;
 use integrator_core::linear::{LinearHamiltonian, Propagator};
 use integrator_core::scheme::{PrkWorkspace, RkWorkspace, SplitWorkspace};
-use integrator_core::{OdeSystem, Separable, Step, check_start};
+use integrator_core::{OdeSystem, Step, check_start};
 
-use super::counting::{AsOde, Counting, Counts};
+use crate::problem::{Counted, Kind, Problem};
 
 /// How a run ended.
 #[derive(Clone, Debug, PartialEq)]
@@ -97,56 +99,20 @@ impl Workspace for ImplicitWorkspace {
         )
     }
 }
+impl Workspace for RkInterpWorkspace {
+    fn set_compensated(&mut self, on: bool) {
+        self.compensated = on;
+    }
+}
 /// The propagator's scratch vector: nothing to switch, nothing to count.
 impl Workspace for Vec<f64> {
     fn set_compensated(&mut self, _on: bool) {}
 }
 
-/// A problem type as the experiments see it: a system with an energy and
-/// its counting wrapper.
-pub trait System: OdeSystem + Clone + Send + Sync + 'static {
-    /// The same system with its evaluations counted.
-    type Counted: OdeSystem;
-    fn counted(&self) -> Self::Counted;
-    fn counts(c: &Self::Counted) -> Counts;
-    /// The energy of a state.
-    fn energy_of(&self, z: &[f64]) -> f64;
-}
-
-macro_rules! separable_system {
-    ($($ty:ty),* $(,)?) => {$(
-        impl System for $ty {
-            type Counted = Counting<$ty>;
-            fn counted(&self) -> Counting<$ty> {
-                Counting::new(self.clone())
-            }
-            fn counts(c: &Counting<$ty>) -> Counts {
-                c.counts()
-            }
-            fn energy_of(&self, z: &[f64]) -> f64 {
-                integrator_core::energy(self, z)
-            }
-        }
-    )*};
-}
-use integrator_core::problems::{Fpu, HenonHeiles, Kepler, Oscillator, Pendulum};
-separable_system!(Oscillator, Pendulum, Kepler, HenonHeiles, Fpu);
-
-impl System for LinearHamiltonian {
-    type Counted = Counting<LinearHamiltonian, AsOde>;
-    fn counted(&self) -> Self::Counted {
-        Counting::new(self.clone())
-    }
-    fn counts(c: &Self::Counted) -> Counts {
-        c.counts()
-    }
-    fn energy_of(&self, z: &[f64]) -> f64 {
-        self.energy(z)
-    }
-}
-
-/// One method on problems of type `P`.
-pub trait Stepper<P: System>: Send + Sync {
+/// One method on problems of type `P`. Implement it directly for a method
+/// that is not a [`Step`] (as the exact propagators are); wrap a `Step`
+/// type in [`Lib`].
+pub trait Stepper<P>: Send + Sync {
     /// `n` steps of size `h` from `z` (at `t = 0`) on the counting wrapper,
     /// calling `observe(step, t, z)` before the first step and after each;
     /// `observe` returning `false` stops the run. `compensated` switches
@@ -207,15 +173,16 @@ where
     Status::Ok
 }
 
-/// A library scheme (a zero-sized `butcher!` type) as a [`Stepper`].
+/// A scheme (a `butcher!` type, or anything that implements [`Step`] for
+/// the problem and for its counting wrapper) as a [`Stepper`].
 pub struct Lib<M>(pub M);
 
 impl<M, P> Stepper<P> for Lib<M>
 where
-    P: System,
-    M: Step<P> + Step<P::Counted> + Send + Sync,
+    P: Problem,
+    M: Step<P> + Step<Counted<P>> + Send + Sync,
     <M as Step<P>>::Workspace: Workspace,
-    <M as Step<P::Counted>>::Workspace: Workspace,
+    <M as Step<Counted<P>>>::Workspace: Workspace,
 {
     fn observed(
         &self,
@@ -226,11 +193,11 @@ where
         compensated: bool,
         observe: &mut dyn FnMut(usize, f64, &[f64]) -> bool,
     ) -> Outcome {
-        let counted = sys.counted();
-        let mut ws = Step::<P::Counted>::workspace(&self.0, &counted);
+        let counted = <P::Kind as Kind<P>>::counted(sys);
+        let mut ws = Step::<Counted<P>>::workspace(&self.0, &counted);
         ws.set_compensated(compensated);
         let status = drive(&self.0, &counted, &mut ws, z, h, n, observe);
-        let counts = P::counts(&counted);
+        let counts = <P::Kind as Kind<P>>::counts(&counted);
         let (newton_iterations, fixed_point_iterations, factorizations) = ws.solver_counts();
         Outcome {
             status,
@@ -311,154 +278,5 @@ impl Stepper<LinearHamiltonian> for PropagatorStepper {
             prop.step(z, &mut ws);
         }
         z.iter().all(|x| x.is_finite())
-    }
-}
-
-/// Declares the library by id: which schemes step any `OdeSystem` (`rk`:
-/// Runge–Kutta tables, explicit and implicit) and which only separable
-/// Hamiltonians (`separable`: drift–kick sequences, compositions, explicit
-/// pairs, and the implicit pair, which steps `Hamiltonian`s — all our
-/// Hamiltonian problems are separable). Emits the id lists and the two
-/// constructors; `tests::library_lists_cover_the_registry` checks the lists
-/// against `REGISTRY`.
-macro_rules! library {
-    (
-        rk: [$($rid:literal => $rty:ident),* $(,)?],
-        separable: [$($sid:literal => $sty:ident),* $(,)?] $(,)?
-    ) => {
-        /// Ids of the Runge–Kutta tables (they step every `OdeSystem`).
-        pub const RK_IDS: &[&str] = &[$($rid),*];
-        /// Ids of the schemes that step separable Hamiltonians only.
-        pub const SEPARABLE_IDS: &[&str] = &[$($sid),*];
-
-        /// Any library scheme on a separable problem, `None` for an id not
-        /// in the library.
-        pub fn separable_stepper<P>(id: &str) -> Option<Box<dyn Stepper<P>>>
-        where
-            P: System<Counted = Counting<P>> + Separable,
-        {
-            Some(match id {
-                $($rid => Box::new(Lib($rty)),)*
-                $($sid => Box::new(Lib($sty)),)*
-                _ => return None,
-            })
-        }
-
-        /// A Runge–Kutta table on the linear system, `None` for any other id.
-        pub fn linear_stepper(id: &str) -> Option<Box<dyn Stepper<LinearHamiltonian>>> {
-            Some(match id {
-                $($rid => Box::new(Lib($rty)),)*
-                _ => return None,
-            })
-        }
-    };
-}
-
-library! {
-    rk: [
-        "euler" => ExplicitEuler,
-        "heun" => Heun,
-        "rk4" => Rk4,
-        "rk38" => Rk38,
-        "implicit-euler" => ImplicitEuler,
-        "midpoint" => ImplicitMidpoint,
-        "gauss1" => GaussLegendre1,
-        "gauss2" => GaussLegendre2,
-        "gauss3" => GaussLegendre3,
-        "radau2a-2" => RadauIIA2,
-        "radau2a-3" => RadauIIA3,
-        "lobatto3a-2" => LobattoIIIA2,
-        "lobatto3a-3" => LobattoIIIA3,
-        "lobatto3b-2" => LobattoIIIB2,
-        "lobatto3b-3" => LobattoIIIB3,
-        "lobatto3c-2" => LobattoIIIC2,
-        "lobatto3c-3" => LobattoIIIC3,
-        "lobatto3cstar-2" => LobattoIIICStar2,
-        "paper-dirk2" => PaperDirk2,
-        "paper-dirk4" => PaperDirk4,
-    ],
-    separable: [
-        "symplectic-euler-a" => SymplecticEulerA,
-        "symplectic-euler-b" => SymplecticEulerB,
-        "stormer-verlet" => StormerVerlet,
-        "lobatto3a3b-3" => LobattoIIIAIIIB3,
-        "lobatto3c3cstar-2" => LobattoIIICIIICStar2,
-        "leapfrog" => Leapfrog,
-        "ruth3" => Ruth3,
-        "forest-ruth" => ForestRuth,
-        "candy-rozmus4" => CandyRozmus4,
-        "mclachlan-atela2" => McLachlanAtela2,
-        "mclachlan-atela3" => McLachlanAtela3,
-        "mclachlan-atela4" => McLachlanAtela4,
-        "mclachlan-atela5" => McLachlanAtela5,
-        "calvo-sanz-serna4" => CalvoSanzSerna4,
-        "mclachlan4" => McLachlan4,
-        "yoshida4" => Yoshida4,
-        "yoshida6" => Yoshida6,
-        "kahan-li6" => KahanLi6,
-        "kahan-li8" => KahanLi8,
-        "mclachlan8" => McLachlan8,
-        "sofroniou-spaletta10" => SofroniouSpaletta10,
-    ],
-}
-
-/// The Gauss tables whose propagators are offered on the linear system, as
-/// `(id, P, Q)` of their stability functions.
-pub fn propagator_tables() -> Vec<(&'static str, Vec<f64>, Vec<f64>)> {
-    vec![
-        (
-            "gauss1-propagator",
-            GaussLegendre1::STABILITY_P.to_vec(),
-            GaussLegendre1::STABILITY_Q.to_vec(),
-        ),
-        (
-            "gauss2-propagator",
-            GaussLegendre2::STABILITY_P.to_vec(),
-            GaussLegendre2::STABILITY_Q.to_vec(),
-        ),
-        (
-            "gauss3-propagator",
-            GaussLegendre3::STABILITY_P.to_vec(),
-            GaussLegendre3::STABILITY_Q.to_vec(),
-        ),
-    ]
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use integrator_core::library::REGISTRY;
-
-    #[test]
-    fn library_lists_cover_the_registry() {
-        let mut all: Vec<&str> = RK_IDS.iter().chain(SEPARABLE_IDS).copied().collect();
-        let mut registry: Vec<&str> = REGISTRY.iter().map(|(id, _)| *id).collect();
-        all.sort_unstable();
-        registry.sort_unstable();
-        assert_eq!(all, registry);
-        for (id, info) in REGISTRY {
-            assert_eq!(
-                RK_IDS.contains(id),
-                info.form == "rk",
-                "{id}: form {}",
-                info.form
-            );
-        }
-    }
-
-    #[test]
-    fn observed_and_bare_runs_agree() {
-        let sys = Kepler { e: 0.3 };
-        let z0 = sys.initial_state();
-        for id in ["leapfrog", "rk4", "gauss2"] {
-            let s = separable_stepper::<Kepler>(id).unwrap();
-            let mut a = z0.clone();
-            let out = s.observed(&sys, &mut a, 0.01, 100, true, &mut |_, _, _| true);
-            assert!(out.status.is_ok(), "{id}");
-            assert!(out.evals > 0);
-            let mut b = z0.clone();
-            assert!(s.bare(&sys, &mut b, 0.01, 100));
-            assert_eq!(a, b, "{id}");
-        }
     }
 }

@@ -4,8 +4,8 @@
 
 use std::fmt::Write as _;
 
-use super::output::{Reach, ladder, not_bracketed, reach, stats};
-use super::sweep::Row;
+use crate::output::{Reach, ladder, not_bracketed, reach, stats};
+use crate::sweep::Row;
 
 /// The method id of the peer.
 pub const PEER: &str = "dop853";
@@ -123,6 +123,16 @@ pub fn miss_reason(rows: &[Row], method: &str, target: f64) -> String {
     )
 }
 
+/// The method's name in tables: `id`, or `id (interpreted)` when its rows
+/// come from a run-time interpreter (a table file).
+pub fn method_label(rows: &[Row], method: &str) -> String {
+    if rows.iter().any(|r| r.method == method && r.interpreted) {
+        format!("{method} (interpreted)")
+    } else {
+        method.to_string()
+    }
+}
+
 /// The summary as a Markdown table, one row per method.
 pub fn summary_table(rows: &[Row], target: f64) -> String {
     let mut s = String::new();
@@ -135,7 +145,7 @@ pub fn summary_table(rows: &[Row], target: f64) -> String {
         let _ = writeln!(
             s,
             "| {} | {} | {} | {}/{} | {} | {} | {} | {} |",
-            st.method,
+            method_label(rows, &st.method),
             st.order,
             yes_no(st.symplectic),
             st.ok,
@@ -163,7 +173,7 @@ pub fn time_table(rows: &[Row], target: f64) -> String {
             s,
             "| {} | {} | {} | {} | {:.0} | {:.0} |",
             i + 1,
-            r.method,
+            method_label(rows, &r.method),
             yes_no(r.symplectic),
             fmt_ms(r.time_s),
             r.steps,
@@ -233,8 +243,12 @@ impl Duel {
 /// neither reaches it. A side that does not reach the target loses; when
 /// the slower side's time is only an upper bound the winner is
 /// undetermined; times within 10 % of each other are a tie.
+///
+/// Interpreted methods (table files) take no part: their wall times are
+/// those of a loop over the table, not of generated code.
 pub fn duel(rows: &[Row], target: f64) -> Option<Duel> {
-    let all = reach(rows, target);
+    let generated: Vec<Row> = rows.iter().filter(|r| !r.interpreted).cloned().collect();
+    let all = reach(&generated, target);
     let ours = all.iter().find(|r| r.method != PEER).cloned();
     let peer = all.iter().find(|r| r.method == PEER).cloned();
     let winner = match (&ours, &peer) {
@@ -428,6 +442,33 @@ pub fn peer_section(rows: &[Row]) -> Option<String> {
     Some(s)
 }
 
+/// The note on table files stepped by the interpreters, when any ran.
+pub fn interpreted_section(rows: &[Row]) -> Option<String> {
+    let mut ids: Vec<&str> = Vec::new();
+    for r in rows.iter().filter(|r| r.interpreted) {
+        if !ids.contains(&r.method.as_str()) {
+            ids.push(&r.method);
+        }
+    }
+    if ids.is_empty() {
+        return None;
+    }
+    let mut s = String::from(
+        "## Interpreted tables
+
+",
+    );
+    let _ = writeln!(
+        s,
+        "{} came from table files, verified exactly and stepped by the run-time interpreters          (`interpreted = true` in runs.csv). Their errors and evaluation counts compare with the          generated schemes; their wall times do not: a loop over a table held in memory is slower          than the step code `butcher!` generates, so they take no part in the comparison with          DOP853. For generated-code timings declare the table with `butcher!` and add it through          the library, as `cargo run --release --example my_scheme` does.",
+        ids.iter()
+            .map(|i| format!("`{i}`"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
+    Some(s)
+}
+
 /// `report.md` of a work–precision sweep: `title`, the `head` lines (the
 /// problem, `T`, the sweep settings), the summary, the fastest-first times
 /// to `target`, the methods that do not reach it and why, and (when the
@@ -468,13 +509,17 @@ pub fn sweep_report(title: &str, head: &[String], rows: &[Row], target: f64, ove
         let _ = writeln!(s);
         s.push_str(&peer);
     }
+    if let Some(note) = interpreted_section(rows) {
+        let _ = writeln!(s);
+        s.push_str(&note);
+    }
     s
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::compare::problem::Family;
+    use crate::problem::Family;
 
     fn row(method: &str, steps: u64, error: f64, time_s: f64) -> Row {
         Row {
@@ -494,6 +539,7 @@ mod tests {
             fixed_point_iterations: 0,
             factorizations: 0,
             status: "ok".into(),
+            interpreted: false,
         }
     }
 

@@ -5,13 +5,14 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use anyhow::{Context, Result};
 use rayon::prelude::*;
 
-use super::output::loglog_slope;
-use super::problem::{Method, Problem, Setup};
-use super::runner::Status;
+use crate::error::{CompareError, Result, write as write_file};
+use crate::method::{Fixed, Method};
+use crate::output::loglog_slope;
 use crate::plot::{self, Plot, Series};
+use crate::problem::{Problem, Setup};
+use crate::stepper::Status;
 
 /// The pairs compared: `(symplectic, non-symplectic, order)`.
 pub const PAIRS: [(&str, &str, usize); 3] = [
@@ -69,9 +70,8 @@ pub fn growth_exponent(samples: &[(u64, f64, f64)]) -> Option<f64> {
     loglog_slope(&pts)
 }
 
-/// Run the pairs' methods, each with and without compensated summation, in
-/// parallel (every run is independent and only its errors are recorded).
-pub fn run<P: Problem>(setup: &Setup<P>, h: f64, n: u64) -> Result<Vec<LongRun>> {
+/// The library's pairs of [`PAIRS`] as methods of `P`, each once.
+pub fn pair_methods<P: Problem>(sys: &P) -> Result<Vec<Fixed<P>>> {
     let mut ids: Vec<&str> = Vec::new();
     for (a, b, _) in PAIRS {
         for id in [a, b] {
@@ -80,14 +80,54 @@ pub fn run<P: Problem>(setup: &Setup<P>, h: f64, n: u64) -> Result<Vec<LongRun>>
             }
         }
     }
+    ids.into_iter()
+        .map(|id| match Method::by_id(id, sys)? {
+            Method::Fixed(f) => Ok(f),
+            Method::Dop853 => Err(CompareError::method(id, "the pairs are fixed-step schemes")),
+        })
+        .collect()
+}
+
+/// The settings of long runs: `steps` steps of size `h`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LongSettings {
+    pub h: f64,
+    pub steps: u64,
+}
+
+impl LongSettings {
+    /// At least 10 and at most 10⁹ steps of a finite `h > 0`.
+    pub fn validate(&self) -> Result<()> {
+        if !(self.h.is_finite() && self.h > 0.0) {
+            return Err(CompareError::setting(
+                "h",
+                format!("the step must be a finite number > 0, got {}", self.h),
+            ));
+        }
+        if !(10..=1_000_000_000).contains(&self.steps) {
+            return Err(CompareError::setting(
+                "steps",
+                format!("between 10 and 10⁹ steps, got {}", self.steps),
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// Each method, with and without compensated summation, for
+/// `settings.steps` steps, in parallel (every run is independent and only
+/// its energy errors are recorded). `setup` needs no reference.
+pub fn run<P: Problem>(
+    setup: &Setup<P>,
+    methods: &[Fixed<P>],
+    settings: LongSettings,
+) -> Result<Vec<LongRun>> {
+    settings.validate()?;
+    let (h, n) = (settings.h, settings.steps);
     let mut jobs = Vec::new();
-    for id in ids {
-        let Method::Fixed(f) = P::method(id, setup.id)? else {
-            unreachable!("the pairs are library schemes")
-        };
-        let f = std::sync::Arc::new(f);
+    for f in methods {
         for compensated in [true, false] {
-            jobs.push((f.clone(), compensated));
+            jobs.push((f, compensated));
         }
     }
     let ends = window_ends(n);
@@ -119,7 +159,7 @@ pub fn run<P: Problem>(setup: &Setup<P>, h: f64, n: u64) -> Result<Vec<LongRun>>
             );
             let exponent = growth_exponent(&samples);
             LongRun {
-                problem: setup.id.name().into(),
+                problem: setup.name.clone(),
                 method: f.id.clone(),
                 order: f.order,
                 symplectic: f.symplectic,
@@ -149,6 +189,9 @@ fn label(r: &LongRun) -> String {
 
 /// `long.csv` (samples), `long_fit.csv` (exponents) and `long_energy.svg`.
 pub fn write(dir: &Path, runs: &[LongRun]) -> Result<()> {
+    let Some(first) = runs.first() else {
+        return Err(CompareError::setting("methods", "no long runs to write"));
+    };
     let mut s = String::from("problem,method,order,symplectic,compensated,h,step,t,energy_error\n");
     for r in runs {
         for (k, t, e) in &r.samples {
@@ -160,7 +203,7 @@ pub fn write(dir: &Path, runs: &[LongRun]) -> Result<()> {
         }
     }
     let path = dir.join("long.csv");
-    std::fs::write(&path, s).with_context(|| format!("writing {}", path.display()))?;
+    write_file(&path, s)?;
     let mut s = String::from(
         "problem,method,order,symplectic,compensated,h,steps,exponent,final_energy_error,status\n",
     );
@@ -182,7 +225,7 @@ pub fn write(dir: &Path, runs: &[LongRun]) -> Result<()> {
         );
     }
     let path = dir.join("long_fit.csv");
-    std::fs::write(&path, s).with_context(|| format!("writing {}", path.display()))?;
+    write_file(&path, s)?;
     let series: Vec<Series> = runs
         .iter()
         .map(|r| Series {
@@ -193,7 +236,7 @@ pub fn write(dir: &Path, runs: &[LongRun]) -> Result<()> {
         .collect();
     let title = format!(
         "{}: energy error over {} steps of h = {}",
-        runs[0].problem, runs[0].steps, runs[0].h
+        first.problem, first.steps, first.h
     );
     plot::lines(
         &dir.join("long_energy.svg"),
@@ -216,25 +259,44 @@ pub fn summary(runs: &[LongRun]) -> String {
         "Growth exponent of the energy error (slope of log max|ΔE/E| against log t over the last two decades):\n\
          ≈ 1 drift, ≈ 0.5 random walk (Brouwer), ≈ 0 bounded."
     );
+    let line = |s: &mut String, r: &LongRun| {
+        let last = r.samples.last().map_or(f64::NAN, |x| x.2);
+        let _ = writeln!(
+            s,
+            "  {:<12} {:<12} exponent {:>6}   final max|ΔE/E| {:>9.2e}   {}",
+            r.method,
+            if r.compensated {
+                "compensated"
+            } else {
+                "plain"
+            },
+            r.exponent.map_or("—".into(), |e| format!("{e:.2}")),
+            last,
+            r.status.label()
+        );
+    };
+    let has = |id: &str| runs.iter().any(|r| r.method == id);
+    let mut shown: Vec<&str> = Vec::new();
     for (a, b, order) in PAIRS {
+        if !(has(a) && has(b)) {
+            continue;
+        }
         let _ = writeln!(s, "order {order}: {a} (symplectic) vs {b}");
         for id in [a, b] {
             for r in runs.iter().filter(|r| r.method == id) {
-                let last = r.samples.last().map_or(f64::NAN, |x| x.2);
-                let _ = writeln!(
-                    s,
-                    "  {:<12} {:<12} exponent {:>6}   final max|ΔE/E| {:>9.2e}   {}",
-                    r.method,
-                    if r.compensated {
-                        "compensated"
-                    } else {
-                        "plain"
-                    },
-                    r.exponent.map_or("—".into(), |e| format!("{e:.2}")),
-                    last,
-                    r.status.label()
-                );
+                line(&mut s, r);
             }
+            shown.push(id);
+        }
+    }
+    let others: Vec<&LongRun> = runs
+        .iter()
+        .filter(|r| !shown.contains(&r.method.as_str()))
+        .collect();
+    if !others.is_empty() {
+        let _ = writeln!(s, "runs:");
+        for r in others {
+            line(&mut s, r);
         }
     }
     s

@@ -5,7 +5,9 @@ use std::time::Instant;
 
 use indicatif::{ProgressBar, ProgressStyle};
 
-use super::problem::{Family, Fixed, Method, Problem, Setup};
+use crate::method::{Fixed, Method};
+use crate::peer;
+use crate::problem::{Family, Problem, Setup};
 
 /// One run: a row of `runs.csv` (see the module docs for the columns).
 #[derive(Clone, Debug)]
@@ -31,6 +33,9 @@ pub struct Row {
     pub fixed_point_iterations: usize,
     pub factorizations: usize,
     pub status: String,
+    /// Stepped by a run-time interpreter (a table file): the error and the
+    /// evaluations compare with generated code, the wall time does not.
+    pub interpreted: bool,
 }
 
 impl Row {
@@ -226,7 +231,7 @@ pub fn fixed_run<P: Problem>(setup: &Setup<P>, f: &Fixed<P>, n: u64, repeats: us
         (f64::NAN, f64::NAN)
     };
     Row {
-        problem: setup.id.name().into(),
+        problem: setup.name.clone(),
         method: f.id.clone(),
         family: f.family,
         order: f.order,
@@ -242,15 +247,16 @@ pub fn fixed_run<P: Problem>(setup: &Setup<P>, f: &Fixed<P>, n: u64, repeats: us
         fixed_point_iterations: outcome.fixed_point_iterations,
         factorizations: outcome.factorizations,
         status: outcome.status.label(),
+        interpreted: f.interpreted,
     }
 }
 
 /// One DOP853 run at `rtol = atol = tol`: the first call gives the error
 /// and counts (and warms up), then `repeats` timed calls.
 pub fn peer_run<P: Problem>(setup: &Setup<P>, tol: f64, repeats: usize) -> Row {
-    let first = P::dop853(setup, tol);
+    let first = peer::dop853(setup, tol);
     let mut row = Row {
-        problem: setup.id.name().into(),
+        problem: setup.name.clone(),
         method: "dop853".into(),
         family: Family::Peer,
         order: 8,
@@ -265,9 +271,9 @@ pub fn peer_run<P: Problem>(setup: &Setup<P>, tol: f64, repeats: usize) -> Row {
         newton_iterations: 0,
         fixed_point_iterations: 0,
         factorizations: 0,
-        status: "solver failed: the peer is not available".into(),
+        status: String::new(),
+        interpreted: false,
     };
-    let Some(first) = first else { return row };
     row.steps = first.accepted;
     row.evals = first.evals;
     row.energy_error = first.energy_error;
@@ -281,7 +287,7 @@ pub fn peer_run<P: Problem>(setup: &Setup<P>, tol: f64, repeats: usize) -> Row {
             row.error = setup.error(z);
             row.status = "ok".into();
             let times: Vec<f64> = (0..repeats)
-                .filter_map(|_| P::dop853(setup, tol).map(|o| o.seconds))
+                .map(|_| peer::dop853(setup, tol).seconds)
                 .collect();
             row.time_s = median(times);
         }

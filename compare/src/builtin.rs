@@ -1,0 +1,443 @@
+//! The library's test problems as [`Problem`]s, and the seven built-in
+//! instances of `symlab compare --problem` ([`Builtin`]).
+
+use integrator_core::OdeSystem;
+use integrator_core::linear::{self, LinearHamiltonian};
+use integrator_core::problems::{ExactFlow, Fpu, HenonHeiles, Kepler, Oscillator, Pendulum};
+
+use crate::counting::{AsOde, AsSeparable};
+use crate::error::{CompareError, Result};
+use crate::library::propagator_tables;
+use crate::method::{Fixed, Method};
+use crate::problem::{Defaults, Family, Problem, Setup};
+use crate::stepper::PropagatorStepper;
+
+use std::f64::consts::PI;
+
+/// Kepler's orbits: 10 orbits of period 2π, 100 to 10⁵ steps.
+const KEPLER: Defaults = Defaults {
+    t_end: 20.0 * PI,
+    h_min: 20.0 * PI / 1e5,
+    h_max: 20.0 * PI / 100.0,
+};
+const SHORT: Defaults = Defaults {
+    t_end: 10.0,
+    h_min: 1e-4,
+    h_max: 0.1,
+};
+const PERIODIC: Defaults = Defaults {
+    t_end: 100.0,
+    h_min: 1e-3,
+    h_max: 1.0,
+};
+
+fn exact<P: ExactFlow>(
+    p: &P,
+    z0: &[f64],
+    t: f64,
+    what: &str,
+) -> std::result::Result<Vec<f64>, String> {
+    p.flow(z0, t)
+        .ok_or_else(|| format!("the exact flow covers {what} only"))
+}
+
+impl Problem for Oscillator {
+    type Kind = AsSeparable;
+    fn name(&self) -> String {
+        "oscillator".into()
+    }
+    fn description(&self) -> String {
+        if self.k == 1.0 {
+            "harmonic oscillator".into()
+        } else {
+            format!("harmonic oscillator (k = {})", self.k)
+        }
+    }
+    fn energy(&self, z: &[f64]) -> f64 {
+        integrator_core::energy(self, z)
+    }
+    fn start(&self) -> Vec<f64> {
+        vec![1.0, 0.0]
+    }
+    fn reference(&self, z0: &[f64], t: f64) -> std::result::Result<Vec<f64>, String> {
+        exact(self, z0, t, "states of two components")
+    }
+    fn defaults(&self) -> Defaults {
+        PERIODIC
+    }
+}
+
+impl Problem for Pendulum {
+    type Kind = AsSeparable;
+    fn name(&self) -> String {
+        "pendulum".into()
+    }
+    fn description(&self) -> String {
+        "pendulum (amplitude 2)".into()
+    }
+    fn energy(&self, z: &[f64]) -> f64 {
+        integrator_core::energy(self, z)
+    }
+    fn start(&self) -> Vec<f64> {
+        Pendulum::at_rest(2.0)
+    }
+    fn reference(&self, z0: &[f64], t: f64) -> std::result::Result<Vec<f64>, String> {
+        exact(self, z0, t, "librations (|H| < 1)")
+    }
+    fn defaults(&self) -> Defaults {
+        PERIODIC
+    }
+}
+
+impl Problem for Kepler {
+    type Kind = AsSeparable;
+    /// `kepler` (e = 0.6), `kepler-hard` (e = 0.9), else `kepler-e<e>`.
+    fn name(&self) -> String {
+        if self.e == 0.6 {
+            "kepler".into()
+        } else if self.e == 0.9 {
+            "kepler-hard".into()
+        } else {
+            format!("kepler-e{}", self.e)
+        }
+    }
+    fn description(&self) -> String {
+        format!("Kepler e = {}", self.e)
+    }
+    fn energy(&self, z: &[f64]) -> f64 {
+        integrator_core::energy(self, z)
+    }
+    fn start(&self) -> Vec<f64> {
+        self.initial_state()
+    }
+    fn reference(&self, z0: &[f64], t: f64) -> std::result::Result<Vec<f64>, String> {
+        exact(self, z0, t, "bound orbits")
+    }
+    fn defaults(&self) -> Defaults {
+        KEPLER
+    }
+    /// An orbit of the normalised problem takes 2π.
+    fn period(&self) -> Option<(f64, &'static str)> {
+        Some((2.0 * PI, "orbit"))
+    }
+}
+
+impl Problem for HenonHeiles {
+    type Kind = AsSeparable;
+    fn name(&self) -> String {
+        "henon-heiles".into()
+    }
+    fn description(&self) -> String {
+        "Hénon–Heiles (chaotic)".into()
+    }
+    fn energy(&self, z: &[f64]) -> f64 {
+        integrator_core::energy(self, z)
+    }
+    fn start(&self) -> Vec<f64> {
+        HenonHeiles::chaotic_start().to_vec()
+    }
+    /// Sofroniou–Spaletta order 10 with tiny steps (trustworthy up to
+    /// `T ≈ 10`: the motion is chaotic).
+    fn reference(&self, z0: &[f64], t: f64) -> std::result::Result<Vec<f64>, String> {
+        Ok(HenonHeiles::reference(self, z0, t))
+    }
+    fn defaults(&self) -> Defaults {
+        SHORT
+    }
+}
+
+impl Problem for Fpu {
+    type Kind = AsSeparable;
+    fn name(&self) -> String {
+        "fpu".into()
+    }
+    fn description(&self) -> String {
+        format!("stiff FPU (ω = {})", self.omega)
+    }
+    fn energy(&self, z: &[f64]) -> f64 {
+        integrator_core::energy(self, z)
+    }
+    fn start(&self) -> Vec<f64> {
+        Fpu::start(self)
+    }
+    fn reference(&self, z0: &[f64], t: f64) -> std::result::Result<Vec<f64>, String> {
+        Ok(Fpu::reference(self, z0, t))
+    }
+    fn defaults(&self) -> Defaults {
+        SHORT
+    }
+}
+
+/// The linear model `z' = Hz + u` of the paper. Its default instance is the
+/// gyroscopic one: `q = 0`, `p = (1, …, 1)` (positive kinetic energy, every
+/// mode excited); the reference is the exact flow (matrix exponential).
+/// Besides the Runge–Kutta tables it offers the exact one-step maps of the
+/// Gauss tables, `gaussN-propagator`.
+impl Problem for LinearHamiltonian {
+    type Kind = AsOde;
+    fn name(&self) -> String {
+        "gyroscopic".into()
+    }
+    fn description(&self) -> String {
+        format!("linear system z' = Hz + u (n = {})", self.dim() / 2)
+    }
+    fn energy(&self, z: &[f64]) -> f64 {
+        LinearHamiltonian::energy(self, z)
+    }
+    fn start(&self) -> Vec<f64> {
+        let n = self.dim() / 2;
+        let mut z0 = vec![0.0; 2 * n];
+        z0[n..].fill(1.0);
+        z0
+    }
+    fn reference(&self, z0: &[f64], t: f64) -> std::result::Result<Vec<f64>, String> {
+        self.exact(z0, t).map_err(|e| e.to_string())
+    }
+    fn defaults(&self) -> Defaults {
+        SHORT
+    }
+    fn special_method(&self, id: &str) -> Option<Result<Method<Self>>> {
+        let (pid, p, q) = propagator_tables()
+            .into_iter()
+            .find(|(pid, _, _)| *pid == id)?;
+        let base = pid.trim_end_matches("-propagator");
+        let i = integrator_core::library::info(base)?;
+        Some(Ok(Method::Fixed(Fixed {
+            id: pid.to_string(),
+            order: i.order,
+            symplectic: i.symplectic,
+            family: Family::Implicit,
+            interpreted: false,
+            stepper: Box::new(PropagatorStepper { p, q }),
+        })))
+    }
+    fn special_ids(&self) -> Vec<String> {
+        propagator_tables()
+            .into_iter()
+            .map(|(id, _, _)| id.to_string())
+            .collect()
+    }
+}
+
+/// The built-in problems of `symlab compare --problem`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Builtin {
+    /// H = ½(p² + q²), q(0) = 1, p(0) = 0; exact flow.
+    Oscillator,
+    /// Random gyroscopic system Mq̈ + Gq̇ + Kq = f, n = 10, frequencies 1…10
+    /// (`gyroscopic(10, 1, 10)`), q(0) = 0, p(0) = 1; matrix exponential.
+    Gyroscopic,
+    /// Kepler, e = 0.6, from pericentre; exact flow.
+    Kepler,
+    /// Kepler, e = 0.9, from pericentre; exact flow.
+    KeplerHard,
+    /// Hénon–Heiles, chaotic start at H = 1/8; numerical reference.
+    HenonHeiles,
+    /// Stiff FPU chain (m = 3, ω = 50); numerical reference.
+    Fpu,
+    /// Pendulum H = p²/2 − cos q from rest at q = 2; exact flow.
+    Pendulum,
+}
+
+impl Builtin {
+    pub const ALL: [Builtin; 7] = [
+        Builtin::Oscillator,
+        Builtin::Gyroscopic,
+        Builtin::Kepler,
+        Builtin::KeplerHard,
+        Builtin::HenonHeiles,
+        Builtin::Fpu,
+        Builtin::Pendulum,
+    ];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Builtin::Oscillator => "oscillator",
+            Builtin::Gyroscopic => "gyroscopic",
+            Builtin::Kepler => "kepler",
+            Builtin::KeplerHard => "kepler-hard",
+            Builtin::HenonHeiles => "henon-heiles",
+            Builtin::Fpu => "fpu",
+            Builtin::Pendulum => "pendulum",
+        }
+    }
+
+    /// The problem named `name`, or an error listing the names.
+    pub fn from_name(name: &str) -> Result<Self> {
+        Self::ALL
+            .into_iter()
+            .find(|b| b.name() == name)
+            .ok_or_else(|| {
+                CompareError::problem(
+                    name,
+                    format!(
+                        "unknown problem; the built-in problems are {}",
+                        Self::ALL.map(Builtin::name).join(", ")
+                    ),
+                )
+            })
+    }
+
+    /// The default sweep: `(t_end, h_min, h_max)`.
+    pub fn defaults(self) -> Defaults {
+        match self {
+            Builtin::Oscillator | Builtin::Pendulum => PERIODIC,
+            Builtin::Kepler | Builtin::KeplerHard => KEPLER,
+            Builtin::HenonHeiles | Builtin::Fpu | Builtin::Gyroscopic => SHORT,
+        }
+    }
+
+    /// A line for titles and reports.
+    pub fn description(self) -> &'static str {
+        match self {
+            Builtin::Oscillator => "harmonic oscillator",
+            Builtin::Gyroscopic => "gyroscopic linear system (n = 10, ω ∈ [1, 10])",
+            Builtin::Kepler => "Kepler e = 0.6",
+            Builtin::KeplerHard => "Kepler e = 0.9",
+            Builtin::HenonHeiles => "Hénon–Heiles (chaotic)",
+            Builtin::Fpu => "stiff FPU (ω = 50)",
+            Builtin::Pendulum => "pendulum (amplitude 2)",
+        }
+    }
+}
+
+/// Renames a setup after the built-in problem it is.
+fn built<P: Problem>(id: Builtin, setup: Result<Setup<P>>) -> Result<Setup<P>> {
+    Ok(setup?.named(id.name(), id.description()))
+}
+
+fn make<P: Problem>(id: Builtin, sys: P, t_end: f64, with_reference: bool) -> Result<Setup<P>> {
+    built(
+        id,
+        if with_reference {
+            Setup::new(sys, t_end)
+        } else {
+            Setup::energy_only(sys, t_end)
+        },
+    )
+}
+
+/// The harmonic oscillator to `t_end`; the reference end state only when
+/// asked for (long runs and stability searches judge by the energy alone).
+pub fn oscillator(t_end: f64, with_reference: bool) -> Result<Setup<Oscillator>> {
+    make(
+        Builtin::Oscillator,
+        Oscillator { k: 1.0 },
+        t_end,
+        with_reference,
+    )
+}
+
+pub fn pendulum(t_end: f64, with_reference: bool) -> Result<Setup<Pendulum>> {
+    make(Builtin::Pendulum, Pendulum, t_end, with_reference)
+}
+
+/// Kepler with e = 0.6 ([`Builtin::Kepler`]) or e = 0.9
+/// ([`Builtin::KeplerHard`]).
+pub fn kepler(hard: bool, t_end: f64, with_reference: bool) -> Result<Setup<Kepler>> {
+    let (id, e) = if hard {
+        (Builtin::KeplerHard, 0.9)
+    } else {
+        (Builtin::Kepler, 0.6)
+    };
+    make(id, Kepler { e }, t_end, with_reference)
+}
+
+pub fn henon_heiles(t_end: f64, with_reference: bool) -> Result<Setup<HenonHeiles>> {
+    make(Builtin::HenonHeiles, HenonHeiles, t_end, with_reference)
+}
+
+pub fn fpu(t_end: f64, with_reference: bool) -> Result<Setup<Fpu>> {
+    make(Builtin::Fpu, Fpu::stiff(), t_end, with_reference)
+}
+
+/// `gyroscopic(n, seed, spread)` from `q = 0`, `p = (1, …, 1)`.
+pub fn gyroscopic(
+    n: usize,
+    seed: u64,
+    spread: f64,
+    t_end: f64,
+    with_reference: bool,
+) -> Result<Setup<LinearHamiltonian>> {
+    let sys = linear::gyroscopic(n, seed, spread)
+        .map_err(|e| CompareError::problem("gyroscopic", e.to_string()))?;
+    make(Builtin::Gyroscopic, sys, t_end, with_reference)
+}
+
+/// The largest frequency of the linear system: `H` has eigenvalues `±iλ`,
+/// so `H²` has `−λ²`; power iteration on `H²` (with `Hz = rhs(z) − u`).
+pub fn omega_max(sys: &LinearHamiltonian) -> f64 {
+    let d = sys.dim();
+    let u = sys.offset();
+    let apply = |z: &[f64]| {
+        let mut out = vec![0.0; d];
+        sys.rhs(0.0, z, &mut out);
+        for (o, ui) in out.iter_mut().zip(&u) {
+            *o -= ui;
+        }
+        out
+    };
+    let mut v: Vec<f64> = (0..d).map(|i| 1.0 + 0.1 * (i as f64).sin()).collect();
+    let mut lambda2 = 0.0;
+    for _ in 0..500 {
+        let w = apply(&apply(&v));
+        let norm = w.iter().map(|x| x * x).sum::<f64>().sqrt();
+        let vnorm = v.iter().map(|x| x * x).sum::<f64>().sqrt();
+        let next = norm / vnorm;
+        if !(next.is_finite() && norm > 0.0) {
+            break;
+        }
+        v = w.iter().map(|x| x / norm).collect();
+        if (next - lambda2).abs() <= 1e-12 * next {
+            lambda2 = next;
+            break;
+        }
+        lambda2 = next;
+    }
+    lambda2.sqrt()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn omega_max_of_the_gyroscopic_system_is_near_the_spread() {
+        let sys = linear::gyroscopic(10, 7, 1e4).unwrap();
+        let w = omega_max(&sys);
+        assert!((0.99e4..=1.0e4 + 0.3).contains(&w), "{w}");
+    }
+
+    #[test]
+    fn separable_methods_on_the_linear_problem_say_why_not() {
+        let sys = linear::gyroscopic(3, 1, 10.0).unwrap();
+        let err = match Method::by_id("leapfrog", &sys) {
+            Err(e) => e.to_string(),
+            Ok(_) => panic!("leapfrog cannot step the linear system"),
+        };
+        assert!(err.contains("separable"), "{err}");
+        assert!(Method::by_id("gauss2-propagator", &sys).is_ok());
+        let kepler = Kepler { e: 0.6 };
+        assert!(Method::by_id("gauss2-propagator", &kepler).is_err());
+        let err = match Method::by_id("nope", &kepler) {
+            Err(e) => e.to_string(),
+            Ok(_) => panic!(),
+        };
+        assert!(err.contains("leapfrog") && err.contains("unknown"), "{err}");
+    }
+
+    #[test]
+    fn names_round_trip() {
+        for b in Builtin::ALL {
+            assert_eq!(Builtin::from_name(b.name()).unwrap(), b);
+        }
+        assert!(
+            Builtin::from_name("nope")
+                .unwrap_err()
+                .to_string()
+                .contains("kepler-hard")
+        );
+        assert_eq!(Kepler { e: 0.6 }.name(), "kepler");
+        assert_eq!(Kepler { e: 0.9 }.name(), "kepler-hard");
+    }
+}

@@ -1,0 +1,81 @@
+//! The comparison harness as a library: any scheme on any problem.
+//!
+//! A *problem* is a system with an energy, a start, a reference solution
+//! and default sweep settings ([`Problem`]); the library's test problems
+//! implement it ([`builtin`]), and so can yours. A *method* is anything
+//! that implements [`Step`](integrator_core::Step) for the problem — a
+//! `butcher!` scheme declared in your crate ([`Method::scheme`]), one of
+//! the library's by id ([`Method::by_id`]), a table file stepped by the
+//! run-time interpreters ([`Method::table_file`]) — or the adaptive peer
+//! DOP853 ([`Method::dop853`]). The experiments run any list of methods on
+//! one problem:
+//!
+//! * [`work_precision`]: a sweep over step sizes (tolerances for the peer),
+//!   every run observed on a counting wrapper of the system (error at `T`,
+//!   max energy error, evaluations, stage-solver counters), then timed as
+//!   the median of repeats after a warm-up, strictly one run at a time;
+//!   [`WorkPrecision::write`] leaves `runs.csv`, log–log plots and
+//!   `report.md`;
+//! * [`long::run`]: 10⁶ steps and more, the energy error's growth exponent;
+//! * [`hard::run_case`]: the largest stable step by bisection;
+//! * [`peer_study::run`]: our schemes against DOP853 over 10–1000 Kepler
+//!   orbits.
+//!
+//! ```no_run
+//! use compare::{Method, SweepSettings, Problem, Setup, work_precision};
+//! use integrator_core::butcher;
+//! use integrator_core::problems::Kepler;
+//!
+//! butcher! {
+//!     /// Yoshida's order-4 triple jump.
+//!     pub MyTripleJump {
+//!         let x = 1/(2 - cbrt(2));
+//!         claims: [symplectic, symmetric, order = 4],
+//!         compose: [x, 1 - 2*x, x],
+//!     }
+//! }
+//!
+//! let kepler = Kepler { e: 0.6 };
+//! let setup = Setup::new(kepler.clone(), kepler.defaults().t_end)?;
+//! let methods = vec![
+//!     Method::scheme("my-triple-jump", MyTripleJump),
+//!     Method::by_id("kahan-li8", &kepler)?,
+//!     Method::dop853()?,
+//! ];
+//! let settings = SweepSettings::new(kepler.defaults(), setup.t_end);
+//! let result = work_precision(&setup, &methods, &settings)?;
+//! result.write(std::path::Path::new("out/my-comparison"))?;
+//! print!("{}", result.summary());
+//! # Ok::<(), compare::CompareError>(())
+//! ```
+//!
+//! Errors are [`CompareError`] values naming the setting, the problem, the
+//! method or the file; a run that diverges or whose stage solver fails at
+//! step k is not an error but a row whose `status` says so.
+
+pub mod builtin;
+pub mod counting;
+mod error;
+pub mod hard;
+pub mod interpreted;
+pub mod library;
+pub mod linear_file;
+pub mod long;
+mod method;
+pub mod output;
+pub mod peer;
+pub mod peer_study;
+pub mod plot;
+mod problem;
+pub mod report;
+pub mod stepper;
+pub mod sweep;
+mod work_precision;
+
+pub use counting::{AsOde, AsSeparable, Counting, Counts};
+pub use error::{CompareError, Result};
+pub use method::{Fixed, Method, family_of};
+pub use problem::{Counted, Defaults, Family, Kind, Problem, Setup};
+pub use stepper::{Lib, Outcome, Status, Stepper, Workspace};
+pub use sweep::Row;
+pub use work_precision::{SweepSettings, WorkPrecision, work_precision};

@@ -1,0 +1,165 @@
+//! The scheme library by id: `symlab list`'s ids mapped to the `butcher!`
+//! types of `integrator_core::library`, as steppers of any problem that
+//! they can step, and the exact propagators of the Gauss tables.
+
+use integrator_core::Separable;
+use integrator_core::library::*;
+
+use crate::counting::AsSeparable;
+use crate::problem::Problem;
+use crate::stepper::{Lib, Stepper};
+
+/// Declares the library by id: which schemes step any `OdeSystem` (`rk`:
+/// Runge–Kutta tables, explicit and implicit) and which only separable
+/// Hamiltonians (`separable`: drift–kick sequences, compositions, explicit
+/// pairs, and the implicit pair, which steps `Hamiltonian`s — all our
+/// Hamiltonian problems are separable). Emits the id lists and the two
+/// constructors; `tests::library_lists_cover_the_registry` checks the lists
+/// against `REGISTRY`.
+macro_rules! library {
+    (
+        rk: [$($rid:literal => $rty:ident),* $(,)?],
+        separable: [$($sid:literal => $sty:ident),* $(,)?] $(,)?
+    ) => {
+        /// Ids of the Runge–Kutta tables (they step every `OdeSystem`).
+        pub const RK_IDS: &[&str] = &[$($rid),*];
+        /// Ids of the schemes that step separable Hamiltonians only.
+        pub const SEPARABLE_IDS: &[&str] = &[$($sid),*];
+
+        /// Any library scheme on a separable problem, `None` for an id not
+        /// in the library.
+        pub fn separable_stepper<P>(id: &str) -> Option<Box<dyn Stepper<P>>>
+        where
+            P: Problem<Kind = AsSeparable> + Separable,
+        {
+            Some(match id {
+                $($rid => Box::new(Lib($rty)),)*
+                $($sid => Box::new(Lib($sty)),)*
+                _ => return None,
+            })
+        }
+
+        /// A Runge–Kutta table on any problem, `None` for any other id.
+        pub fn rk_stepper<P: Problem>(id: &str) -> Option<Box<dyn Stepper<P>>> {
+            Some(match id {
+                $($rid => Box::new(Lib($rty)),)*
+                _ => return None,
+            })
+        }
+    };
+}
+
+library! {
+    rk: [
+        "euler" => ExplicitEuler,
+        "heun" => Heun,
+        "rk4" => Rk4,
+        "rk38" => Rk38,
+        "implicit-euler" => ImplicitEuler,
+        "midpoint" => ImplicitMidpoint,
+        "gauss1" => GaussLegendre1,
+        "gauss2" => GaussLegendre2,
+        "gauss3" => GaussLegendre3,
+        "radau2a-2" => RadauIIA2,
+        "radau2a-3" => RadauIIA3,
+        "lobatto3a-2" => LobattoIIIA2,
+        "lobatto3a-3" => LobattoIIIA3,
+        "lobatto3b-2" => LobattoIIIB2,
+        "lobatto3b-3" => LobattoIIIB3,
+        "lobatto3c-2" => LobattoIIIC2,
+        "lobatto3c-3" => LobattoIIIC3,
+        "lobatto3cstar-2" => LobattoIIICStar2,
+        "paper-dirk2" => PaperDirk2,
+        "paper-dirk4" => PaperDirk4,
+    ],
+    separable: [
+        "symplectic-euler-a" => SymplecticEulerA,
+        "symplectic-euler-b" => SymplecticEulerB,
+        "stormer-verlet" => StormerVerlet,
+        "lobatto3a3b-3" => LobattoIIIAIIIB3,
+        "lobatto3c3cstar-2" => LobattoIIICIIICStar2,
+        "leapfrog" => Leapfrog,
+        "ruth3" => Ruth3,
+        "forest-ruth" => ForestRuth,
+        "candy-rozmus4" => CandyRozmus4,
+        "mclachlan-atela2" => McLachlanAtela2,
+        "mclachlan-atela3" => McLachlanAtela3,
+        "mclachlan-atela4" => McLachlanAtela4,
+        "mclachlan-atela5" => McLachlanAtela5,
+        "calvo-sanz-serna4" => CalvoSanzSerna4,
+        "mclachlan4" => McLachlan4,
+        "yoshida4" => Yoshida4,
+        "yoshida6" => Yoshida6,
+        "kahan-li6" => KahanLi6,
+        "kahan-li8" => KahanLi8,
+        "mclachlan8" => McLachlan8,
+        "sofroniou-spaletta10" => SofroniouSpaletta10,
+    ],
+}
+
+/// The Gauss tables whose propagators are offered on the linear system, as
+/// `(id, P, Q)` of their stability functions.
+pub fn propagator_tables() -> Vec<(&'static str, Vec<f64>, Vec<f64>)> {
+    vec![
+        (
+            "gauss1-propagator",
+            GaussLegendre1::STABILITY_P.to_vec(),
+            GaussLegendre1::STABILITY_Q.to_vec(),
+        ),
+        (
+            "gauss2-propagator",
+            GaussLegendre2::STABILITY_P.to_vec(),
+            GaussLegendre2::STABILITY_Q.to_vec(),
+        ),
+        (
+            "gauss3-propagator",
+            GaussLegendre3::STABILITY_P.to_vec(),
+            GaussLegendre3::STABILITY_Q.to_vec(),
+        ),
+    ]
+}
+
+/// Whether `id` is one of the [`propagator_tables`].
+pub fn is_propagator(id: &str) -> bool {
+    propagator_tables().iter().any(|(p, _, _)| *p == id)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use integrator_core::library::REGISTRY;
+    use integrator_core::problems::Kepler;
+
+    #[test]
+    fn library_lists_cover_the_registry() {
+        let mut all: Vec<&str> = RK_IDS.iter().chain(SEPARABLE_IDS).copied().collect();
+        let mut registry: Vec<&str> = REGISTRY.iter().map(|(id, _)| *id).collect();
+        all.sort_unstable();
+        registry.sort_unstable();
+        assert_eq!(all, registry);
+        for (id, info) in REGISTRY {
+            assert_eq!(
+                RK_IDS.contains(id),
+                info.form == "rk",
+                "{id}: form {}",
+                info.form
+            );
+        }
+    }
+
+    #[test]
+    fn observed_and_bare_runs_agree() {
+        let sys = Kepler { e: 0.3 };
+        let z0 = sys.initial_state();
+        for id in ["leapfrog", "rk4", "gauss2"] {
+            let s = separable_stepper::<Kepler>(id).unwrap();
+            let mut a = z0.clone();
+            let out = s.observed(&sys, &mut a, 0.01, 100, true, &mut |_, _, _| true);
+            assert!(out.status.is_ok(), "{id}");
+            assert!(out.evals > 0);
+            let mut b = z0.clone();
+            assert!(s.bare(&sys, &mut b, 0.01, 100));
+            assert_eq!(a, b, "{id}");
+        }
+    }
+}

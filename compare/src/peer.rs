@@ -1,0 +1,143 @@
+//! The peer: DOP853 (Hairer's explicit Runge–Kutta 8(5,3) with step-size
+//! control) from the `ode_solvers` crate, measured in the same run as our
+//! schemes (feature `peer`, on by default).
+//!
+//! Output: `OutputType::Sparse`, one stored state per accepted step. The
+//! crate's only way to get end-only output is `Dense` with `dx = t_end`, and
+//! in DOP853 dense output costs three extra right-hand-side evaluations per
+//! step (the interpolant's coefficients) — 15 instead of 12 — whereas a
+//! stored state is a copy of `2n` numbers. The last stored state is the state
+//! at `t_end` (the controller shortens the last step to land on it), and the
+//! stored states give the energy error at every accepted step.
+
+/// What one DOP853 run did.
+#[derive(Clone, Debug)]
+pub struct PeerOutcome {
+    /// `None` when the solver stopped with an error (its message), or the
+    /// state at `t_end`.
+    pub end: Result<Vec<f64>, String>,
+    /// The largest `|E − E₀|/|E₀|` over the accepted steps.
+    pub energy_error: f64,
+    /// Right-hand-side evaluations (the solver's own count).
+    pub evals: u64,
+    pub accepted: u64,
+    /// Wall time of the call (construction and integration), seconds.
+    pub seconds: f64,
+}
+
+#[cfg(feature = "peer")]
+mod imp {
+    use std::time::Instant;
+
+    use integrator_core::OdeSystem;
+    use ode_solvers::{DVector, Dop853, OutputType, SVector};
+
+    use super::PeerOutcome;
+    use crate::problem::{Problem, Setup};
+
+    /// The system in the crate's vector types (`rhs` of the problem: for a
+    /// separable one, one velocity and one force evaluation).
+    struct Peer<'a, P>(&'a P);
+
+    impl<P: OdeSystem, const N: usize> ode_solvers::System<f64, SVector<f64, N>> for Peer<'_, P> {
+        fn system(&self, t: f64, y: &SVector<f64, N>, dy: &mut SVector<f64, N>) {
+            self.0.rhs(t, y.as_slice(), dy.as_mut_slice());
+        }
+    }
+
+    impl<P: OdeSystem> ode_solvers::System<f64, DVector<f64>> for Peer<'_, P> {
+        fn system(&self, t: f64, y: &DVector<f64>, dy: &mut DVector<f64>) {
+            self.0.rhs(t, y.as_slice(), dy.as_mut_slice());
+        }
+    }
+
+    /// DOP853 on `setup` with `rtol = atol = tol`, default controller
+    /// settings, a step limit of 10⁷. Stack vectors for the state sizes of
+    /// the built-in problems (2, 4, 12), heap vectors otherwise (the solver
+    /// is generic over nalgebra's dimension types, which this crate does not
+    /// name; hence a macro for the one body).
+    pub fn dop853<P: Problem>(setup: &Setup<P>, tol: f64) -> PeerOutcome {
+        macro_rules! run {
+            ($y0:expr) => {{
+                let start = Instant::now();
+                let t = setup.t_end;
+                let mut solver = Dop853::from_param(
+                    Peer(&setup.sys),
+                    0.0,
+                    t,
+                    t, // dx: unused with sparse output
+                    $y0,
+                    tol,
+                    tol,
+                    0.9,   // safety factor (default)
+                    0.0,   // beta (default)
+                    0.333, // fac_min (default)
+                    6.0,   // fac_max (default)
+                    t,     // h_max (default: the whole interval)
+                    0.0,   // h = 0: initial step chosen by the solver
+                    10_000_000,
+                    1000, // stiffness test interval (default)
+                    OutputType::Sparse,
+                );
+                let result = solver.integrate();
+                let seconds = start.elapsed().as_secs_f64();
+                let states = solver.y_out();
+                let energy_error = states
+                    .iter()
+                    .map(|y| setup.energy_error(y.as_slice()))
+                    .fold(0.0, f64::max);
+                match result {
+                    Ok(stats) => {
+                        let end = states
+                            .last()
+                            .map(|y| y.as_slice().to_vec())
+                            .unwrap_or_default();
+                        let end = if end.iter().all(|x| x.is_finite()) {
+                            Ok(end)
+                        } else {
+                            Err("the solution diverged (non-finite state)".to_string())
+                        };
+                        PeerOutcome {
+                            end,
+                            energy_error,
+                            evals: stats.num_eval as u64,
+                            accepted: stats.accepted_steps as u64,
+                            seconds,
+                        }
+                    }
+                    Err(e) => PeerOutcome {
+                        end: Err(e.to_string()),
+                        energy_error,
+                        evals: 0,
+                        accepted: states.len().saturating_sub(1) as u64,
+                        seconds,
+                    },
+                }
+            }};
+        }
+        let z0 = &setup.z0;
+        match z0.len() {
+            2 => run!(SVector::<f64, 2>::from_column_slice(z0)),
+            4 => run!(SVector::<f64, 4>::from_column_slice(z0)),
+            12 => run!(SVector::<f64, 12>::from_column_slice(z0)),
+            _ => run!(DVector::<f64>::from_column_slice(z0)),
+        }
+    }
+}
+#[cfg(feature = "peer")]
+pub use imp::dop853;
+
+/// Without the `peer` feature there is no DOP853: every run says so.
+#[cfg(not(feature = "peer"))]
+pub fn dop853<P: crate::problem::Problem>(
+    _setup: &crate::problem::Setup<P>,
+    _tol: f64,
+) -> PeerOutcome {
+    PeerOutcome {
+        end: Err("the peer is not available (the `peer` feature is off)".into()),
+        energy_error: f64::NAN,
+        evals: 0,
+        accepted: 0,
+        seconds: f64::NAN,
+    }
+}

@@ -1,0 +1,322 @@
+//! What a problem is to the comparisons: a system with an energy, a start,
+//! a reference solution and default sweep settings ([`Problem`]), and one
+//! instance of it over `[0, T]` with its reference end state ([`Setup`]).
+//!
+//! A user's own system enters every experiment by implementing [`Problem`];
+//! the library's problems implement it in [`builtin`](crate::builtin).
+
+use integrator_core::{OdeSystem, Separable};
+
+use crate::counting::{AsOde, AsSeparable, Counting, Counts};
+use crate::error::{CompareError, Result};
+use crate::library;
+use crate::method::Method;
+use crate::stepper::Stepper;
+
+/// The default work–precision sweep of a problem: the end time and the
+/// range of step sizes (from about 100 to about 10⁵ steps is a good start).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Defaults {
+    pub t_end: f64,
+    pub h_min: f64,
+    pub h_max: f64,
+}
+
+/// A system the comparisons can run.
+///
+/// `Kind` says how the harness may treat it, and so which library schemes
+/// apply: [`AsSeparable`] for a [`Separable`] Hamiltonian (every library
+/// scheme; evaluations counted as force calls), [`AsOde`] for any other
+/// [`OdeSystem`] (the Runge–Kutta tables; right-hand sides counted).
+///
+/// ```
+/// use compare::{AsSeparable, Defaults, Problem};
+/// use integrator_core::Separable;
+///
+/// /// A quartic oscillator, H = p²/2 + q⁴/4.
+/// #[derive(Clone)]
+/// struct Quartic;
+/// impl Separable for Quartic {
+///     fn dof(&self) -> usize { 1 }
+///     fn kinetic(&self, p: &[f64]) -> f64 { 0.5 * p[0] * p[0] }
+///     fn potential(&self, q: &[f64]) -> f64 { 0.25 * q[0].powi(4) }
+///     fn velocity(&self, p: &[f64], v: &mut [f64]) { v[0] = p[0] }
+///     fn force(&self, q: &[f64], f: &mut [f64]) { f[0] = -q[0].powi(3) }
+/// }
+/// impl Problem for Quartic {
+///     type Kind = AsSeparable;
+///     fn name(&self) -> String { "quartic".into() }
+///     fn energy(&self, z: &[f64]) -> f64 { integrator_core::energy(self, z) }
+///     fn start(&self) -> Vec<f64> { vec![1.0, 0.0] }
+///     fn reference(&self, z0: &[f64], t_end: f64) -> Result<Vec<f64>, String> {
+///         // No closed form: a converged run of a high-order scheme.
+///         Ok(integrator_core::problems::reference_solution(self, z0, t_end, 2000.0))
+///     }
+///     fn defaults(&self) -> Defaults {
+///         Defaults { t_end: 10.0, h_min: 1e-3, h_max: 0.1 }
+///     }
+/// }
+/// let setup = compare::Setup::new(Quartic, 10.0).unwrap();
+/// assert_eq!(setup.reference.len(), 2);
+/// ```
+pub trait Problem: OdeSystem + Clone + Send + Sync + Sized + 'static {
+    /// [`AsSeparable`] or [`AsOde`].
+    type Kind: Kind<Self>;
+    /// A short id: the `problem` column of `runs.csv`, directory names.
+    fn name(&self) -> String;
+    /// A line for titles and reports (default: the name).
+    fn description(&self) -> String {
+        self.name()
+    }
+    /// The energy (the Hamiltonian) of a state; the energy error of a run is
+    /// `max |E(z) − E(z₀)|/|E(z₀)|` over its steps.
+    fn energy(&self, z: &[f64]) -> f64;
+    /// The default start state `z₀` (length [`dim`](OdeSystem::dim)).
+    fn start(&self) -> Vec<f64>;
+    /// The state at `t_end` of the solution from `z0`: an exact flow, or a
+    /// computed solution accurate well below the errors compared. An `Err`
+    /// says why there is none (e.g. outside the case a formula covers).
+    fn reference(&self, z0: &[f64], t_end: f64) -> std::result::Result<Vec<f64>, String>;
+    /// The default end time and step range of a sweep.
+    fn defaults(&self) -> Defaults;
+    /// A natural unit of time, for reports ("T = 62.8319 (10 orbits)"):
+    /// `(length, singular name)`; `None` (the default) for none.
+    fn period(&self) -> Option<(f64, &'static str)> {
+        None
+    }
+    /// Methods of this problem beyond the scheme library (the gyroscopic
+    /// problem's exact propagators): `None` for an id it does not know.
+    fn special_method(&self, id: &str) -> Option<Result<Method<Self>>> {
+        let _ = id;
+        None
+    }
+    /// The ids [`special_method`](Problem::special_method) knows.
+    fn special_ids(&self) -> Vec<String> {
+        vec![]
+    }
+}
+
+/// How the harness treats a problem type: the counting wrapper it runs the
+/// observed runs on, and which library schemes and table forms can step it.
+/// Implemented by the two markers [`AsSeparable`] and [`AsOde`]; a problem
+/// names one as its [`Problem::Kind`].
+pub trait Kind<P>: Sized + 'static {
+    /// `P` with its evaluations counted.
+    type Counted: OdeSystem;
+    /// Symplectic claims for separable Hamiltonians apply to `P`.
+    const SEPARABLE: bool;
+    /// Wrap a copy of the system.
+    fn counted(p: &P) -> Self::Counted;
+    fn counts(c: &Self::Counted) -> Counts;
+    /// The library scheme `id` as a stepper of `P`, `None` if `id` is not
+    /// one of [`library_ids`](Kind::library_ids).
+    fn library(id: &str) -> Option<Box<dyn Stepper<P>>>;
+    /// The library schemes that step `P`.
+    fn library_ids() -> Vec<&'static str>;
+    /// A table file's table (rounded as `butcher!` rounds it) stepped by the
+    /// run-time interpreters, or why this table cannot step `P`.
+    fn interpreted(table: &tableau::Table, id: &str) -> Result<Box<dyn Stepper<P>>>;
+}
+
+/// `P`'s counting wrapper.
+pub type Counted<P> = <<P as Problem>::Kind as Kind<P>>::Counted;
+
+impl<P: Problem<Kind = AsSeparable> + Separable> Kind<P> for AsSeparable {
+    type Counted = Counting<P>;
+    const SEPARABLE: bool = true;
+    fn counted(p: &P) -> Counting<P> {
+        Counting::new(p.clone())
+    }
+    fn counts(c: &Counting<P>) -> Counts {
+        c.counts()
+    }
+    fn library(id: &str) -> Option<Box<dyn Stepper<P>>> {
+        library::separable_stepper::<P>(id)
+    }
+    fn library_ids() -> Vec<&'static str> {
+        library::RK_IDS
+            .iter()
+            .chain(library::SEPARABLE_IDS)
+            .copied()
+            .collect()
+    }
+    fn interpreted(table: &tableau::Table, id: &str) -> Result<Box<dyn Stepper<P>>> {
+        crate::interpreted::separable(table, id)
+    }
+}
+
+impl<P: Problem<Kind = AsOde>> Kind<P> for AsOde {
+    type Counted = Counting<P, AsOde>;
+    const SEPARABLE: bool = false;
+    fn counted(p: &P) -> Counting<P, AsOde> {
+        Counting::new(p.clone())
+    }
+    fn counts(c: &Counting<P, AsOde>) -> Counts {
+        c.counts()
+    }
+    fn library(id: &str) -> Option<Box<dyn Stepper<P>>> {
+        library::rk_stepper::<P>(id)
+    }
+    fn library_ids() -> Vec<&'static str> {
+        library::RK_IDS.to_vec()
+    }
+    fn interpreted(table: &tableau::Table, id: &str) -> Result<Box<dyn Stepper<P>>> {
+        crate::interpreted::rk(table, id)
+    }
+}
+
+/// A problem instance: the system, its start, the end time `T` and the
+/// reference state at `T` (empty for runs judged by the energy alone).
+#[derive(Clone, Debug)]
+pub struct Setup<P> {
+    /// The `problem` column of the CSV files (default: [`Problem::name`]).
+    pub name: String,
+    pub description: String,
+    pub sys: P,
+    pub z0: Vec<f64>,
+    pub t_end: f64,
+    /// The reference state at `t_end`; empty for a setup made with
+    /// [`Setup::energy_only`].
+    pub reference: Vec<f64>,
+    /// `E(z0)`.
+    pub e0: f64,
+}
+
+impl<P: Problem> Setup<P> {
+    /// The problem from its default start to `t_end`, with its reference
+    /// end state. Errors name what is wrong: a non-positive or non-finite
+    /// `t_end`, a start or a reference of the wrong length or not finite, a
+    /// non-finite energy.
+    pub fn new(sys: P, t_end: f64) -> Result<Self> {
+        let z0 = sys.start();
+        Self::from_start(sys, z0, t_end)
+    }
+
+    /// The problem from `z0` to `t_end`, with its reference end state.
+    pub fn from_start(sys: P, z0: Vec<f64>, t_end: f64) -> Result<Self> {
+        let mut s = Self::energy_only_from(sys, z0, t_end)?;
+        let reference = s.sys.reference(&s.z0, t_end).map_err(|why| {
+            CompareError::problem(&s.name, format!("no reference solution: {why}"))
+        })?;
+        s.check_state("the reference end state", &reference)?;
+        s.reference = reference;
+        Ok(s)
+    }
+
+    /// The problem from its default start over `[0, t_end]` without a
+    /// reference (long runs and stability searches judge by the energy
+    /// alone; a computed reference over 10⁴ time units would cost more than
+    /// the runs).
+    pub fn energy_only(sys: P, t_end: f64) -> Result<Self> {
+        let z0 = sys.start();
+        Self::energy_only_from(sys, z0, t_end)
+    }
+
+    fn energy_only_from(sys: P, z0: Vec<f64>, t_end: f64) -> Result<Self> {
+        let name = sys.name();
+        if !(t_end.is_finite() && t_end > 0.0) {
+            return Err(CompareError::setting(
+                "t_end",
+                format!("the end time must be a finite number > 0, got {t_end}"),
+            ));
+        }
+        let e0 = sys.energy(&z0);
+        let s = Setup {
+            description: sys.description(),
+            name,
+            sys,
+            z0,
+            t_end,
+            reference: vec![],
+            e0,
+        };
+        s.check_state("the start state", &s.z0)?;
+        if !e0.is_finite() {
+            return Err(CompareError::problem(
+                &s.name,
+                format!("the energy of the start state is {e0}"),
+            ));
+        }
+        Ok(s)
+    }
+
+    fn check_state(&self, what: &str, z: &[f64]) -> Result<()> {
+        let dim = self.sys.dim();
+        if z.len() != dim {
+            return Err(CompareError::problem(
+                &self.name,
+                format!(
+                    "{what} has {} components, the system has dimension {dim}",
+                    z.len()
+                ),
+            ));
+        }
+        if let Some(i) = z.iter().position(|x| !x.is_finite()) {
+            return Err(CompareError::problem(
+                &self.name,
+                format!("{what} has a non-finite component z[{i}] = {}", z[i]),
+            ));
+        }
+        Ok(())
+    }
+
+    /// Rename the instance (the `problem` column and the titles).
+    pub fn named(mut self, name: impl Into<String>, description: impl Into<String>) -> Self {
+        self.name = name.into();
+        self.description = description.into();
+        self
+    }
+
+    /// `|E(z) − E₀| / |E₀|` (relative to the smallest positive f64 when
+    /// `E₀ = 0`).
+    pub fn energy_error(&self, z: &[f64]) -> f64 {
+        (self.sys.energy(z) - self.e0).abs() / self.e0.abs().max(f64::MIN_POSITIVE)
+    }
+
+    /// `‖z − z_ref‖₂ / ‖z_ref‖₂` at `t_end`; NaN without a reference.
+    pub fn error(&self, z: &[f64]) -> f64 {
+        if self.reference.len() != z.len() {
+            return f64::NAN;
+        }
+        let d: f64 = z
+            .iter()
+            .zip(&self.reference)
+            .map(|(a, b)| (a - b) * (a - b))
+            .sum();
+        let r: f64 = self.reference.iter().map(|b| b * b).sum();
+        (d / r.max(f64::MIN_POSITIVE)).sqrt()
+    }
+
+    /// The method with this id for this problem: the problem's own
+    /// ([`Problem::special_method`]), a library scheme, or `dop853`. The
+    /// error lists the valid ids.
+    pub fn method(&self, id: &str) -> Result<Method<P>> {
+        Method::by_id(id, &self.sys)
+    }
+
+    /// Every method id that applies to this problem (library schemes, the
+    /// problem's own, and `dop853` when the `peer` feature is on).
+    pub fn method_ids(&self) -> Vec<String> {
+        Method::ids(&self.sys)
+    }
+}
+
+/// The kind of a method, for plots split by family.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Family {
+    ExplicitRk,
+    Splitting,
+    Implicit,
+    Peer,
+}
+
+impl Family {
+    pub fn name(self) -> &'static str {
+        match self {
+            Family::ExplicitRk => "explicit-rk",
+            Family::Splitting => "splitting",
+            Family::Implicit => "implicit",
+            Family::Peer => "peer",
+        }
+    }
+}

@@ -1,0 +1,638 @@
+//! `symlab compare`: the command-line client of the comparison library
+//! (the `compare` crate, which documents the experiments, the columns of
+//! `runs.csv` and the report). This module parses and checks the flags —
+//! its messages name them — builds the problem and the methods, calls the
+//! library and prints what it returns.
+//!
+//! * `symlab compare --problem P [--methods id,…] [--table FILE]… [--t-end T]
+//!   [--h-min H --h-max H --points N] [--repeats R] [--target E] [--out DIR]
+//!   [--quick]`, or `--problem-file FILE` for a linear system from a file:
+//!   a work–precision sweep ([`compare::work_precision`]).
+//! * `--peer-study`: our strongest schemes against DOP853 over 10, 100 and
+//!   1000 Kepler orbits ([`compare::peer_study`]).
+//! * `--long --problem kepler|oscillator|henon-heiles [--steps N]`: energy
+//!   error over 10⁶ steps of symplectic against non-symplectic pairs
+//!   ([`compare::long`]).
+//! * `--hard [--problem fpu|kepler-hard|gyroscopic]`: the largest stable
+//!   step of every method ([`compare::hard`]).
+//! * `--from runs.csv`: the summary of an earlier sweep.
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::time::Instant;
+
+use anyhow::{Context, Result, bail};
+use compare::builtin::{self, Builtin};
+use compare::{Method, Problem, Setup, SweepSettings};
+
+/// The columns of `runs.csv`, for `--help`.
+const HELP: &str = "\
+runs.csv columns (one row per run):
+  problem            problem id
+  method             scheme id (symlab list), gaussN-propagator, or dop853
+  order              classical order (8 for dop853)
+  symplectic         symplectic for this problem (separable problems: for separable H)
+  h                  step size (dop853: average step T/steps)
+  tol                rtol = atol of dop853 (NaN for fixed-step methods)
+  steps              steps taken (dop853: accepted steps)
+  error              ‖z(T) − z_ref(T)‖₂/‖z_ref(T)‖₂ (NaN unless status is ok)
+  energy_error       max |E − E0|/|E0| over the steps taken
+  time_s             median wall time of the timed runs in seconds (NaN unless ok)
+  evals              force evaluations (separable problems), right-hand sides
+                     (gyroscopic; a propagator step counts one matrix-vector product),
+                     or dop853's own count
+  newton_iterations  Newton iterations of the implicit stage solver (0 if explicit)
+  fixed_point_iterations
+                     fixed-point iterations of the stage solver (its choice when the
+                     system has no Jacobian, as the separable problems)
+  factorizations     LU factorisations of the stage solver
+  status             ok | diverged at step k | solver failed at step k: why
+
+A sweep also writes report.md: the problem, T and the settings; the summary table; the wall
+time of each method to reach --target (default 1e-8), fastest first, with steps and
+evaluations; the methods that did not reach it and why (smallest error and where); and,
+when dop853 ran, our fastest method against it at each decade 1e-2 ... 1e-12.
+
+--peer-study (Kepler e = 0.6) runs kahan-li8, sofroniou-spaletta10, mclachlan8, kahan-li6,
+yoshida6, rk4, gauss3 and dop853 at 10, 100 and 1000 orbits (--quick: 1 and 10) and writes
+peer.csv (the runs.csv columns, then t_end) and peer.md (per run length and target 1e-6,
+1e-8, 1e-10: our fastest method against dop853, times, ratio, energy errors).
+
+--long writes long.csv (problem,method,order,symplectic,compensated,h,step,t,energy_error),
+long_fit.csv and long_energy.svg; --hard writes hard.csv and hard.md.
+
+--table FILE.toml (repeatable) adds a table file: its claims are verified exactly (a false
+claim or a malformed file: exit 2), then it is stepped by the run-time interpreter; its
+rows carry one more column, interpreted = true (errors and evaluations compare with
+generated code, wall times do not). --problem-file FILE.toml runs a linear system
+M q'' + G q' + K q = f read from a file (m, g, k, f, q0, p0, t_end, h_min, h_max) against
+its exact flow.";
+
+fn problem_id(s: &str) -> std::result::Result<Builtin, String> {
+    Builtin::from_name(s).map_err(|_| {
+        format!(
+            "the built-in problems are {}",
+            Builtin::ALL.map(Builtin::name).join(", ")
+        )
+    })
+}
+
+#[derive(clap::Args)]
+#[command(after_help = HELP)]
+pub struct CompareArgs {
+    /// The problem: oscillator, gyroscopic, kepler, kepler-hard,
+    /// henon-heiles, fpu or pendulum.
+    #[arg(long, value_parser = problem_id, value_name = "PROBLEM")]
+    problem: Option<Builtin>,
+    /// A linear system M q'' + G q' + K q = f from a TOML file (fields m,
+    /// g, k, f, q0, p0, and optionally t_end, h_min, h_max, name), with its
+    /// exact flow as the reference.
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["problem", "long", "hard", "peer_study", "from"])]
+    problem_file: Option<PathBuf>,
+    /// Comma-separated method ids (default: every method that applies).
+    #[arg(long, value_delimiter = ',', value_name = "ID,...")]
+    methods: Option<Vec<String>>,
+    /// A table file (TOML, as for `symlab check`) to add to the sweep: its
+    /// claims are verified exactly, then it is stepped by the run-time
+    /// interpreter (rows marked interpreted). Repeatable.
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["long", "hard", "peer_study", "from"])]
+    table: Vec<PathBuf>,
+    /// End time (default per problem, e.g. 20π = 10 orbits for Kepler).
+    #[arg(long, value_name = "T", allow_negative_numbers = true)]
+    t_end: Option<f64>,
+    /// Smallest step size of the sweep.
+    #[arg(long, value_name = "H", allow_negative_numbers = true)]
+    h_min: Option<f64>,
+    /// Largest step size of the sweep.
+    #[arg(long, value_name = "H", allow_negative_numbers = true)]
+    h_max: Option<f64>,
+    /// Number of step sizes (log-spaced; default 10), also the number of
+    /// DOP853 tolerances (default 15, one per decade from 1e-4 to 1e-18).
+    #[arg(long, value_name = "N")]
+    points: Option<usize>,
+    /// Timed runs per point (the median is reported), after one warm-up.
+    #[arg(long, value_name = "R")]
+    repeats: Option<usize>,
+    /// Error for the time-to-error table (default 1e-8); --peer-study adds
+    /// it to its targets 1e-6, 1e-8, 1e-10.
+    #[arg(long, value_name = "E", allow_negative_numbers = true)]
+    target: Option<f64>,
+    /// Output directory (default out/compare/<problem>/, out/compare/hard/).
+    #[arg(long, value_name = "DIR")]
+    out: Option<PathBuf>,
+    /// A smoke run of a few seconds: few points, few methods, one repeat.
+    #[arg(long)]
+    quick: bool,
+    /// Long runs: energy error of symplectic vs non-symplectic pairs over
+    /// 10⁶ steps (kepler, oscillator, henon-heiles).
+    #[arg(long, conflicts_with = "hard")]
+    long: bool,
+    /// Steps of the long runs (default 10⁶, at most 10⁷).
+    #[arg(long, value_name = "N", requires = "long")]
+    steps: Option<u64>,
+    /// Hard cases: the largest stable step of each method on stiff FPU,
+    /// Kepler e = 0.9 and a stiff gyroscopic system.
+    #[arg(long)]
+    hard: bool,
+    /// Read an existing runs.csv instead of running: print its summary and
+    /// time-to-error table (with --target).
+    #[arg(long, value_name = "CSV", conflicts_with_all = ["hard", "long", "problem"])]
+    from: Option<PathBuf>,
+    /// Run-length study against the peer on Kepler (e = 0.6): strong
+    /// schemes and DOP853 at 10, 100 and 1000 orbits; writes peer.csv and
+    /// peer.md (default directory out/compare/peer/).
+    #[arg(long, conflicts_with_all = ["hard", "long", "from"])]
+    peer_study: bool,
+}
+
+impl CompareArgs {
+    /// `--target`, default 1e-8.
+    fn target(&self) -> f64 {
+        self.target.unwrap_or(1e-8)
+    }
+}
+
+fn positive(name: &str, x: f64) -> Result<f64> {
+    if !(x.is_finite() && x > 0.0) {
+        bail!("--{name} must be a finite number > 0, got {x}");
+    }
+    Ok(x)
+}
+
+fn out_dir(args: &CompareArgs, default: &str) -> Result<PathBuf> {
+    let dir = args
+        .out
+        .clone()
+        .unwrap_or_else(|| Path::new("out").join("compare").join(default));
+    std::fs::create_dir_all(&dir).with_context(|| format!("creating {}", dir.display()))?;
+    Ok(dir)
+}
+
+fn method_ids(args: &CompareArgs) -> Result<Option<Vec<String>>> {
+    let Some(list) = &args.methods else {
+        return Ok(None);
+    };
+    let mut out: Vec<String> = Vec::new();
+    for m in list {
+        let m = m.trim();
+        if m.is_empty() {
+            bail!("--methods has an empty entry (ids are separated by single commas)");
+        }
+        if !out.iter().any(|x| x == m) {
+            out.push(m.to_string());
+        }
+    }
+    Ok(Some(out))
+}
+
+pub fn run(args: &CompareArgs) -> Result<ExitCode> {
+    let start = Instant::now();
+    if let Some(t) = args.target {
+        positive("target", t)?;
+    }
+    if args.repeats == Some(0) {
+        bail!("--repeats must be at least 1");
+    }
+    if let Some(path) = &args.from {
+        let rows = compare::output::read_runs(path)?;
+        if rows.is_empty() {
+            bail!("{}: no runs", path.display());
+        }
+        print!("{}", compare::output::summary(&rows, args.target()));
+        print!(
+            "{}",
+            compare::output::time_to_error_table(&rows, args.target(), &path.display().to_string())
+        );
+        return Ok(ExitCode::SUCCESS);
+    }
+    if args.peer_study {
+        peer_study(args)?;
+    } else if args.hard {
+        hard_cases(args)?;
+    } else if args.long {
+        long_runs(args)?;
+    } else if let Some(path) = &args.problem_file {
+        if args.steps.is_some() {
+            bail!("--steps belongs to --long");
+        }
+        let file = compare::linear_file::load(path)?;
+        let plan = plan(args, file.defaults)?;
+        let setup = file.setup(plan.t_end)?;
+        sweep_problem(args, &plan, setup, None)?;
+    } else {
+        let Some(problem) = args.problem else {
+            bail!(
+                "--problem is required: oscillator, gyroscopic, kepler, kepler-hard, henon-heiles, fpu or pendulum (or --problem-file FILE)"
+            );
+        };
+        work_precision(args, problem)?;
+    }
+    println!("done in {:.1} s", start.elapsed().as_secs_f64());
+    Ok(ExitCode::SUCCESS)
+}
+
+/// The validated sweep parameters.
+struct Plan {
+    t_end: f64,
+    settings: SweepSettings,
+}
+
+fn plan(args: &CompareArgs, defaults: compare::Defaults) -> Result<Plan> {
+    let t_def = defaults.t_end;
+    let t_end = positive("t-end", args.t_end.unwrap_or(t_def))?;
+    let h_min = positive(
+        "h-min",
+        args.h_min.unwrap_or(if args.quick {
+            t_def / 10_000.0
+        } else {
+            defaults.h_min
+        }),
+    )?;
+    let h_max = positive("h-max", args.h_max.unwrap_or(defaults.h_max.min(t_end)))?;
+    if h_min > h_max {
+        bail!("--h-min ({h_min}) must not exceed --h-max ({h_max})");
+    }
+    if h_max > t_end {
+        bail!("--h-max ({h_max}) exceeds the end time --t-end ({t_end})");
+    }
+    if t_end / h_min > 1e8 {
+        bail!(
+            "--h-min {h_min} over --t-end {t_end} is {:.1e} steps per run; at most 1e8",
+            t_end / h_min
+        );
+    }
+    let points = args.points.unwrap_or(if args.quick { 4 } else { 10 });
+    if !(1..=200).contains(&points) {
+        bail!("--points must be between 1 and 200, got {points}");
+    }
+    let repeats = args.repeats.unwrap_or(if args.quick { 1 } else { 3 });
+    if repeats > 100 {
+        bail!("--repeats must be at most 100, got {repeats}");
+    }
+    let tolerances = args.points.unwrap_or(if args.quick {
+        4
+    } else {
+        compare::sweep::PEER_TOLERANCES
+    });
+    let settings = SweepSettings {
+        h_min,
+        h_max,
+        points,
+        tolerances: compare::sweep::tolerances(tolerances),
+        repeats,
+        target: args.target(),
+    };
+    // The library checks the same facts; its names are the fields'.
+    settings.validate(t_end)?;
+    Ok(Plan { t_end, settings })
+}
+
+fn quick_methods(problem: Builtin) -> Vec<String> {
+    let ids: &[&str] = match problem {
+        Builtin::Gyroscopic => &["rk4", "gauss2", "gauss2-propagator"],
+        Builtin::Kepler | Builtin::KeplerHard if cfg!(feature = "peer") => {
+            &["leapfrog", "forest-ruth", "rk4", "gauss2", "dop853"]
+        }
+        _ => &["leapfrog", "forest-ruth", "rk4", "gauss2"],
+    };
+    ids.iter().map(|s| s.to_string()).collect()
+}
+
+/// Every method that applies; the peer only on Kepler (the problem it was
+/// studied on), unless asked for by `--methods`.
+fn default_methods<P: Problem>(setup: &Setup<P>, kepler: bool) -> Vec<String> {
+    setup
+        .method_ids()
+        .into_iter()
+        .filter(|m| kepler || m != "dop853")
+        .collect()
+}
+
+fn resolve<P: Problem>(
+    args: &CompareArgs,
+    setup: &Setup<P>,
+    builtin: Option<Builtin>,
+) -> Result<Vec<Method<P>>> {
+    let kepler = matches!(builtin, Some(Builtin::Kepler | Builtin::KeplerHard));
+    let ids = match method_ids(args)? {
+        Some(ids) => ids,
+        // With table files and no --methods: the tables beside a few
+        // references (the quick set), not the whole library.
+        None if args.quick || !args.table.is_empty() => match builtin {
+            Some(b) => quick_methods(b),
+            None => vec!["rk4".into(), "gauss2".into()],
+        },
+        None => default_methods(setup, kepler),
+    };
+    let mut methods: Vec<Method<P>> = ids
+        .iter()
+        .map(|id| setup.method(id))
+        .collect::<compare::Result<_>>()?;
+    for path in &args.table {
+        let m = Method::table_file(path)?;
+        if methods.iter().any(|x| x.id() == m.id()) {
+            bail!(
+                "--table {}: the method id '{}' (the file name) is taken; rename the file",
+                path.display(),
+                m.id()
+            );
+        }
+        methods.push(m);
+    }
+    Ok(methods)
+}
+
+fn work_precision(args: &CompareArgs, problem: Builtin) -> Result<()> {
+    if args.steps.is_some() {
+        bail!("--steps belongs to --long");
+    }
+    let plan = plan(args, problem.defaults())?;
+    let t = plan.t_end;
+    let b = Some(problem);
+    match problem {
+        Builtin::Oscillator => sweep_problem(args, &plan, builtin::oscillator(t, true)?, b),
+        Builtin::Pendulum => sweep_problem(args, &plan, builtin::pendulum(t, true)?, b),
+        Builtin::Kepler | Builtin::KeplerHard => sweep_problem(
+            args,
+            &plan,
+            builtin::kepler(problem == Builtin::KeplerHard, t, true)?,
+            b,
+        ),
+        Builtin::HenonHeiles => sweep_problem(args, &plan, builtin::henon_heiles(t, true)?, b),
+        Builtin::Fpu => sweep_problem(args, &plan, builtin::fpu(t, true)?, b),
+        Builtin::Gyroscopic => {
+            sweep_problem(args, &plan, builtin::gyroscopic(10, 1, 10.0, t, true)?, b)
+        }
+    }
+}
+
+fn sweep_problem<P: Problem>(
+    args: &CompareArgs,
+    plan: &Plan,
+    setup: Setup<P>,
+    builtin: Option<Builtin>,
+) -> Result<()> {
+    let methods = resolve(args, &setup, builtin)?;
+    let dir = out_dir(args, &setup.name)?;
+    let steps = plan.settings.step_counts(plan.t_end);
+    println!(
+        "{}: T = {}, {} methods, {} step sizes from h = {:.3e} to {:.3e} ({}–{} steps), {} timed run(s) each",
+        setup.description,
+        plan.t_end,
+        methods.len(),
+        steps.len(),
+        plan.t_end / steps[0] as f64,
+        plan.t_end / *steps.last().expect("at least one") as f64,
+        steps[0],
+        steps.last().expect("at least one"),
+        plan.settings.repeats
+    );
+    let result = compare::work_precision(&setup, &methods, &plan.settings)?;
+    let files = result.write(&dir)?;
+    print!("{}", result.summary());
+    if result.rows.iter().any(|r| r.interpreted) {
+        println!(
+            "interpreted: rows of table files are stepped by the run-time interpreter; their errors and \
+             evaluations compare with generated code, their times do not (see report.md)"
+        );
+    }
+    for f in files {
+        if f.ends_with("runs.csv") {
+            println!("wrote {} ({} rows)", f.display(), result.rows.len());
+        } else {
+            println!("wrote {}", f.display());
+        }
+    }
+    Ok(())
+}
+
+fn peer_study(args: &CompareArgs) -> Result<()> {
+    if let Some(p) = args.problem
+        && p != Builtin::Kepler
+    {
+        bail!(
+            "--peer-study runs on kepler (e = 0.6) only, not on {}",
+            p.name()
+        );
+    }
+    for (set, name) in [
+        (args.t_end.is_some(), "t-end"),
+        (args.h_min.is_some(), "h-min"),
+        (args.h_max.is_some(), "h-max"),
+        (args.points.is_some(), "points"),
+        (args.steps.is_some(), "steps"),
+    ] {
+        if set {
+            bail!(
+                "--{name} does not apply to --peer-study: it runs 10, 100 and 1000 orbits with step ranges of its own"
+            );
+        }
+    }
+    let mut settings = if args.quick {
+        compare::peer_study::PeerStudySettings::quick()
+    } else {
+        compare::peer_study::PeerStudySettings::full()
+    };
+    if let Some(r) = args.repeats {
+        if r > 100 {
+            bail!("--repeats must be at most 100, got {r}");
+        }
+        settings.repeats = r;
+    }
+    if let Some(ids) = method_ids(args)? {
+        if !ids.iter().any(|m| m == "dop853") {
+            bail!("--peer-study compares against dop853: keep it in --methods");
+        }
+        settings.methods = ids;
+    }
+    if let Some(t) = args.target {
+        settings = settings.with_target(t);
+        settings.energy_target = t;
+    }
+    let dir = out_dir(args, "peer")?;
+    let study = compare::peer_study::run(settings)?;
+    study.write(&dir)?;
+    print!("{}", study.verdict());
+    println!(
+        "wrote {} ({} rows)",
+        dir.join("peer.csv").display(),
+        study.rows().0.len()
+    );
+    println!("wrote {}", dir.join("peer.md").display());
+    Ok(())
+}
+
+fn long_runs(args: &CompareArgs) -> Result<()> {
+    let Some(problem) = args.problem else {
+        bail!("--long needs --problem kepler, oscillator or henon-heiles");
+    };
+    if args.methods.is_some() {
+        bail!(
+            "--long compares fixed pairs (leapfrog/heun, forest-ruth/rk4, gauss2/rk4); --methods does not apply"
+        );
+    }
+    for (set, name) in [
+        (args.t_end.is_some(), "t-end"),
+        (args.h_min.is_some(), "h-min"),
+        (args.h_max.is_some(), "h-max"),
+        (args.points.is_some(), "points"),
+    ] {
+        if set {
+            bail!("--{name} belongs to the work-precision sweep, not to --long (use --steps)");
+        }
+    }
+    let n = args
+        .steps
+        .unwrap_or(if args.quick { 10_000 } else { 1_000_000 });
+    if !(1000..=10_000_000).contains(&n) {
+        bail!("--steps must be between 1000 and 10^7, got {n}");
+    }
+    let settings = compare::long::LongSettings { h: 0.01, steps: n };
+    let t = n as f64 * settings.h;
+    fn go<P: Problem>(
+        setup: Setup<P>,
+        settings: compare::long::LongSettings,
+    ) -> compare::Result<Vec<compare::long::LongRun>> {
+        let methods = compare::long::pair_methods(&setup.sys)?;
+        compare::long::run(&setup, &methods, settings)
+    }
+    let runs = match problem {
+        Builtin::Kepler => go(builtin::kepler(false, t, false)?, settings)?,
+        Builtin::Oscillator => go(builtin::oscillator(t, false)?, settings)?,
+        Builtin::HenonHeiles => go(builtin::henon_heiles(t, false)?, settings)?,
+        other => bail!(
+            "--long runs on kepler, oscillator or henon-heiles, not on {}",
+            other.name()
+        ),
+    };
+    let dir = out_dir(args, problem.name())?;
+    compare::long::write(&dir, &runs)?;
+    println!(
+        "{}: {n} steps of h = {} (T = {t})",
+        problem.description(),
+        settings.h
+    );
+    print!("{}", compare::long::summary(&runs));
+    for f in ["long.csv", "long_fit.csv", "long_energy.svg"] {
+        println!("wrote {}", dir.join(f).display());
+    }
+    Ok(())
+}
+
+fn hard_methods<P: Problem>(
+    args: &CompareArgs,
+    setup: &Setup<P>,
+    problem: Builtin,
+    notes: &mut Vec<String>,
+    name: &str,
+) -> Result<Vec<compare::Fixed<P>>> {
+    let ids = match method_ids(args)? {
+        Some(ids) => ids,
+        None if args.quick => match problem {
+            Builtin::Gyroscopic => {
+                vec!["rk4".into(), "gauss2".into(), "gauss2-propagator".into()]
+            }
+            _ => vec!["leapfrog".into(), "rk4".into(), "gauss2".into()],
+        },
+        None => setup
+            .method_ids()
+            .into_iter()
+            .filter(|m| m != "dop853")
+            .collect(),
+    };
+    let mut out = Vec::new();
+    for id in ids {
+        match setup.method(&id) {
+            Ok(Method::Fixed(f)) => out.push(f),
+            Ok(Method::Dop853) => notes.push(format!(
+                "dop853 skipped on {name}: adaptive, it has no step size"
+            )),
+            Err(e) if args.methods.is_some() && !e.to_string().starts_with("unknown") => {
+                notes.push(format!("{id} skipped on {name}: {e}"))
+            }
+            Err(e) => return Err(e.into()),
+        }
+    }
+    Ok(out)
+}
+
+fn hard_cases(args: &CompareArgs) -> Result<()> {
+    for (set, name) in [
+        (args.t_end.is_some(), "t-end"),
+        (args.h_min.is_some(), "h-min"),
+        (args.h_max.is_some(), "h-max"),
+        (args.points.is_some(), "points"),
+    ] {
+        if set {
+            bail!("--{name} belongs to the work-precision sweep, not to --hard");
+        }
+    }
+    if let Some(p) = args.problem
+        && !matches!(p, Builtin::Fpu | Builtin::KeplerHard | Builtin::Gyroscopic)
+    {
+        bail!(
+            "--hard covers fpu, kepler-hard and gyroscopic, not {}",
+            p.name()
+        );
+    }
+    let wanted = |p: Builtin| args.problem.is_none_or(|q| q == p);
+    let (tolerance, floor) = if args.quick {
+        (0.05, 1e-4)
+    } else {
+        (0.01, 1e-6)
+    };
+    let mut rows = Vec::new();
+    let mut notes = vec![];
+    if wanted(Builtin::Fpu) {
+        let name = "fpu (ω = 50)";
+        let setup = builtin::fpu(10.0, false)?;
+        let omega = setup.sys.omega;
+        notes.push(format!("{name}: T = 10, h·ω_max with ω_max = {omega}"));
+        let methods = hard_methods(args, &setup, Builtin::Fpu, &mut notes, name)?;
+        let case = compare::hard::Case {
+            name,
+            setup,
+            h0: 0.01,
+            omega_max: Some(omega),
+        };
+        rows.extend(compare::hard::run_case(&case, &methods, tolerance, floor));
+    }
+    if wanted(Builtin::KeplerHard) {
+        let name = "kepler (e = 0.9)";
+        let t = 20.0 * std::f64::consts::PI;
+        notes.push(format!(
+            "{name}: T = 20π (10 orbits); no single frequency, so no h·ω_max"
+        ));
+        let setup = builtin::kepler(true, t, false)?;
+        let methods = hard_methods(args, &setup, Builtin::KeplerHard, &mut notes, name)?;
+        let case = compare::hard::Case {
+            name,
+            setup,
+            h0: 0.01,
+            omega_max: None,
+        };
+        rows.extend(compare::hard::run_case(&case, &methods, tolerance, floor));
+    }
+    if wanted(Builtin::Gyroscopic) {
+        let name = "gyroscopic (n = 10, spread 1e4)";
+        let setup = builtin::gyroscopic(10, 1, 1e4, 1.0, false)?;
+        let omega = builtin::omega_max(&setup.sys);
+        notes.push(format!(
+            "{name}: gyroscopic(10, seed 1, spread 1e4), q(0) = 0, p(0) = 1, T = 1, ω_max = {omega:.2} (power iteration)"
+        ));
+        let methods = hard_methods(args, &setup, Builtin::Gyroscopic, &mut notes, name)?;
+        let case = compare::hard::Case {
+            name,
+            setup,
+            h0: 1e-4,
+            omega_max: Some(omega),
+        };
+        rows.extend(compare::hard::run_case(&case, &methods, tolerance, floor));
+    }
+    let dir = out_dir(args, "hard")?;
+    compare::hard::write(&dir, &rows, &notes)?;
+    print!("{}", compare::hard::markdown(&rows, &notes));
+    println!("wrote {}", dir.join("hard.csv").display());
+    println!("wrote {}", dir.join("hard.md").display());
+    Ok(())
+}
