@@ -489,3 +489,202 @@ fn the_peer_study_refuses_other_modes_and_settings() {
         assert!(!err.contains("panicked"), "{args:?}: {err}");
     }
 }
+
+/// A copy of a table file under a new name (the method id is the file
+/// name), with extra lines appended.
+fn table_copy(dir: &std::path::Path, from: &str, name: &str, extra: &str) -> PathBuf {
+    std::fs::create_dir_all(dir).unwrap();
+    let text = std::fs::read_to_string(format!("tests/tables/{from}.toml")).unwrap();
+    let path = dir.join(format!("{name}.toml"));
+    std::fs::write(&path, format!("{extra}\n{text}")).unwrap();
+    path
+}
+
+#[test]
+fn table_files_join_the_sweep_and_match_the_generated_schemes() {
+    let dir = temp_dir("table");
+    let fr = table_copy(
+        &dir,
+        "forest-ruth",
+        "my-forest-ruth",
+        "claims = [\"symplectic\", \"order = 4\"]",
+    );
+    let g2 = table_copy(&dir, "gauss2", "my-gauss2", "");
+    let out = dir.join("out");
+    let (code, stdout, err) = symlab(&[
+        "compare",
+        "--problem",
+        "kepler",
+        "--methods",
+        "forest-ruth,gauss2",
+        "--table",
+        fr.to_str().unwrap(),
+        "--table",
+        g2.to_str().unwrap(),
+        "--points",
+        "3",
+        "--h-min",
+        "0.01",
+        "--h-max",
+        "0.1",
+        "--repeats",
+        "1",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "stderr: {err}");
+    assert!(stdout.contains("interpreted"), "{stdout}");
+    let (header, rows) = read_csv(&out.join("runs.csv"));
+    let mut with = COLUMNS.to_vec();
+    with.push("interpreted");
+    assert_eq!(header, with);
+    for (table, library) in [("my-forest-ruth", "forest-ruth"), ("my-gauss2", "gauss2")] {
+        let mine: Vec<_> = rows.iter().filter(|r| r["method"] == table).collect();
+        let lib: Vec<_> = rows.iter().filter(|r| r["method"] == library).collect();
+        assert_eq!(mine.len(), 3, "{table}");
+        assert_eq!(mine.len(), lib.len());
+        for (a, b) in mine.iter().zip(&lib) {
+            assert_eq!(a["interpreted"], "true");
+            assert_eq!(b["interpreted"], "false");
+            assert_eq!(a["status"], "ok", "{a:?}");
+            assert_eq!(a["steps"], b["steps"]);
+            assert_eq!(a["evals"], b["evals"], "{table}: evaluations");
+            assert_eq!(a["order"], b["order"]);
+            assert_eq!(a["symplectic"], b["symplectic"]);
+            let (ea, eb): (f64, f64) = (a["error"].parse().unwrap(), b["error"].parse().unwrap());
+            // The same steps up to round-off: the errors agree far below
+            // their own size.
+            assert!(
+                (ea - eb).abs() <= 1e-12 + 1e-9 * eb,
+                "{table}: {ea} vs {eb}"
+            );
+        }
+    }
+    let report = std::fs::read_to_string(out.join("report.md")).unwrap();
+    assert!(report.contains("## Interpreted tables"), "{report}");
+    assert!(report.contains("my-forest-ruth (interpreted)"), "{report}");
+    assert!(report.contains("--example my_scheme"), "{report}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn table_files_with_false_claims_or_bad_fields_are_refused() {
+    let dir = temp_dir("badtable");
+    let false_claim = table_copy(
+        &dir,
+        "gauss2-perturbed",
+        "almost-gauss2",
+        "claims = [\"order = 4\", \"symplectic\"]",
+    );
+    let malformed = table_copy(&dir, "not-a-number", "broken", "");
+    let taken = table_copy(&dir, "rk4", "rk4", "");
+    let cases: Vec<(&PathBuf, Vec<&str>)> = vec![
+        (
+            &false_claim,
+            vec![
+                "almost-gauss2.toml",
+                "claim `symplectic` does not hold",
+                "W[0][1]",
+            ],
+        ),
+        (&malformed, vec!["broken.toml", "field a[0][0]"]),
+        (&taken, vec!["rk4", "taken"]),
+    ];
+    for (path, needles) in cases {
+        let (code, _, err) = symlab(&[
+            "compare",
+            "--quick",
+            "--problem",
+            "kepler",
+            "--table",
+            path.to_str().unwrap(),
+            "--out",
+            dir.join("out").to_str().unwrap(),
+        ]);
+        assert_eq!(code, 2, "{path:?}: {err}");
+        for n in needles {
+            assert!(err.contains(n), "{path:?}: expected {n:?} in {err}");
+        }
+        assert!(!err.contains("panicked"), "{err}");
+    }
+    // A drift–kick table cannot step the linear (non-separable) problem.
+    let fr = table_copy(&dir, "forest-ruth", "fr", "");
+    let (code, _, err) = symlab(&[
+        "compare",
+        "--quick",
+        "--problem",
+        "gyroscopic",
+        "--table",
+        fr.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("'fr'") && err.contains("separable"), "{err}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn a_linear_problem_from_a_file_runs_against_its_exact_flow() {
+    let dir = temp_dir("linfile");
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("two-masses.toml");
+    std::fs::write(
+        &path,
+        "m = [[2.0, 0.0], [0.0, 1.0]]\ng = [[0.0, 0.5], [-0.5, 0.0]]\nk = [[3.0, -1.0], [-1.0, 2.0]]\n\
+         f = [0.1, 0.0]\nq0 = [1.0, 0.0]\nt_end = 10.0\nh_min = 0.01\nh_max = 0.5\n",
+    )
+    .unwrap();
+    let out = dir.join("out");
+    let (code, _, err) = symlab(&[
+        "compare",
+        "--problem-file",
+        path.to_str().unwrap(),
+        "--methods",
+        "rk4,gauss2,gauss2-propagator",
+        "--points",
+        "4",
+        "--repeats",
+        "1",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let (_, rows) = read_csv(&out.join("runs.csv"));
+    assert!(
+        rows.iter()
+            .all(|r| r["problem"] == "two-masses" && r["status"] == "ok")
+    );
+    let rk4: Vec<f64> = rows
+        .iter()
+        .filter(|r| r["method"] == "rk4")
+        .map(|r| r["error"].parse().unwrap())
+        .collect();
+    // Errors fall like h⁴: 4 points over a factor of 50 in h.
+    assert!(rk4[0] / rk4[3] > 1e5, "{rk4:?}");
+    // Bad files name the field.
+    for (text, needle) in [
+        (
+            "m = [[1.0]]\nk = [[1.0]]\nq0 = [1.0, 2.0]\n",
+            "field q0 has 2 entries",
+        ),
+        ("m = [[1.0]]\nk = [[1.0]]\nq0 = [1.0]\nspeed = 3\n", "speed"),
+        ("m = [[-1.0]]\nk = [[1.0]]\nq0 = [1.0]\n", "M"),
+        (
+            "m = [[1.0]]\nk = [[1.0]]\nq0 = [1.0]\nt_end = -1.0\n",
+            "t_end",
+        ),
+    ] {
+        std::fs::write(&path, text).unwrap();
+        let (code, _, err) = symlab(&[
+            "compare",
+            "--quick",
+            "--problem-file",
+            path.to_str().unwrap(),
+        ]);
+        assert_eq!(code, 2, "{text}: {err}");
+        assert!(
+            err.contains("two-masses.toml") && err.contains(needle),
+            "{text}: {err}"
+        );
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -220,17 +220,19 @@ impl<P: Problem> Setup<P> {
                 format!("the end time must be a finite number > 0, got {t_end}"),
             ));
         }
-        let e0 = sys.energy(&z0);
-        let s = Setup {
+        let mut s = Setup {
             description: sys.description(),
             name,
             sys,
             z0,
             t_end,
             reference: vec![],
-            e0,
+            e0: f64::NAN,
         };
+        // The length first: the problem's own energy may index the state.
         s.check_state("the start state", &s.z0)?;
+        let e0 = s.sys.energy(&s.z0);
+        s.e0 = e0;
         if !e0.is_finite() {
             return Err(CompareError::problem(
                 &s.name,
