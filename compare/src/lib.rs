@@ -79,3 +79,10 @@ pub use problem::{Counted, Defaults, Family, Kind, Problem, Setup};
 pub use stepper::{Lib, Outcome, Status, Stepper, Workspace};
 pub use sweep::Row;
 pub use work_precision::{SweepSettings, WorkPrecision, work_precision};
+
+/// The README's Rust examples, compiled and run as doctests so that the
+/// documentation a user reads first cannot go stale. They live here, in the
+/// crate that sees every other (the comparison example needs this one).
+#[cfg(doctest)]
+#[doc = include_str!("../../README.md")]
+pub struct ReadmeDoctests;

@@ -51,9 +51,3 @@ pub use integrate::{check_start, integrate};
 pub use integrator_macros::butcher;
 pub use scheme::{Info, Scheme, Step};
 pub use system::{Hamiltonian, OdeSystem, Separable, energy};
-
-/// The README's Rust examples, compiled and run as doctests so that the
-/// documentation a user reads first cannot go stale.
-#[cfg(doctest)]
-#[doc = include_str!("../../README.md")]
-pub struct ReadmeDoctests;
