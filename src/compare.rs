@@ -583,51 +583,45 @@ fn hard_cases(args: &CompareArgs) -> Result<()> {
     };
     let mut rows = Vec::new();
     let mut notes = vec![];
-    if wanted(Builtin::Fpu) {
-        let name = "fpu (ω = 50)";
-        let setup = builtin::fpu(10.0, false)?;
-        let omega = setup.sys.omega;
-        notes.push(format!("{name}: T = 10, h·ω_max with ω_max = {omega}"));
-        let methods = hard_methods(args, &setup, Builtin::Fpu, &mut notes, name)?;
-        let case = compare::hard::Case {
-            name,
-            setup,
-            h0: 0.01,
-            omega_max: Some(omega),
-        };
+    fn one<P: Problem>(
+        args: &CompareArgs,
+        case: compare::hard::Case<P>,
+        problem: Builtin,
+        rows: &mut Vec<compare::hard::HardRow>,
+        notes: &mut Vec<String>,
+        (tolerance, floor): (f64, f64),
+    ) -> Result<()> {
+        notes.push(case.note.clone());
+        let methods = hard_methods(args, &case.setup, problem, notes, case.name)?;
         rows.extend(compare::hard::run_case(&case, &methods, tolerance, floor));
+        Ok(())
+    }
+    let search = (tolerance, floor);
+    if wanted(Builtin::Fpu) {
+        let case = compare::hard::fpu_case()?;
+        one(args, case, Builtin::Fpu, &mut rows, &mut notes, search)?;
     }
     if wanted(Builtin::KeplerHard) {
-        let name = "kepler (e = 0.9)";
-        let t = 20.0 * std::f64::consts::PI;
-        notes.push(format!(
-            "{name}: T = 20π (10 orbits); no single frequency, so no h·ω_max"
-        ));
-        let setup = builtin::kepler(true, t, false)?;
-        let methods = hard_methods(args, &setup, Builtin::KeplerHard, &mut notes, name)?;
-        let case = compare::hard::Case {
-            name,
-            setup,
-            h0: 0.01,
-            omega_max: None,
-        };
-        rows.extend(compare::hard::run_case(&case, &methods, tolerance, floor));
+        let case = compare::hard::kepler_case()?;
+        one(
+            args,
+            case,
+            Builtin::KeplerHard,
+            &mut rows,
+            &mut notes,
+            search,
+        )?;
     }
     if wanted(Builtin::Gyroscopic) {
-        let name = "gyroscopic (n = 10, spread 1e4)";
-        let setup = builtin::gyroscopic(10, 1, 1e4, 1.0, false)?;
-        let omega = builtin::omega_max(&setup.sys);
-        notes.push(format!(
-            "{name}: gyroscopic(10, seed 1, spread 1e4), q(0) = 0, p(0) = 1, T = 1, ω_max = {omega:.2} (power iteration)"
-        ));
-        let methods = hard_methods(args, &setup, Builtin::Gyroscopic, &mut notes, name)?;
-        let case = compare::hard::Case {
-            name,
-            setup,
-            h0: 1e-4,
-            omega_max: Some(omega),
-        };
-        rows.extend(compare::hard::run_case(&case, &methods, tolerance, floor));
+        let case = compare::hard::gyroscopic_case()?;
+        one(
+            args,
+            case,
+            Builtin::Gyroscopic,
+            &mut rows,
+            &mut notes,
+            search,
+        )?;
     }
     let dir = out_dir(args, "hard")?;
     compare::hard::write(&dir, &rows, &notes)?;

@@ -31,6 +31,51 @@ pub struct Case<P: Problem> {
     pub setup: Setup<P>,
     pub h0: f64,
     pub omega_max: Option<f64>,
+    /// A line for the report: what the case is.
+    pub note: String,
+}
+
+/// The stiff FPU chain (ω = 50) over T = 10.
+pub fn fpu_case() -> Result<Case<integrator_core::problems::Fpu>> {
+    let name = "fpu (ω = 50)";
+    let setup = crate::builtin::fpu(10.0, false)?;
+    let omega = setup.sys.omega;
+    Ok(Case {
+        name,
+        note: format!("{name}: T = 10, h·ω_max with ω_max = {omega}"),
+        setup,
+        h0: 0.01,
+        omega_max: Some(omega),
+    })
+}
+
+/// Kepler with e = 0.9 over 10 orbits.
+pub fn kepler_case() -> Result<Case<integrator_core::problems::Kepler>> {
+    let name = "kepler (e = 0.9)";
+    let t = 20.0 * std::f64::consts::PI;
+    Ok(Case {
+        name,
+        note: format!("{name}: T = 20π (10 orbits); no single frequency, so no h·ω_max"),
+        setup: crate::builtin::kepler(true, t, false)?,
+        h0: 0.01,
+        omega_max: None,
+    })
+}
+
+/// A stiff linear gyroscopic system, frequencies 1 … 10⁴, over T = 1.
+pub fn gyroscopic_case() -> Result<Case<integrator_core::linear::LinearHamiltonian>> {
+    let name = "gyroscopic (n = 10, spread 1e4)";
+    let setup = crate::builtin::gyroscopic(10, 1, 1e4, 1.0, false)?;
+    let omega = crate::builtin::omega_max(&setup.sys);
+    Ok(Case {
+        name,
+        note: format!(
+            "{name}: gyroscopic(10, seed 1, spread 1e4), q(0) = 0, p(0) = 1, T = 1, ω_max = {omega:.2} (power iteration)"
+        ),
+        setup,
+        h0: 1e-4,
+        omega_max: Some(omega),
+    })
 }
 
 /// What lies just beyond the largest stable step.

@@ -125,7 +125,7 @@ impl<P: Problem> Method<P> {
             } else {
                 i.symplectic
             },
-            family: family_of(&i),
+            family: family_of(i),
             interpreted: false,
             stepper,
         }))

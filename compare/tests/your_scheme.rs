@@ -78,7 +78,7 @@ fn fitted(rows: &[compare::Row], method: &str) -> f64 {
 #[test]
 fn a_scheme_declared_here_joins_a_sweep_beside_the_library() {
     let kepler = Kepler { e: 0.6 };
-    let setup = Setup::new(kepler.clone(), 2.0 * std::f64::consts::PI).unwrap();
+    let setup = Setup::new(kepler, 2.0 * std::f64::consts::PI).unwrap();
     let methods = vec![
         Method::scheme("suzuki4", Suzuki4),
         Method::by_id("forest-ruth", &kepler).unwrap(),
