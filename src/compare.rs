@@ -98,24 +98,24 @@ pub struct CompareArgs {
     #[arg(long, value_name = "FILE", conflicts_with_all = ["long", "hard", "peer_study", "from"])]
     table: Vec<PathBuf>,
     /// End time (default per problem, e.g. 20π = 10 orbits for Kepler).
-    #[arg(long, value_name = "T", allow_negative_numbers = true)]
+    #[arg(long, value_name = "T", allow_hyphen_values = true)]
     t_end: Option<f64>,
     /// Smallest step size of the sweep.
-    #[arg(long, value_name = "H", allow_negative_numbers = true)]
+    #[arg(long, value_name = "H", allow_hyphen_values = true)]
     h_min: Option<f64>,
     /// Largest step size of the sweep.
-    #[arg(long, value_name = "H", allow_negative_numbers = true)]
+    #[arg(long, value_name = "H", allow_hyphen_values = true)]
     h_max: Option<f64>,
     /// Number of step sizes (log-spaced; default 10), also the number of
     /// DOP853 tolerances (default 15, one per decade from 1e-4 to 1e-18).
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N", allow_hyphen_values = true)]
     points: Option<usize>,
     /// Timed runs per point (the median is reported), after one warm-up.
-    #[arg(long, value_name = "R")]
+    #[arg(long, value_name = "R", allow_hyphen_values = true)]
     repeats: Option<usize>,
     /// Error for the time-to-error table (default 1e-8); --peer-study adds
     /// it to its targets 1e-6, 1e-8, 1e-10.
-    #[arg(long, value_name = "E", allow_negative_numbers = true)]
+    #[arg(long, value_name = "E", allow_hyphen_values = true)]
     target: Option<f64>,
     /// Output directory (default out/compare/<problem>/, out/compare/hard/).
     #[arg(long, value_name = "DIR")]
@@ -128,7 +128,7 @@ pub struct CompareArgs {
     #[arg(long, conflicts_with = "hard")]
     long: bool,
     /// Steps of the long runs (default 10⁶, at most 10⁷).
-    #[arg(long, value_name = "N", requires = "long")]
+    #[arg(long, value_name = "N", requires = "long", allow_hyphen_values = true)]
     steps: Option<u64>,
     /// Hard cases: the largest stable step of each method on stiff FPU,
     /// Kepler e = 0.9 and a stiff gyroscopic system.
@@ -152,9 +152,18 @@ impl CompareArgs {
     }
 }
 
+/// A number for a message: plain where that is short, else scientific.
+fn num(x: f64) -> String {
+    if x == 0.0 || (1e-4..1e7).contains(&x.abs()) || !x.is_finite() {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
+    }
+}
+
 fn positive(name: &str, x: f64) -> Result<f64> {
     if !(x.is_finite() && x > 0.0) {
-        bail!("--{name} must be a finite number > 0, got {x}");
+        bail!("--{name} must be a finite number > 0, got {}", num(x));
     }
     Ok(x)
 }
@@ -240,24 +249,48 @@ struct Plan {
 fn plan(args: &CompareArgs, defaults: compare::Defaults) -> Result<Plan> {
     let t_def = defaults.t_end;
     let t_end = positive("t-end", args.t_end.unwrap_or(t_def))?;
-    let h_min = positive(
-        "h-min",
-        args.h_min.unwrap_or(if args.quick {
-            t_def / 10_000.0
-        } else {
-            defaults.h_min
-        }),
-    )?;
-    let h_max = positive("h-max", args.h_max.unwrap_or(defaults.h_max.min(t_end)))?;
+    // Defaults the user did not give adapt to a short --t-end (one step at
+    // most the whole run), so that an error names a flag that was given.
+    let h_max = match args.h_max {
+        Some(h) => positive("h-max", h)?,
+        None => defaults.h_max.min(t_end),
+    };
+    let h_min = match args.h_min {
+        Some(h) => positive("h-min", h)?,
+        None => {
+            let h = if args.quick {
+                t_def / 10_000.0
+            } else {
+                defaults.h_min
+            };
+            if args.h_max.is_none() {
+                h.min(h_max)
+            } else {
+                h
+            }
+        }
+    };
+    let (lo, hi, t) = (num(h_min), num(h_max), num(t_end));
     if h_min > h_max {
-        bail!("--h-min ({h_min}) must not exceed --h-max ({h_max})");
+        match (args.h_min.is_some(), args.h_max.is_some()) {
+            (true, true) => bail!("--h-min ({lo}) must not exceed --h-max ({hi})"),
+            (true, false) => bail!(
+                "--h-min ({lo}) exceeds the default largest step {hi} (the problem's, at most --t-end); give --h-max too"
+            ),
+            _ => bail!("--h-max ({hi}) is below the default smallest step {lo}; give --h-min too"),
+        }
     }
     if h_max > t_end {
-        bail!("--h-max ({h_max}) exceeds the end time --t-end ({t_end})");
+        bail!("--h-max ({hi}) exceeds the end time --t-end ({t})");
     }
     if t_end / h_min > 1e8 {
         bail!(
-            "--h-min {h_min} over --t-end {t_end} is {:.1e} steps per run; at most 1e8",
+            "{} {lo} over --t-end {t} is {:.1e} steps per run; at most 1e8",
+            if args.h_min.is_some() {
+                "--h-min"
+            } else {
+                "the default smallest step"
+            },
             t_end / h_min
         );
     }

@@ -196,6 +196,23 @@ fn bad_arguments_are_clear_errors_with_exit_code_2() {
             "--steps must be between",
         ),
         (&["--methods", "rk4"], "--problem is required"),
+        // Negative numbers name their flag (not clap's "unexpected argument").
+        (
+            &["--problem", "kepler", "--t-end", "-1e-300"],
+            "--t-end must be",
+        ),
+        (&["--problem", "kepler", "--points", "-1"], "--points"),
+        (&["--problem", "kepler", "--repeats", "-3"], "--repeats"),
+        (
+            &["--problem", "kepler", "--h-min", "-inf"],
+            "--h-min must be",
+        ),
+        // A flag the user did not give is not blamed.
+        (&["--problem", "kepler", "--h-min", "5"], "give --h-max too"),
+        (
+            &["--problem", "kepler", "--h-max", "1e-9"],
+            "give --h-min too",
+        ),
     ];
     for (args, needle) in cases {
         let mut all = vec!["compare", "--quick"];
@@ -686,5 +703,47 @@ fn a_linear_problem_from_a_file_runs_against_its_exact_flow() {
             "{text}: {err}"
         );
     }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn absurd_steps_are_divergences_never_ok_with_an_infinite_error() {
+    let dir = temp_dir("absurd");
+    let (code, _, err) = symlab(&[
+        "compare",
+        "--problem",
+        "oscillator",
+        "--t-end",
+        "1e15",
+        "--h-min",
+        "1e14",
+        "--h-max",
+        "1e15",
+        "--methods",
+        "rk4,leapfrog,gauss2,euler",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let (_, rows) = read_csv(&dir.join("runs.csv"));
+    assert!(!rows.is_empty());
+    for r in &rows {
+        let e: f64 = r["error"].parse().unwrap();
+        let de: f64 = r["energy_error"].parse().unwrap();
+        if r["status"] == "ok" {
+            assert!(e.is_finite() && de.is_finite(), "{r:?}");
+        } else {
+            assert!(
+                r["status"].starts_with("diverged at step")
+                    || r["status"].starts_with("solver failed at step"),
+                "{r:?}"
+            );
+            assert!(e.is_nan(), "{r:?}");
+        }
+    }
+    assert!(
+        rows.iter()
+            .any(|r| r["status"].starts_with("diverged at step"))
+    );
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -8,6 +8,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use crate::method::{Fixed, Method};
 use crate::peer;
 use crate::problem::{Family, Problem, Setup};
+use crate::stepper::Status;
 
 /// One run: a row of `runs.csv` (see the module docs for the columns).
 #[derive(Clone, Debug)]
@@ -207,29 +208,43 @@ pub fn fixed_run<P: Problem>(setup: &Setup<P>, f: &Fixed<P>, n: u64, repeats: us
     let h = setup.t_end / n as f64;
     let mut z = setup.z0.clone();
     let mut energy_error: f64 = 0.0;
+    // A state whose energy overflows has diverged even while it is finite.
     let outcome = f
         .stepper
         .observed(&setup.sys, &mut z, h, n as usize, true, &mut |_, _, z| {
-            energy_error = energy_error.max(setup.energy_error(z));
-            true
+            let e = setup.energy_error(z);
+            energy_error = energy_error.max(e);
+            e.is_finite()
         });
-    let ok = outcome.status.is_ok();
-    let (error, time_s) = if ok {
-        let error = setup.error(&z);
-        let mut w = setup.z0.clone();
-        let mut fine = f.stepper.bare(&setup.sys, &mut w, h, n as usize);
-        let mut times = Vec::with_capacity(repeats);
-        for _ in 0..repeats {
-            let mut w = setup.z0.clone();
-            let start = Instant::now();
-            fine &= f.stepper.bare(&setup.sys, &mut w, h, n as usize);
-            times.push(start.elapsed().as_secs_f64());
-            std::hint::black_box(&w);
-        }
-        (error, if fine { median(times) } else { f64::NAN })
-    } else {
-        (f64::NAN, f64::NAN)
+    let mut status = match outcome.status {
+        Status::Stopped { step } => format!("diverged at step {step}: the energy is not finite"),
+        ref s => s.label(),
     };
+    let mut error = f64::NAN;
+    let mut time_s = f64::NAN;
+    if outcome.status.is_ok() {
+        error = setup.error(&z);
+        if !error.is_finite() {
+            status = format!("diverged at step {n}: the error at T is not finite");
+        } else {
+            let mut w = setup.z0.clone();
+            let mut fine = f.stepper.bare(&setup.sys, &mut w, h, n as usize);
+            let mut times = Vec::with_capacity(repeats);
+            for _ in 0..repeats {
+                let mut w = setup.z0.clone();
+                let start = Instant::now();
+                fine &= f.stepper.bare(&setup.sys, &mut w, h, n as usize);
+                times.push(start.elapsed().as_secs_f64());
+                std::hint::black_box(&w);
+            }
+            if fine {
+                time_s = median(times);
+            }
+        }
+    }
+    if status != "ok" {
+        error = f64::NAN;
+    }
     Row {
         problem: setup.name.clone(),
         method: f.id.clone(),
@@ -246,7 +261,7 @@ pub fn fixed_run<P: Problem>(setup: &Setup<P>, f: &Fixed<P>, n: u64, repeats: us
         newton_iterations: outcome.newton_iterations,
         fixed_point_iterations: outcome.fixed_point_iterations,
         factorizations: outcome.factorizations,
-        status: outcome.status.label(),
+        status,
         interpreted: f.interpreted,
     }
 }
@@ -283,6 +298,12 @@ pub fn peer_run<P: Problem>(setup: &Setup<P>, tol: f64, repeats: usize) -> Row {
         f64::NAN
     };
     match &first.end {
+        Ok(z) if !(setup.error(z).is_finite() && first.energy_error.is_finite()) => {
+            row.status = format!(
+                "diverged at step {}: the error or the energy is not finite",
+                first.accepted
+            );
+        }
         Ok(z) => {
             row.error = setup.error(z);
             row.status = "ok".into();
