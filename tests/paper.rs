@@ -302,6 +302,45 @@ fn other_set_ups_run() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+#[test]
+fn a_method_that_diverges_is_reported_in_its_row_and_the_command_goes_on() {
+    let dir = temp_dir("diverge");
+    let (code, out, err) = symlab(&[
+        "paper",
+        "--out",
+        dir.to_str().unwrap(),
+        "--h",
+        "10,1e-300",
+        "--cloth-frames",
+        "0",
+    ]);
+    assert_eq!(code, 0, "stdout: {out}\nstderr: {err}");
+    assert!(out.contains("stopped: diverged at step"), "{out}");
+    let (header, rows) = read_csv(&dir.join("oscillator_errors.csv"));
+    let col = |name: &str| header.iter().position(|h| h == name).unwrap();
+    let (method, h, status) = (col("method"), col("h"), col("status"));
+    for r in &rows {
+        let expect_ok =
+            r[h] != "10" || ["midpoint", "gauss2", "paper-dirk2"].contains(&r[method].as_str());
+        assert_eq!(r[status] == "ok", expect_ok, "{r:?}");
+        for v in &r[col("max_err_q")..col("status")] {
+            assert!(!v.contains("NaN"), "{r:?}");
+        }
+    }
+    // A tiny step gives short file names, not 300 digits.
+    assert!(dir.join("oscillator_h1e-300_series.csv").exists());
+    let report = std::fs::read_to_string(dir.join("report.md")).unwrap();
+    assert!(
+        report.contains("Runs that stopped before step 200"),
+        "{report}"
+    );
+    assert!(
+        !report.contains("NaN") && !report.contains(" inf"),
+        "{report}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// `cloth_runs.csv` as (method, substeps) → the row by column name.
 fn cloth_runs() -> HashMap<(String, usize), HashMap<String, String>> {
     let text = std::fs::read_to_string(default_run().join("cloth_runs.csv")).unwrap();
@@ -374,6 +413,13 @@ fn bad_arguments_are_exit_2_with_a_message() {
         (&["paper", "--out", out, "--h", "0.1,0"], "--h"),
         (&["paper", "--out", out, "--h", "0.1,nan"], "--h"),
         (&["paper", "--out", out, "--q0", "0", "--p0", "0"], "--q0"),
+        // Energies that underflow or overflow make relative errors meaningless.
+        (&["paper", "--out", out, "--k", "1e-300"], "--k 1e-300"),
+        (&["paper", "--out", out, "--q0", "1e-200"], "--q0 1e-200"),
+        (
+            &["paper", "--out", out, "--k", "1e200"],
+            "not a normal positive",
+        ),
     ];
     for (args, needle) in cases {
         let (code, stdout, stderr) = symlab(args);

@@ -6,22 +6,23 @@ use std::path::{Path, PathBuf};
 
 use anyhow::Result;
 
-use super::oscillator::{ENERGY_CEILING, ENERGY_FLOOR, Experiment};
+use super::oscillator::{ENERGY_CEILING, ENERGY_FLOOR, Experiment, h_name};
 use compare::plot::{self, Plot, Series};
 
 /// The file names of the three plots at step size `h`.
 pub fn plot_names(h: f64) -> [String; 3] {
     [
-        format!("oscillator_h{h}_q.svg"),
-        format!("oscillator_h{h}_p.svg"),
-        format!("oscillator_h{h}_energy.svg"),
+        format!("oscillator_h{}_q.svg", h_name(h)),
+        format!("oscillator_h{}_p.svg", h_name(h)),
+        format!("oscillator_h{}_energy.svg", h_name(h)),
     ]
 }
 
 /// Write the three plots of step size `h` into `dir`; returns their paths.
 pub fn write_plots(exp: &Experiment, h: f64, dir: &Path) -> Result<Vec<PathBuf>> {
     let runs: Vec<_> = exp.at(h).collect();
-    let Some(first) = runs.first() else {
+    // The longest run carries the exact solution (a run may stop early).
+    let Some(first) = runs.iter().max_by_key(|r| r.t.len()) else {
         return Ok(Vec::new());
     };
     let steps = first.steps();

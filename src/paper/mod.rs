@@ -18,7 +18,7 @@ use std::process::ExitCode;
 
 use anyhow::{Context, Result};
 
-use oscillator::{Config, Experiment, errors_csv, oscillator_experiment, series_csv};
+use oscillator::{Config, Experiment, errors_csv, h_name, oscillator_experiment, series_csv};
 
 #[derive(clap::Args, Debug)]
 pub struct PaperArgs {
@@ -62,7 +62,7 @@ impl PaperArgs {
 pub fn oscillator_files(config: &Config) -> Vec<String> {
     let mut names = vec!["oscillator_errors.csv".to_string()];
     for &h in &config.step_sizes {
-        names.push(format!("oscillator_h{h}_series.csv"));
+        names.push(format!("oscillator_h{}_series.csv", h_name(h)));
         names.extend(figures::plot_names(h));
     }
     names
@@ -77,7 +77,7 @@ pub fn write_oscillator(exp: &Experiment, dir: &Path) -> Result<()> {
     write(&dir.join("oscillator_errors.csv"), &errors_csv(exp))?;
     for &h in &exp.config.step_sizes {
         write(
-            &dir.join(format!("oscillator_h{h}_series.csv")),
+            &dir.join(format!("oscillator_h{}_series.csv", h_name(h))),
             &series_csv(exp, h),
         )?;
         figures::write_plots(exp, h, dir)?;

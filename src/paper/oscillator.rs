@@ -81,6 +81,17 @@ impl Config {
                 self.steps
             );
         }
+        let e0 = self.energy0();
+        if !(e0.is_finite() && e0 >= f64::MIN_POSITIVE) {
+            bail!(
+                "--k {:e}, --q0 {:e}, --p0 {:e}: the energy H(q0, p0) = {e0:e} is not a normal positive f64, \
+                 so relative energy errors |H − H0|/H0 would be meaningless; choose values whose \
+                 energy lies between 1e-300 and 1e300",
+                self.k,
+                self.q0,
+                self.p0
+            );
+        }
         if self.step_sizes.is_empty() {
             bail!("--h needs at least one step size");
         }
@@ -108,6 +119,17 @@ impl Config {
     /// `H(q₀, p₀)`.
     pub fn energy0(&self) -> f64 {
         energy(&self.oscillator(), &self.z0())
+    }
+}
+
+/// A step size as it appears in file names: as written where that is short
+/// (`0.01`), in scientific notation otherwise (`1e-300`, not 300 digits).
+pub fn h_name(h: f64) -> String {
+    let plain = format!("{h}");
+    if plain.len() <= 10 {
+        plain
+    } else {
+        format!("{h:e}")
     }
 }
 
@@ -173,18 +195,39 @@ impl Method {
     }
 
     /// The states `z₀, …, z_n` of `n` steps of size `h`.
-    fn states(self, osc: &Oscillator, z0: [f64; 2], h: f64, n: usize) -> Result<Vec<[f64; 2]>> {
+    /// The states of a run of `n` steps, and why it stopped early if it
+    /// did (a divergence or a failed stage solve: the states up to the last
+    /// good step are kept, so the run is reported, not dropped).
+    fn states(
+        self,
+        osc: &Oscillator,
+        z0: [f64; 2],
+        h: f64,
+        n: usize,
+    ) -> Result<(Vec<[f64; 2]>, Option<String>)> {
         fn run<M: Step<Oscillator>>(
             m: &M,
             osc: &Oscillator,
             z0: [f64; 2],
             h: f64,
             n: usize,
-        ) -> Result<Vec<[f64; 2]>> {
+        ) -> Result<(Vec<[f64; 2]>, Option<String>)> {
             let mut z = z0.to_vec();
             let mut out = Vec::with_capacity(n + 1);
-            integrate(m, osc, &mut z, 0.0, h, n, |_, _, z| out.push([z[0], z[1]]))?;
-            Ok(out)
+            let failure = integrate(m, osc, &mut z, 0.0, h, n, |_, _, z| out.push([z[0], z[1]]))
+                .err()
+                .map(|e| e.to_string());
+            // An energy that overflows is a divergence too, even while the
+            // state is finite.
+            let bad = out.iter().position(|z| !energy(osc, z).is_finite());
+            if let Some(k) = bad {
+                out.truncate(k);
+                return Ok((
+                    out,
+                    Some(format!("diverged at step {k}: the energy is not finite")),
+                ));
+            }
+            Ok((out, failure))
         }
         let result = match self {
             Method::ExplicitEuler => run(&ExplicitEuler, osc, z0, h, n),
@@ -213,6 +256,9 @@ pub struct Trajectory {
     pub p_exact: Vec<f64>,
     /// `H(zₙ) − H(z₀)`, signed.
     pub energy_error: Vec<f64>,
+    /// Why the run stopped before its last step (a divergence, a failed
+    /// stage solve); the vectors then end at the last good step.
+    pub failure: Option<String>,
 }
 
 /// `atan2` angles made continuous (jumps of 2π removed).
@@ -233,6 +279,11 @@ fn unwrap_angles(angles: impl Iterator<Item = f64>) -> Vec<f64> {
 }
 
 impl Trajectory {
+    /// `ok`, or why the run stopped early.
+    pub fn status(&self) -> String {
+        self.failure.clone().unwrap_or_else(|| "ok".into())
+    }
+
     /// Steps taken.
     pub fn steps(&self) -> usize {
         self.t.len() - 1
@@ -376,7 +427,7 @@ pub fn simulate(config: &Config, method: Method, h: f64) -> Result<Trajectory> {
     let osc = config.oscillator();
     let z0 = config.z0();
     let n = config.steps;
-    let states = method.states(&osc, z0, h, n)?;
+    let (states, failure) = method.states(&osc, z0, h, n)?;
     let energy0 = config.energy0();
     let mut traj = Trajectory {
         method,
@@ -389,6 +440,7 @@ pub fn simulate(config: &Config, method: Method, h: f64) -> Result<Trajectory> {
         q_exact: Vec::with_capacity(n + 1),
         p_exact: Vec::with_capacity(n + 1),
         energy_error: Vec::with_capacity(n + 1),
+        failure,
     };
     for (i, z) in states.iter().enumerate() {
         let t = i as f64 * h;
@@ -461,13 +513,13 @@ pub fn errors_csv(exp: &Experiment) -> String {
     let mut s = String::from(
         "h,method,label,order,symplectic,steps,t_end,max_err_q,max_err_p,max_energy_error,max_rel_energy_error,\
          final_err_q,final_err_p,final_energy_error,final_phase_error,final_amplitude_error,\
-         energy_error_first_half,energy_error_second_half,energy_sign_changes\n",
+         energy_error_first_half,energy_error_second_half,energy_sign_changes,status\n",
     );
     for r in &exp.runs {
         let m = r.summary();
         let info = r.method.info();
         s.push_str(&format!(
-            "{},{},{},{},{},{},{},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{}\n",
+            "{},{},{},{},{},{},{},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{},{}\n",
             r.h,
             r.method.id(),
             r.method.label(),
@@ -487,6 +539,11 @@ pub fn errors_csv(exp: &Experiment) -> String {
             m.energy_error_first_half,
             m.energy_error_second_half,
             m.energy_sign_changes,
+            // Quoted only where a comma would split it.
+            match r.status() {
+                st if st.contains([',', '"']) => format!("\"{}\"", st.replace('"', "'")),
+                st => st,
+            },
         ));
     }
     s
@@ -503,17 +560,25 @@ pub fn series_csv(exp: &Experiment, h: f64) -> String {
         s.push_str(&format!(",{id}_q,{id}_p,{id}_dH"));
     }
     s.push('\n');
-    let Some(first) = runs.first() else { return s };
+    // The longest run carries the exact solution; a run that stopped early
+    // leaves its cells empty after its last good step.
+    let Some(first) = runs.iter().max_by_key(|r| r.t.len()) else {
+        return s;
+    };
     for n in 0..first.t.len() {
         s.push_str(&format!(
             "{},{},{:e},{:e}",
             n, first.t[n], first.q_exact[n], first.p_exact[n]
         ));
         for r in &runs {
-            s.push_str(&format!(
-                ",{:e},{:e},{:e}",
-                r.q[n], r.p[n], r.energy_error[n]
-            ));
+            if n < r.t.len() {
+                s.push_str(&format!(
+                    ",{:e},{:e},{:e}",
+                    r.q[n], r.p[n], r.energy_error[n]
+                ));
+            } else {
+                s.push_str(",,,");
+            }
         }
         s.push('\n');
     }

@@ -6,7 +6,7 @@ use std::fmt::Write as _;
 use integrator_core::library::{GaussLegendre2, ImplicitMidpoint, PaperDirk2};
 
 use super::oscillator::{
-    Config, ENERGY_FLOOR, Experiment, Method, Trajectory, paper_closed_form_deviation,
+    Config, ENERGY_FLOOR, Experiment, Method, Trajectory, h_name, paper_closed_form_deviation,
 };
 
 /// Numbers derived from the runs, beyond the per-run summaries.
@@ -81,27 +81,46 @@ impl Findings {
         Findings {
             h_max,
             h_min,
-            euler_early: euler.energy_error[n / 10].abs(),
-            euler_final: euler.energy_error[n].abs(),
+            euler_early: at(&euler.energy_error, n / 10).abs(),
+            euler_final: at(&euler.energy_error, n).abs(),
             euler_predicted: e0 * ((1.0 + hk * hk).powi(n as i32) - 1.0),
-            heun_early: heun.energy_error[n / 10].abs(),
-            heun_final: heun.energy_error[n].abs(),
+            heun_early: at(&heun.energy_error, n / 10).abs(),
+            heun_final: at(&heun.energy_error, n).abs(),
             heun_decreases: heun.energy_error_decreases(),
             heun_predicted: e0 * ((1.0 + hk.powi(4) / 4.0).powi(n as i32) - 1.0),
             symplectic_euler_modified_drift,
-            midpoint_phase_half: mid_phase[n / 2],
-            midpoint_phase_final: mid_phase[n],
+            midpoint_phase_half: at(&mid_phase, n / 2),
+            midpoint_phase_final: at(&mid_phase, n),
             midpoint_phase_predicted: -(n as f64) * (hk - 2.0 * (hk / 2.0).atan()),
-            symplectic_euler_phase_half: se_phase[n / 2],
-            symplectic_euler_phase_final: se_phase[n],
+            symplectic_euler_phase_half: at(&se_phase, n / 2),
+            symplectic_euler_phase_final: at(&se_phase, n),
             symplectic_euler_phase_predicted: n as f64 * ((1.0 - hk * hk / 2.0).acos() - hk),
             closed_form_deviation: paper_closed_form_deviation(euler, c),
         }
     }
 }
 
+/// `v[i]`, or NaN for a run that stopped before step `i` (printed as
+/// "n/a"; the report lists the runs that stopped and why).
+fn at(v: &[f64], i: usize) -> f64 {
+    v.get(i).copied().unwrap_or(f64::NAN)
+}
+
 fn e(x: f64) -> String {
-    format!("{x:.2e}")
+    if x.is_finite() {
+        format!("{x:.2e}")
+    } else {
+        "n/a".into()
+    }
+}
+
+/// A signed number, or "n/a".
+fn signed(x: f64, digits: usize) -> String {
+    if x.is_finite() {
+        format!("{x:+.digits$e}")
+    } else {
+        "n/a".into()
+    }
 }
 
 /// The measured table, Markdown: one row per (h, method).
@@ -116,8 +135,11 @@ pub fn markdown_table(exp: &Experiment) -> String {
         let _ = writeln!(
             s,
             "| {} | {} | {} | {} | {} | {} | {} | {} | {:+.2e} |",
-            r.h,
-            r.method.label(),
+            h_name(r.h),
+            match &r.failure {
+                Some(why) => format!("{} ({why})", r.method.label()),
+                None => r.method.label().to_string(),
+            },
             info.order,
             if info.symplectic { "yes" } else { "no" },
             e(m.max_err_q),
@@ -140,13 +162,16 @@ pub fn text_table(exp: &Experiment) -> String {
         let m = r.summary();
         let _ = writeln!(
             s,
-            "{:>6}  {:<18} {:>10} {:>10} {:>12} {:>+10.2e}",
-            r.h,
+            "{:>6}  {:<18} {:>10} {:>10} {:>12} {:>+10.2e}{}",
+            h_name(r.h),
             r.method.label(),
             e(m.max_err_q),
             e(m.max_err_p),
             e(m.max_rel_energy_error),
-            m.final_phase_error
+            m.final_phase_error,
+            r.failure
+                .as_ref()
+                .map_or(String::new(), |why| format!("  stopped: {why}"))
         );
     }
     s
@@ -337,6 +362,24 @@ pub fn markdown(exp: &Experiment, cloth: &str, files: &[String]) -> String {
         "Maximum errors over the {n} steps (and the errors at the last step):\n"
     );
     let _ = writeln!(w, "{}", markdown_table(exp));
+    let stopped: Vec<_> = exp.runs.iter().filter(|r| r.failure.is_some()).collect();
+    if !stopped.is_empty() {
+        let _ = writeln!(
+            w,
+            "Runs that stopped before step {n} (their rows are over the steps they took; \
+             figures that need a later step read n/a):\n"
+        );
+        for r in stopped {
+            let _ = writeln!(
+                w,
+                "- {} at h = {}: {}",
+                r.method.label(),
+                h_name(r.h),
+                r.failure.as_deref().unwrap_or_default()
+            );
+        }
+        let _ = writeln!(w);
+    }
 
     let _ = writeln!(w, "### Energy\n");
     let euler_by_h: Vec<String> = c
@@ -454,13 +497,17 @@ pub fn markdown(exp: &Experiment, cloth: &str, files: &[String]) -> String {
         let phase = r.phase_error();
         let _ = writeln!(
             w,
-            "| {} | {} | {} | {:+.3e} | {:+.3e} | {:+.2e} |",
+            "| {} | {} | {} | {} | {} | {} |",
             r.method.label(),
             e(m.final_err_q.abs()),
             e(m.max_err_q),
-            phase[n / 2],
-            phase[n],
-            m.final_amplitude_error
+            signed(at(&phase, n / 2), 3),
+            signed(at(&phase, n), 3),
+            if r.failure.is_some() {
+                "n/a".to_string()
+            } else {
+                signed(m.final_amplitude_error, 2)
+            }
         );
     }
     let linear_expected = n as f64 / (n / 2) as f64;
