@@ -6,8 +6,10 @@
 //! time; its doc comment names the literature source.
 //!
 //! Implicit tables (Gauss–Legendre, Radau, Lobatto IIIA/B/C, the paper's
-//! DIRKs, implicit pairs) are verified and carry their constants, but do not
-//! step yet: their stage solver comes with the next layer.
+//! DIRKs, implicit pairs) step too: their stage equations are solved by
+//! [`implicit::step`](crate::implicit::step) (simplified Newton with faer's
+//! LU, or fixed-point iteration where the system has no Jacobian; DIRK
+//! tables stage by stage), with the table as a constant.
 
 use crate::butcher;
 use crate::scheme::{Info, Scheme};
