@@ -320,13 +320,8 @@ where
     F: FnMut(&Frame<'_>) -> Result<(), CallbackError>,
 {
     let h = opts.step_size();
-    let rate_ok = opts.frame_rate > 0.0 && h.is_finite();
-    if opts.substeps == 0 || !rate_ok {
-        return Err(RunError::Options(format!(
-            "substeps ({}) must be at least 1 and frame_rate ({}) positive",
-            opts.substeps, opts.frame_rate
-        )));
-    }
+    opts.check()?;
+    check_size(&sim.model)?;
     let mut frames = Vec::with_capacity(opts.frames.min(1 << 16) + 1);
     let mut emit = |sim: &Simulation, frames: &mut Vec<FrameStats>| -> Result<(), RunError> {
         let stats = sim.stats();
@@ -398,6 +393,27 @@ where
         },
         solver: *ws.stats(),
     })
+}
+
+/// The most free particles an implicit run takes: 2¹⁶ = 65 536 (a 256 ×
+/// 256 grid). The Newton matrix of an `s`-stage method is `6·s·free`
+/// unknowns square, and its sparse LU fills in far beyond the springs:
+/// Gauss–Legendre 2 takes about 3 s per step on 128 × 128 already (README),
+/// and the factors of a 2048 × 2048 cloth would not fit in memory. Explicit
+/// methods have no such limit beyond [`MAX_PARTICLES`](crate::MAX_PARTICLES).
+pub const MAX_FREE_PARTICLES: usize = 1 << 16;
+
+/// Refuse a model too large for the sparse LU ([`MAX_FREE_PARTICLES`]),
+/// before anything is built.
+pub fn check_size(model: &ClothModel) -> Result<(), RunError> {
+    let free = model.free_count();
+    if free > MAX_FREE_PARTICLES {
+        let (nx, ny) = model.grid();
+        return Err(RunError::Options(format!(
+            "implicit methods take at most {MAX_FREE_PARTICLES} free particles (e.g. a 256 × 256 grid); this {nx} × {ny} cloth has {free}: use an explicit method or a coarser grid"
+        )));
+    }
+    Ok(())
 }
 
 /// [`run_table`] with an implicit library scheme named by its id (one of

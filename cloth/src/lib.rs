@@ -142,11 +142,14 @@ pub mod scene;
 mod sim;
 
 pub use methods::{MethodError, STEPPABLE};
-pub use model::{ClothModel, Energy, Family, Stability};
+pub use model::{ClothModel, Energy, Family, STABILITY_WORK, Stability};
 pub use output::{
     OutputError, STATS_CSV_HEADER, write_obj, write_obj_to, write_stats_csv, write_stats_csv_to,
 };
-pub use scene::{ClothSpec, Collider, Material, Plane, Scene, SceneError, SimulationSpec};
+pub use scene::{
+    ClothSpec, Collider, MAX_FRAMES, MAX_PARTICLES, MAX_STEPS, Material, Plane, Scene, SceneError,
+    SimulationSpec,
+};
 pub use sim::{
     CallbackError, Frame, FrameStats, RunError, RunOptions, RunReport, Simulation, run_scene,
 };

@@ -176,8 +176,98 @@ pub struct Scene {
     pub simulation: SimulationSpec,
 }
 
-/// The largest grid a scene may ask for (particles).
-pub const MAX_PARTICLES: usize = 1 << 24;
+/// The largest grid a scene may ask for: 2²³ = 8 388 608 particles (e.g.
+/// 2896 × 2896). An explicit run needs memory proportional to the springs,
+/// about 6 per particle at 24 bytes each plus a few copies of the state
+/// (48 bytes per particle): at this size about 2 GB. The limit is checked
+/// before anything is built, so a typo such as `ny = 100000000000` is an
+/// error at once instead of a machine that runs out of memory.
+pub const MAX_PARTICLES: usize = 1 << 23;
+
+/// The most frames a run may ask for (after the initial one): 10⁶, about
+/// 4.6 hours at 60 Hz. Every frame keeps its statistics in memory (about
+/// 100 bytes) and a row of `energy.csv`.
+pub const MAX_FRAMES: usize = 1_000_000;
+
+/// The most steps a run may take in all (frames × substeps): 10⁹. A small
+/// grid steps at about 10⁷ per second and the paper's 25 × 25 at about 10⁵,
+/// so this is hours, not the centuries that `u64::MAX` steps would be; it is
+/// checked before the run.
+pub const MAX_STEPS: u64 = 1_000_000_000;
+
+/// Why a grid size is refused, and which of `nx`, `ny` to blame: `None`
+/// when `nx × ny` is within [`MAX_PARTICLES`]. The larger of the two is
+/// blamed (a huge `ny` is `ny`'s fault).
+pub fn grid_too_large(nx: usize, ny: usize) -> Option<(&'static str, String)> {
+    if nx.checked_mul(ny).is_some_and(|n| n <= MAX_PARTICLES) {
+        return None;
+    }
+    let which = if ny > nx { "ny" } else { "nx" };
+    Some((
+        which,
+        format!(
+            "a {nx} × {ny} grid has more than the limit of {MAX_PARTICLES} particles (2^23, e.g. 2896 × 2896)"
+        ),
+    ))
+}
+
+/// Why `frames` frames of `substeps` steps at `frame_rate` Hz cannot be run,
+/// as `(what, message)` with `what` one of `"frames"`, `"substeps"`,
+/// `"frame_rate"` (the input to blame); `None` when they can. Refused:
+/// more than [`MAX_FRAMES`] frames, more than [`MAX_STEPS`] steps in all,
+/// and a step `h = 1/(frame_rate·substeps)` that is not a positive normal
+/// number (`h = 0` after rounding, e.g. `frame_rate = 1e308`, would run and
+/// move nothing).
+pub fn run_length_problem(
+    frames: usize,
+    substeps: usize,
+    frame_rate: f64,
+) -> Option<(&'static str, String)> {
+    if substeps == 0 {
+        return Some(("substeps", "must be at least 1 (got 0)".into()));
+    }
+    if !(frame_rate > 0.0 && frame_rate.is_finite()) {
+        return Some((
+            "frame_rate",
+            format!("must be positive and finite (got {frame_rate})"),
+        ));
+    }
+    if frames > MAX_FRAMES {
+        return Some((
+            "frames",
+            format!("{frames} frames is more than the limit of {MAX_FRAMES}"),
+        ));
+    }
+    let steps = (frames as u128) * (substeps as u128);
+    if substeps as u128 > MAX_STEPS as u128 || steps > MAX_STEPS as u128 {
+        let what = if frames > substeps {
+            "frames"
+        } else {
+            "substeps"
+        };
+        return Some((
+            what,
+            format!(
+                "{frames} frames × {substeps} steps per frame = {steps} steps is more than the limit of {MAX_STEPS} steps in a run"
+            ),
+        ));
+    }
+    let h = 1.0 / (frame_rate * substeps as f64);
+    if !h.is_normal() {
+        let what = if frame_rate > substeps as f64 {
+            "frame_rate"
+        } else {
+            "substeps"
+        };
+        return Some((
+            what,
+            format!(
+                "the step 1/(frame_rate·substeps) = 1/({frame_rate:e} Hz × {substeps}) = {h:e} s is not a positive normal number: the run would not move"
+            ),
+        ));
+    }
+    None
+}
 
 impl Scene {
     /// Read and check a scene file.
@@ -331,14 +421,8 @@ impl Scene {
                 return Err(r.err(field, format!("must be at least 2 (got {n})")));
             }
         }
-        if c.nx.checked_mul(c.ny).is_none_or(|n| n > MAX_PARTICLES) {
-            return Err(r.err(
-                "cloth.nx",
-                format!(
-                    "a {} × {} grid is larger than the limit of {MAX_PARTICLES} particles",
-                    c.nx, c.ny
-                ),
-            ));
+        if let Some((which, message)) = grid_too_large(c.nx, c.ny) {
+            return Err(r.err(&format!("cloth.{which}"), message));
         }
         let m = &self.material;
         positive(m.density, "material.density")?;
@@ -401,8 +485,8 @@ impl Scene {
         }
         let s = &self.simulation;
         positive(s.frame_rate, "simulation.frame_rate")?;
-        if s.substeps < 1 {
-            return Err(r.err("simulation.substeps", "must be at least 1 (got 0)"));
+        if let Some((what, message)) = run_length_problem(s.frames, s.substeps, s.frame_rate) {
+            return Err(r.err(&format!("simulation.{what}"), message));
         }
         methods::check(&s.method).map_err(|e| r.err("simulation.method", e))?;
         if crate::model::count_springs(self) == 0 {
@@ -413,6 +497,177 @@ impl Scene {
                     c.nx, c.ny
                 ),
             ));
+        }
+        self.check_scales()
+    }
+
+    /// The quantities the model derives from the fields must be finite,
+    /// positive numbers a simulation can work with: grid spacings, rest
+    /// lengths, the particle mass and its inverse, each spring's `k/L` and
+    /// energy scale `k·L`, the weight `m·g` and the energy `M·|g|·ℓ` of the
+    /// cloth falling by its size, each collider's `m·stiffness`. Each field
+    /// can be finite on its own while a product overflows (`width = 1e308`:
+    /// the diagonal's rest length) or underflows (`width = height = 1e-300`:
+    /// the particle mass is 0 and its inverse infinite); such a scene would
+    /// start from a non-finite state. The error names the field that makes
+    /// the product extreme.
+    fn check_scales(&self) -> Result<(), SceneError> {
+        let r = Reader { file: &self.name };
+        let c = &self.cloth;
+        let bad = |x: f64| !(x.is_normal() && x > 0.0);
+        let spacing = |len: f64, n: usize| len / (n - 1) as f64;
+        let (dx, dy) = (spacing(c.width, c.nx), spacing(c.height, c.ny));
+        let origin = c.origin.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        for (d, len, field) in [(dx, c.width, "cloth.width"), (dy, c.height, "cloth.height")] {
+            let span = len * c.prestretch;
+            if bad(d) || bad(2.0 * d) || bad(span) || !(origin + span).is_finite() {
+                return Err(r.err(
+                    field,
+                    format!(
+                        "{len:e} m gives a grid spacing of {d:e} m and an extent of {span:e} m (prestretch {}) from an origin at distance {origin:e} m: not a positive finite length",
+                        c.prestretch
+                    ),
+                ));
+            }
+            if bad(d * c.prestretch) {
+                return Err(r.err(
+                    "cloth.prestretch",
+                    format!(
+                        "{:e} scales the grid spacing {d:e} m to {:e} m: not a positive normal length",
+                        c.prestretch,
+                        d * c.prestretch
+                    ),
+                ));
+            }
+            // Positions origin + i·Δ must stay apart after rounding.
+            if origin > 0.0 && d * c.prestretch <= origin * 1e-12 {
+                return Err(r.err(
+                    "cloth.origin",
+                    format!(
+                        "an origin {origin:e} m from zero leaves the grid spacing {:e} m to rounding (less than 1e-12 of it): particles would start at the same point",
+                        d * c.prestretch
+                    ),
+                ));
+            }
+        }
+        let diag = dx.hypot(dy);
+        let area = c.width * c.height;
+        if bad(area) {
+            let field = if c.width.ln().abs() >= c.height.ln().abs() {
+                "cloth.width"
+            } else {
+                "cloth.height"
+            };
+            return Err(r.err(
+                field,
+                format!(
+                    "the area width × height = {:e} × {:e} m² = {area:e} m² is not a positive finite number",
+                    c.width, c.height
+                ),
+            ));
+        }
+        let n = (c.nx * c.ny) as f64;
+        let m = &self.material;
+        let mass = m.density * area / n;
+        if bad(mass) || bad(1.0 / mass) {
+            return Err(r.err(
+                "material.density",
+                format!(
+                    "the particle mass density·width·height/(nx·ny) = {:e} × {area:e} / {n} = {mass:e} kg (inverse {:e}) is not a positive finite number",
+                    m.density,
+                    1.0 / mass
+                ),
+            ));
+        }
+        // The side a rest length comes from (the diagonal: the longer side).
+        let longer = if c.width >= c.height {
+            "cloth.width"
+        } else {
+            "cloth.height"
+        };
+        for (k, rests, field) in [
+            (
+                m.stretch,
+                [(dx, "cloth.width"), (dy, "cloth.height")],
+                "material.stretch",
+            ),
+            (m.shear, [(diag, longer), (diag, longer)], "material.shear"),
+            (
+                m.bend,
+                [(2.0 * dx, "cloth.width"), (2.0 * dy, "cloth.height")],
+                "material.bend",
+            ),
+        ] {
+            let Some(k) = k else { continue };
+            for (rest, side) in rests {
+                let (kl, kappa) = (k / rest, k * rest);
+                if !(kl.is_finite() && kappa.is_finite()) {
+                    // Blame the more extreme of the two factors.
+                    let field = if k.ln().abs() >= rest.ln().abs() {
+                        field
+                    } else {
+                        side
+                    };
+                    return Err(r.err(
+                        field,
+                        format!(
+                            "springs of stiffness {k:e} N and rest length {rest:e} m have k/L = {kl:e} N/m and an energy scale k·L = {kappa:e} J: not finite"
+                        ),
+                    ));
+                }
+            }
+        }
+        let g = self.gravity.iter().map(|x| x * x).sum::<f64>().sqrt();
+        let size = c.width.max(c.height) * c.prestretch;
+        let fall = mass * n * g * (size + origin);
+        if !(g.is_finite() && (mass * g).is_finite() && fall.is_finite()) {
+            return Err(r.err(
+                "gravity",
+                format!(
+                    "|g| = {g:e} m/s² on a cloth of mass {:e} kg and size {size:e} m gives a potential energy of {fall:e} J: not finite",
+                    mass * n
+                ),
+            ));
+        }
+        for (k, col) in self.colliders.iter().enumerate() {
+            let stiffness = match col {
+                Collider::Plane {
+                    stiffness, point, ..
+                } => {
+                    if !point.iter().map(|x| x.abs()).sum::<f64>().is_finite() {
+                        return Err(r.err(
+                            &format!("colliders[{k}].point"),
+                            format!("{point:?} is too far out: its distance from the origin is not finite"),
+                        ));
+                    }
+                    *stiffness
+                }
+                Collider::Sphere {
+                    stiffness,
+                    center,
+                    radius,
+                    ..
+                } => {
+                    let far = center.iter().map(|x| x.abs()).sum::<f64>() + radius;
+                    if !(far * far).is_finite() {
+                        return Err(r.err(
+                            &format!("colliders[{k}].radius"),
+                            format!(
+                                "a sphere of radius {radius:e} m at {center:?} is too large: (|center| + radius)² = {:e} m² is not finite",
+                                far * far
+                            ),
+                        ));
+                    }
+                    *stiffness
+                }
+            };
+            let kappa = stiffness * mass;
+            if !kappa.is_finite() {
+                return Err(r.err(
+                    &format!("colliders[{k}].stiffness"),
+                    format!("{stiffness:e} s⁻² times the particle mass {mass:e} kg is not finite"),
+                ));
+            }
         }
         Ok(())
     }
@@ -641,11 +896,8 @@ impl Reader<'_> {
         let height = self.positive(self.req_f64(t, p, "height")?, "cloth.height")?;
         let nx = self.count(t, p, "nx", 2)?;
         let ny = self.count(t, p, "ny", 2)?;
-        if nx.checked_mul(ny).is_none_or(|n| n > MAX_PARTICLES) {
-            return Err(self.err(
-                "cloth.nx",
-                format!("a {nx} × {ny} grid is larger than the limit of {MAX_PARTICLES} particles"),
-            ));
+        if let Some((which, message)) = grid_too_large(nx, ny) {
+            return Err(self.err(&format!("cloth.{which}"), message));
         }
         let origin = self.opt_vec3(t, p, "origin")?.unwrap_or([0.0; 3]);
         let plane = match t.get("plane") {

@@ -36,6 +36,19 @@ impl RunOptions {
     pub fn step_size(&self) -> f64 {
         1.0 / (self.frame_rate * self.substeps as f64)
     }
+
+    /// Whether these options make a run that can mean something and ends:
+    /// at least one step per frame, at most [`MAX_FRAMES`](crate::MAX_FRAMES)
+    /// frames and [`MAX_STEPS`](crate::MAX_STEPS) steps in all, and a step
+    /// that is a positive normal number (see
+    /// [`run_length_problem`](crate::scene::run_length_problem)). Every run
+    /// checks this before it builds anything.
+    pub fn check(&self) -> Result<(), RunError> {
+        match crate::scene::run_length_problem(self.frames, self.substeps, self.frame_rate) {
+            None => Ok(()),
+            Some((what, message)) => Err(RunError::Options(format!("{what}: {message}"))),
+        }
+    }
 }
 
 /// What is known about the state at a frame.
@@ -188,13 +201,7 @@ impl Simulation {
     {
         let method = S::INFO.name;
         let h = opts.step_size();
-        let rate_ok = opts.frame_rate > 0.0 && h.is_finite();
-        if opts.substeps == 0 || !rate_ok {
-            return Err(RunError::Options(format!(
-                "substeps ({}) must be at least 1 and frame_rate ({}) positive",
-                opts.substeps, opts.frame_rate
-            )));
-        }
+        opts.check()?;
         let mut frames = Vec::with_capacity(opts.frames.min(1 << 16) + 1);
         let mut emit = |sim: &Simulation, frames: &mut Vec<FrameStats>| -> Result<(), RunError> {
             let stats = sim.stats();

@@ -31,11 +31,12 @@ pub struct ClothArgs {
     /// implicit-euler, gauss3, radau2a-3, paper-dirk2, paper-dirk4).
     #[arg(long, value_name = "NAME")]
     pub method: Option<String>,
-    /// Frames to simulate after the initial one (default: the scene's).
-    #[arg(long, value_name = "N")]
+    /// Frames to simulate after the initial one (default: the scene's; at
+    /// most 10⁶, and at most 10⁹ steps in all).
+    #[arg(long, value_name = "N", allow_negative_numbers = true, value_parser = count_parser(0))]
     pub frames: Option<usize>,
     /// Steps per frame (default: the scene's).
-    #[arg(long, value_name = "K", conflicts_with = "dt")]
+    #[arg(long, value_name = "K", conflicts_with = "dt", allow_negative_numbers = true, value_parser = count_parser(1))]
     pub substeps: Option<usize>,
     /// The step size in seconds instead of --substeps: the frame is split
     /// into round(1/(frame_rate·H)) steps and the frame rate adjusted
@@ -48,15 +49,16 @@ pub struct ClothArgs {
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
     /// Write an OBJ file every N frames (and always the last); 0: none.
-    #[arg(long, value_name = "N", default_value_t = 10)]
+    #[arg(long, value_name = "N", default_value_t = 10, allow_negative_numbers = true, value_parser = count_parser(0))]
     pub obj_every: usize,
     /// Frames to render as PNG, comma-separated (default: first, middle and
     /// last), or "none".
-    #[arg(long, value_name = "FRAME,FRAME,...")]
+    #[arg(long, value_name = "FRAME,FRAME,...", allow_hyphen_values = true)]
     pub render: Option<String>,
     /// Override the resolution: NX×NY particles, e.g. 64x64 (the scene is
-    /// otherwise unchanged: same size, material and pins).
-    #[arg(long, value_name = "NXxNY")]
+    /// otherwise unchanged: same size, material and pins); at most 2²³
+    /// particles.
+    #[arg(long, value_name = "NXxNY", allow_hyphen_values = true)]
     pub grid: Option<String>,
     /// Instead of a run: the largest stable step of each method, by bisection
     /// on h over --duration simulated seconds ("stable": the run finishes,
@@ -67,10 +69,22 @@ pub struct ClothArgs {
     pub stability: bool,
     /// With --stability: the largest relative energy error |H − H₀|/E_ref
     /// a stable run may show.
-    #[arg(long, value_name = "X", default_value_t = 0.1, requires = "stability")]
+    #[arg(
+        long,
+        value_name = "X",
+        default_value_t = 0.1,
+        requires = "stability",
+        allow_negative_numbers = true
+    )]
     pub tolerance: f64,
-    /// With --stability: simulated seconds per trial run.
-    #[arg(long, value_name = "T", default_value_t = 1.0, requires = "stability")]
+    /// With --stability: simulated seconds per trial run (1e-6 to 1e6).
+    #[arg(
+        long,
+        value_name = "T",
+        default_value_t = 1.0,
+        requires = "stability",
+        allow_negative_numbers = true
+    )]
     pub duration: f64,
     /// With --stability: the methods to test, comma-separated (default: the
     /// explicit symplectic ones, euler, rk4, gauss2, midpoint, implicit-euler).
@@ -81,24 +95,58 @@ pub struct ClothArgs {
 /// Exit code of a run that blew up or whose Newton iteration failed.
 const EXIT_RUN_FAILED: u8 = 1;
 
+/// A clap value parser for a whole number of at least `min`, whose errors
+/// say what was expected (clap names the flag): `--frames -1` is "must be
+/// a whole number ≥ 0", not "unexpected argument '-1'".
+fn count_parser(min: usize) -> impl Fn(&str) -> Result<usize, String> + Clone {
+    move |text: &str| {
+        let t = text.trim();
+        match t.parse::<usize>() {
+            Ok(n) if n >= min => Ok(n),
+            Ok(n) => Err(format!("must be at least {min} (got {n})")),
+            Err(_) if t.parse::<i128>().is_ok_and(|n| n < 0) || t.starts_with('-') => {
+                Err(format!("must be a whole number ≥ {min}, not negative"))
+            }
+            Err(_) if !t.is_empty() && t.chars().all(|c| c.is_ascii_digit()) => Err(format!(
+                "too large (the largest is {}; runs are limited to {} frames and {} steps)",
+                usize::MAX,
+                cloth::MAX_FRAMES,
+                cloth::MAX_STEPS
+            )),
+            Err(_) => Err(format!("expected a whole number ≥ {min}")),
+        }
+    }
+}
+
+/// Shortest and longest `--duration` of a stability trial (s). Below, the
+/// trial's step floor `duration/400000` approaches the smallest normal
+/// numbers and the search means nothing; above, a trial would be all
+/// frames.
+const DURATION_RANGE: (f64, f64) = (1e-6, 1e6);
+
 pub fn run(args: &ClothArgs) -> Result<ExitCode> {
     // Library errors print their cause in their own message: pass the
     // message on, not the chain (which would print the cause twice).
     let mut scene = Scene::load(&args.scene).map_err(|e| anyhow!("{e}"))?;
     let file = args.scene.display().to_string();
     if let Some(grid) = &args.grid {
+        // Checked against the particle limit before anything is built.
         let (nx, ny) = parse_grid(grid)?;
         regrid(&mut scene, nx, ny);
         scene
             .validate()
-            .map_err(|e| anyhow!("--grid {grid}: {e}"))?;
+            .map_err(|e| anyhow!("--grid {grid}: {}", rename(&e, &file)))?;
     }
     if args.stability {
         if !(args.tolerance > 0.0 && args.tolerance.is_finite()) {
             bail!("--tolerance: must be positive (got {})", args.tolerance);
         }
-        if !(args.duration > 0.0 && args.duration.is_finite()) {
-            bail!("--duration: must be positive (got {})", args.duration);
+        let (lo, hi) = DURATION_RANGE;
+        if !(args.duration >= lo && args.duration <= hi) {
+            bail!(
+                "--duration: must be between {lo:e} s and {hi:e} s (got {})",
+                args.duration
+            );
         }
         let methods = match &args.methods {
             Some(list) => {
@@ -127,23 +175,68 @@ pub fn run(args: &ClothArgs) -> Result<ExitCode> {
         }
         None => scene.simulation.method.clone(),
     };
-    let (opts, note) = run_options(&scene, args)?;
+    let (opts, note) = run_options(&scene, args, &file)?;
     let renders = render_frames(args.render.as_deref(), opts.frames)?;
+    // Build the model (proportional to the springs), refusing a scene
+    // whose initial state is not finite, naming the field.
+    let sim = Simulation::new(&scene).map_err(|e| anyhow!("{}", rename(&e, &file)))?;
+    if cloth_implicit::is_implicit(&method) {
+        cloth_implicit::check_size(&sim.model).map_err(|e| {
+            let from = match (&args.method, &args.grid) {
+                (Some(m), _) => format!("--method {m}"),
+                (None, Some(g)) => format!("--grid {g}"),
+                (None, None) => format!("{file}: simulation.method"),
+            };
+            anyhow!(
+                "{from}: {}",
+                e.to_string().trim_start_matches("invalid run options: ")
+            )
+        })?;
+    }
+    let e_ref =
+        energy::reference_energy_checked(&scene, &sim).map_err(|e| anyhow!("{file}: {e}"))?;
     let dir = output_dir(args, &scene)?;
-    simulate(&scene, &method, &opts, note, &renders, args.obj_every, &dir)
+    let render_failure = args.render.as_deref().map(str::trim) != Some("none");
+    simulate(
+        sim,
+        e_ref,
+        &Plan {
+            scene: &scene,
+            method: &method,
+            opts: &opts,
+            renders: &renders,
+            render_failure,
+            obj_every: args.obj_every,
+            dir: &dir,
+        },
+        note,
+    )
+}
+
+/// A scene error as the user's file names it: the model names the scene by
+/// its `name`, the user knows the file.
+fn rename(e: &cloth::SceneError, file: &str) -> String {
+    match e {
+        cloth::SceneError::Field { field, message, .. } => format!("{file}: {field}: {message}"),
+        other => other.to_string(),
+    }
 }
 
 fn parse_grid(text: &str) -> Result<(usize, usize)> {
     let parts: Vec<&str> = text.split(['x', 'X', '×']).collect();
     let parse = |s: &str| s.trim().parse::<usize>().ok().filter(|&n| n >= 2);
-    match parts.as_slice() {
+    let (nx, ny) = match parts.as_slice() {
         [n] => parse(n).map(|n| (n, n)),
         [a, b] => parse(a).zip(parse(b)),
         _ => None,
     }
     .with_context(|| {
         format!("--grid: expected NX×NY with both at least 2, e.g. 64x64 (got \"{text}\")")
-    })
+    })?;
+    if let Some((_, message)) = cloth::scene::grid_too_large(nx, ny) {
+        bail!("--grid {text}: {message}");
+    }
+    Ok((nx, ny))
 }
 
 /// The scene at another resolution: pinned edges stay pinned edges, other
@@ -206,8 +299,15 @@ fn check_method(id: &str, flag: &str) -> Result<()> {
 }
 
 /// Frames, substeps and frame rate from the scene and the flags, and a note
-/// when the frame rate had to change for --dt.
-fn run_options(scene: &Scene, args: &ClothArgs) -> Result<(RunOptions, Option<String>)> {
+/// when the frame rate had to change for --dt. The run they describe is
+/// checked against the limits ([`cloth::MAX_FRAMES`], [`cloth::MAX_STEPS`],
+/// a normal step size) here, before anything is built, and an error names
+/// the flag (or the scene's field) that broke it.
+fn run_options(
+    scene: &Scene,
+    args: &ClothArgs,
+    file: &str,
+) -> Result<(RunOptions, Option<String>)> {
     let mut opts = RunOptions::from_scene(scene);
     let duration = scene.simulation.frames as f64 / scene.simulation.frame_rate;
     let mut note = None;
@@ -222,7 +322,14 @@ fn run_options(scene: &Scene, args: &ClothArgs) -> Result<(RunOptions, Option<St
             bail!("--dt: must be a positive step size in seconds (got {h})");
         }
         let rate = opts.frame_rate;
-        let k = ((1.0 / (rate * h)).round() as usize).max(1);
+        let per_frame = (1.0 / (rate * h)).round().max(1.0);
+        if !(per_frame <= cloth::MAX_STEPS as f64) {
+            bail!(
+                "--dt {h:e}: {per_frame:e} steps per {rate} Hz frame is more than the limit of {} steps in a run",
+                cloth::MAX_STEPS
+            );
+        }
+        let k = per_frame as usize;
         opts.substeps = k;
         let exact = 1.0 / (k as f64 * h);
         if (exact - rate).abs() > 1e-9 * rate {
@@ -232,12 +339,30 @@ fn run_options(scene: &Scene, args: &ClothArgs) -> Result<(RunOptions, Option<St
                 if k == 1 { "" } else { "s" }
             ));
             if args.frames.is_none() {
-                opts.frames = ((duration * exact).round() as usize).max(1);
+                let frames = (duration * exact).round().max(1.0);
+                if !(frames <= cloth::MAX_FRAMES as f64) {
+                    bail!(
+                        "--dt {h:e}: the scene's {duration} s would be {frames:e} frames of one step, more than the limit of {} frames (give --frames)",
+                        cloth::MAX_FRAMES
+                    );
+                }
+                opts.frames = frames as usize;
             }
         }
     }
     if let Some(n) = args.frames {
         opts.frames = n;
+    }
+    if let Some((what, message)) =
+        cloth::scene::run_length_problem(opts.frames, opts.substeps, opts.frame_rate)
+    {
+        let from = match what {
+            "frames" if args.frames.is_some() => "--frames".to_string(),
+            "frames" | "substeps" | "frame_rate" if args.dt.is_some() => "--dt".to_string(),
+            "substeps" if args.substeps.is_some() => "--substeps".to_string(),
+            other => format!("{file}: simulation.{other}"),
+        };
+        bail!("{from}: {message}");
     }
     Ok((opts, note))
 }
@@ -349,18 +474,36 @@ impl std::fmt::Display for BlownUp {
 }
 impl std::error::Error for BlownUp {}
 
-fn simulate(
-    scene: &Scene,
-    method: &str,
-    opts: &RunOptions,
-    note: Option<String>,
-    renders: &[usize],
+/// What a run is asked to do and where its output goes.
+struct Plan<'a> {
+    scene: &'a Scene,
+    method: &'a str,
+    opts: &'a RunOptions,
+    /// Frames to render (sorted).
+    renders: &'a [usize],
+    /// Whether a run that fails renders its last good frame (not with
+    /// `--render none`).
+    render_failure: bool,
     obj_every: usize,
-    dir: &Path,
+    dir: &'a Path,
+}
+
+fn simulate(
+    mut sim: Simulation,
+    e_ref: f64,
+    plan: &Plan<'_>,
+    note: Option<String>,
 ) -> Result<ExitCode> {
+    let Plan {
+        scene,
+        method,
+        opts,
+        renders,
+        render_failure,
+        obj_every,
+        dir,
+    } = *plan;
     let clock = Instant::now();
-    let mut sim = Simulation::new(scene).map_err(|e| anyhow!("{e}"))?;
-    let e_ref = energy::reference_energy(scene, &sim);
     let h0 = sim.stats().energy.total();
     let triangles = sim.model.triangles();
     clear_stale(dir)?;
@@ -413,6 +556,20 @@ fn simulate(
     });
     bar.finish_and_clear();
     let title = |name: &str| format!("{} — {name}, h = {:.3e} s", scene.name, opts.step_size());
+    // The model checks that the initial state is finite and the reference
+    // energy is positive and finite, so frame 0 always passes; should it
+    // not, that is an error about the scene, not a panic.
+    let Some(&good) = col.stats.last() else {
+        let why = match (&result, &col.blown) {
+            (_, Some((_, rel))) => format!("|H − H₀|/E_ref = {rel:e} at the initial state"),
+            (Err(e), None) => e.to_string(),
+            (Ok(_), None) => "no frame was recorded".to_string(),
+        };
+        bail!(
+            "{}: the initial state cannot be simulated: {why}",
+            scene.name
+        );
+    };
     let failure = match result {
         Ok((report, solver)) => {
             let mut written = vec!["energy.csv".to_string(), "energy.svg".to_string()];
@@ -423,7 +580,11 @@ fn simulate(
                 e_ref,
                 &title(report.method),
             )?;
-            written.extend(render_kept(scene, &triangles, &col.kept, dir, method)?);
+            let (names, note_render) = render_kept(scene, &triangles, &col.kept, dir, method)?;
+            written.extend(names);
+            if let Some(n) = note_render {
+                eprintln!("note: {n}");
+            }
             let wall = clock.elapsed().as_secs_f64();
             let s = Summary {
                 scene,
@@ -445,7 +606,6 @@ fn simulate(
         Err(err @ (RunError::Diverged { .. } | RunError::Solve { .. })) => err.to_string(),
         Err(RunError::Callback { .. }) if col.blown.is_some() => {
             let (bad, rel) = col.blown.expect("checked");
-            let good = *col.stats.last().expect("the initial frame passes");
             locate_blowup(&mut sim, method, opts, &col.good_state, good, h0, e_ref)
                 .unwrap_or_else(|| {
                     format!(
@@ -462,7 +622,6 @@ fn simulate(
         Err(err) => return Err(anyhow!("{err}")),
     };
     // Keep what was good: the frames up to the last good one.
-    let good = *col.stats.last().expect("the initial frame is recorded");
     energy::write_csv(&dir.join("energy.csv"), &col.stats, e_ref)?;
     let mut written = vec!["energy.csv".to_string()];
     if col.stats.len() >= 2 {
@@ -484,8 +643,11 @@ fn simulate(
             col.objs += 1;
         }
     }
-    col.kept.insert(good.frame, (good.time, positions));
-    written.extend(render_kept(scene, &triangles, &col.kept, dir, method)?);
+    if render_failure {
+        col.kept.insert(good.frame, (good.time, positions));
+    }
+    let (names, note_render) = render_kept(scene, &triangles, &col.kept, dir, method)?;
+    written.extend(names);
     if col.objs > 0 {
         written.push(format!("{} OBJ in frames/", col.objs));
     }
@@ -497,6 +659,9 @@ fn simulate(
         dir.display(),
         written.join(", ")
     );
+    if let Some(n) = note_render {
+        eprintln!("note: {n}");
+    }
     Ok(ExitCode::from(EXIT_RUN_FAILED))
 }
 
@@ -549,32 +714,36 @@ fn method_name(id: &str) -> String {
     integrator_core::library::info(id).map_or(id.to_string(), |i| i.name.to_string())
 }
 
-/// Render the kept frames with one camera fitted to all of them.
+/// Render the kept frames with one camera fitted to all of them; the names
+/// written, and a note when a picture had to be simplified (see
+/// [`render::rasterise_checked`]).
 fn render_kept(
     scene: &Scene,
     triangles: &[[usize; 3]],
     kept: &BTreeMap<usize, (f64, Vec<Vec3>)>,
     dir: &Path,
     method: &str,
-) -> Result<Vec<String>> {
+) -> Result<(Vec<String>, Option<String>)> {
     if kept.is_empty() {
-        return Ok(Vec::new());
+        return Ok((Vec::new(), None));
     }
     let all: Vec<Vec3> = kept.values().flat_map(|(_, p)| p.iter().copied()).collect();
-    let stage = render::Stage {
-        colliders: scene.colliders.clone(),
-        triangles: triangles.to_vec(),
-        nx: scene.cloth.nx,
-    };
+    let stage = render::Stage::for_grid(scene.colliders.clone(), triangles, scene.cloth.nx);
     let camera = render::Camera::fit(&all, &scene.colliders);
+    drop(all);
     let mut names = Vec::new();
+    let mut notes = Vec::new();
     for (k, (t, positions)) in kept {
         let name = format!("render_{k:04}.png");
         let caption = format!("{} · {method} · frame {k} · t = {t:.3} s", scene.name);
-        render::render_png(&dir.join(&name), &stage, &camera, positions, &caption)?;
+        if let Some(n) =
+            render::render_png_noted(&dir.join(&name), &stage, &camera, positions, &caption)?
+        {
+            notes.push(format!("{name}: {n}"));
+        }
         names.push(name);
     }
-    Ok(names)
+    Ok((names, (!notes.is_empty()).then(|| notes.join("; "))))
 }
 
 /// The one-screen summary of a finished run.
@@ -638,12 +807,20 @@ impl Summary<'_> {
         let stab = model.stability();
         let _ = writeln!(
             s,
-            "  step         h = {:.4e} s ({} per frame at {:.4} Hz); 2/ω_max = {:.4e} s, h·ω_max = {:.3}",
+            "  step         h = {:.4e} s ({} per frame at {:.4} Hz); 2/ω_max = {:.4e} s, h·ω_max = {:.3}{}",
             r.h,
             self.opts.substeps,
             self.opts.frame_rate,
             stab.h_max,
-            r.h * stab.omega_max
+            r.h * stab.omega_max,
+            if stab.converged {
+                String::new()
+            } else {
+                format!(
+                    " (ω_max a lower bound: {} power iterations, not converged)",
+                    stab.iterations
+                )
+            }
         );
         if let Some(note) = self.note {
             let _ = writeln!(s, "               ({note})");

@@ -31,6 +31,66 @@ pub struct Stage {
     pub nx: usize,
 }
 
+/// The finest mesh a picture draws: at most this many cells along a side.
+/// A 640 × 480 picture cannot show more; a finer grid is drawn through
+/// every k-th particle of each row and column (always including the last),
+/// so drawing costs the same on a 2048 × 2048 cloth as on 512 × 512, and a
+/// degenerate 100 000 × 2 grid is 512 × 1 cells, not 200 000 slivers.
+pub const MAX_CELLS_PER_SIDE: usize = 512;
+
+/// The most pixel tests the triangles of one picture may cost: 40 per
+/// (supersampled) pixel. A cloth folded on itself many times, or blown up
+/// into triangles that each cover the screen, would otherwise cost
+/// triangles × pixels; past the budget the remaining triangles are left
+/// out and the picture says so (see [`rasterise_checked`]).
+pub const PIXEL_BUDGET_PER_PIXEL: usize = 40;
+
+impl Stage {
+    /// The stage of an `nx × ny` grid: its triangles (as
+    /// `ClothModel::triangles` numbers them) through every k-th particle
+    /// along each side when the grid has more than [`MAX_CELLS_PER_SIDE`]
+    /// cells there.
+    pub fn for_grid(colliders: Vec<Collider>, triangles: &[[usize; 3]], nx: usize) -> Stage {
+        let ny = if nx > 1 {
+            triangles.len() / (2 * (nx - 1)) + 1
+        } else {
+            1
+        };
+        if nx <= MAX_CELLS_PER_SIDE + 1 && ny <= MAX_CELLS_PER_SIDE + 1 {
+            return Stage {
+                colliders,
+                triangles: triangles.to_vec(),
+                nx,
+            };
+        }
+        let samples = |n: usize| -> Vec<usize> {
+            let stride = (n - 1).div_ceil(MAX_CELLS_PER_SIDE).max(1);
+            let mut v: Vec<usize> = (0..n).step_by(stride).collect();
+            if v.last() != Some(&(n - 1)) {
+                v.push(n - 1);
+            }
+            v
+        };
+        let (is, js) = (samples(nx), samples(ny));
+        let mut out = Vec::with_capacity(2 * (is.len() - 1) * (js.len() - 1));
+        for jj in js.windows(2) {
+            for ii in is.windows(2) {
+                let a = jj[0] * nx + ii[0];
+                let b = jj[0] * nx + ii[1];
+                let c = jj[1] * nx + ii[0];
+                let d = jj[1] * nx + ii[1];
+                out.push([a, b, d]);
+                out.push([a, d, c]);
+            }
+        }
+        Stage {
+            colliders,
+            triangles: out,
+            nx,
+        }
+    }
+}
+
 /// A fixed camera, the same for every frame of a run.
 #[derive(Clone, Copy, Debug)]
 pub struct Camera {
@@ -198,7 +258,23 @@ pub fn render_png(
     positions: &[Vec3],
     caption: &str,
 ) -> Result<()> {
-    let pixels = rasterise(stage, camera, positions);
+    render_png_noted(path, stage, camera, positions, caption).map(|_| ())
+}
+
+/// [`render_png`], returning a note when the picture left triangles out
+/// (the pixel budget, [`PIXEL_BUDGET_PER_PIXEL`]); the caption says so too.
+pub fn render_png_noted(
+    path: &Path,
+    stage: &Stage,
+    camera: &Camera,
+    positions: &[Vec3],
+    caption: &str,
+) -> Result<Option<String>> {
+    let (pixels, note) = rasterise_checked(stage, camera, positions);
+    let caption = match &note {
+        Some(n) => format!("{caption} ({n})"),
+        None => caption.to_string(),
+    };
     compare::plot::register_font();
     let root = BitMapBackend::new(path, (WIDTH, HEIGHT)).into_drawing_area();
     let image = BitMapElement::with_owned_buffer((0, 0), (WIDTH, HEIGHT), pixels)
@@ -214,11 +290,20 @@ pub fn render_png(
     root.present()
         .map_err(|e| anyhow!("{e:?}"))
         .with_context(|| format!("{}: cannot write the PNG", path.display()))?;
-    Ok(())
+    Ok(note)
 }
 
-/// The picture as RGB bytes, `WIDTH × HEIGHT`, rows top to bottom.
-pub fn rasterise(stage: &Stage, camera: &Camera, positions: &[Vec3]) -> Vec<u8> {
+/// The picture as RGB bytes, `WIDTH × HEIGHT`, rows top to bottom, and a
+/// note when triangles were left out because the picture's pixel budget ran
+/// out. Its cost is bounded by the image, not
+/// by the mesh: the sky and colliders once per pixel, the triangles at most
+/// [`PIXEL_BUDGET_PER_PIXEL`] pixel tests per pixel in all (plus a constant
+/// per triangle).
+pub fn rasterise_checked(
+    stage: &Stage,
+    camera: &Camera,
+    positions: &[Vec3],
+) -> (Vec<u8>, Option<String>) {
     let (w, h) = (WIDTH as usize * SS, HEIGHT as usize * SS);
     let mut canvas = Canvas {
         w,
@@ -241,7 +326,7 @@ pub fn rasterise(stage: &Stage, camera: &Camera, positions: &[Vec3]) -> Vec<u8> 
         floors.push(Floor::new(Vec3::y(), Vec3::new(0.0, camera.floor, 0.0)));
     }
     background(&mut canvas, camera, &floors, &stage.colliders, light);
-    cloth(
+    let skipped = cloth(
         &mut canvas,
         camera,
         positions,
@@ -249,7 +334,13 @@ pub fn rasterise(stage: &Stage, camera: &Camera, positions: &[Vec3]) -> Vec<u8> 
         stage.nx.max(1),
         light,
     );
-    downsample(&canvas)
+    let note = (skipped > 0).then(|| {
+        format!(
+            "{skipped} of {} triangles not drawn: the picture's budget of {PIXEL_BUDGET_PER_PIXEL} pixel tests per pixel ran out",
+            stage.triangles.len()
+        )
+    });
+    (downsample(&canvas), note)
 }
 
 fn ray(camera: &Camera, px: f64, py: f64, w: usize, h: usize) -> Vec3 {
@@ -327,6 +418,8 @@ fn shade(n: Vec3, light: Vec3, view: Vec3) -> f64 {
     0.18 + 0.55 * n.dot(&light).max(0.0) + 0.32 * n.dot(&view).max(0.0)
 }
 
+/// Draw the triangles; returns how many were left out when the pixel
+/// budget ran out.
 fn cloth(
     canvas: &mut Canvas,
     camera: &Camera,
@@ -334,8 +427,9 @@ fn cloth(
     triangles: &[[usize; 3]],
     nx: usize,
     light: Vec3,
-) {
+) -> usize {
     let (w, h) = (canvas.w, canvas.h);
+    let mut budget = PIXEL_BUDGET_PER_PIXEL * w * h;
     // Smooth normals: area-weighted sums of the faces' (front-side) normals.
     let mut normals = vec![Vec3::zeros(); positions.len()];
     for t in triangles {
@@ -375,7 +469,10 @@ fn cloth(
             )
         })
         .collect();
-    for t in triangles {
+    for (done, t) in triangles.iter().enumerate() {
+        if budget == 0 {
+            return triangles.len() - done;
+        }
         let z = t.map(|k| cam[k].z);
         if z.iter().any(|&z| !(z > near && z.is_finite())) {
             continue;
@@ -429,8 +526,37 @@ fn cloth(
         }
         let (x1, y1) = (x1 as usize, y1 as usize);
         let n = t.map(|k| normals[k]);
+        let sigma = area.signum();
         for py in y0..=y1 {
-            for px in x0..=x1 {
+            // The pixels of this row the triangle can cover: each edge
+            // function is linear in x along the row, so its sign condition
+            // is a half-line; their intersection (widened by a pixel, the
+            // test below is exact) is all that is visited.
+            let yc = py as f64 + 0.5;
+            let (mut lo, mut hi) = (x0 as f64, x1 as f64 + 1.0);
+            for (i, j) in [(1, 2), (2, 0), (0, 1)] {
+                let c = (s[j].0 - s[i].0) * (yc - s[i].1);
+                let d = (s[j].1 - s[i].1) * sigma;
+                if d > 0.0 {
+                    hi = hi.min(s[i].0 + sigma * c / d + 1.0);
+                } else if d < 0.0 {
+                    lo = lo.max(s[i].0 + sigma * c / d - 1.0);
+                } else if sigma * c < -1e-9 * (1.0 + c.abs()) {
+                    hi = lo - 1.0;
+                }
+            }
+            budget = budget.saturating_sub(1);
+            if !(hi >= lo) {
+                continue;
+            }
+            let px0 = (lo - 0.5).floor().max(x0 as f64) as usize;
+            let px1 = (hi - 0.5).ceil().min(x1 as f64);
+            if px1 < px0 as f64 {
+                continue;
+            }
+            let px1 = px1 as usize;
+            budget = budget.saturating_sub(px1 + 1 - px0);
+            for px in px0..=px1 {
                 let (x, y) = (px as f64 + 0.5, py as f64 + 0.5);
                 let edge = |i: usize, j: usize| {
                     (s[j].0 - s[i].0) * (y - s[i].1) - (s[j].1 - s[i].1) * (x - s[i].0)
@@ -474,6 +600,7 @@ fn cloth(
             }
         }
     }
+    0
 }
 
 fn downsample(canvas: &Canvas) -> Vec<u8> {
@@ -535,7 +662,8 @@ mod tests {
             nx: 6,
         };
         let camera = Camera::fit(&pts, &stage.colliders);
-        let img = rasterise(&stage, &camera, &pts);
+        let (img, note) = rasterise_checked(&stage, &camera, &pts);
+        assert_eq!(note, None);
         assert_eq!(img.len(), (WIDTH * HEIGHT * 3) as usize);
         let px = |x: u32, y: u32| {
             let i = ((y * WIDTH + x) * 3) as usize;
@@ -563,7 +691,8 @@ mod tests {
             nx: 4,
         };
         let camera = Camera::fit(&pts, &stage.colliders);
-        let img = rasterise(&stage, &camera, &pts);
+        let (img, note) = rasterise_checked(&stage, &camera, &pts);
+        assert_eq!(note, None);
         // Some pixels have the sphere's blue.
         let blue = img
             .chunks(3)

@@ -80,10 +80,14 @@ impl Outcome {
     }
 }
 
-/// Run options with step exactly `h`, about 60 frames per simulated second,
-/// covering at least `duration`.
+/// Run options with step exactly `h`, about 60 frames per simulated second
+/// (a frame no longer than the duration), covering at least `duration`.
+/// The steps of a frame are bounded by the steps of the whole trial, so a
+/// tiny duration cannot ask for 1/(60·h) steps (a hang at `--duration
+/// 1e-300`).
 fn options(h: f64, duration: f64) -> RunOptions {
-    let substeps = ((1.0 / 60.0 / h).round() as usize).max(1);
+    let per_frame = (1.0 / 60.0 / h).round().min((duration / h).ceil());
+    let substeps = (per_frame.min(MAX_STEPS[0]) as usize).max(1);
     let frame = substeps as f64 * h;
     RunOptions {
         frames: ((duration / frame).ceil() as usize).max(1),
