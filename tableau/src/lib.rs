@@ -7,6 +7,7 @@
 //! syn, so the macro and the CLI share one verifier.
 
 pub mod analysis;
+pub mod budget;
 pub mod catalogue;
 pub mod claims;
 pub mod expr;

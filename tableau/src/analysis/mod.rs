@@ -3,6 +3,7 @@
 //! `symlab check` and the `butcher!` macro run, so they always agree.
 
 pub mod class;
+mod modular;
 pub mod reduce;
 pub mod stability;
 pub mod symmetry;
@@ -10,6 +11,7 @@ pub mod symplectic;
 
 use serde::Serialize;
 
+use crate::budget::BeyondBudget;
 use crate::claims::Claim;
 use crate::order::{self, OrderReport};
 use crate::table::{Composition, ShapeError, Splitting};
@@ -94,6 +96,10 @@ pub struct Analysis {
     /// both ways).
     pub symmetric: bool,
     pub stability: Option<StabilityFunction>,
+    /// Why `stability` is `None` for a Runge–Kutta table: its exact
+    /// computation is beyond the budget ([`crate::budget`]). `None` when it
+    /// was computed, and for the partitioned forms (which have none).
+    pub stability_not_computed: Option<BeyondBudget>,
     /// `|R(iy)| = 1` for all real `y` (RK only).
     pub unimodular: Option<bool>,
 }
@@ -137,6 +143,10 @@ impl Analysis {
         let symmetric = symmetry::equal_up_to_permutation(&irreducible, &[symmetry::adjoint(red)]);
         let order = order::rk_order(rk, RK_ORDER_LIMIT, None);
         let stability = StabilityFunction::of(rk);
+        let unimodular = stability
+            .as_ref()
+            .ok()
+            .map(StabilityFunction::unimodular_on_imaginary_axis);
         let class = class::classify(rk);
         Analysis {
             form: Form::Rk,
@@ -152,8 +162,9 @@ impl Analysis {
             order_separable: order,
             order_rkn: order::rk_order_nystrom(rk, RKN_ORDER_LIMIT, None),
             symmetric,
-            unimodular: Some(stability.unimodular_on_imaginary_axis()),
-            stability: Some(stability),
+            unimodular,
+            stability_not_computed: stability.as_ref().err().cloned(),
+            stability: stability.ok(),
         }
     }
 
@@ -188,6 +199,7 @@ impl Analysis {
             order_rkn: order::prk_order_nystrom(prk, RKN_ORDER_LIMIT, None),
             symmetric,
             stability: None,
+            stability_not_computed: None,
             unimodular: None,
         }
     }

@@ -2,11 +2,30 @@
 //! `P(z) = det(I − zA + z𝟙bᵀ)` and `Q(z) = det(I − zA)` (Hairer–Wanner II,
 //! IV.3), as an exact rational function in lowest terms.
 //!
-//! Both determinants have degree at most `s`, so they are found exactly by
-//! evaluating at `z = 0, 1, …, s` and interpolating. `|R(iy)| = 1` for every
+//! Both are characteristic polynomials reversed: `det(I − zM) = Σ cₖ zᵏ`
+//! where `det(λI − M) = Σ cₖ λ^(s−k)`, for `M = A` and `M = A − 𝟙bᵀ`. A
+//! rational table (the common case) is scaled to integers and its
+//! characteristic polynomials are computed modulo primes and recovered by
+//! the Chinese remainder theorem from an a-priori bound ([`super::modular`]):
+//! no fraction, no gcd in the inner loop, `O(s³)` word operations per prime.
+//! An explicit table needs no division at all (`Q = 1`,
+//! `P(z) = 1 + Σ bᵀAᵏ⁻¹𝟙 zᵏ`). An implicit table with radicals is reduced to
+//! Hessenberg form over the number field. Each path has a budget
+//! ([`crate::budget`]); beyond it [`StabilityFunction::of`] says so instead
+//! of running without bound, and the other verdicts are still decided.
+//!
+//! `|R(iy)| = 1` for every
 //! real `y` exactly when `P(z)P(−z) = Q(z)Q(−z)` as polynomials (the two
 //! sides are polynomials in `y` after `z = iy`, equal on all of ℝ).
 
+use num_bigint::BigInt;
+use num_integer::Integer;
+use num_rational::BigRational;
+use num_traits::{One, Zero};
+
+use super::modular;
+use crate::budget::{BeyondBudget, RADICAL_STABILITY_WORK, STABILITY_WORK};
+use crate::number::{MAX_INVERSE_DEGREE, field_degree};
 use crate::{Number, Rk};
 
 /// A polynomial with exact coefficients, constant term first, no trailing
@@ -134,43 +153,71 @@ pub struct StabilityFunction {
 }
 
 impl StabilityFunction {
-    pub fn of(rk: &Rk) -> StabilityFunction {
-        let s = rk.b.len();
-        let ones_b = |z: &Number, i: usize, j: usize| &(z * &rk.b[j]) - &(z * &rk.a[i][j]);
-        let points: Vec<Number> = (0..=s as i64).map(Number::from).collect();
-        let p_vals: Vec<Number> = points
-            .iter()
-            .map(|z| {
-                det((0..s)
-                    .map(|i| (0..s).map(|j| ident(i, j) + ones_b(z, i, j)).collect())
-                    .collect())
-            })
-            .collect();
-        let q_vals: Vec<Number> = points
-            .iter()
-            .map(|z| {
-                det((0..s)
-                    .map(|i| (0..s).map(|j| ident(i, j) - z * &rk.a[i][j]).collect())
-                    .collect())
-            })
-            .collect();
-        let p = interpolate(&points, &p_vals);
-        let q = interpolate(&points, &q_vals);
-        let g = Poly::gcd(&p, &q);
-        let (mut p, _) = p.div_rem(&g);
-        let (mut q, _) = q.div_rem(&g);
-        // Normalise Q(0) = 1 (Q(0) ≠ 0 since Q(0) = det I = 1 before reduction).
-        let q0 = q.0[0].recip().expect("Q(0) is nonzero");
-        p = p.scale(&q0);
-        q = q.scale(&q0);
-        StabilityFunction {
-            numerator: p,
-            denominator: q,
+    /// The exact stability function, or why it is beyond the budget (see
+    /// [`crate::budget`]): rational tables within
+    /// [`STABILITY_WORK`](crate::budget::STABILITY_WORK), explicit tables with
+    /// radicals within [`RADICAL_STABILITY_WORK`](crate::budget::RADICAL_STABILITY_WORK),
+    /// other tables with radicals also within
+    /// [`MAX_INVERSE_DEGREE`](crate::number::MAX_INVERSE_DEGREE).
+    pub fn of(rk: &Rk) -> Result<StabilityFunction, BeyondBudget> {
+        let entries = rk.a.iter().flatten().chain(&rk.b);
+        let rational = entries.clone().all(Number::is_rational);
+        if rational {
+            return rational_case(rk);
         }
+        let s = rk.b.len() as u64;
+        let degree = field_degree(entries);
+        let work = s
+            .saturating_pow(3)
+            .saturating_mul(degree.saturating_mul(degree));
+        let explicit = (0..rk.a.len()).all(|i| rk.a[i][i..].iter().all(Number::is_zero));
+        if work > RADICAL_STABILITY_WORK || (!explicit && degree > MAX_INVERSE_DEGREE) {
+            return Err(BeyondBudget(format!(
+                "the entries span a field of degree {degree} over Q and the table has {s} stages; the exact stability function of a table with radicals is computed when stages³ × degree² ≤ {RADICAL_STABILITY_WORK} and, for an implicit table, the degree is at most {MAX_INVERSE_DEGREE}"
+            )));
+        }
+        if explicit {
+            return Ok(explicit_case(rk));
+        }
+        Ok(field_case(rk))
     }
 
     /// `|R(iy)| = 1` for all real `y`.
     pub fn unimodular_on_imaginary_axis(&self) -> bool {
+        // Both sides have degree 2·deg, with nonzero leading coefficients.
+        if self.numerator.degree() != self.denominator.degree() {
+            return false;
+        }
+        let all = self.numerator.0.iter().chain(&self.denominator.0);
+        if let Some(rats) = all.map(Number::as_rational).collect::<Option<Vec<_>>>() {
+            // Rational: compare the products as integer polynomials over a
+            // common denominator (no gcd per operation).
+            let mut d = BigInt::one();
+            for r in &rats {
+                if !r.denom().is_one() {
+                    d = d.lcm(r.denom());
+                }
+            }
+            let scaled: Vec<BigInt> = rats
+                .iter()
+                .map(|r| (r * BigRational::from_integer(d.clone())).to_integer())
+                .collect();
+            let (p, q) = scaled.split_at(self.numerator.0.len());
+            let reflect_mul = |v: &[BigInt]| -> Vec<BigInt> {
+                let mut out = vec![BigInt::zero(); 2 * v.len() - 1];
+                for (i, x) in v.iter().enumerate() {
+                    for (j, y) in v.iter().enumerate() {
+                        if j % 2 == 1 {
+                            out[i + j] -= x * y;
+                        } else {
+                            out[i + j] += x * y;
+                        }
+                    }
+                }
+                out
+            };
+            return reflect_mul(p) == reflect_mul(q);
+        }
         let lhs = self.numerator.mul(&self.numerator.reflect());
         let rhs = self.denominator.mul(&self.denominator.reflect());
         lhs == rhs
@@ -189,67 +236,205 @@ impl StabilityFunction {
     }
 }
 
-fn ident(i: usize, j: usize) -> Number {
-    if i == j {
-        Number::one()
-    } else {
-        Number::zero()
+/// An explicit table: `A` is nilpotent, `Q = 1` and
+/// `P(z) = 1 + Σₖ (bᵀAᵏ⁻¹𝟙) zᵏ` — products only, no division.
+fn explicit_case(rk: &Rk) -> StabilityFunction {
+    let s = rk.b.len();
+    let mut v = vec![Number::one(); s];
+    let mut coeffs = vec![Number::one()];
+    for _ in 0..s {
+        let dot =
+            rk.b.iter()
+                .zip(&v)
+                .fold(Number::zero(), |acc, (x, y)| acc + x * y);
+        coeffs.push(dot);
+        v =
+            rk.a.iter()
+                .map(|row| {
+                    row.iter()
+                        .zip(&v)
+                        .filter(|(x, y)| !x.is_zero() && !y.is_zero())
+                        .fold(Number::zero(), |acc, (x, y)| acc + x * y)
+                })
+                .collect();
+    }
+    StabilityFunction {
+        numerator: Poly(coeffs).trim(),
+        denominator: Poly(vec![Number::one()]),
     }
 }
 
-/// Exact determinant by Gaussian elimination over the field.
-fn det(mut m: Vec<Vec<Number>>) -> Number {
-    let n = m.len();
-    let mut d = Number::one();
-    for col in 0..n {
-        let Some(p) = (col..n).find(|&r| !m[r][col].is_zero()) else {
-            return Number::zero();
+/// `det(I − zM) = Σₖ cₖ zᵏ` where `det(λI − M) = Σₖ cₖ λ^(s−k)`: the
+/// characteristic polynomial of `M`, reversed.
+fn det_i_minus_z(m: Vec<Vec<Number>>) -> Poly {
+    Poly(charpoly_field(m)).trim()
+}
+
+/// An implicit table with radicals: characteristic polynomials over the
+/// number field (Hessenberg reduction, `s − 2` inverses), lowest terms by
+/// Euclid's algorithm over the field.
+fn field_case(rk: &Rk) -> StabilityFunction {
+    let s = rk.b.len();
+    let q = det_i_minus_z(rk.a.clone());
+    let n: Vec<Vec<Number>> = (0..s)
+        .map(|i| (0..s).map(|j| &rk.a[i][j] - &rk.b[j]).collect())
+        .collect();
+    let p = det_i_minus_z(n);
+    lowest_terms(p, q)
+}
+
+fn lowest_terms(p: Poly, q: Poly) -> StabilityFunction {
+    let g = Poly::gcd(&p, &q);
+    let (mut p, _) = p.div_rem(&g);
+    let (mut q, _) = q.div_rem(&g);
+    // Normalise Q(0) = 1 (Q(0) ≠ 0 since Q(0) = det I = 1 before reduction).
+    let q0 = q.0[0].recip().expect("Q(0) is nonzero");
+    p = p.scale(&q0);
+    q = q.scale(&q0);
+    StabilityFunction {
+        numerator: p,
+        denominator: q,
+    }
+}
+
+/// `det(λI − M) = Σₖ cₖ λ^(s−k)` over the number field: `[c₀ = 1, …, c_s]`
+/// (Hessenberg reduction, then the recurrence of its leading minors; Cohen,
+/// *A Course in Computational Algebraic Number Theory*, 2.2.9).
+fn charpoly_field(mut h: Vec<Vec<Number>>) -> Vec<Number> {
+    let n = h.len();
+    for col in 0..n.saturating_sub(2) {
+        let m1 = col + 1;
+        let Some(i) = (m1..n).find(|&i| !h[i][col].is_zero()) else {
+            continue;
         };
-        if p != col {
-            m.swap(p, col);
-            d = -d;
+        if i != m1 {
+            h.swap(i, m1);
+            for row in h.iter_mut() {
+                row.swap(i, m1);
+            }
         }
-        let pivot = m[col][col].clone();
-        d = &d * &pivot;
-        let inv = pivot.recip().expect("pivot is nonzero");
-        for r in col + 1..n {
-            if m[r][col].is_zero() {
+        let t_inv = h[m1][col].recip().expect("the pivot is nonzero");
+        for j in m1 + 1..n {
+            if h[j][col].is_zero() {
                 continue;
             }
-            let f = &m[r][col] * &inv;
-            let (top, bottom) = m.split_at_mut(r);
-            for (x, y) in bottom[0][col..n].iter_mut().zip(&top[col][col..n]) {
-                *x -= &(&f * y);
+            let u = &h[j][col] * &t_inv;
+            let (top, bottom) = h.split_at_mut(j);
+            for (x, y) in bottom[0].iter_mut().zip(&top[m1]) {
+                if !y.is_zero() {
+                    *x -= &(&u * y);
+                }
+            }
+            for row in h.iter_mut() {
+                if !row[j].is_zero() {
+                    let add = &u * &row[j];
+                    row[m1] += &add;
+                }
             }
         }
     }
-    d
+    let mut polys: Vec<Vec<Number>> = vec![vec![Number::one()]];
+    for k in 1..=n {
+        let prev = &polys[k - 1];
+        let mut cur = vec![Number::zero(); k + 1];
+        for (i, c) in prev.iter().enumerate() {
+            cur[i] += c;
+            cur[i + 1] -= &(&h[k - 1][k - 1] * c);
+        }
+        let mut t = Number::one();
+        for i in 1..k {
+            t = &t * &h[k - i][k - i - 1];
+            if t.is_zero() {
+                break;
+            }
+            let f = &t * &h[k - i - 1][k - 1];
+            if f.is_zero() {
+                continue;
+            }
+            let q = &polys[k - i - 1];
+            let shift = k + 1 - q.len();
+            for (j, c) in q.iter().enumerate() {
+                cur[shift + j] -= &(&f * c);
+            }
+        }
+        polys.push(cur);
+    }
+    polys.pop().expect("n + 1 polynomials")
 }
 
-/// The polynomial of degree < n through `(xₖ, yₖ)` (Newton's divided
-/// differences, exact).
-fn interpolate(x: &[Number], y: &[Number]) -> Poly {
-    let n = x.len();
-    let mut coef = y.to_vec();
-    for k in 1..n {
-        for i in (k..n).rev() {
-            let num = &coef[i] - &coef[i - 1];
-            let den = &x[i] - &x[i - k];
-            coef[i] = num.checked_div(&den).expect("distinct nodes");
+/// A rational table: scaled to integers by the common denominator `D` of
+/// `A` and `b`, the characteristic polynomials of `DA` and `D(A − 𝟙bᵀ)` are
+/// computed modulo primes and recovered exactly (see [`super::modular`]);
+/// `Q(z) = Σ cₖ(DA) (z/D)ᵏ`, likewise `P`. Lowest terms: a gcd of degree 0
+/// modulo a prime proves the two coprime; otherwise the gcd over Z by the
+/// primitive remainder sequence.
+fn rational_case(rk: &Rk) -> Result<StabilityFunction, BeyondBudget> {
+    let s = rk.b.len();
+    let rat = |x: &Number| x.as_rational().expect("a rational table");
+    let mut d = BigInt::one();
+    for x in rk.a.iter().flatten().chain(&rk.b) {
+        let r = rat(x);
+        if !r.denom().is_one() {
+            d = d.lcm(r.denom());
         }
     }
-    // Expand the Newton form into monomials (Horner from the top).
-    let mut p = Poly(vec![coef[n - 1].clone()]);
-    for i in (0..n - 1).rev() {
-        p = p.mul(&Poly(vec![-&x[i], Number::one()]));
-        let mut v = p.0;
-        if v.is_empty() {
-            v.push(Number::zero());
-        }
-        v[0] += &coef[i];
-        p = Poly(v).trim();
+    let scaled = |x: &BigRational| (x * BigRational::from_integer(d.clone())).to_integer();
+    let ma: Vec<Vec<BigInt>> =
+        rk.a.iter()
+            .map(|row| row.iter().map(|x| scaled(&rat(x))).collect())
+            .collect();
+    let db: Vec<BigInt> = rk.b.iter().map(|x| scaled(&rat(x))).collect();
+    let mn: Vec<Vec<BigInt>> = ma
+        .iter()
+        .map(|row| row.iter().zip(&db).map(|(x, y)| x - y).collect())
+        .collect();
+    let primes = modular::primes_needed(&modular::charpoly_bound(&ma))
+        .max(modular::primes_needed(&modular::charpoly_bound(&mn)));
+    let work = primes.saturating_mul((s as u64).saturating_pow(3));
+    if work > STABILITY_WORK {
+        return Err(BeyondBudget(format!(
+            "the exact characteristic polynomials of this {s}-stage table need {primes} primes of 61 bits (entries over a common denominator of {} bits), about {work} operations; the budget is {STABILITY_WORK}",
+            d.bits()
+        )));
     }
-    p
+    let trim = |mut v: Vec<BigInt>| {
+        while v.last().is_some_and(Zero::is_zero) {
+            v.pop();
+        }
+        v
+    };
+    let q = trim(modular::charpoly(&ma));
+    let p = trim(modular::charpoly(&mn));
+    let coprime = q.len() == 1 || modular::coprime_mod(&p, &q, 8) == Some(true);
+    let to_rat = |v: &[BigInt]| -> Vec<BigRational> {
+        v.iter().cloned().map(BigRational::from_integer).collect()
+    };
+    let (p, q) = if coprime {
+        (to_rat(&p), to_rat(&q))
+    } else {
+        let g = modular::gcd_z(&p, &q);
+        if g.len() <= 1 {
+            (to_rat(&p), to_rat(&q))
+        } else {
+            (modular::div_exact(&p, &g), modular::div_exact(&q, &g))
+        }
+    };
+    // Back from w = z/D to z, and Q(0) = 1.
+    let q0 = q[0].clone();
+    let d = BigRational::from_integer(d);
+    let unscale = |v: Vec<BigRational>| -> Poly {
+        let mut dk = BigRational::one();
+        let mut out = Vec::with_capacity(v.len());
+        for c in v {
+            out.push(Number::from_rational(&c / (&q0 * &dk)));
+            dk *= &d;
+        }
+        Poly(out).trim()
+    };
+    Ok(StabilityFunction {
+        numerator: unscale(p),
+        denominator: unscale(q),
+    })
 }
 
 #[cfg(test)]
@@ -263,7 +448,7 @@ mod tests {
             b: vec![Number::one()],
             c: None,
         };
-        let r = StabilityFunction::of(&rk);
+        let r = StabilityFunction::of(&rk).unwrap();
         assert_eq!(r.to_text(), "(1 + z/2)/(1 - z/2)");
         assert!(r.unimodular_on_imaginary_axis());
     }
@@ -275,7 +460,7 @@ mod tests {
             b: vec![Number::one()],
             c: None,
         };
-        let r = StabilityFunction::of(&rk);
+        let r = StabilityFunction::of(&rk).unwrap();
         assert_eq!(r.to_text(), "1 + z");
         assert!(!r.unimodular_on_imaginary_axis());
     }

@@ -30,6 +30,7 @@ use num_bigint::BigInt;
 use num_rational::BigRational;
 use num_traits::{One, Signed, Zero};
 
+pub use inverse::{MAX_INVERSE_DEGREE, field_degree};
 pub use radical::Radical;
 pub use round::rational_to_f64;
 
@@ -49,6 +50,12 @@ pub enum NumberError {
     TooLargeToFactor(String),
     #[error("exponent {0} is too large")]
     ExponentTooLarge(i64),
+    /// A divisor whose radicals span a field beyond the exact arithmetic's
+    /// budget ([`MAX_INVERSE_DEGREE`]).
+    #[error(
+        "dividing by {divisor}: its radicals span a field of degree {degree} over Q, and exact division is limited to degree {MAX_INVERSE_DEGREE} (e.g. 8 square roots or 5 cube roots of distinct primes); refusing rather than running without bound"
+    )]
+    FieldTooLarge { divisor: String, degree: u64 },
 }
 
 /// An exact real number in Q(p^(1/6) : p prime). See the [module docs](self).
@@ -142,6 +149,31 @@ impl Number {
         }
     }
 
+    /// The coefficients as integers over one common denominator `d > 0`:
+    /// `self = Σ nₖ mₖ / d`.
+    fn integer_coefficients(&self) -> (Vec<(&Radical, BigInt)>, BigInt) {
+        use num_integer::Integer;
+        let mut d = BigInt::one();
+        for c in self.terms.values() {
+            if !c.denom().is_one() {
+                d = d.lcm(c.denom());
+            }
+        }
+        let n = self
+            .terms
+            .iter()
+            .map(|(m, c)| {
+                let n = if c.denom() == &d {
+                    c.numer().clone()
+                } else {
+                    c.numer() * (&d / c.denom())
+                };
+                (m, n)
+            })
+            .collect();
+        (n, d)
+    }
+
     /// Multiply every coefficient by a rational.
     pub fn scale(&self, r: &BigRational) -> Number {
         if r.is_zero() {
@@ -163,7 +195,46 @@ impl Number {
             let coeff = c.recip() / BigRational::from_integer(divisor);
             return Ok(Number::from_term(coeff, inv));
         }
+        let degree = field_degree([self]);
+        if degree > MAX_INVERSE_DEGREE {
+            return Err(NumberError::FieldTooLarge {
+                divisor: self.short_text(),
+                degree,
+            });
+        }
         Ok(inverse::inverse(self))
+    }
+
+    /// The number as text, cut to about 80 characters for messages.
+    pub fn short_text(&self) -> String {
+        let mut t = String::new();
+        for (k, (m, c)) in self.terms.iter().enumerate() {
+            if t.len() > 80 {
+                t.push_str(&format!(" + … ({} terms)", self.terms.len()));
+                return t;
+            }
+            if k > 0 {
+                t.push_str(" + ");
+            }
+            let bits = c.numer().bits() + c.denom().bits();
+            if bits > 256 {
+                let (text, _) = m.to_grammar();
+                let text = if text.is_empty() {
+                    String::new()
+                } else {
+                    format!("·{text}")
+                };
+                t.push_str(&format!("(a {bits}-bit rational){text}"));
+            } else {
+                t.push_str(&Number::from_term(c.clone(), m.clone()).to_string());
+            }
+        }
+        t
+    }
+
+    /// The number of terms `cₖ · mₖ`.
+    pub fn term_count(&self) -> usize {
+        self.terms.len()
     }
 
     /// `self / rhs`; division by an exact zero is an error.
@@ -365,15 +436,30 @@ impl<'a> Mul<&'a Number> for &'a Number {
         if let Some(r) = self.as_rational() {
             return rhs.scale(&r);
         }
-        let mut out = Number::zero();
-        for (ma, ca) in &self.terms {
-            for (mb, cb) in &rhs.terms {
+        // Fraction-free: scale both to integer coefficients over their
+        // common denominators, accumulate integer products, and divide once
+        // per resulting term (no gcd in the inner loop).
+        let (na, da) = self.integer_coefficients();
+        let (nb, db) = rhs.integer_coefficients();
+        let mut acc: std::collections::HashMap<Radical, BigInt> =
+            std::collections::HashMap::with_capacity(self.terms.len() * rhs.terms.len());
+        for (ma, ca) in &na {
+            for (mb, cb) in &nb {
                 let (factor, m) = ma.mul(mb);
-                let c = ca * cb * BigRational::from_integer(factor);
-                out.add_term(&m, &c);
+                let mut c = ca * cb;
+                if !factor.is_one() {
+                    c *= factor;
+                }
+                *acc.entry(m).or_default() += c;
             }
         }
-        out
+        let den = da * db;
+        let terms = acc
+            .into_iter()
+            .filter(|(_, c)| !c.is_zero())
+            .map(|(m, c)| (m, BigRational::new(c, den.clone())))
+            .collect();
+        Number { terms }
     }
 }
 

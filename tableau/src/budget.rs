@@ -1,0 +1,57 @@
+//! The budgets of exact analysis: how large an input the verifier takes on.
+//!
+//! Exact means exact: past a budget the verifier never falls back to
+//! floating point. It refuses, saying what is too large and what the limit
+//! is. Where a verdict can still be decided without the costly part, it is:
+//! a table whose stability function is beyond [`STABILITY_WORK`] or
+//! [`RADICAL_STABILITY_WORK`] still gets its symplecticity, order and
+//! symmetry, and `symlab check` reports the stability function as "not
+//! computed: beyond budget (…)"; `butcher!` refuses such a table with a
+//! compile error at the table, since its scheme would lack its stability
+//! constants. Every limit is deterministic (a size, never a clock), so the
+//! macro and `symlab check` agree on every machine.
+//!
+//! | budget | limit | applies to |
+//! |---|---|---|
+//! | [`MAX_FILE_BYTES`] | 1 MiB | a table file ([`crate::file::load`]) |
+//! | [`MAX_LITERAL_DIGITS`] | 1000 digits | an integer or decimal literal in an entry |
+//! | [`MAX_STAGES`] | 100 stages | the stages of a table, of its equivalent pair (drift–kick sequences, compositions) |
+//! | [`MAX_INVERSE_DEGREE`] | degree 256 | a divisor: the degree over Q of the field its radicals span |
+//! | [`crate::expr::MAX_BITS`] | 2²² bits | the size of a product or power in an entry |
+//! | [`crate::expr::MAX_DEPTH`] | 128 levels | the nesting of an entry |
+//! | [`STABILITY_WORK`] | 2³⁰ | rational tables: primes × stages³ for the characteristic polynomials |
+//! | [`RADICAL_STABILITY_WORK`] | 2²⁴ | tables with radicals: stages³ × degree² |
+
+pub use crate::number::MAX_INVERSE_DEGREE;
+
+/// The largest table file read; a larger file (or `/dev/zero`) is refused
+/// after reading this much.
+pub const MAX_FILE_BYTES: u64 = 1 << 20;
+
+/// The most digits an integer or decimal literal may have (its integer and
+/// fractional digits together). Published tables use a few dozen.
+pub const MAX_LITERAL_DIGITS: usize = 1000;
+
+/// The most stages a table may have: `a` is at most this many rows, a
+/// drift–kick sequence or a composition at most this many stages in its
+/// equivalent partitioned pair (a composition of `m` Störmer–Verlet steps has
+/// `m + 1`). The order conditions of a 100-stage table are checked in
+/// seconds; published methods have at most a few dozen stages.
+pub const MAX_STAGES: usize = 100;
+
+/// The stability function of a rational table: the number of 61-bit primes
+/// its characteristic polynomials need (from Hadamard's bound, so about the
+/// stages times the bits of the scaled entries, over 61) times stages³.
+pub const STABILITY_WORK: u64 = 1 << 30;
+
+/// The stability function of a table with radicals: stages³ × degree², the
+/// degree of the field the entries of `A` and `b` span (each product of two
+/// numbers costs up to degree² coefficient products). An implicit table also
+/// inverts pivots, so its degree must be at most [`MAX_INVERSE_DEGREE`].
+pub const RADICAL_STABILITY_WORK: u64 = 1 << 24;
+
+/// A computation refused because its input is beyond a budget: what is too
+/// large, and what the limit is.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("{0}")]
+pub struct BeyondBudget(pub String);
