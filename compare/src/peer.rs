@@ -52,11 +52,11 @@ mod imp {
     }
 
     /// DOP853 on `setup` with `rtol = atol = tol`, default controller
-    /// settings, a step limit of 10⁷. Stack vectors for the state sizes of
+    /// settings, at most `max_steps` steps (the solver's own limit). Stack vectors for the state sizes of
     /// the built-in problems (2, 4, 12), heap vectors otherwise (the solver
     /// is generic over nalgebra's dimension types, which this crate does not
     /// name; hence a macro for the one body).
-    pub fn dop853<P: Problem>(setup: &Setup<P>, tol: f64) -> PeerOutcome {
+    pub fn dop853<P: Problem>(setup: &Setup<P>, tol: f64, max_steps: u32) -> PeerOutcome {
         macro_rules! run {
             ($y0:expr) => {{
                 let start = Instant::now();
@@ -75,7 +75,7 @@ mod imp {
                     6.0,   // fac_max (default)
                     t,     // h_max (default: the whole interval)
                     0.0,   // h = 0: initial step chosen by the solver
-                    10_000_000,
+                    max_steps,
                     1000, // stiffness test interval (default)
                     OutputType::Sparse,
                 );
@@ -132,6 +132,7 @@ pub use imp::dop853;
 pub fn dop853<P: crate::problem::Problem>(
     _setup: &crate::problem::Setup<P>,
     _tol: f64,
+    _max_steps: u32,
 ) -> PeerOutcome {
     PeerOutcome {
         end: Err("the peer is not available (the `peer` feature is off)".into()),

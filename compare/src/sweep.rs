@@ -180,6 +180,7 @@ pub fn sweep<P: Problem>(
             Method::Dop853 => tols.len(),
         })
         .sum();
+    let peer_limit = peer_step_limit(steps);
     let pb = progress(total as u64);
     let mut rows = Vec::with_capacity(total);
     for m in methods {
@@ -193,7 +194,7 @@ pub fn sweep<P: Problem>(
             }
             Method::Dop853 => {
                 for &tol in tols {
-                    rows.push(peer_run(setup, tol, repeats));
+                    rows.push(peer_run(setup, tol, repeats, peer_limit));
                     pb.inc(1);
                 }
             }
@@ -266,10 +267,23 @@ pub fn fixed_run<P: Problem>(setup: &Setup<P>, f: &Fixed<P>, n: u64, repeats: us
     }
 }
 
+/// DOP853's step limit in a sweep whose fixed-step runs take `steps`: ten
+/// times the largest of them, between 10⁴ and 10⁷. A peer that needs far
+/// more steps than our finest run is not a comparison at that tolerance,
+/// and without a bound an absurd end time (T = 10¹⁵ on Kepler) keeps it
+/// stepping for minutes per tolerance.
+pub fn peer_step_limit(steps: &[u64]) -> u32 {
+    let most = steps.iter().copied().max().unwrap_or(0);
+    most.saturating_mul(10).clamp(10_000, 10_000_000) as u32
+}
+
 /// One DOP853 run at `rtol = atol = tol`: the first call gives the error
 /// and counts (and warms up), then `repeats` timed calls.
-pub fn peer_run<P: Problem>(setup: &Setup<P>, tol: f64, repeats: usize) -> Row {
-    let first = peer::dop853(setup, tol);
+///
+/// `max_steps` bounds DOP853's accepted steps (see [`peer_step_limit`]); a
+/// run that needs more is a row whose status says so.
+pub fn peer_run<P: Problem>(setup: &Setup<P>, tol: f64, repeats: usize, max_steps: u32) -> Row {
+    let first = peer::dop853(setup, tol, max_steps);
     let mut row = Row {
         problem: setup.name.clone(),
         method: "dop853".into(),
@@ -308,7 +322,7 @@ pub fn peer_run<P: Problem>(setup: &Setup<P>, tol: f64, repeats: usize) -> Row {
             row.error = setup.error(z);
             row.status = "ok".into();
             let times: Vec<f64> = (0..repeats)
-                .map(|_| peer::dop853(setup, tol).seconds)
+                .map(|_| peer::dop853(setup, tol, max_steps).seconds)
                 .collect();
             row.time_s = median(times);
         }
