@@ -5,24 +5,38 @@
 pub enum StepError {
     #[error("state has length {got}, but the system has dimension {expected}")]
     Dimension { expected: usize, got: usize },
-    #[error("step size h = {0} must be finite and nonzero")]
+    #[error("step size h = {} must be finite and nonzero", short(.0))]
     StepSize(f64),
     #[error("initial state is not finite: z[{index}] = {value}")]
     NonFiniteInitial { index: usize, value: f64 },
-    #[error("the solution diverged at step {step} (t = {t}): z[{index}] = {value}")]
+    #[error("the solution diverged at step {step} (t = {}): z[{index}] = {value}", short(.t))]
     Diverged {
         step: usize,
         t: f64,
         index: usize,
         value: f64,
     },
-    #[error("step {step} (from t = {t}) failed: {source}")]
+    #[error("step {step} (from t = {}) failed: {source}", short(.t))]
     Solve {
         step: usize,
         t: f64,
         #[source]
         source: SolveError,
     },
+}
+
+/// A time or step size for a message: as written where that is short
+/// (`0.25`), in scientific notation otherwise (`1e300`, not 301 digits).
+fn short(x: &f64) -> String {
+    let plain = format!("{x}");
+    if plain.len() <= 12 {
+        return plain;
+    }
+    if (1e-4..1e7).contains(&x.abs()) {
+        return format!("{x:.9}").trim_end_matches('0').to_string();
+    }
+    let sci = format!("{x:e}");
+    if sci.len() <= 12 { sci } else { format!("{x:.9e}") }
 }
 
 /// Why one step could not be taken: an implicit stage solve that did not
