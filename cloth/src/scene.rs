@@ -519,21 +519,27 @@ impl Scene {
         let (dx, dy) = (spacing(c.width, c.nx), spacing(c.height, c.ny));
         let origin = c.origin.iter().fold(0.0f64, |m, x| m.max(x.abs()));
         for (d, len, field) in [(dx, c.width, "cloth.width"), (dy, c.height, "cloth.height")] {
-            let span = len * c.prestretch;
-            if bad(d) || bad(2.0 * d) || bad(span) || !(origin + span).is_finite() {
+            if bad(d) || bad(2.0 * d) {
                 return Err(r.err(
                     field,
                     format!(
-                        "{len:e} m gives a grid spacing of {d:e} m and an extent of {span:e} m (prestretch {}) from an origin at distance {origin:e} m: not a positive finite length",
-                        c.prestretch
+                        "{len:e} m gives a grid spacing of {d:e} m: not a positive normal length with room to double"
                     ),
                 ));
             }
-            if bad(d * c.prestretch) {
+            // The initial grid: spacing and extent scaled by prestretch,
+            // placed at the origin. Blame the more extreme factor.
+            let span = len * c.prestretch;
+            if bad(span) || bad(d * c.prestretch) || !(origin + span).is_finite() {
+                let field = if c.prestretch.ln().abs() > len.ln().abs() {
+                    "cloth.prestretch"
+                } else {
+                    field
+                };
                 return Err(r.err(
-                    "cloth.prestretch",
+                    field,
                     format!(
-                        "{:e} scales the grid spacing {d:e} m to {:e} m: not a positive normal length",
+                        "{len:e} m scaled by prestretch {:e} gives an initial extent of {span:e} m and spacing {:e} m from an origin at distance {origin:e} m: not positive finite lengths",
                         c.prestretch,
                         d * c.prestretch
                     ),

@@ -333,6 +333,7 @@ pub fn rasterise_checked(
         &stage.triangles,
         stage.nx.max(1),
         light,
+        true,
     );
     let note = (skipped > 0).then(|| {
         format!(
@@ -419,7 +420,9 @@ fn shade(n: Vec3, light: Vec3, view: Vec3) -> f64 {
 }
 
 /// Draw the triangles; returns how many were left out when the pixel
-/// budget ran out.
+/// budget ran out. `narrow`: visit only each row's span of the triangle
+/// (always, but for the test that checks it against the whole bounding box).
+#[allow(clippy::too_many_arguments)]
 fn cloth(
     canvas: &mut Canvas,
     camera: &Camera,
@@ -427,6 +430,7 @@ fn cloth(
     triangles: &[[usize; 3]],
     nx: usize,
     light: Vec3,
+    narrow: bool,
 ) -> usize {
     let (w, h) = (canvas.w, canvas.h);
     let mut budget = PIXEL_BUDGET_PER_PIXEL * w * h;
@@ -534,7 +538,7 @@ fn cloth(
             // test below is exact) is all that is visited.
             let yc = py as f64 + 0.5;
             let (mut lo, mut hi) = (x0 as f64, x1 as f64 + 1.0);
-            for (i, j) in [(1, 2), (2, 0), (0, 1)] {
+            for (i, j) in [(1, 2), (2, 0), (0, 1)].into_iter().filter(|_| narrow) {
                 let c = (s[j].0 - s[i].0) * (yc - s[i].1);
                 let d = (s[j].1 - s[i].1) * sigma;
                 if d > 0.0 {
@@ -675,6 +679,104 @@ mod tests {
         // A corner is background (bluish-grey sky or floor).
         let k = px(2, 2);
         assert!(k[2] >= k[0], "corner pixel {k:?}");
+    }
+
+    /// A crumpled sheet: pseudo-random heights, so triangles of every
+    /// slope and orientation, both sides, overlapping.
+    fn crumpled(n: usize) -> (Vec<Vec3>, Vec<[usize; 3]>) {
+        let (mut pts, tris) = sheet(n, 0.0);
+        let mut seed: u64 = 0x2545_F491_4F6C_DD1D;
+        for p in &mut pts {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            let r = (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5;
+            p.y = 0.6 * r;
+            p.x += 0.1 * r;
+        }
+        (pts, tris)
+    }
+
+    fn draw(stage: &Stage, camera: &Camera, pts: &[Vec3], narrow: bool) -> (Vec<u8>, usize) {
+        let (w, h) = (WIDTH as usize * SS, HEIGHT as usize * SS);
+        let mut canvas = Canvas {
+            w,
+            h,
+            color: vec![Rgb([0.0; 3]); w * h],
+            depth: vec![f64::INFINITY; w * h],
+        };
+        let light = (camera.up - camera.right * 0.5 - camera.forward * 0.6).normalize();
+        let skipped = cloth(
+            &mut canvas,
+            camera,
+            pts,
+            &stage.triangles,
+            stage.nx,
+            light,
+            narrow,
+        );
+        (downsample(&canvas), skipped)
+    }
+
+    #[test]
+    fn row_spans_draw_exactly_the_pixels_of_the_bounding_box_test() {
+        let (pts, triangles) = crumpled(12);
+        let stage = Stage {
+            colliders: vec![],
+            triangles,
+            nx: 12,
+        };
+        let camera = Camera::fit(&pts, &stage.colliders);
+        let (fast, a) = draw(&stage, &camera, &pts, true);
+        let (slow, b) = draw(&stage, &camera, &pts, false);
+        assert_eq!((a, b), (0, 0));
+        assert!(fast.iter().any(|&v| v > 0), "something is drawn");
+        assert!(fast == slow, "the row spans changed the picture");
+    }
+
+    #[test]
+    fn a_picture_costs_a_bounded_number_of_pixel_tests() {
+        // 20 000 triangles that each cover a large part of the picture (a
+        // cloth folded on itself, or blown up): without the budget, some
+        // 20 000 × 500 000 pixel tests.
+        let (pts, _) = sheet(2, 0.0);
+        let big = [[0, 1, 3], [0, 3, 2]];
+        let stage = Stage {
+            colliders: vec![],
+            triangles: big.iter().copied().cycle().take(20_000).collect(),
+            nx: 2,
+        };
+        let camera = Camera::fit(&pts, &[]);
+        let clock = std::time::Instant::now();
+        let (img, note) = rasterise_checked(&stage, &camera, &pts);
+        assert_eq!(img.len(), (WIDTH * HEIGHT * 3) as usize);
+        let note = note.expect("the budget ran out");
+        assert!(note.contains("not drawn"), "{note}");
+        assert!(clock.elapsed().as_secs_f64() < 20.0);
+    }
+
+    #[test]
+    fn a_huge_grid_is_drawn_through_a_coarser_mesh() {
+        let (nx, ny) = (100_000, 2);
+        let mut tris = Vec::new();
+        for i in 0..nx - 1 {
+            let (a, b, c, d) = (i, i + 1, nx + i, nx + i + 1);
+            tris.push([a, b, d]);
+            tris.push([a, d, c]);
+        }
+        let stage = Stage::for_grid(vec![], &tris, nx);
+        let cells = stage.triangles.len() / 2;
+        assert!(
+            (MAX_CELLS_PER_SIDE / 2..=MAX_CELLS_PER_SIDE).contains(&cells),
+            "{cells} cells"
+        );
+        // Every corner of the grid is still a vertex.
+        for corner in [0, nx - 1, nx, 2 * nx - 1] {
+            assert!(stage.triangles.iter().any(|t| t.contains(&corner)));
+        }
+        // A small grid is left alone.
+        let (_, small) = sheet(5, 0.0);
+        assert_eq!(Stage::for_grid(vec![], &small, 5).triangles, small);
     }
 
     #[test]
