@@ -36,7 +36,11 @@ fn short(x: &f64) -> String {
         return format!("{x:.9}").trim_end_matches('0').to_string();
     }
     let sci = format!("{x:e}");
-    if sci.len() <= 12 { sci } else { format!("{x:.9e}") }
+    if sci.len() <= 12 {
+        sci
+    } else {
+        format!("{x:.9e}")
+    }
 }
 
 /// Why one step could not be taken: an implicit stage solve that did not

@@ -27,22 +27,22 @@ pub struct PaperArgs {
     #[arg(long, value_name = "DIR", default_value = "out/paper")]
     pub out: PathBuf,
     /// The frequency k of H = ½(p² + k²q²) (the paper does not state it).
-    #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 1.0, allow_hyphen_values = true)]
     pub k: f64,
     /// The initial position q₀.
-    #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 1.0, allow_hyphen_values = true)]
     pub q0: f64,
     /// The initial momentum p₀.
-    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
     pub p0: f64,
     /// Steps per run (the paper: 200).
-    #[arg(long, default_value_t = 200, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 200, allow_hyphen_values = true)]
     pub steps: usize,
     /// The step sizes, comma-separated (the paper: 0.01, 0.05 and 0.1).
-    #[arg(long = "h", value_name = "H,...", value_delimiter = ',', default_values_t = [0.01, 0.05, 0.1], allow_negative_numbers = true)]
+    #[arg(long = "h", value_name = "H,...", value_delimiter = ',', default_values_t = [0.01, 0.05, 0.1], allow_hyphen_values = true)]
     pub step_sizes: Vec<f64>,
     /// Frames of the cloth comparison (figure 5), at 60 Hz; 0 skips it.
-    #[arg(long, value_name = "N", default_value_t = cloth::DEFAULT_FRAMES)]
+    #[arg(long, value_name = "N", default_value_t = cloth::DEFAULT_FRAMES, allow_hyphen_values = true)]
     pub cloth_frames: usize,
 }
 
