@@ -1,5 +1,33 @@
 //! Work–precision sweeps: every method over a range of step sizes (or, for
 //! the adaptive peer, tolerances), one row per run.
+//!
+//! Each fixed-step run is made once observed — on the problem's counting
+//! wrapper, the energy checked at every step — and then, if it succeeded,
+//! once more untimed (warm-up) and `repeats` times timed on the bare system,
+//! strictly one after another; the wall time is the median. A run that
+//! diverges (a non-finite state, energy or final error) or whose stage
+//! solver fails is a row with that status, never `ok`.
+//!
+//! The columns of `runs.csv` ([`COLUMNS`], one [`Row`] per run):
+//!
+//! | column | meaning |
+//! |---|---|
+//! | `problem` | the problem's name |
+//! | `method` | the method's id |
+//! | `order` | classical order (of the table; 8 for DOP853) |
+//! | `symplectic` | symplectic for this problem (separable problems: for separable Hamiltonians) |
+//! | `h` | step size; for `dop853` the average step `T/steps` |
+//! | `tol` | `rtol = atol` of `dop853`; NaN for fixed-step methods |
+//! | `steps` | steps taken (accepted steps for `dop853`) |
+//! | `error` | `‖z(T) − z_ref(T)‖₂ / ‖z_ref(T)‖₂`; NaN unless `status` is ok |
+//! | `energy_error` | `max |E − E₀|/|E₀|` over the steps taken |
+//! | `time_s` | median wall time of the timed runs, seconds; NaN unless ok |
+//! | `evals` | force evaluations (separable problems; an RK stage is one), right-hand sides (other systems; a propagator step counts one matrix–vector product), or DOP853's own count |
+//! | `newton_iterations` | simplified-Newton iterations of the implicit stage solver (0 for explicit methods) |
+//! | `fixed_point_iterations` | fixed-point iterations of the stage solver |
+//! | `factorizations` | LU factorisations of the stage solver |
+//! | `status` | `ok`, `diverged at step k[: why]`, or `solver failed at step k: why` |
+//! | `interpreted` | only when a table file ran: `true` for its rows (stepped by a run-time interpreter) |
 
 use std::time::Instant;
 
