@@ -33,23 +33,23 @@ pub struct ClothArgs {
     pub method: Option<String>,
     /// Frames to simulate after the initial one (default: the scene's; at
     /// most 10⁶, and at most 10⁹ steps in all).
-    #[arg(long, value_name = "N", allow_negative_numbers = true, value_parser = count_parser(0))]
+    #[arg(long, value_name = "N", allow_hyphen_values = true, value_parser = count_parser(0))]
     pub frames: Option<usize>,
     /// Steps per frame (default: the scene's).
-    #[arg(long, value_name = "K", conflicts_with = "dt", allow_negative_numbers = true, value_parser = count_parser(1))]
+    #[arg(long, value_name = "K", conflicts_with = "dt", allow_hyphen_values = true, value_parser = count_parser(1))]
     pub substeps: Option<usize>,
     /// The step size in seconds instead of --substeps: the frame is split
     /// into round(1/(frame_rate·H)) steps and the frame rate adjusted
     /// slightly so that the step is exactly H (one step per frame when H is
     /// longer than a frame).
-    #[arg(long, value_name = "H", allow_negative_numbers = true)]
+    #[arg(long, value_name = "H", allow_hyphen_values = true)]
     pub dt: Option<f64>,
     /// Output directory (default: out/cloth/<scene-name>/, apart from
     /// `symlab paper`'s out/paper/).
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
     /// Write an OBJ file every N frames (and always the last); 0: none.
-    #[arg(long, value_name = "N", default_value_t = 10, allow_negative_numbers = true, value_parser = count_parser(0))]
+    #[arg(long, value_name = "N", default_value_t = 10, allow_hyphen_values = true, value_parser = count_parser(0))]
     pub obj_every: usize,
     /// Frames to render as PNG, comma-separated (default: first, middle and
     /// last), or "none".
@@ -74,7 +74,7 @@ pub struct ClothArgs {
         value_name = "X",
         default_value_t = 0.1,
         requires = "stability",
-        allow_negative_numbers = true
+        allow_hyphen_values = true
     )]
     pub tolerance: f64,
     /// With --stability: simulated seconds per trial run (1e-6 to 1e6).
@@ -83,7 +83,7 @@ pub struct ClothArgs {
         value_name = "T",
         default_value_t = 1.0,
         requires = "stability",
-        allow_negative_numbers = true
+        allow_hyphen_values = true
     )]
     pub duration: f64,
     /// With --stability: the methods to test, comma-separated (default: the
