@@ -141,11 +141,7 @@ impl<P: Problem> Method<P> {
         Ok(Method::Fixed(Fixed {
             id: t.id.clone(),
             order,
-            symplectic: if <P::Kind as Kind<P>>::SEPARABLE {
-                a.symplectic_separable
-            } else {
-                a.symplectic
-            },
+            symplectic: crate::method::symplectic_for::<P>(a.symplectic, a.symplectic_separable),
             family,
             interpreted: true,
             stepper,

@@ -35,6 +35,16 @@ pub enum Method<P> {
     Dop853,
 }
 
+/// The symplecticity that matters for problems of type `P`: for separable
+/// Hamiltonians when `P` is one, for every Hamiltonian otherwise.
+pub(crate) fn symplectic_for<P: Problem>(general: bool, separable: bool) -> bool {
+    if <P::Kind as Kind<P>>::SEPARABLE {
+        separable
+    } else {
+        general
+    }
+}
+
 /// The family of a `butcher!` scheme from its facts.
 pub fn family_of(info: &integrator_core::Info) -> Family {
     if !info.explicit {
@@ -84,11 +94,7 @@ impl<P: Problem> Method<P> {
         Method::Fixed(Fixed {
             id: id.into(),
             order: info.order,
-            symplectic: if <P::Kind as Kind<P>>::SEPARABLE {
-                info.symplectic_separable
-            } else {
-                info.symplectic
-            },
+            symplectic: symplectic_for::<P>(info.symplectic, info.symplectic_separable),
             family: family_of(&info),
             interpreted: false,
             stepper: Box::new(Lib(scheme)),
@@ -120,11 +126,7 @@ impl<P: Problem> Method<P> {
         Some(Method::Fixed(Fixed {
             id: id.to_string(),
             order: i.order,
-            symplectic: if <P::Kind as Kind<P>>::SEPARABLE {
-                i.symplectic_separable
-            } else {
-                i.symplectic
-            },
+            symplectic: symplectic_for::<P>(i.symplectic, i.symplectic_separable),
             family: family_of(i),
             interpreted: false,
             stepper,
