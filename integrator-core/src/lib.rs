@@ -45,6 +45,7 @@ pub mod linear;
 pub mod problems;
 pub mod scheme;
 mod system;
+pub mod time_transform;
 
 pub use error::{SolveError, StepError};
 pub use integrate::{check_start, integrate};
