@@ -20,7 +20,7 @@
 //! | [`crate::expr::MAX_BITS`] | 2²² bits | the size of a product or power in an entry |
 //! | [`crate::expr::MAX_DEPTH`] | 128 levels | the nesting of an entry |
 //! | [`STABILITY_WORK`] | 2³⁰ | rational tables: primes × stages³ for the characteristic polynomials |
-//! | [`RADICAL_STABILITY_WORK`] | 2²⁴ | tables with radicals: stages³ × degree² |
+//! | [`RADICAL_STABILITY_WORK`] | 2²⁶ | tables with radicals: stages⁴ × degree² (stages³ × degree² for explicit tables and quadratic fields) |
 
 pub use crate::number::MAX_INVERSE_DEGREE;
 
@@ -44,11 +44,16 @@ pub const MAX_STAGES: usize = 100;
 /// stages times the bits of the scaled entries, over 61) times stages³.
 pub const STABILITY_WORK: u64 = 1 << 30;
 
-/// The stability function of a table with radicals: stages³ × degree², the
-/// degree of the field the entries of `A` and `b` span (each product of two
-/// numbers costs up to degree² coefficient products). An implicit table also
-/// inverts pivots, so its degree must be at most [`MAX_INVERSE_DEGREE`].
-pub const RADICAL_STABILITY_WORK: u64 = 1 << 24;
+/// The stability function of a table with radicals, counted in coefficient
+/// products: each product of two numbers costs up to degree² of them, where
+/// the degree is that of the field the entries of `A` and `b` span. An
+/// explicit table needs stages³ products; an implicit one stages⁴
+/// (Berkowitz's division-free algorithm), or stages³ in a quadratic field
+/// (degree 2: Hessenberg reduction). An implicit table's degree must also be
+/// at most [`MAX_INVERSE_DEGREE`], and when `P` and `Q` are not proven coprime
+/// modulo a prime, their gcd over the field (Euclid's algorithm) is computed
+/// only for degree ≤ 2 and at most 20 stages.
+pub const RADICAL_STABILITY_WORK: u64 = 1 << 26;
 
 /// A computation refused because its input is beyond a budget: what is too
 /// large, and what the limit is.

@@ -27,6 +27,7 @@ use num_bigint::BigInt;
 use num_rational::BigRational;
 use num_traits::{One, Signed, ToPrimitive, Zero};
 
+use crate::budget::MAX_LITERAL_DIGITS;
 use crate::{Number, NumberError};
 
 /// The deepest expression tree [`parse`] builds (nesting of parentheses,
@@ -498,6 +499,16 @@ fn lex_number(src: &str, start: usize) -> Result<(Tok, usize), ParseError> {
         return Err(perr(end, c.to_string(), message));
     }
     let int_text = &src[start..int_end];
+    let digits = int_text.len() + frac.len();
+    if digits > MAX_LITERAL_DIGITS {
+        return Err(perr(
+            start,
+            format!("{}…", &src[start..start + 20]),
+            format!(
+                "the number has {digits} digits; a literal may have at most {MAX_LITERAL_DIGITS} (tableau::budget::MAX_LITERAL_DIGITS)"
+            ),
+        ));
+    }
     if !is_decimal {
         let n = int_text.parse::<BigInt>().unwrap_or_default();
         return Ok((Tok::Int(n), end));

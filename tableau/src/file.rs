@@ -28,6 +28,7 @@ use num_bigint::BigInt;
 use toml::Spanned;
 use toml::de::{DeTable, DeValue};
 
+use crate::budget::{MAX_FILE_BYTES, MAX_LITERAL_DIGITS};
 use crate::claims::{Claim, parse_claim};
 use crate::expr::{self, EvalErrorKind, Expr, ExprKind};
 use crate::{Composition, Number, Prk, Rk, Splitting, Table};
@@ -76,13 +77,34 @@ pub const KEYS: [&str; 13] = [
 const MAX_LET_DEPTH: usize = 64;
 
 /// Read and check the table file at `path`; messages name the file by
-/// `path` as given.
+/// `path` as given. At most [`MAX_FILE_BYTES`] (1 MiB) are read: a larger
+/// file is refused, and so is one that is not UTF-8 text.
 pub fn load(path: &Path) -> Result<TableFile, FileError> {
+    use std::io::Read;
     let file = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|e| FileError {
+    let err = |message: String| FileError {
         file: file.clone(),
         field: None,
-        message: format!("cannot read the file: {e}"),
+        message,
+    };
+    let f = std::fs::File::open(path).map_err(|e| err(format!("cannot read the file: {e}")))?;
+    // Read at most one byte past the limit: enough to know it is too large,
+    // whatever the file is (`/dev/zero` never ends).
+    let mut bytes = Vec::new();
+    f.take(MAX_FILE_BYTES + 1)
+        .read_to_end(&mut bytes)
+        .map_err(|e| err(format!("cannot read the file: {e}")))?;
+    if bytes.len() as u64 > MAX_FILE_BYTES {
+        return Err(err(format!(
+            "the file is larger than {} MiB, the most a table file may be (tableau::budget::MAX_FILE_BYTES); a table file is a few kilobytes",
+            MAX_FILE_BYTES >> 20
+        )));
+    }
+    let text = String::from_utf8(bytes).map_err(|e| {
+        err(format!(
+            "cannot read the file: it is not UTF-8 text (invalid byte at offset {})",
+            e.utf8_error().valid_up_to()
+        ))
     })?;
     parse_table_file(&file, &text)
 }
@@ -413,6 +435,15 @@ impl Cx<'_> {
             return Err(self.not_a_number(field, v));
         };
         let digits = i.as_str().replace('_', "");
+        let count = digits.trim_start_matches(['+', '-']).len();
+        if count > MAX_LITERAL_DIGITS {
+            return Err(self.field_err(
+                field,
+                format!(
+                    "the integer has {count} digits; a literal may have at most {MAX_LITERAL_DIGITS} (tableau::budget::MAX_LITERAL_DIGITS)"
+                ),
+            ));
+        }
         BigInt::parse_bytes(digits.as_bytes(), i.radix())
             .ok_or_else(|| self.field_err(field, format!("`{}` is not an integer", self.raw(v))))
     }

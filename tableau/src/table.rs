@@ -7,6 +7,7 @@
 //! conditions).
 
 use crate::Number;
+use crate::budget::MAX_STAGES;
 
 /// A Runge–Kutta table `(A, b, c)`. `c` is `None` when the author did not give
 /// it; the analyses then use the row sums of `A`.
@@ -118,6 +119,16 @@ impl Splitting {
         out
     }
 
+    /// The stages of the equivalent pair ([`Splitting::to_prk`]): one per
+    /// drift, counting a zero drift padded before a leading kick.
+    pub fn stages(&self) -> usize {
+        if self.kick.len() == self.drift.len() + 1 {
+            self.drift.len() + 1
+        } else {
+            self.drift.len()
+        }
+    }
+
     /// The equivalent explicit partitioned pair (HLW II.5): stage `i` is the
     /// state after the `i`-th drift; the `q` table has `aᵢⱼ = dⱼ` for `j ≤ i`,
     /// the `p` table `âᵢⱼ = kⱼ` for `j < i`, and `b = d`, `b̂ = k`.
@@ -200,8 +211,8 @@ impl Table {
         match self {
             Table::Rk(rk) => rk.stages(),
             Table::Prk(prk) => prk.q.stages(),
-            Table::Splitting(s) => s.to_prk().q.stages(),
-            Table::Composition(c) => c.to_splitting().to_prk().q.stages(),
+            Table::Splitting(s) => s.stages(),
+            Table::Composition(c) => c.gamma.len() + 1,
         }
     }
 
@@ -232,6 +243,19 @@ fn shape_err(field: impl Into<String>, message: impl Into<String>) -> ShapeError
     }
 }
 
+/// Refuse a table beyond [`MAX_STAGES`].
+fn too_many_stages(field: &str, what: &str, stages: usize) -> Result<(), ShapeError> {
+    if stages > MAX_STAGES {
+        return Err(shape_err(
+            field,
+            format!(
+                "{what} has {stages} stages; the exact analysis takes at most {MAX_STAGES} stages (tableau::budget::MAX_STAGES)"
+            ),
+        ));
+    }
+    Ok(())
+}
+
 impl Rk {
     /// `A` square `s × s` with `s ≥ 1`, `b` and `c` of length `s`. `suffix` is
     /// `""` for the plain table and `"_hat"` for the second table of a pair.
@@ -240,6 +264,7 @@ impl Rk {
         if s == 0 {
             return Err(shape_err(format!("a{suffix}"), "the table has no stages"));
         }
+        too_many_stages(&format!("a{suffix}"), "the table", s)?;
         for (i, row) in self.a.iter().enumerate() {
             if row.len() != s {
                 return Err(shape_err(
@@ -274,17 +299,19 @@ impl Table {
             Table::Rk(rk) => rk.check_shape(""),
             Table::Prk(prk) => {
                 prk.q.check_shape("")?;
-                prk.p.check_shape("_hat")?;
-                if prk.p.stages() != prk.q.stages() {
+                // Â's size before b̂'s length: a 3×3 `a_hat` beside a 2×2 `a`
+                // is the culprit, not a `b_hat` of length 2.
+                let s = prk.q.stages();
+                if prk.p.a.len() != s {
                     return Err(shape_err(
                         "a_hat",
                         format!(
-                            "the pair must have as many stages in both tables: A has {}, Â has {}",
-                            prk.q.stages(),
-                            prk.p.stages()
+                            "the pair must have as many stages in both tables: a is {s}×{s}, but a_hat has {} rows",
+                            prk.p.a.len()
                         ),
                     ));
                 }
+                prk.p.check_shape("_hat")?;
                 Ok(())
             }
             Table::Splitting(s) => {
@@ -292,6 +319,8 @@ impl Table {
                 if d == 0 && k == 0 {
                     return Err(shape_err("drift", "the sequence is empty"));
                 }
+                let what = format!("the drift–kick sequence ({d} drifts, {k} kicks)");
+                too_many_stages("drift", &what, s.stages())?;
                 if d.abs_diff(k) > 1 {
                     return Err(shape_err(
                         "kick",
@@ -306,6 +335,8 @@ impl Table {
                 if c.gamma.is_empty() {
                     return Err(shape_err("compose", "the composition is empty"));
                 }
+                let what = format!("the composition ({} entries)", c.gamma.len());
+                too_many_stages("compose", &what, c.gamma.len() + 1)?;
                 Ok(())
             }
         }

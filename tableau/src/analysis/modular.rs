@@ -263,6 +263,91 @@ pub(crate) fn coprime_mod(a: &[BigInt], b: &[BigInt], tries: usize) -> Option<bo
     None
 }
 
+/// A ring homomorphism from the numbers whose denominators are prime to `ℓ`
+/// onto the prime field F_ℓ, sending each `p^(1/6)` to a sixth root `r_p` of
+/// `p` modulo `ℓ`. It is well defined because the field of the radicals is
+/// `Q[x_p]/(x_p⁶ − p)` (the monomials are linearly independent, so the degrees
+/// agree), and any choice of roots of `x_p⁶ − p` in F_ℓ is a homomorphism of
+/// that ring. For `ℓ ∤ 6∏p` its kernel is a prime above `ℓ` of a local ring
+/// that is a discrete valuation ring, so a gcd of degree 0 modulo `ℓ` (with
+/// leading coefficients that survive) proves two polynomials coprime, as for
+/// integers ([`coprime_mod`]).
+pub(crate) struct RadicalHom {
+    l: u64,
+    roots: std::collections::BTreeMap<u64, u64>,
+}
+
+impl RadicalHom {
+    /// The `skip`-th homomorphism for these primes: `ℓ ≡ 11 (mod 12)` below
+    /// 2⁶², so that square roots are `x^((ℓ+1)/4)` and cube roots are unique,
+    /// `x^((2ℓ−1)/3)`; every `p` must be a square modulo `ℓ`. `None` beyond
+    /// twelve primes (a field too large to bother).
+    pub(crate) fn find(primes: &[u64], skip: usize) -> Option<RadicalHom> {
+        if primes.len() > 12 {
+            return None;
+        }
+        let mut found = 0;
+        let mut n = (1u64 << 62) - 1;
+        n -= (n + 1) % 12; // n ≡ 11 (mod 12)
+        while n > 1 << 40 {
+            let l = n;
+            n -= 12;
+            let squares = primes
+                .iter()
+                .all(|&p| p % l != 0 && pow_mod(p % l, (l - 1) / 2, l) == 1);
+            if !squares || !is_prime(l) {
+                continue;
+            }
+            if found < skip {
+                found += 1;
+                continue;
+            }
+            let roots = primes
+                .iter()
+                .map(|&p| {
+                    let sq = pow_mod(p % l, (l + 1) / 4, l);
+                    (p, pow_mod(sq, (2 * l - 1) / 3, l))
+                })
+                .collect();
+            let hom = RadicalHom { l, roots };
+            debug_assert!(hom.roots.iter().all(|(&p, &r)| pow_mod(r, 6, l) == p % l));
+            return Some(hom);
+        }
+        None
+    }
+
+    /// The image of `x`, or `None` when a denominator is divisible by `ℓ`.
+    pub(crate) fn map(&self, x: &crate::Number) -> Option<u64> {
+        let l = self.l;
+        let mut acc = 0u64;
+        for (m, c) in x.terms() {
+            let d = residue(c.denom(), l);
+            if d == 0 {
+                return None;
+            }
+            let mut v = mul_mod(residue(c.numer(), l), inv_mod(d, l), l);
+            for &(p, e) in m.factors() {
+                v = mul_mod(v, pow_mod(self.roots[&p], u64::from(e), l), l);
+            }
+            acc = (acc + v) % l;
+        }
+        Some(acc)
+    }
+
+    /// Whether `a` and `b` (constant term first, no trailing zeros) are
+    /// proven coprime by this homomorphism; `false` means undecided.
+    pub(crate) fn proves_coprime(&self, a: &[crate::Number], b: &[crate::Number]) -> bool {
+        let map = |v: &[crate::Number]| v.iter().map(|x| self.map(x)).collect::<Option<Vec<u64>>>();
+        let (Some(am), Some(bm)) = (map(a), map(b)) else {
+            return false;
+        };
+        if am.last() == Some(&0) || bm.last() == Some(&0) || am.is_empty() || bm.is_empty() {
+            return false;
+        }
+        gcd_degree_mod(am, bm, self.l) == 0
+    }
+}
+
 fn trim_mod(v: &mut Vec<u64>) {
     while v.last() == Some(&0) {
         v.pop();

@@ -167,19 +167,37 @@ impl StabilityFunction {
         }
         let s = rk.b.len() as u64;
         let degree = field_degree(entries);
-        let work = s
-            .saturating_pow(3)
-            .saturating_mul(degree.saturating_mul(degree));
         let explicit = (0..rk.a.len()).all(|i| rk.a[i][i..].iter().all(Number::is_zero));
+        // Products of numbers with up to `degree` terms: s³ of them for an
+        // explicit table, s⁴ for Berkowitz's algorithm, s³ for the Hessenberg
+        // reduction in a quadratic field.
+        let d2 = degree.saturating_mul(degree);
+        let work = if explicit || degree <= 2 {
+            s.saturating_pow(3).saturating_mul(d2)
+        } else {
+            s.saturating_pow(4).saturating_mul(d2)
+        };
         if work > RADICAL_STABILITY_WORK || (!explicit && degree > MAX_INVERSE_DEGREE) {
+            let (what, power) = if explicit || degree <= 2 {
+                ("stages³", 3)
+            } else {
+                ("stages⁴", 4)
+            };
             return Err(BeyondBudget(format!(
-                "the entries span a field of degree {degree} over Q and the table has {s} stages; the exact stability function of a table with radicals is computed when stages³ × degree² ≤ {RADICAL_STABILITY_WORK} and, for an implicit table, the degree is at most {MAX_INVERSE_DEGREE}"
+                "the entries span a field of degree {degree} over Q and the table has {s} stages: {what} × degree² = {s}^{power} × {degree}² is beyond the budget of 2^26 coefficient products (tableau::budget::RADICAL_STABILITY_WORK) for the exact stability function of a table with radicals{}",
+                if !explicit && degree > MAX_INVERSE_DEGREE {
+                    format!(
+                        " (and an implicit table's degree must be at most {MAX_INVERSE_DEGREE})"
+                    )
+                } else {
+                    String::new()
+                }
             )));
         }
         if explicit {
             return Ok(explicit_case(rk));
         }
-        Ok(field_case(rk))
+        field_case(rk, degree)
     }
 
     /// `|R(iy)| = 1` for all real `y`.
@@ -266,27 +284,60 @@ fn explicit_case(rk: &Rk) -> StabilityFunction {
 
 /// `det(I − zM) = Σₖ cₖ zᵏ` where `det(λI − M) = Σₖ cₖ λ^(s−k)`: the
 /// characteristic polynomial of `M`, reversed.
-fn det_i_minus_z(m: Vec<Vec<Number>>) -> Poly {
-    Poly(charpoly_field(m)).trim()
+fn det_i_minus_z(m: Vec<Vec<Number>>, degree: u64) -> Poly {
+    let c = if degree <= 2 {
+        charpoly_hessenberg(m)
+    } else {
+        charpoly_field(m)
+    };
+    Poly(c).trim()
 }
 
 /// An implicit table with radicals: characteristic polynomials over the
-/// number field (Hessenberg reduction, `s − 2` inverses), lowest terms by
-/// Euclid's algorithm over the field.
-fn field_case(rk: &Rk) -> StabilityFunction {
+/// number field (division-free), lowest terms by Euclid's algorithm over the
+/// field.
+fn field_case(rk: &Rk, degree: u64) -> Result<StabilityFunction, BeyondBudget> {
     let s = rk.b.len();
-    let q = det_i_minus_z(rk.a.clone());
+    let q = det_i_minus_z(rk.a.clone(), degree);
     let n: Vec<Vec<Number>> = (0..s)
         .map(|i| (0..s).map(|j| &rk.a[i][j] - &rk.b[j]).collect())
         .collect();
-    let p = det_i_minus_z(n);
-    lowest_terms(p, q)
+    let p = det_i_minus_z(n, degree);
+    if q.0.len() <= 1 || field_coprime(&p, &q) {
+        return Ok(normalised(p, q));
+    }
+    let s = s as u64;
+    if degree > 2 || s > 20 {
+        return Err(BeyondBudget(format!(
+            "P and Q are not proven coprime modulo a prime, and their exact gcd over a field of degree {degree} with {s} stages is beyond the budget (Euclid's algorithm over the radicals is run for degree ≤ 2 and at most 20 stages)"
+        )));
+    }
+    Ok(lowest_terms(p, q))
+}
+
+/// Whether `P` and `Q` are proven coprime modulo a prime (see
+/// [`modular::RadicalHom`]); `false` when three primes do not decide.
+fn field_coprime(p: &Poly, q: &Poly) -> bool {
+    let mut primes: Vec<u64> =
+        p.0.iter()
+            .chain(&q.0)
+            .flat_map(|x| x.terms().flat_map(|(m, _)| m.factors().iter().map(|f| f.0)))
+            .collect();
+    primes.sort_unstable();
+    primes.dedup();
+    (0..3).any(|k| {
+        modular::RadicalHom::find(&primes, k).is_some_and(|h| h.proves_coprime(&p.0, &q.0))
+    })
 }
 
 fn lowest_terms(p: Poly, q: Poly) -> StabilityFunction {
     let g = Poly::gcd(&p, &q);
-    let (mut p, _) = p.div_rem(&g);
-    let (mut q, _) = q.div_rem(&g);
+    let (p, _) = p.div_rem(&g);
+    let (q, _) = q.div_rem(&g);
+    normalised(p, q)
+}
+
+fn normalised(mut p: Poly, mut q: Poly) -> StabilityFunction {
     // Normalise Q(0) = 1 (Q(0) ≠ 0 since Q(0) = det I = 1 before reduction).
     let q0 = q.0[0].recip().expect("Q(0) is nonzero");
     p = p.scale(&q0);
@@ -297,10 +348,57 @@ fn lowest_terms(p: Poly, q: Poly) -> StabilityFunction {
     }
 }
 
+/// `det(λI − M) = Σₖ cₖ λ^(s−k)` over the number field: `[c₀ = 1, …, c_s]`,
+/// by Berkowitz's algorithm, which needs no division (so no inverse, and no
+/// growth of coefficients beyond that of the minors themselves): the
+/// characteristic polynomial of each leading principal submatrix is the
+/// previous one times a Toeplitz matrix built from `a`, `R·C`, `R·S·C`, …
+/// (S. J. Berkowitz, Inform. Process. Lett. 18 (1984) 147–150).
+fn charpoly_field(m: Vec<Vec<Number>>) -> Vec<Number> {
+    let n = m.len();
+    // Highest power first.
+    let mut vect = vec![Number::one()];
+    for r in 0..n {
+        // The new row R = m[r][..r], column C = m[..r][r], corner a = m[r][r],
+        // and S the leading r×r block.
+        let mut q = Vec::with_capacity(r + 2);
+        q.push(Number::one());
+        q.push(-&m[r][r]);
+        let mut v: Vec<Number> = (0..r).map(|i| m[i][r].clone()).collect();
+        for k in 0..r {
+            // −R·Sᵏ·C
+            let dot = (0..r)
+                .filter(|&j| !m[r][j].is_zero() && !v[j].is_zero())
+                .fold(Number::zero(), |acc, j| acc + &m[r][j] * &v[j]);
+            q.push(-dot);
+            if k + 1 < r {
+                v = (0..r)
+                    .map(|i| {
+                        (0..r)
+                            .filter(|&j| !m[i][j].is_zero() && !v[j].is_zero())
+                            .fold(Number::zero(), |acc, j| acc + &m[i][j] * &v[j])
+                    })
+                    .collect();
+            }
+        }
+        // new[i] = Σ_{j ≤ i} q[i − j] · vect[j], for i in 0..r + 2.
+        let new: Vec<Number> = (0..r + 2)
+            .map(|i| {
+                (0..=i.min(vect.len() - 1))
+                    .filter(|&j| !vect[j].is_zero() && !q[i - j].is_zero())
+                    .fold(Number::zero(), |acc, j| acc + &q[i - j] * &vect[j])
+            })
+            .collect();
+        vect = new;
+    }
+    vect
+}
+
 /// `det(λI − M) = Σₖ cₖ λ^(s−k)` over the number field: `[c₀ = 1, …, c_s]`
-/// (Hessenberg reduction, then the recurrence of its leading minors; Cohen,
+/// by Hessenberg reduction (`s − 2` inverses; cheap in a quadratic field,
+/// costly in larger ones, where the inverses' coefficients grow) (Hessenberg reduction, then the recurrence of its leading minors; Cohen,
 /// *A Course in Computational Algebraic Number Theory*, 2.2.9).
-fn charpoly_field(mut h: Vec<Vec<Number>>) -> Vec<Number> {
+fn charpoly_hessenberg(mut h: Vec<Vec<Number>>) -> Vec<Number> {
     let n = h.len();
     for col in 0..n.saturating_sub(2) {
         let m1 = col + 1;
@@ -393,7 +491,7 @@ fn rational_case(rk: &Rk) -> Result<StabilityFunction, BeyondBudget> {
     let work = primes.saturating_mul((s as u64).saturating_pow(3));
     if work > STABILITY_WORK {
         return Err(BeyondBudget(format!(
-            "the exact characteristic polynomials of this {s}-stage table need {primes} primes of 61 bits (entries over a common denominator of {} bits), about {work} operations; the budget is {STABILITY_WORK}",
+            "the exact characteristic polynomials of this {s}-stage table need {primes} primes of 61 bits (entries over a common denominator of {} bits), about {work} operations; the budget is 2^30 (tableau::budget::STABILITY_WORK)",
             d.bits()
         )));
     }
