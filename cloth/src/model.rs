@@ -446,7 +446,8 @@ impl ClothModel {
                 let k = stiffness(family).unwrap_or(0.0);
                 family_counts[family as usize] += 1;
                 let kl = k / rest;
-                if collapsed.is_none() && !((start[b] - start[a]).norm() > 0.0) {
+                let apart = (start[b] - start[a]).norm();
+                if collapsed.is_none() && (apart.is_nan() || apart <= 0.0) {
                     collapsed = Some((a, b));
                 }
                 match (free_index[a], free_index[b]) {

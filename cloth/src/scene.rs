@@ -176,13 +176,15 @@ pub struct Scene {
     pub simulation: SimulationSpec,
 }
 
-/// The largest grid a scene may ask for: 2²³ = 8 388 608 particles (e.g.
-/// 2896 × 2896). An explicit run needs memory proportional to the springs,
-/// about 6 per particle at 24 bytes each plus a few copies of the state
-/// (48 bytes per particle): at this size about 2 GB. The limit is checked
-/// before anything is built, so a typo such as `ny = 100000000000` is an
-/// error at once instead of a machine that runs out of memory.
-pub const MAX_PARTICLES: usize = 1 << 23;
+/// The largest grid a scene may ask for: 2²² = 4 194 304 particles (2048 ×
+/// 2048). An explicit run needs memory in proportion to the springs (about
+/// 4 to 6 per particle at 24 bytes each) and to the state and its copies
+/// (the state, the last good frame, the frames kept for rendering: some
+/// 300 bytes per particle in all): at this size under 2 GB, so a run fits
+/// in 4 GB. The limit is checked before anything is built, so a typo such
+/// as `ny = 100000000000` is an error at once instead of a machine that
+/// runs out of memory.
+pub const MAX_PARTICLES: usize = 1 << 22;
 
 /// The most frames a run may ask for (after the initial one): 10⁶, about
 /// 4.6 hours at 60 Hz. Every frame keeps its statistics in memory (about
@@ -206,7 +208,7 @@ pub fn grid_too_large(nx: usize, ny: usize) -> Option<(&'static str, String)> {
     Some((
         which,
         format!(
-            "a {nx} × {ny} grid has more than the limit of {MAX_PARTICLES} particles (2^23, e.g. 2896 × 2896)"
+            "a {nx} × {ny} grid has more than the limit of {MAX_PARTICLES} particles (2^22, e.g. 2048 × 2048)"
         ),
     ))
 }

@@ -29,7 +29,7 @@ pub struct ClothArgs {
     /// (symplectic-euler-a, stormer-verlet, leapfrog, forest-ruth, …, euler,
     /// rk4) or an implicit one stepped with sparse Newton (gauss2, midpoint,
     /// implicit-euler, gauss3, radau2a-3, paper-dirk2, paper-dirk4).
-    #[arg(long, value_name = "NAME")]
+    #[arg(long, value_name = "NAME", allow_hyphen_values = true)]
     pub method: Option<String>,
     /// Frames to simulate after the initial one (default: the scene's; at
     /// most 10⁶, and at most 10⁹ steps in all).
@@ -56,8 +56,8 @@ pub struct ClothArgs {
     #[arg(long, value_name = "FRAME,FRAME,...", allow_hyphen_values = true)]
     pub render: Option<String>,
     /// Override the resolution: NX×NY particles, e.g. 64x64 (the scene is
-    /// otherwise unchanged: same size, material and pins); at most 2²³
-    /// particles.
+    /// otherwise unchanged: same size, material and pins); at most 2²²
+    /// particles (2048 × 2048).
     #[arg(long, value_name = "NXxNY", allow_hyphen_values = true)]
     pub grid: Option<String>,
     /// Instead of a run: the largest stable step of each method, by bisection
@@ -88,7 +88,12 @@ pub struct ClothArgs {
     pub duration: f64,
     /// With --stability: the methods to test, comma-separated (default: the
     /// explicit symplectic ones, euler, rk4, gauss2, midpoint, implicit-euler).
-    #[arg(long, value_name = "NAME,NAME,...", requires = "stability")]
+    #[arg(
+        long,
+        value_name = "NAME,NAME,...",
+        requires = "stability",
+        allow_hyphen_values = true
+    )]
     pub methods: Option<String>,
 }
 
@@ -323,7 +328,7 @@ fn run_options(
         }
         let rate = opts.frame_rate;
         let per_frame = (1.0 / (rate * h)).round().max(1.0);
-        if !(per_frame <= cloth::MAX_STEPS as f64) {
+        if per_frame.is_nan() || per_frame > cloth::MAX_STEPS as f64 {
             bail!(
                 "--dt {h:e}: {per_frame:e} steps per {rate} Hz frame is more than the limit of {} steps in a run",
                 cloth::MAX_STEPS
@@ -340,7 +345,7 @@ fn run_options(
             ));
             if args.frames.is_none() {
                 let frames = (duration * exact).round().max(1.0);
-                if !(frames <= cloth::MAX_FRAMES as f64) {
+                if frames.is_nan() || frames > cloth::MAX_FRAMES as f64 {
                     bail!(
                         "--dt {h:e}: the scene's {duration} s would be {frames:e} frames of one step, more than the limit of {} frames (give --frames)",
                         cloth::MAX_FRAMES
@@ -805,22 +810,30 @@ impl Summary<'_> {
         });
         let _ = writeln!(s, "  method       {} ({}){kind}", self.method, r.method);
         let stab = model.stability();
+        // ω_max is 0 when the power iteration finds no positive eigenvalue
+        // of M⁻¹K (a cloth deep inside a sphere is unstable tangentially):
+        // then there is no linear limit to print.
+        let limit = if stab.omega_max > 0.0 && stab.h_max.is_finite() {
+            format!(
+                "2/ω_max = {:.4e} s, h·ω_max = {:.3}{}",
+                stab.h_max,
+                r.h * stab.omega_max,
+                if stab.converged {
+                    String::new()
+                } else {
+                    format!(
+                        " (ω_max a lower bound: {} power iterations, not converged)",
+                        stab.iterations
+                    )
+                }
+            )
+        } else {
+            "2/ω_max n/a (the power iteration found no positive eigenvalue of M⁻¹K)".to_string()
+        };
         let _ = writeln!(
             s,
-            "  step         h = {:.4e} s ({} per frame at {:.4} Hz); 2/ω_max = {:.4e} s, h·ω_max = {:.3}{}",
-            r.h,
-            self.opts.substeps,
-            self.opts.frame_rate,
-            stab.h_max,
-            r.h * stab.omega_max,
-            if stab.converged {
-                String::new()
-            } else {
-                format!(
-                    " (ω_max a lower bound: {} power iterations, not converged)",
-                    stab.iterations
-                )
-            }
+            "  step         h = {:.4e} s ({} per frame at {:.4} Hz); {limit}",
+            r.h, self.opts.substeps, self.opts.frame_rate,
         );
         if let Some(note) = self.note {
             let _ = writeln!(s, "               ({note})");

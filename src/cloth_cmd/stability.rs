@@ -277,8 +277,12 @@ pub fn run(
     duration: f64,
     dir: &Path,
 ) -> Result<ExitCode> {
-    let sim = Simulation::new(scene).map_err(|e| anyhow!("{e}"))?;
-    let e_ref = energy::reference_energy(scene, &sim);
+    let sim = Simulation::new(scene).map_err(|e| match e {
+        cloth::SceneError::Field { field, message, .. } => anyhow!("{file}: {field}: {message}"),
+        other => anyhow!("{other}"),
+    })?;
+    let e_ref =
+        energy::reference_energy_checked(scene, &sim).map_err(|e| anyhow!("{file}: {e}"))?;
     let stab = sim.model.stability();
     let h_lin = stab.h_max;
     let h_bound = 2.0 / stab.omega_bound;
@@ -309,10 +313,21 @@ pub fn run(
         out,
         "stable = no NaN, Newton converged, |H − H₀|/E_ref ≤ {tol} at every frame (E_ref = {e_ref:.4e} J)"
     );
+    // No positive eigenvalue of M⁻¹K (ω = 0): no linear estimate; the
+    // search then starts at its cap.
+    let estimate = |h: f64| {
+        if h.is_finite() {
+            format!("{h:.4e} s")
+        } else {
+            "n/a (no positive eigenvalue of M⁻¹K)".to_string()
+        }
+    };
     let _ = writeln!(
         out,
-        "linear estimates at the initial state: 2/ω_max = {h_lin:.4e} s (ω_max = {:.1} rad/s), 2/ω_bound = {h_bound:.4e} s (Gershgorin)",
-        stab.omega_max
+        "linear estimates at the initial state: 2/ω_max = {} (ω_max = {:.1} rad/s), 2/ω_bound = {} (Gershgorin)",
+        estimate(h_lin),
+        stab.omega_max,
+        estimate(h_bound)
     );
     let _ = writeln!(out);
     let _ = writeln!(
@@ -344,7 +359,8 @@ pub fn run(
             (None, _) => "—".to_string(),
         };
         let ratio =
-            f.h.map_or(String::from("—"), |h| format!("{:.3}", h / h_lin));
+            f.h.filter(|_| h_lin.is_finite())
+                .map_or(String::from("—"), |h| format!("{:.3}", h / h_lin));
         let substeps = f.h.map_or(String::from("—"), |h| {
             format!("{}", (1.0 / 60.0 / h).ceil() as usize)
         });
@@ -361,13 +377,14 @@ pub fn run(
         );
         let _ = writeln!(
             csv,
-            "{},{},{},{},{},{},{},{},{},{},{},{:e},{:e},{},{},\"{}\",\"{}\"",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},\"{}\",\"{}\"",
             f.method,
             explicit,
             symp,
             order,
             f.h.map_or(String::new(), |h| format!("{h:e}")),
-            f.h.map_or(String::new(), |h| format!("{}", h / h_lin)),
+            f.h.filter(|_| h_lin.is_finite())
+                .map_or(String::new(), |h| format!("{}", h / h_lin)),
             f.h.map_or(String::new(), |h| format!(
                 "{}",
                 (1.0 / 60.0 / h).ceil() as usize
@@ -380,8 +397,13 @@ pub fn run(
             },
             f.trials,
             f.seconds.map_or(String::new(), |s| format!("{s}")),
-            h_lin,
-            h_bound,
+            // Empty, not "inf", where there is no linear estimate.
+            Some(h_lin)
+                .filter(|h| h.is_finite())
+                .map_or(String::new(), |h| format!("{h:e}")),
+            Some(h_bound)
+                .filter(|h| h.is_finite())
+                .map_or(String::new(), |h| format!("{h:e}")),
             tol,
             duration,
             name.replace('"', "'"),
