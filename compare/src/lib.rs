@@ -70,6 +70,7 @@ mod problem;
 pub mod report;
 pub mod stepper;
 pub mod sweep;
+pub mod time_transformed;
 mod work_precision;
 
 pub use counting::{AsOde, AsSeparable, Counting, Counts};

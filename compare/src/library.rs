@@ -11,20 +11,37 @@ use crate::stepper::{Lib, Stepper};
 
 /// Declares the library by id: which schemes step any `OdeSystem` (`rk`:
 /// Runge–Kutta tables, explicit and implicit) and which only separable
-/// Hamiltonians (`separable`: drift–kick sequences, compositions, explicit
-/// pairs, and the implicit pair, which steps `Hamiltonian`s — all our
-/// Hamiltonian problems are separable). Emits the id lists and the two
-/// constructors; `tests::library_lists_cover_the_registry` checks the lists
-/// against `REGISTRY`.
+/// Hamiltonians (`separable`: drift–kick sequences, compositions and
+/// explicit pairs; `implicit_pairs`, which step `Hamiltonian`s — all our
+/// Hamiltonian problems are separable). Emits the id lists and the
+/// constructors, among them the time-transformed variants of the explicit
+/// separable schemes (`logh:ID`); `tests::library_lists_cover_the_registry`
+/// checks the lists against `REGISTRY`.
 macro_rules! library {
     (
         rk: [$($rid:literal => $rty:ident),* $(,)?],
-        separable: [$($sid:literal => $sty:ident),* $(,)?] $(,)?
+        separable: [$($sid:literal => $sty:ident),* $(,)?],
+        implicit_pairs: [$($iid:literal => $ity:ident),* $(,)?] $(,)?
     ) => {
         /// Ids of the Runge–Kutta tables (they step every `OdeSystem`).
         pub const RK_IDS: &[&str] = &[$($rid),*];
         /// Ids of the schemes that step separable Hamiltonians only.
-        pub const SEPARABLE_IDS: &[&str] = &[$($sid),*];
+        pub const SEPARABLE_IDS: &[&str] = &[$($sid,)* $($iid),*];
+        /// Ids of the explicit schemes for separable Hamiltonians: those
+        /// that also step the logarithmic Hamiltonian (`logh:ID`).
+        pub const EXPLICIT_SEPARABLE_IDS: &[&str] = &[$($sid),*];
+
+        /// The time-transformed variant `logh:ID` of an explicit separable
+        /// scheme on a separable problem, `None` for any other id.
+        pub fn logh_stepper<P>(id: &str) -> Option<Box<dyn Stepper<P>>>
+        where
+            P: Problem<Kind = AsSeparable> + Separable,
+        {
+            Some(match id {
+                $($sid => Box::new(crate::time_transformed::LogH($sty)),)*
+                _ => return None,
+            })
+        }
 
         /// Any library scheme on a separable problem, `None` for an id not
         /// in the library.
@@ -35,6 +52,7 @@ macro_rules! library {
             Some(match id {
                 $($rid => Box::new(Lib($rty)),)*
                 $($sid => Box::new(Lib($sty)),)*
+                $($iid => Box::new(Lib($ity)),)*
                 _ => return None,
             })
         }
@@ -76,8 +94,6 @@ library! {
         "symplectic-euler-a" => SymplecticEulerA,
         "symplectic-euler-b" => SymplecticEulerB,
         "stormer-verlet" => StormerVerlet,
-        "lobatto3a3b-3" => LobattoIIIAIIIB3,
-        "lobatto3c3cstar-2" => LobattoIIICIIICStar2,
         "leapfrog" => Leapfrog,
         "ruth3" => Ruth3,
         "forest-ruth" => ForestRuth,
@@ -88,12 +104,24 @@ library! {
         "mclachlan-atela5" => McLachlanAtela5,
         "calvo-sanz-serna4" => CalvoSanzSerna4,
         "mclachlan4" => McLachlan4,
+        "pefrl" => Pefrl,
+        "mclachlan-s5" => McLachlanS5,
+        "blanes-moan-prk6" => BlanesMoanPrk6,
+        "blanes-moan-prk10" => BlanesMoanPrk10,
+        "blanes-moan-srkn6b" => BlanesMoanSrkn6b,
+        "blanes-moan-srkn11b" => BlanesMoanSrkn11b,
+        "blanes-moan-srkn14a" => BlanesMoanSrkn14a,
         "yoshida4" => Yoshida4,
         "yoshida6" => Yoshida6,
         "kahan-li6" => KahanLi6,
+        "mclachlan-ss9" => McLachlanSS9,
         "kahan-li8" => KahanLi8,
         "mclachlan8" => McLachlan8,
         "sofroniou-spaletta10" => SofroniouSpaletta10,
+    ],
+    implicit_pairs: [
+        "lobatto3a3b-3" => LobattoIIIAIIIB3,
+        "lobatto3c3cstar-2" => LobattoIIICIIICStar2,
     ],
 }
 

@@ -156,6 +156,9 @@ impl<P: Problem> Method<P> {
         if let Some(m) = Self::library(id) {
             return Ok(m);
         }
+        if let Some(base) = id.strip_prefix("logh:") {
+            return Self::logh(base, sys);
+        }
         if id == "dop853" {
             return Self::dop853();
         }
@@ -197,6 +200,49 @@ impl<P: Problem> Method<P> {
                 Self::ids(sys).join(", ")
             ),
         ))
+    }
+
+    /// `logh:BASE`: the explicit separable library scheme `BASE` on the
+    /// logarithmic Hamiltonian of the problem (see
+    /// [`time_transformed`](crate::time_transformed)).
+    pub fn logh(base: &str, sys: &P) -> Result<Self> {
+        let id = format!("logh:{base}");
+        if let Some(stepper) = <P::Kind as Kind<P>>::logh(base) {
+            let i = info(base).expect("library ids are in the registry");
+            return Ok(Method::Fixed(Fixed {
+                id,
+                order: i.order,
+                // Symplectic in the extended phase space (q, t; p, p₀).
+                symplectic: i.symplectic_separable,
+                family: Family::Splitting,
+                interpreted: false,
+                stepper,
+            }));
+        }
+        let why = if !<P::Kind as Kind<P>>::SEPARABLE {
+            format!(
+                "method '{id}': the logarithmic Hamiltonian needs a separable H = T(p) + V(q); the {} problem is an OdeSystem only",
+                sys.name()
+            )
+        } else if let Some(i) = info(base) {
+            format!(
+                "method '{id}': '{base}' is {} {} scheme; logh: takes an explicit scheme for separable Hamiltonians \
+                 (a drift–kick sequence, a composition or an explicit pair): {}",
+                if i.explicit {
+                    "an explicit"
+                } else {
+                    "an implicit"
+                },
+                i.form,
+                crate::library::EXPLICIT_SEPARABLE_IDS.join(", ")
+            )
+        } else {
+            format!(
+                "method '{id}': unknown base method '{base}'; logh: takes one of {}",
+                crate::library::EXPLICIT_SEPARABLE_IDS.join(", ")
+            )
+        };
+        Err(CompareError::method(&id, why))
     }
 
     /// Every id [`by_id`](Method::by_id) accepts for `sys`.

@@ -116,6 +116,9 @@ pub trait Kind<P>: Sized + 'static {
     /// A table file's table (rounded as `butcher!` rounds it) stepped by the
     /// run-time interpreters, or why this table cannot step `P`.
     fn interpreted(table: &tableau::Table, id: &str) -> Result<Box<dyn Stepper<P>>>;
+    /// The explicit separable scheme `id` on the logarithmic Hamiltonian of
+    /// `P` (`logh:ID`), `None` if `id` is not one or `P` is not separable.
+    fn logh(id: &str) -> Option<Box<dyn Stepper<P>>>;
 }
 
 /// `P`'s counting wrapper.
@@ -143,6 +146,9 @@ impl<P: Problem<Kind = AsSeparable> + Separable> Kind<P> for AsSeparable {
     fn interpreted(table: &tableau::Table, id: &str) -> Result<Box<dyn Stepper<P>>> {
         crate::interpreted::separable(table, id)
     }
+    fn logh(id: &str) -> Option<Box<dyn Stepper<P>>> {
+        library::logh_stepper::<P>(id)
+    }
 }
 
 impl<P: Problem<Kind = AsOde>> Kind<P> for AsOde {
@@ -162,6 +168,9 @@ impl<P: Problem<Kind = AsOde>> Kind<P> for AsOde {
     }
     fn interpreted(table: &tableau::Table, id: &str) -> Result<Box<dyn Stepper<P>>> {
         crate::interpreted::rk(table, id)
+    }
+    fn logh(_id: &str) -> Option<Box<dyn Stepper<P>>> {
+        None
     }
 }
 

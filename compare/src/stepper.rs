@@ -58,6 +58,10 @@ pub struct Outcome {
     pub newton_iterations: usize,
     pub fixed_point_iterations: usize,
     pub factorizations: usize,
+    /// Steps taken, for a method whose step count is not the `n` it was
+    /// asked for (a time-transformed scheme steps in a fictitious time and
+    /// lands on `T` in however many steps that takes); `None`: `n`.
+    pub steps: Option<u64>,
 }
 
 /// The workspace features the experiments use: the compensated-summation
@@ -133,7 +137,7 @@ pub trait Stepper<P>: Send + Sync {
 
 /// The loop of [`integrate`](integrator_core::integrate), with the
 /// workspace in the caller's hands and an observer that may stop it.
-fn drive<S, M>(
+pub(crate) fn drive<S, M>(
     m: &M,
     sys: &S,
     ws: &mut M::Workspace,
@@ -205,6 +209,7 @@ where
             newton_iterations,
             fixed_point_iterations,
             factorizations,
+            steps: None,
         }
     }
 
@@ -266,6 +271,7 @@ impl Stepper<LinearHamiltonian> for PropagatorStepper {
             newton_iterations: 0,
             fixed_point_iterations: 0,
             factorizations: 0,
+            steps: None,
         }
     }
 

@@ -234,17 +234,29 @@ pub fn sweep<P: Problem>(
 
 /// One fixed-step run of `n` steps over `[0, t_end]`.
 pub fn fixed_run<P: Problem>(setup: &Setup<P>, f: &Fixed<P>, n: u64, repeats: usize) -> Row {
-    let h = setup.t_end / n as f64;
+    let h_asked = setup.t_end / n as f64;
     let mut z = setup.z0.clone();
     let mut energy_error: f64 = 0.0;
     // A state whose energy overflows has diverged even while it is finite.
-    let outcome = f
-        .stepper
-        .observed(&setup.sys, &mut z, h, n as usize, true, &mut |_, _, z| {
+    let outcome = f.stepper.observed(
+        &setup.sys,
+        &mut z,
+        h_asked,
+        n as usize,
+        true,
+        &mut |_, _, z| {
             let e = setup.energy_error(z);
             energy_error = energy_error.max(e);
             e.is_finite()
-        });
+        },
+    );
+    let h = h_asked;
+    // A time-transformed method takes the steps it needs: its row reports
+    // them and their average length.
+    let (n, h) = match outcome.steps {
+        Some(k) if k > 0 => (k, setup.t_end / k as f64),
+        _ => (n, h),
+    };
     let mut status = match outcome.status {
         Status::Stopped { step } => format!("diverged at step {step}: the energy is not finite"),
         ref s => s.label(),
@@ -257,12 +269,13 @@ pub fn fixed_run<P: Problem>(setup: &Setup<P>, f: &Fixed<P>, n: u64, repeats: us
             status = format!("diverged at step {n}: the error at T is not finite");
         } else {
             let mut w = setup.z0.clone();
-            let mut fine = f.stepper.bare(&setup.sys, &mut w, h, n as usize);
+            let steps_asked = (setup.t_end / h_asked).round() as usize;
+            let mut fine = f.stepper.bare(&setup.sys, &mut w, h_asked, steps_asked);
             let mut times = Vec::with_capacity(repeats);
             for _ in 0..repeats {
                 let mut w = setup.z0.clone();
                 let start = Instant::now();
-                fine &= f.stepper.bare(&setup.sys, &mut w, h, n as usize);
+                fine &= f.stepper.bare(&setup.sys, &mut w, h_asked, steps_asked);
                 times.push(start.elapsed().as_secs_f64());
                 std::hint::black_box(&w);
             }
