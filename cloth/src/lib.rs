@@ -106,7 +106,14 @@
 //! Unknown keys, missing fields, non-positive sizes or density, negative
 //! stiffness, a resolution below 2, a pin outside the grid, an unknown
 //! method, or a grid with no spring are errors that name the file and the
-//! field.
+//! field. So are fields that are finite on their own but make the model's
+//! derived quantities (spacing, rest lengths, particle mass and its inverse,
+//! `k/L`, `k·L`, weights, collider stiffness per particle) or its initial
+//! energy and forces non-finite, and scenes beyond the limits:
+//! [`MAX_PARTICLES`] particles, [`MAX_FRAMES`] frames, [`MAX_STEPS`] steps
+//! in a run, a step `1/(frame_rate·substeps)` that is not a positive normal
+//! number. Implicit methods take at most
+//! [`implicit::MAX_FREE_PARTICLES`] free particles.
 //!
 //! # For a command-line front end
 //!
