@@ -26,7 +26,7 @@ pub struct CheckArgs {
 
 #[derive(clap::Args)]
 pub struct ListArgs {
-    /// Print a JSON array of {id, name, kind, source}.
+    /// Print a JSON array of {id, name, form, steps, source}.
     #[arg(long)]
     json: bool,
 }
@@ -86,14 +86,17 @@ pub fn list(args: &ListArgs) -> Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
-/// What the library scheme of this id can step: `any ODE` (explicit
-/// Runge–Kutta), `separable H` (drift–kick, compositions, explicit pairs), or
-/// `not yet` (implicit tables: verified, stage solver pending).
-fn steps(id: &str) -> &'static str {
+/// What the library scheme of this id steps, as its `Step` impls say: `any
+/// ODE` (Runge–Kutta tables, explicit ones unrolled, implicit ones through
+/// the stage solver: any `OdeSystem`), `separable H` (drift–kick sequences,
+/// compositions, explicit pairs and pairs symplectic only for separable H:
+/// `Separable` systems), `any H` (implicit pairs symplectic for every H:
+/// any `Hamiltonian`), `-` (not in the library).
+pub fn steps(id: &str) -> &'static str {
     match integrator_core::library::info(id) {
-        Some(i) if i.explicit && i.form == "rk" => "any ODE",
-        Some(i) if i.explicit => "separable H",
-        Some(_) => "not yet",
+        Some(i) if i.form == "rk" => "any ODE",
+        Some(i) if i.separable_only || i.explicit => "separable H",
+        Some(_) => "any H",
         None => "-",
     }
 }
@@ -124,6 +127,7 @@ pub fn to_json(tf: &TableFile, a: &Analysis) -> Value {
         "order_rkn": a.order_rkn.order,
         "symmetric": a.symmetric,
         "stability_function": a.stability.as_ref().map(|r| r.to_text()),
+        "stability_not_computed": a.stability_not_computed.as_ref().map(|e| e.to_string()),
         "w_nonzero": a.w_nonzero,
     })
 }
@@ -284,6 +288,8 @@ pub fn readable(origin: &str, tf: &TableFile, a: &Analysis) -> String {
             r.to_text(),
             yes_no(a.unimodular == Some(true))
         );
+    } else if let Some(why) = &a.stability_not_computed {
+        let _ = writeln!(s, "  R(z)         not computed: beyond budget ({why})");
     }
     if !tf.claims.is_empty() {
         let _ = writeln!(s, "  claims");

@@ -31,6 +31,7 @@ fn json_has_exactly_the_documented_fields() {
             "order_separable",
             "row_sums_ok",
             "stability_function",
+            "stability_not_computed",
             "stages",
             "symmetric",
             "symplectic",
@@ -192,4 +193,203 @@ fn bad_input_is_a_clear_error_with_exit_2() {
     let (code, _, err) = symlab(&["check", "--builtin", "no-such-table"]);
     assert_eq!(code, 2);
     assert!(err.contains("no-such-table"), "{err}");
+}
+
+// ---------------------------------------------------------------------------
+// Hostile, huge and long input (issue 13): budgets instead of hangs.
+
+use std::time::{Duration, Instant};
+
+/// Generous: every case below finishes in well under a second.
+const BOUND: Duration = Duration::from_secs(10);
+
+/// `symlab ARGS`, asserting it finished within [`BOUND`].
+fn timed(args: &[&str]) -> (i32, String, String) {
+    let start = Instant::now();
+    let r = symlab(args);
+    assert!(
+        start.elapsed() < BOUND,
+        "{args:?} took {:?}",
+        start.elapsed()
+    );
+    r
+}
+
+/// A table file written for one test, in the system's temporary directory.
+fn temp_table(name: &str, text: &str) -> String {
+    let dir = std::env::temp_dir().join(format!("symlab-check-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join(name);
+    std::fs::write(&path, text).unwrap();
+    path.display().to_string()
+}
+
+fn rk_text(name: &str, a: &[Vec<String>], b: &[String]) -> String {
+    let quote = |v: &[String]| {
+        v.iter()
+            .map(|x| format!("\"{x}\""))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let rows: Vec<String> = a.iter().map(|r| format!("[{}]", quote(r))).collect();
+    format!(
+        "name = \"{name}\"\na = [{}]\nb = [{}]\n",
+        rows.join(", "),
+        quote(b)
+    )
+}
+
+/// Entries spanning large number fields are decided within the budget: six
+/// square roots of primes (degree 64), the inverse of a sum of five cube
+/// roots (degree 243), a 60-stage dense rational table.
+#[test]
+fn large_number_fields_and_many_stages_are_decided_quickly() {
+    for file in ["hostile-sqrt-primes.toml", "hostile-cbrt-inverse.toml"] {
+        let (code, out, err) = timed(&["check", "--json", &format!("tests/tables/{file}")]);
+        assert_eq!(code, 0, "{file}: {err}");
+        let v: Value = serde_json::from_str(&out).unwrap();
+        assert!(v["stability_function"].is_string(), "{file}: {v}");
+        assert!(v["stability_not_computed"].is_null(), "{file}: {v}");
+    }
+    let s = 60;
+    let a: Vec<Vec<String>> = (0..s)
+        .map(|i| {
+            (0..s)
+                .map(|j| format!("{}/{}", (i * 7 + j * 3) % 11, 1 + (i + j) % 9))
+                .collect()
+        })
+        .collect();
+    let b: Vec<String> = (0..s).map(|_| format!("1/{s}")).collect();
+    let path = temp_table("dense60.toml", &rk_text("Dense, 60 stages", &a, &b));
+    let (code, out, err) = timed(&["check", "--json", &path]);
+    assert_eq!(code, 0, "{err}");
+    let v: Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["stages"], 60);
+    assert!(v["stability_function"].is_string(), "{v}");
+}
+
+/// Beyond the budget the stability function is reported as not computed,
+/// saying what is too large; the other verdicts are still decided and the
+/// exit code is 0.
+#[test]
+fn stability_beyond_budget_is_reported_not_run() {
+    let (code, out, err) = timed(&["check", "tests/tables/hostile-radical-implicit.toml"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        out.contains("R(z)         not computed: beyond budget ("),
+        "{out}"
+    );
+    assert!(
+        out.contains("degree 64") && out.contains("16 stages"),
+        "{out}"
+    );
+    assert!(out.contains("symplectic   no"), "{out}");
+    let (_, out, _) = timed(&[
+        "check",
+        "--json",
+        "tests/tables/hostile-radical-implicit.toml",
+    ]);
+    let v: Value = serde_json::from_str(&out).unwrap();
+    assert!(v["stability_function"].is_null());
+    assert!(
+        v["stability_not_computed"]
+            .as_str()
+            .is_some_and(|m| m.contains("RADICAL_STABILITY_WORK")),
+        "{v}"
+    );
+}
+
+/// Input beyond a hard limit is refused with exit 2, quickly, naming the
+/// file, the field and the limit.
+#[test]
+fn huge_input_is_refused_naming_the_field_and_the_limit() {
+    let sqrts: Vec<String> = [2, 3, 5, 7, 11, 13, 17, 19, 23]
+        .iter()
+        .map(|p| format!("sqrt({p})"))
+        .collect();
+    let inverse = format!("1/({})", sqrts.join(" + "));
+    let digits = "7".repeat(1_000_000);
+    let compose: Vec<String> = (0..10_000).map(|_| "\"1/10000\"".to_string()).collect();
+    let cases: Vec<(String, String, &str, &str)> = vec![
+        (
+            "inverse.toml".into(),
+            rk_text("x", &[vec![inverse]], &["1".into()]),
+            "field a[0][0]",
+            "degree 512",
+        ),
+        (
+            "digits.toml".into(),
+            format!("name = \"x\"\na = [[\"{digits}\"]]\nb = [\"1\"]\n"),
+            "field a[0][0]",
+            "at most 1000",
+        ),
+        (
+            "digits-int.toml".into(),
+            format!("name = \"x\"\na = [[{digits}]]\nb = [1]\n"),
+            "field a[0][0]",
+            "at most 1000",
+        ),
+        (
+            "compose.toml".into(),
+            format!("name = \"x\"\ncompose = [{}]\n", compose.join(", ")),
+            "field compose",
+            "at most 100 stages",
+        ),
+    ];
+    for (name, text, field, limit) in cases {
+        let path = temp_table(&name, &text);
+        let (code, out, err) = timed(&["check", &path]);
+        assert_eq!(code, 2, "{name}: {out}");
+        assert!(
+            err.contains(&path) && err.contains(field) && err.contains(limit),
+            "{name}: {err}"
+        );
+        assert!(!err.contains("panicked"), "{err}");
+    }
+    // A file that never ends is read only up to the limit.
+    if std::path::Path::new("/dev/zero").exists() {
+        let (code, _, err) = timed(&["check", "/dev/zero"]);
+        assert_eq!(code, 2);
+        assert!(
+            err.contains("/dev/zero") && err.contains("larger than 1 MiB"),
+            "{err}"
+        );
+    }
+}
+
+/// A 3×3 `a_hat` beside a 2×2 `a` is `a_hat`'s fault, not `b_hat`'s.
+#[test]
+fn mismatched_pair_blames_a_hat() {
+    let (code, _, err) = timed(&["check", "tests/tables/ahat-3x3.toml"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("field a_hat:"), "{err}");
+    assert!(!err.contains("b_hat"), "{err}");
+}
+
+/// `symlab list` says what each library scheme steps, as the library's own
+/// facts say: never "not yet" (every scheme steps), Runge–Kutta tables any
+/// ODE (implicit ones through the stage solver), pairs and splittings
+/// separable Hamiltonians unless they are implicit pairs symplectic for every
+/// Hamiltonian.
+#[test]
+fn list_agrees_with_the_library_about_what_steps() {
+    let (code, out, err) = symlab(&["list", "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let rows: Vec<Value> = serde_json::from_str(&out).unwrap();
+    assert!(!rows.is_empty());
+    for row in &rows {
+        let id = row["id"].as_str().unwrap();
+        let steps = row["steps"].as_str().unwrap();
+        let info = integrator_core::library::info(id)
+            .unwrap_or_else(|| panic!("{id} is listed but not in the library"));
+        let expected = match (info.form, info.explicit, info.separable_only) {
+            ("rk", _, _) => "any ODE",
+            (_, true, _) | (_, _, true) => "separable H",
+            _ => "any H",
+        };
+        assert_eq!(steps, expected, "{id}: {info:?}");
+        assert_eq!(row["form"], info.form, "{id}");
+    }
+    let (_, text, _) = symlab(&["list"]);
+    assert!(!text.contains("not yet"), "{text}");
 }

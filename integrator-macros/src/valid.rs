@@ -114,6 +114,18 @@ pub fn validate(input: &Input) -> Result<Verified, Error> {
             return Err(Error::new(span, e.to_string()));
         }
     };
+    // The same budgets as `symlab check` (tableau::budget): a table whose
+    // exact stability function is beyond them is refused here, at the table,
+    // since its scheme would lack its stability constants. The build never
+    // freezes on a table.
+    if let Some(why) = &analysis.stability_not_computed {
+        return Err(Error::new(
+            input.name.span(),
+            format!(
+                "this table is beyond the budget of exact analysis: its stability function is not computed ({why}); see tableau::budget"
+            ),
+        ));
+    }
     let mut errs = Errors::default();
     for (claim, span) in claims.iter().zip(&claim_spans) {
         if let Err(e) = analysis::check_claim(&table, &analysis, claim) {
@@ -314,4 +326,58 @@ fn build_table(
         ));
     }
     None
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn validate_text(text: &str) -> Result<Verified, Error> {
+        let input: Input = syn::parse_str(text).expect("the invocation parses");
+        validate(&input)
+    }
+
+    /// A table whose stability function is beyond the budget is a compile
+    /// error at the table, quickly, never a frozen build.
+    #[test]
+    fn beyond_budget_is_an_error_at_the_table() {
+        // 12 implicit stages over Q(sqrt(2), sqrt(3), sqrt(5), sqrt(7), sqrt(11), sqrt(13)):
+        // 12⁴ × 64² > 2²⁶.
+        let primes = [2, 3, 5, 7, 11, 13];
+        let s = 12;
+        let rows: Vec<String> = (0..s)
+            .map(|i| {
+                let row: Vec<String> = (0..s)
+                    .map(|j| format!("1/{} + sqrt({})", i + j + 2, primes[(i + j) % 6]))
+                    .collect();
+                format!("[{}]", row.join(", "))
+            })
+            .collect();
+        let b: Vec<String> = (0..s).map(|_| format!("1/{s}")).collect();
+        let text = format!(
+            "pub Huge {{ a: [{}], b: [{}], }}",
+            rows.join(", "),
+            b.join(", ")
+        );
+        let start = std::time::Instant::now();
+        let err = validate_text(&text).err().expect("refused");
+        assert!(start.elapsed().as_secs() < 10, "{:?}", start.elapsed());
+        let msg = err.to_string();
+        assert!(msg.contains("beyond the budget"), "{msg}");
+        assert!(msg.contains("degree 64"), "{msg}");
+    }
+
+    #[test]
+    fn too_many_stages_and_long_literals_are_errors() {
+        let gamma: Vec<String> = (0..150).map(|_| "1/150".to_string()).collect();
+        let err = validate_text(&format!("pub Long {{ compose: [{}], }}", gamma.join(", ")))
+            .err()
+            .expect("refused");
+        assert!(err.to_string().contains("at most 100 stages"), "{err}");
+        let digits = "7".repeat(2000);
+        let err = validate_text(&format!("pub Big {{ a: [[{digits}]], b: [1], }}"))
+            .err()
+            .expect("refused");
+        assert!(err.to_string().contains("2000 digits"), "{err}");
+    }
 }
