@@ -119,6 +119,27 @@ butcher! {
     pub McLachlan4 { from: "mclachlan4" }
 }
 butcher! {
+    pub Pefrl { from: "pefrl" }
+}
+butcher! {
+    pub McLachlanS5 { from: "mclachlan-s5" }
+}
+butcher! {
+    pub BlanesMoanPrk6 { from: "blanes-moan-prk6" }
+}
+butcher! {
+    pub BlanesMoanPrk10 { from: "blanes-moan-prk10" }
+}
+butcher! {
+    pub BlanesMoanSrkn6b { from: "blanes-moan-srkn6b" }
+}
+butcher! {
+    pub BlanesMoanSrkn11b { from: "blanes-moan-srkn11b" }
+}
+butcher! {
+    pub BlanesMoanSrkn14a { from: "blanes-moan-srkn14a" }
+}
+butcher! {
     pub Yoshida4 { from: "yoshida4" }
 }
 butcher! {
@@ -126,6 +147,9 @@ butcher! {
 }
 butcher! {
     pub KahanLi6 { from: "kahan-li6" }
+}
+butcher! {
+    pub McLachlanSS9 { from: "mclachlan-ss9" }
 }
 butcher! {
     pub KahanLi8 { from: "kahan-li8" }
@@ -173,9 +197,17 @@ pub const REGISTRY: &[(&str, Info)] = &[
     ("mclachlan-atela5", <McLachlanAtela5 as Scheme>::INFO),
     ("calvo-sanz-serna4", <CalvoSanzSerna4 as Scheme>::INFO),
     ("mclachlan4", <McLachlan4 as Scheme>::INFO),
+    ("pefrl", <Pefrl as Scheme>::INFO),
+    ("mclachlan-s5", <McLachlanS5 as Scheme>::INFO),
+    ("blanes-moan-prk6", <BlanesMoanPrk6 as Scheme>::INFO),
+    ("blanes-moan-prk10", <BlanesMoanPrk10 as Scheme>::INFO),
+    ("blanes-moan-srkn6b", <BlanesMoanSrkn6b as Scheme>::INFO),
+    ("blanes-moan-srkn11b", <BlanesMoanSrkn11b as Scheme>::INFO),
+    ("blanes-moan-srkn14a", <BlanesMoanSrkn14a as Scheme>::INFO),
     ("yoshida4", <Yoshida4 as Scheme>::INFO),
     ("yoshida6", <Yoshida6 as Scheme>::INFO),
     ("kahan-li6", <KahanLi6 as Scheme>::INFO),
+    ("mclachlan-ss9", <McLachlanSS9 as Scheme>::INFO),
     ("kahan-li8", <KahanLi8 as Scheme>::INFO),
     ("mclachlan8", <McLachlan8 as Scheme>::INFO),
     (

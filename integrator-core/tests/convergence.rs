@@ -65,7 +65,9 @@ macro_rules! steppable {
             SymplecticEulerA, SymplecticEulerB, StormerVerlet,
             Leapfrog, Ruth3, ForestRuth, CandyRozmus4,
             McLachlanAtela2, McLachlanAtela3, McLachlanAtela4, McLachlanAtela5, CalvoSanzSerna4,
-            McLachlan4, Yoshida4, Yoshida6, KahanLi6, KahanLi8, McLachlan8, SofroniouSpaletta10,
+            McLachlan4, Pefrl, McLachlanS5, BlanesMoanPrk6, BlanesMoanPrk10,
+            BlanesMoanSrkn6b, BlanesMoanSrkn11b, BlanesMoanSrkn14a,
+            Yoshida4, Yoshida6, KahanLi6, McLachlanSS9, KahanLi8, McLachlan8, SofroniouSpaletta10,
         )
     };
 }

@@ -247,7 +247,7 @@ fn orders_on_runge_kutta_nystrom_systems() {
 
 /// Every explicit symplectic entry has an RKN order at least its separable
 /// order, each within the bound the entry claims for its order; only the
-/// three RKN methods gain.
+/// RKN methods gain (Blanes–Moan's SRKN₆ᵇ has order 4 on both).
 #[test]
 fn rkn_order_of_every_explicit_symplectic_entry() {
     use tableau::order::{prk_order_nystrom, prk_order_separable};
@@ -276,7 +276,9 @@ fn rkn_order_of_every_explicit_symplectic_entry() {
         [
             ("mclachlan-atela4", 3, 4),
             ("mclachlan-atela5", 3, 5),
-            ("calvo-sanz-serna4", 3, 4)
+            ("calvo-sanz-serna4", 3, 4),
+            ("blanes-moan-srkn11b", 4, 6),
+            ("blanes-moan-srkn14a", 4, 6)
         ]
     );
 }

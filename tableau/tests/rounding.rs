@@ -295,9 +295,29 @@ fn round_table_follows_the_analysis() {
     );
 }
 
+/// As [`assert_sums_to_one`] for the palindromic weights of a symmetric
+/// table, except where no palindromic choice of faithful roundings sums to
+/// `1.0` (brute force): there `round_weights` keeps the correct roundings, as
+/// documented. In the catalogue that happens once, for the twelve kicks of
+/// Blanes–Moan's SRKN₁₁ᵇ, which sum to `1 − 2⁻⁵³`.
+fn assert_sums_to_one_palindromic(w: &[f64], x: &[Number], what: &str) {
+    if exact_sum(x).is_one() && sum_left_to_right(w) != 1.0 && fewest_moves(x, true).is_none() {
+        let plain: Vec<f64> = x.iter().map(Number::to_f64).collect();
+        assert_eq!(
+            w,
+            plain.as_slice(),
+            "{what}: the correct roundings are kept"
+        );
+        println!("{what}: no palindromic faithful rounding sums to 1.0");
+        return;
+    }
+    assert_sums_to_one(w, x, what);
+}
+
 /// Every table of the catalogue: entries within one ulp, weights summing to
-/// one, and for tables symplectic as written no worse a W than the plain
-/// rounding.
+/// one (for drift–kick sequences and compositions, where a palindromic
+/// rounding can), and for tables symplectic as written no worse a W than the
+/// plain rounding.
 #[test]
 fn whole_catalogue() {
     for entry in catalogue::entries() {
@@ -327,16 +347,16 @@ fn whole_catalogue() {
                 let t = round_splitting(&s, true);
                 assert_vec_within(&t.drift, &s.drift, id);
                 assert_vec_within(&t.kick, &s.kick, id);
-                assert_sums_to_one(&t.drift, &s.drift, id);
-                assert_sums_to_one(&t.kick, &s.kick, id);
+                assert_sums_to_one_palindromic(&t.drift, &s.drift, id);
+                assert_sums_to_one_palindromic(&t.kick, &s.kick, id);
             }
             Table::Composition(c) => {
                 let t = round_composition(&c, true);
                 assert_vec_within(&t.gamma, &c.gamma, id);
-                assert_sums_to_one(&t.gamma, &c.gamma, id);
+                assert_sums_to_one_palindromic(&t.gamma, &c.gamma, id);
                 let split = c.to_splitting();
                 assert_vec_within(&t.splitting.drift, &split.drift, id);
-                assert_sums_to_one(&t.splitting.drift, &split.drift, id);
+                assert_sums_to_one_palindromic(&t.splitting.drift, &split.drift, id);
             }
         }
     }
