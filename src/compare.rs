@@ -89,7 +89,9 @@ pub struct CompareArgs {
     /// exact flow as the reference.
     #[arg(long, value_name = "FILE", conflicts_with_all = ["problem", "long", "hard", "peer_study", "from"])]
     problem_file: Option<PathBuf>,
-    /// Comma-separated method ids (default: every method that applies).
+    /// Comma-separated method ids (default: every method that applies):
+    /// `symlab list` ids, gaussN-propagator (gyroscopic), dop853, and
+    /// logh:ID (an explicit separable scheme on the logarithmic Hamiltonian).
     #[arg(long, value_delimiter = ',', value_name = "ID,...")]
     methods: Option<Vec<String>>,
     /// A table file (TOML, as for `symlab check`) to add to the sweep: its
