@@ -424,6 +424,7 @@ fn bad_flag_values_name_the_flag() {
         (vec!["--grid", "-1x2"], "--grid"),
         (vec!["--dt", "-inf"], "--dt"),
         (vec!["--stability", "--tolerance", "-1"], "--tolerance"),
+        (vec!["--stability", "--tolerance", "1e-300"], "--tolerance"),
         (vec!["--stability", "--duration", "-1"], "--duration"),
         // Long runs: refused before the run, naming the flag.
         (vec!["--dt", "1e-12"], "--dt"),
@@ -606,5 +607,41 @@ fn a_run_that_blows_up_with_render_none_renders_nothing() {
         })
         .count();
     assert_eq!(pngs, 0);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn an_endless_scene_file_is_read_up_to_a_limit() {
+    if !Path::new("/dev/zero").exists() {
+        return;
+    }
+    let (code, _, stderr, secs) = timed(&["cloth", "/dev/zero"]);
+    assert_eq!(code, 2, "{stderr}");
+    assert!(
+        stderr.contains("/dev/zero") && stderr.contains("16 MiB"),
+        "{stderr}"
+    );
+    assert!(secs < 10.0, "{secs} s");
+}
+
+#[test]
+fn a_run_whose_energy_overflows_stops_naming_the_step_in_words() {
+    // Gravity of 1e200 m/s²: finite scales at the start, the energy
+    // overflows within a step or two.
+    let dir = temp_dir("overflow");
+    let out = dir.to_str().unwrap();
+    let path = paper_variant(
+        &dir,
+        "heavy.toml",
+        &[(
+            "gravity = [0.0, -9.81, 0.0]",
+            "gravity = [0.0, -1e200, 0.0]",
+        )],
+    );
+    let (code, _, stderr) = symlab(&["cloth", &path, "--frames", "3", "--out", out]);
+    assert_eq!(code, 1, "{stderr}");
+    assert!(stderr.contains("blew up at step"), "{stderr}");
+    assert!(!stderr.contains("NaN"), "{stderr}");
+    assert_clean(&stderr);
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -186,6 +186,10 @@ pub struct Scene {
 /// runs out of memory.
 pub const MAX_PARTICLES: usize = 1 << 22;
 
+/// The largest scene file read: 16 MiB (the shipped scenes are about 2 KB;
+/// a scene with thousands of colliders is well under a megabyte).
+pub const MAX_SCENE_BYTES: u64 = 16 << 20;
+
 /// The most frames a run may ask for (after the initial one): 10⁶, about
 /// 4.6 hours at 60 Hz. Every frame keeps its statistics in memory (about
 /// 100 bytes) and a row of `energy.csv`.
@@ -276,10 +280,29 @@ impl Scene {
     pub fn load(path: impl AsRef<Path>) -> Result<Scene, SceneError> {
         let path = path.as_ref();
         let file = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|source| SceneError::Io {
+        let io = |source| SceneError::Io {
             file: file.clone(),
             source,
-        })?;
+        };
+        // Read at most MAX_SCENE_BYTES (+1 to tell a file of exactly that
+        // size from a longer one): `symlab cloth /dev/zero` must not read
+        // until memory runs out.
+        let mut text = String::new();
+        std::fs::File::open(path)
+            .and_then(|f| {
+                use std::io::Read;
+                f.take(MAX_SCENE_BYTES + 1).read_to_string(&mut text)
+            })
+            .map_err(io)?;
+        if text.len() as u64 > MAX_SCENE_BYTES {
+            return Err(SceneError::Io {
+                file,
+                source: std::io::Error::other(format!(
+                    "larger than the limit of {} MiB for a scene file",
+                    MAX_SCENE_BYTES >> 20
+                )),
+            });
+        }
         let stem = path
             .file_stem()
             .map(|s| s.to_string_lossy().into_owned())
@@ -625,7 +648,8 @@ impl Scene {
                 }
             }
         }
-        let g = self.gravity.iter().map(|x| x * x).sum::<f64>().sqrt();
+        // |g| without overflowing the squares (gravity = [0, -1e200, 0]).
+        let g = self.gravity.iter().fold(0.0f64, |a, x| a.hypot(*x));
         let size = c.width.max(c.height) * c.prestretch;
         let fall = mass * n * g * (size + origin);
         if !(g.is_finite() && (mass * g).is_finite() && fall.is_finite()) {

@@ -43,7 +43,8 @@ pub fn reference_energy(scene: &Scene, sim: &Simulation) -> f64 {
 pub fn reference_energy_checked(scene: &Scene, sim: &Simulation) -> Result<f64> {
     let h0 = sim.stats().energy.total().abs();
     let m = sim.model.particle_mass() * sim.model.free_count() as f64;
-    let g = sim.model.gravity().norm();
+    // |g| without overflowing the squares (gravity = [0, -1e200, 0]).
+    let g = sim.model.gravity().iter().fold(0.0f64, |a, x| a.hypot(*x));
     let size = scene.cloth.width.max(scene.cloth.height) * scene.cloth.prestretch;
     let fall = m * g * size;
     let elastic = sim.model.elastic_energy_scale(ELASTIC_FLOOR_STRAIN);

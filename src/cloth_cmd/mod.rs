@@ -123,6 +123,11 @@ fn count_parser(min: usize) -> impl Fn(&str) -> Result<usize, String> + Clone {
     }
 }
 
+/// The smallest `--tolerance`: a relative energy error below 1e-12 is
+/// round-off, which no step size can beat; the search would only halve
+/// down to its floor.
+const MIN_TOLERANCE: f64 = 1e-12;
+
 /// Shortest and longest `--duration` of a stability trial (s). Below, the
 /// trial's step floor `duration/400000` approaches the smallest normal
 /// numbers and the search means nothing; above, a trial would be all
@@ -143,13 +148,16 @@ pub fn run(args: &ClothArgs) -> Result<ExitCode> {
             .map_err(|e| anyhow!("--grid {grid}: {}", rename(&e, &file)))?;
     }
     if args.stability {
-        if !(args.tolerance > 0.0 && args.tolerance.is_finite()) {
-            bail!("--tolerance: must be positive (got {})", args.tolerance);
+        if !(args.tolerance >= MIN_TOLERANCE && args.tolerance.is_finite()) {
+            bail!(
+                "--tolerance: must be at least {MIN_TOLERANCE:e} and finite (got {:e}): below that, round-off alone exceeds it",
+                args.tolerance
+            );
         }
         let (lo, hi) = DURATION_RANGE;
         if !(args.duration >= lo && args.duration <= hi) {
             bail!(
-                "--duration: must be between {lo:e} s and {hi:e} s (got {})",
+                "--duration: must be between {lo:e} s and {hi:e} s (got {:e})",
                 args.duration
             );
         }
@@ -614,12 +622,13 @@ fn simulate(
             locate_blowup(&mut sim, method, opts, &col.good_state, good, h0, e_ref)
                 .unwrap_or_else(|| {
                     format!(
-                        "{}: the cloth blew up between step {} and step {} (t = {} s to {} s): |H − H₀|/E_ref = {rel:.3e} at frame {} (limit {BLOWUP})",
+                        "{}: the cloth blew up between step {} and step {} (t = {} s to {} s): |H − H₀|/E_ref = {} at frame {} (limit {BLOWUP})",
                         method_name(method),
                         good.step,
                         bad.step,
                         good.time,
                         bad.time,
+                        show_rel(rel),
                         bad.frame
                     )
                 })
@@ -701,16 +710,27 @@ fn locate_blowup(
     });
     match (result, found) {
         (_, Some((at, rel))) => Some(format!(
-            "{}: the cloth blew up at step {} (t = {} s, frame {}): |H − H₀|/E_ref = {rel:.3e} (limit {BLOWUP})",
+            "{}: the cloth blew up at step {} (t = {} s, frame {}): |H − H₀|/E_ref = {} (limit {BLOWUP})",
             method_name(method),
             at.step,
             at.time,
-            good.frame + 1
+            good.frame + 1,
+            show_rel(rel)
         )),
         (Err(err @ (RunError::Diverged { .. } | RunError::Solve { .. })), None) => {
             Some(err.to_string())
         }
         _ => None,
+    }
+}
+
+/// A relative energy error for a message: NaN (the energy is ∞ − ∞) said
+/// in words.
+fn show_rel(rel: f64) -> String {
+    if rel.is_nan() {
+        "not a number (the energy is no longer finite)".to_string()
+    } else {
+        format!("{rel:.3e}")
     }
 }
 
