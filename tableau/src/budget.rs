@@ -19,8 +19,9 @@
 //! | [`MAX_INVERSE_DEGREE`] | degree 256 | a divisor: the degree over Q of the field its radicals span |
 //! | [`crate::expr::MAX_BITS`] | 2²² bits | the size of a product or power in an entry |
 //! | [`crate::expr::MAX_DEPTH`] | 128 levels | the nesting of an entry |
-//! | [`STABILITY_WORK`] | 2³⁰ | rational tables: primes × stages³ for the characteristic polynomials |
-//! | [`RADICAL_STABILITY_WORK`] | 2²⁶ | tables with radicals: stages⁴ × degree² (stages³ × degree² for explicit tables and quadratic fields) |
+//! | [`STABILITY_WORK`] | 2³⁰ | rational tables: primes × (stages³ + stages² × words of an entry) + primes² × stages |
+//! | [`RADICAL_STABILITY_WORK`] | 2²⁷ | tables with radicals: stages⁵ × degree² (stages³ × degree² for explicit tables and quadratic fields) |
+//! | [`MAX_ENTRY_BITS`] | 32768 bits | an entry's value: the bits of its numerators, denominators and radicands; and the common denominator of all entries |
 
 pub use crate::number::MAX_INVERSE_DEGREE;
 
@@ -41,7 +42,9 @@ pub const MAX_STAGES: usize = 100;
 
 /// The stability function of a rational table: the number of 61-bit primes
 /// its characteristic polynomials need (from Hadamard's bound, so about the
-/// stages times the bits of the scaled entries, over 61) times stages³.
+/// stages times the bits of the scaled entries, over 61) times (stages³ +
+/// stages² × the 64-bit words of the largest scaled entry), plus primes² ×
+/// stages for the Chinese remainder theorem.
 pub const STABILITY_WORK: u64 = 1 << 30;
 
 /// The stability function of a table with radicals, counted in coefficient
@@ -53,7 +56,13 @@ pub const STABILITY_WORK: u64 = 1 << 30;
 /// at most [`MAX_INVERSE_DEGREE`], and when `P` and `Q` are not proven coprime
 /// modulo a prime, their gcd over the field (Euclid's algorithm) is computed
 /// only for degree ≤ 2 and at most 20 stages.
-pub const RADICAL_STABILITY_WORK: u64 = 1 << 26;
+pub const RADICAL_STABILITY_WORK: u64 = 1 << 27;
+
+/// The largest entry, in bits of its numerators, denominators and radicands
+/// together (about 9800 decimal digits; the inverse of a sum of five cube roots has about 20000). Computed entries can exceed the
+/// literal limit (`3^-65536` is written in 8 characters); every order
+/// condition multiplies entries, so their size is bounded too.
+pub const MAX_ENTRY_BITS: u64 = 32768;
 
 /// A computation refused because its input is beyond a budget: what is too
 /// large, and what the limit is.

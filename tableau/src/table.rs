@@ -7,7 +7,7 @@
 //! conditions).
 
 use crate::Number;
-use crate::budget::MAX_STAGES;
+use crate::budget::{MAX_ENTRY_BITS, MAX_STAGES};
 
 /// A Runge–Kutta table `(A, b, c)`. `c` is `None` when the author did not give
 /// it; the analyses then use the row sums of `A`.
@@ -292,9 +292,74 @@ impl Rk {
     }
 }
 
+/// Refuse entries beyond [`MAX_ENTRY_BITS`].
+fn entries_fit(field: &str, entries: &[Number]) -> Result<(), ShapeError> {
+    for (i, x) in entries.iter().enumerate() {
+        let bits = x.size_bits();
+        if bits > MAX_ENTRY_BITS {
+            return Err(shape_err(
+                format!("{field}[{i}]"),
+                format!(
+                    "the entry is a {bits}-bit number; the exact analysis takes entries of at most {MAX_ENTRY_BITS} bits (tableau::budget::MAX_ENTRY_BITS)"
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
 impl Table {
-    /// Dimensions that fit together; every analysis assumes this.
+    /// Dimensions that fit together, and entries within
+    /// [`MAX_ENTRY_BITS`]; every analysis assumes this.
     pub fn check_shape(&self) -> Result<(), ShapeError> {
+        self.check_dimensions()?;
+        let rk = |t: &Rk, suffix: &str| -> Result<(), ShapeError> {
+            for (i, row) in t.a.iter().enumerate() {
+                entries_fit(&format!("a{suffix}[{i}]"), row)?;
+            }
+            entries_fit(&format!("b{suffix}"), &t.b)?;
+            if let Some(c) = &t.c {
+                entries_fit(&format!("c{suffix}"), c)?;
+            }
+            Ok(())
+        };
+        match self {
+            Table::Rk(t) => rk(t, ""),
+            Table::Prk(p) => rk(&p.q, "").and_then(|()| rk(&p.p, "_hat")),
+            Table::Splitting(s) => {
+                entries_fit("drift", &s.drift).and_then(|()| entries_fit("kick", &s.kick))
+            }
+            Table::Composition(c) => entries_fit("compose", &c.gamma),
+        }?;
+        // The order analyses compute over the common denominator of all
+        // entries (fraction-free), so it is bounded too.
+        let all: Vec<&Number> = match self {
+            Table::Rk(t) => t.a.iter().flatten().chain(&t.b).collect(),
+            Table::Prk(p) => [&p.q, &p.p]
+                .into_iter()
+                .flat_map(|t| t.a.iter().flatten().chain(&t.b))
+                .collect(),
+            Table::Splitting(s) => s.drift.iter().chain(&s.kick).collect(),
+            Table::Composition(c) => c.gamma.iter().collect(),
+        };
+        let bits = crate::number::common_denominator_bits(all);
+        if bits > MAX_ENTRY_BITS {
+            let field = match self {
+                Table::Splitting(_) => "drift",
+                Table::Composition(_) => "compose",
+                _ => "a",
+            };
+            return Err(shape_err(
+                field,
+                format!(
+                    "the entries' common denominator has {bits} bits; the exact analysis takes at most {MAX_ENTRY_BITS} (tableau::budget::MAX_ENTRY_BITS): so many unrelated denominators are beyond its budget"
+                ),
+            ));
+        }
+        Ok(())
+    }
+
+    fn check_dimensions(&self) -> Result<(), ShapeError> {
         match self {
             Table::Rk(rk) => rk.check_shape(""),
             Table::Prk(prk) => {

@@ -172,19 +172,20 @@ impl StabilityFunction {
         // explicit table, s⁴ for Berkowitz's algorithm, s³ for the Hessenberg
         // reduction in a quadratic field.
         let d2 = degree.saturating_mul(degree);
+        // Berkowitz: s⁴ products whose coefficients grow with s, hence s⁵.
         let work = if explicit || degree <= 2 {
             s.saturating_pow(3).saturating_mul(d2)
         } else {
-            s.saturating_pow(4).saturating_mul(d2)
+            s.saturating_pow(5).saturating_mul(d2)
         };
         if work > RADICAL_STABILITY_WORK || (!explicit && degree > MAX_INVERSE_DEGREE) {
             let (what, power) = if explicit || degree <= 2 {
                 ("stages³", 3)
             } else {
-                ("stages⁴", 4)
+                ("stages⁵", 5)
             };
             return Err(BeyondBudget(format!(
-                "the entries span a field of degree {degree} over Q and the table has {s} stages: {what} × degree² = {s}^{power} × {degree}² is beyond the budget of 2^26 coefficient products (tableau::budget::RADICAL_STABILITY_WORK) for the exact stability function of a table with radicals{}",
+                "the entries span a field of degree {degree} over Q and the table has {s} stages: {what} × degree² = {s}^{power} × {degree}² is beyond the budget of 2^27 coefficient products (tableau::budget::RADICAL_STABILITY_WORK) for the exact stability function of a table with radicals{}",
                 if !explicit && degree > MAX_INVERSE_DEGREE {
                     format!(
                         " (and an implicit table's degree must be at most {MAX_INVERSE_DEGREE})"
@@ -488,10 +489,26 @@ fn rational_case(rk: &Rk) -> Result<StabilityFunction, BeyondBudget> {
         .collect();
     let primes = modular::primes_needed(&modular::charpoly_bound(&ma))
         .max(modular::primes_needed(&modular::charpoly_bound(&mn)));
-    let work = primes.saturating_mul((s as u64).saturating_pow(3));
+    // Per prime: the Hessenberg reduction (s³) and the residues of the s²
+    // entries (their 64-bit words); the Chinese remainder theorem: primes²
+    // per coefficient.
+    let s64 = s as u64;
+    let words = ma
+        .iter()
+        .chain(&mn)
+        .flatten()
+        .map(|x| x.bits() / 64 + 1)
+        .max()
+        .unwrap_or(1);
+    let work = primes
+        .saturating_mul(
+            s64.saturating_pow(3)
+                .saturating_add(s64.saturating_pow(2).saturating_mul(words)),
+        )
+        .saturating_add(primes.saturating_mul(primes).saturating_mul(s64 + 1));
     if work > STABILITY_WORK {
         return Err(BeyondBudget(format!(
-            "the exact characteristic polynomials of this {s}-stage table need {primes} primes of 61 bits (entries over a common denominator of {} bits), about {work} operations; the budget is 2^30 (tableau::budget::STABILITY_WORK)",
+            "the exact characteristic polynomials of this {s}-stage table need {primes} primes of 61 bits (entries over a common denominator of {} bits), about {work} operations (primes × (stages³ + stages² × words) + primes² × stages); the budget is 2^30 (tableau::budget::STABILITY_WORK)",
             d.bits()
         )));
     }

@@ -58,6 +58,24 @@ pub enum NumberError {
     FieldTooLarge { divisor: String, degree: u64 },
 }
 
+/// The bits of the least common denominator of the numbers' coefficients
+/// (stopping once it passes 2¹⁶ bits).
+pub fn common_denominator_bits<'a>(xs: impl IntoIterator<Item = &'a Number>) -> u64 {
+    use num_integer::Integer;
+    let mut d = BigInt::one();
+    for x in xs {
+        for c in x.terms.values() {
+            if !c.denom().is_one() {
+                d = d.lcm(c.denom());
+                if d.bits() > 1 << 16 {
+                    return d.bits();
+                }
+            }
+        }
+    }
+    d.bits()
+}
+
 /// An exact real number in Q(p^(1/6) : p prime). See the [module docs](self).
 #[derive(Clone, PartialEq, Eq, Hash, Default)]
 pub struct Number {
@@ -230,6 +248,15 @@ impl Number {
             }
         }
         t
+    }
+
+    /// A size measure: the bits of all numerators, denominators and
+    /// radicands.
+    pub fn size_bits(&self) -> u64 {
+        self.terms
+            .iter()
+            .map(|(m, c)| c.numer().bits() + c.denom().bits() + m.radicand().bits())
+            .fold(0u64, u64::saturating_add)
     }
 
     /// The number of terms `cₖ · mₖ`.
