@@ -18,6 +18,7 @@
 //! | [`MAX_STAGES`] | 100 stages | the stages of a table, of its equivalent pair (drift–kick sequences, compositions) |
 //! | [`MAX_INVERSE_DEGREE`] | degree 256 | a divisor: the degree over Q of the field its radicals span |
 //! | [`crate::expr::MAX_BITS`] | 2²² bits | the size of a product or power in an entry |
+//! | [`crate::expr::MAX_TERM_PRODUCTS`] | 2²⁰ | the term products of one multiplication in an entry |
 //! | [`crate::expr::MAX_DEPTH`] | 128 levels | the nesting of an entry |
 //! | [`STABILITY_WORK`] | 2³⁰ | rational tables: primes × (stages³ + stages² × words of an entry) + primes² × stages |
 //! | [`RADICAL_STABILITY_WORK`] | 2²⁷ | tables with radicals: stages⁵ × degree² (stages³ × degree² for explicit tables and quadratic fields) |

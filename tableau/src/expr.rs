@@ -47,6 +47,11 @@ pub const MAX_EXPONENT: i64 = 1 << 16;
 /// [`EvalErrorKind::TooLarge`] instead of exhausting memory.
 pub const MAX_BITS: u64 = 1 << 22;
 
+/// The most term-by-term products one multiplication in [`eval`] makes
+/// (terms of one factor times terms of the other; a power counts its
+/// field's degree squared): 2²⁰, e.g. two numbers of 1024 radical terms.
+pub const MAX_TERM_PRODUCTS: usize = 1 << 20;
+
 /// The functions of the grammar, for messages.
 pub const FUNCTIONS: &str = "sqrt, cbrt, powi";
 
@@ -216,8 +221,11 @@ pub enum EvalErrorKind {
     /// exceed [`MAX_BITS`].
     #[error("exponent {0} is too large for exact arithmetic")]
     ExponentTooLarge(String),
-    /// A product whose result would exceed [`MAX_BITS`].
-    #[error("the result is too large for exact arithmetic (more than {MAX_BITS} bits)")]
+    /// A product whose result would exceed [`MAX_BITS`], or that would take
+    /// more than [`MAX_TERM_PRODUCTS`] term products.
+    #[error(
+        "the result is too large for exact arithmetic (more than {MAX_BITS} bits, or more than {MAX_TERM_PRODUCTS} products of radical terms)"
+    )]
     TooLarge,
 }
 
@@ -888,7 +896,9 @@ pub fn eval(expr: &Expr, env: &dyn Fn(&str) -> Option<Number>) -> Result<Number,
                 BinOp::Add => Ok(l + r),
                 BinOp::Sub => Ok(l - r),
                 BinOp::Mul => {
-                    if size_bits(&l).saturating_add(size_bits(&r)) > MAX_BITS {
+                    if size_bits(&l).saturating_add(size_bits(&r)) > MAX_BITS
+                        || l.term_count().saturating_mul(r.term_count()) > MAX_TERM_PRODUCTS
+                    {
                         return err(expr, EvalErrorKind::TooLarge);
                     }
                     Ok(l * r)
@@ -921,6 +931,13 @@ pub fn eval(expr: &Expr, env: &dyn Fn(&str) -> Option<Number>) -> Result<Number,
             };
             // Powers of 0 and ±1 stay small; anything else grows linearly in |k|.
             let trivial = b.is_zero() || b.as_rational().is_some_and(|r| r.abs().is_one());
+            let degree = crate::number::field_degree([&b]);
+            if !trivial
+                && k.unsigned_abs() > 1
+                && degree.saturating_mul(degree) > MAX_TERM_PRODUCTS as u64
+            {
+                return err(expr, EvalErrorKind::TooLarge);
+            }
             if !trivial && size_bits(&b).saturating_mul(k.unsigned_abs()) > MAX_BITS {
                 return err(exp, too_large());
             }
