@@ -157,7 +157,7 @@ where
             }
         }
         k += 1;
-        if w.iter().any(|x| !x.is_finite()) || !(w[n] > t) {
+        if w.iter().any(|x| !x.is_finite()) || w[n] <= t {
             return (Status::Diverged { step: k as usize }, k);
         }
         restrict(&w, z);

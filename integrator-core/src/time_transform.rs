@@ -90,7 +90,7 @@ impl<S: Separable> LogHamiltonian<S> {
         }
         let (q, p) = z.split_at(n);
         let potential = self.inner.potential(q);
-        if !(potential < 0.0) {
+        if potential.is_nan() || potential >= 0.0 {
             return Err(TimeTransformError::PotentialNotNegative { potential });
         }
         let mut w = Vec::with_capacity(2 * n + 2);

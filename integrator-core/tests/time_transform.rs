@@ -8,6 +8,8 @@ use integrator_core::time_transform::{LogHamiltonian, TimeTransformError};
 use integrator_core::{Separable, Step, energy};
 
 type Sys = LogHamiltonian<Kepler>;
+/// One step `w ← Ψ_h(w)` of a scheme on the extended system.
+type StepFn = fn(&Sys, f64, &mut [f64]);
 
 fn one_step<M: Step<Sys> + Default>(sys: &Sys, h: f64, w: &mut [f64]) {
     let m = M::default();
@@ -18,7 +20,7 @@ fn one_step<M: Step<Sys> + Default>(sys: &Sys, h: f64, w: &mut [f64]) {
 
 /// `Ψ'` by central differences with two rounds of Richardson extrapolation
 /// (as `symplectic_in_fact.rs` measures the library's schemes).
-fn jacobian(step: fn(&Sys, f64, &mut [f64]), sys: &Sys, h: f64, w: &[f64]) -> Vec<Vec<f64>> {
+fn jacobian(step: StepFn, sys: &Sys, h: f64, w: &[f64]) -> Vec<Vec<f64>> {
     let central = |j: usize, d: f64| -> Vec<f64> {
         let (mut a, mut b) = (w.to_vec(), w.to_vec());
         a[j] += d;
@@ -81,7 +83,7 @@ fn drift_kick_schemes_are_symplectic_in_the_extended_phase_space() {
     let mut off = w0.clone();
     off[4] += 0.05;
     off[0] += 0.1;
-    let schemes: [(&str, fn(&Sys, f64, &mut [f64])); 3] = [
+    let schemes: [(&str, StepFn); 3] = [
         ("leapfrog", one_step::<Leapfrog>),
         ("forest-ruth", one_step::<ForestRuth>),
         ("kahan-li8", one_step::<KahanLi8>),
