@@ -21,6 +21,9 @@ use integrator_core::library::*;
 use integrator_core::problems::RandomSeparable;
 use integrator_core::{Info, Scheme, Step};
 use proptest::prelude::*;
+
+mod common;
+use common::symplecticity_defect;
 use proptest::test_runner::FailurePersistence;
 
 /// One step `z ← Ψ_h(z)` on a random separable problem.
@@ -88,58 +91,9 @@ fn id(info: &Info) -> &'static str {
         .expect("a library scheme")
 }
 
-/// `Ψ'` as columns: `jac[j][i] = ∂Ψᵢ/∂zⱼ`, by central differences with
-/// increments `δ, δ/2, δ/4` and two Richardson rounds.
+/// `Ψ'` of one step on `sys`, by the shared finite differences.
 fn jacobian(step: StepFn, sys: &RandomSeparable, h: f64, z: &[f64], delta: f64) -> Vec<Vec<f64>> {
-    let central = |j: usize, d: f64| -> Vec<f64> {
-        let (mut zp, mut zm) = (z.to_vec(), z.to_vec());
-        zp[j] += d;
-        zm[j] -= d;
-        step(sys, h, &mut zp);
-        step(sys, h, &mut zm);
-        zp.iter()
-            .zip(&zm)
-            .map(|(a, b)| (a - b) / (2.0 * d))
-            .collect()
-    };
-    let combine = |fine: &[f64], coarse: &[f64], k: f64| -> Vec<f64> {
-        fine.iter()
-            .zip(coarse)
-            .map(|(f, c)| (k * f - c) / (k - 1.0))
-            .collect()
-    };
-    (0..z.len())
-        .map(|j| {
-            let d = delta * z[j].abs().max(1.0);
-            let (d1, d2, d4) = (central(j, d), central(j, d / 2.0), central(j, d / 4.0));
-            let (r1, r2) = (combine(&d2, &d1, 4.0), combine(&d4, &d2, 4.0));
-            combine(&r2, &r1, 16.0)
-        })
-        .collect()
-}
-
-/// `max |Ψ'ᵀJΨ' − J| / max(1, ‖Ψ'‖²_F)` with `J = [[0, I], [−I, 0]]`.
-fn symplecticity_defect(jac: &[Vec<f64>]) -> f64 {
-    let n = jac.len() / 2;
-    let norm2: f64 = jac.iter().flatten().map(|x| x * x).sum();
-    let mut worst: f64 = 0.0;
-    for a in 0..2 * n {
-        for b in 0..2 * n {
-            // (Ψ'ᵀ J Ψ')_ab = Σᵢ (∂qᵢ/∂z_a ∂pᵢ/∂z_b − ∂pᵢ/∂z_a ∂qᵢ/∂z_b).
-            let form: f64 = (0..n)
-                .map(|i| jac[a][i] * jac[b][n + i] - jac[a][n + i] * jac[b][i])
-                .sum();
-            let j_ab = if b == a + n {
-                1.0
-            } else if a == b + n {
-                -1.0
-            } else {
-                0.0
-            };
-            worst = worst.max((form - j_ab).abs());
-        }
-    }
-    worst / norm2.max(1.0)
+    common::jacobian(|w| step(sys, h, w), z, delta)
 }
 
 fn problem(seed: u64, quartic: bool) -> (RandomSeparable, Vec<f64>) {

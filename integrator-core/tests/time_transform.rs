@@ -7,6 +7,9 @@ use integrator_core::problems::Kepler;
 use integrator_core::time_transform::{LogHamiltonian, TimeTransformError};
 use integrator_core::{Separable, Step, energy};
 
+mod common;
+use common::symplecticity_defect as defect;
+
 type Sys = LogHamiltonian<Kepler>;
 /// One step `w ← Ψ_h(w)` of a scheme on the extended system.
 type StepFn = fn(&Sys, f64, &mut [f64]);
@@ -18,54 +21,10 @@ fn one_step<M: Step<Sys> + Default>(sys: &Sys, h: f64, w: &mut [f64]) {
         .expect("explicit steps do not fail");
 }
 
-/// `Ψ'` by central differences with two rounds of Richardson extrapolation
-/// (as `symplectic_in_fact.rs` measures the library's schemes).
+/// `Ψ'` of one step on `sys` (the finite differences `symplectic_in_fact.rs`
+/// measures the library's schemes with).
 fn jacobian(step: StepFn, sys: &Sys, h: f64, w: &[f64]) -> Vec<Vec<f64>> {
-    let central = |j: usize, d: f64| -> Vec<f64> {
-        let (mut a, mut b) = (w.to_vec(), w.to_vec());
-        a[j] += d;
-        b[j] -= d;
-        step(sys, h, &mut a);
-        step(sys, h, &mut b);
-        a.iter().zip(&b).map(|(x, y)| (x - y) / (2.0 * d)).collect()
-    };
-    let combine = |fine: &[f64], coarse: &[f64], k: f64| -> Vec<f64> {
-        fine.iter()
-            .zip(coarse)
-            .map(|(f, c)| (k * f - c) / (k - 1.0))
-            .collect()
-    };
-    (0..w.len())
-        .map(|j| {
-            let d = 3e-3 * w[j].abs().max(1.0);
-            let (d1, d2, d4) = (central(j, d), central(j, d / 2.0), central(j, d / 4.0));
-            let (r1, r2) = (combine(&d2, &d1, 4.0), combine(&d4, &d2, 4.0));
-            combine(&r2, &r1, 16.0)
-        })
-        .collect()
-}
-
-/// `max |Ψ'ᵀJΨ' − J| / max(1, ‖Ψ'‖²_F)`; row `j` of `jac` is `∂Ψ/∂w_j`.
-fn defect(jac: &[Vec<f64>]) -> f64 {
-    let n = jac.len() / 2;
-    let norm2: f64 = jac.iter().flatten().map(|x| x * x).sum();
-    let mut worst: f64 = 0.0;
-    for a in 0..2 * n {
-        for b in 0..2 * n {
-            let form: f64 = (0..n)
-                .map(|i| jac[a][i] * jac[b][n + i] - jac[a][n + i] * jac[b][i])
-                .sum();
-            let j_ab = if b == a + n {
-                1.0
-            } else if a == b + n {
-                -1.0
-            } else {
-                0.0
-            };
-            worst = worst.max((form - j_ab).abs());
-        }
-    }
-    worst / norm2.max(1.0)
+    common::jacobian(|w| step(sys, h, w), w, 3e-3)
 }
 
 fn start(e: f64) -> (Sys, Vec<f64>) {
