@@ -425,6 +425,10 @@ fn bad_flag_values_name_the_flag() {
         (vec!["--dt", "-inf"], "--dt"),
         (vec!["--stability", "--tolerance", "-1"], "--tolerance"),
         (vec!["--stability", "--tolerance", "1e-300"], "--tolerance"),
+        (
+            vec!["--stability", "--tolerance", "1e300"],
+            "--tolerance: must be at most 100",
+        ),
         (vec!["--stability", "--duration", "-1"], "--duration"),
         // Long runs: refused before the run, naming the flag.
         (vec!["--dt", "1e-12"], "--dt"),

@@ -154,6 +154,12 @@ pub fn run(args: &ClothArgs) -> Result<ExitCode> {
                 args.tolerance
             );
         }
+        if args.tolerance > BLOWUP {
+            bail!(
+                "--tolerance: must be at most {BLOWUP} (got {:e}): a run whose relative energy error passes {BLOWUP} has blown up whatever the tolerance",
+                args.tolerance
+            );
+        }
         let (lo, hi) = DURATION_RANGE;
         if !(args.duration >= lo && args.duration <= hi) {
             bail!(

@@ -68,8 +68,11 @@ impl Outcome {
     fn describe(&self) -> String {
         match self {
             Outcome::Stable { max_error } => format!("stable (error {max_error:.2e})"),
-            Outcome::Energy { error, time } => {
+            Outcome::Energy { error, time } if error.is_finite() => {
                 format!("energy error {error:.2e} at t = {time:.3} s")
+            }
+            Outcome::Energy { time, .. } => {
+                format!("energy error not finite (overflow) at t = {time:.3} s")
             }
             Outcome::Blowup { step, time } => format!("blew up at step {step} (t = {time:.3} s)"),
             Outcome::Newton { step, time } => {
