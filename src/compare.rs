@@ -179,6 +179,19 @@ fn out_dir(args: &CompareArgs, default: &str) -> Result<PathBuf> {
     Ok(dir)
 }
 
+/// The first flag of the work-precision sweep that was given, if any (the
+/// other modes refuse them).
+fn sweep_flag(args: &CompareArgs) -> Option<&'static str> {
+    [
+        (args.t_end.is_some(), "t-end"),
+        (args.h_min.is_some(), "h-min"),
+        (args.h_max.is_some(), "h-max"),
+        (args.points.is_some(), "points"),
+    ]
+    .into_iter()
+    .find_map(|(set, name)| set.then_some(name))
+}
+
 fn method_ids(args: &CompareArgs) -> Result<Option<Vec<String>>> {
     let Some(list) = &args.methods else {
         return Ok(None);
@@ -450,18 +463,10 @@ fn peer_study(args: &CompareArgs) -> Result<()> {
             p.name()
         );
     }
-    for (set, name) in [
-        (args.t_end.is_some(), "t-end"),
-        (args.h_min.is_some(), "h-min"),
-        (args.h_max.is_some(), "h-max"),
-        (args.points.is_some(), "points"),
-        (args.steps.is_some(), "steps"),
-    ] {
-        if set {
-            bail!(
-                "--{name} does not apply to --peer-study: it runs 10, 100 and 1000 orbits with step ranges of its own"
-            );
-        }
+    if let Some(name) = sweep_flag(args).or(args.steps.map(|_| "steps")) {
+        bail!(
+            "--{name} does not apply to --peer-study: it runs 10, 100 and 1000 orbits with step ranges of its own"
+        );
     }
     let mut settings = if args.quick {
         compare::peer_study::PeerStudySettings::quick()
@@ -506,15 +511,8 @@ fn long_runs(args: &CompareArgs) -> Result<()> {
             "--long compares fixed pairs (leapfrog/heun, forest-ruth/rk4, gauss2/rk4); --methods does not apply"
         );
     }
-    for (set, name) in [
-        (args.t_end.is_some(), "t-end"),
-        (args.h_min.is_some(), "h-min"),
-        (args.h_max.is_some(), "h-max"),
-        (args.points.is_some(), "points"),
-    ] {
-        if set {
-            bail!("--{name} belongs to the work-precision sweep, not to --long (use --steps)");
-        }
+    if let Some(name) = sweep_flag(args) {
+        bail!("--{name} belongs to the work-precision sweep, not to --long (use --steps)");
     }
     let n = args
         .steps
@@ -592,15 +590,8 @@ fn hard_methods<P: Problem>(
 }
 
 fn hard_cases(args: &CompareArgs) -> Result<()> {
-    for (set, name) in [
-        (args.t_end.is_some(), "t-end"),
-        (args.h_min.is_some(), "h-min"),
-        (args.h_max.is_some(), "h-max"),
-        (args.points.is_some(), "points"),
-    ] {
-        if set {
-            bail!("--{name} belongs to the work-precision sweep, not to --hard");
-        }
+    if let Some(name) = sweep_flag(args) {
+        bail!("--{name} belongs to the work-precision sweep, not to --hard");
     }
     if let Some(p) = args.problem
         && !matches!(p, Builtin::Fpu | Builtin::KeplerHard | Builtin::Gyroscopic)
