@@ -32,7 +32,7 @@ runs.csv columns (one row per run):
   method             scheme id (symlab list), gaussN-propagator, or dop853
   order              classical order (8 for dop853)
   symplectic         symplectic for this problem (separable problems: for separable H)
-  h                  step size (dop853: average step T/steps)
+  h                  step size (dop853, logh:ID: the average step T/steps)
   tol                rtol = atol of dop853 (NaN for fixed-step methods)
   steps              steps taken (dop853: accepted steps)
   error              ‖z(T) − z_ref(T)‖₂/‖z_ref(T)‖₂ (NaN unless status is ok)
