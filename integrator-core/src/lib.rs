@@ -37,6 +37,7 @@
 extern crate self as integrator_core;
 
 mod error;
+pub mod fixed;
 pub mod implicit;
 mod integrate;
 pub mod interp;
@@ -48,6 +49,7 @@ mod system;
 pub mod time_transform;
 
 pub use error::{SolveError, StepError};
+pub use fixed::{StepFixed, integrate_fixed};
 pub use integrate::{check_start, integrate};
 pub use integrator_macros::butcher;
 pub use scheme::{Info, Scheme, Step};

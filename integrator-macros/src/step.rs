@@ -130,6 +130,28 @@ pub fn explicit_rk(name: &syn::Ident, a: &[Vec<f64>], b: &[f64], c: &[f64]) -> T
     });
     let update = state_update(quote!(z), quote!(e), &out);
     quote! {
+        impl<Sys: ::integrator_core::OdeSystem + ?Sized, const N: usize> ::integrator_core::StepFixed<Sys, N> for #name {
+            type Carry = ::integrator_core::fixed::RkCarry<N>;
+            fn carry(&self, compensated: bool) -> Self::Carry {
+                ::integrator_core::fixed::RkCarry::new(compensated)
+            }
+            // The same body as `Step::step`, on stack arrays of constant
+            // length (see `integrator_core::fixed`).
+            #[inline(always)]
+            #[allow(unused_variables, unused_mut, clippy::all, clippy::approx_constant, clippy::excessive_precision)]
+            fn step_fixed(&self, sys: &Sys, t: f64, h: f64, z: &mut [f64; N], carry: &mut Self::Carry, _reuse: bool) {
+                debug_assert_eq!(sys.dim(), N, "a fixed-size state must have the system's dimension");
+                let n: usize = N;
+                let z: &mut [f64] = &mut z[..];
+                let ::integrator_core::fixed::RkCarry { e, compensated } = carry;
+                let compensated = *compensated;
+                let mut k = [[0.0f64; N]; #s];
+                let mut y = [0.0f64; N];
+                let [#(#ks),*] = &mut k;
+                #(#stages)*
+                #update
+            }
+        }
         impl<Sys: ::integrator_core::OdeSystem + ?Sized> ::integrator_core::Step<Sys> for #name {
             type Workspace = ::integrator_core::scheme::RkWorkspace<#s>;
             fn workspace(&self, sys: &Sys) -> Self::Workspace {
@@ -176,8 +198,29 @@ pub fn drift_kick(name: &syn::Ident, ops: &[(Op, f64)]) -> TokenStream {
         };
         quote!(#eval #upd)
     });
+    let code: Vec<TokenStream> = code.collect();
     let reuse_arg = if fsal { quote!(reuse) } else { quote!(_reuse) };
     quote! {
+        impl<Sys: ::integrator_core::Separable + ?Sized, const N: usize> ::integrator_core::StepFixed<Sys, N> for #name {
+            type Carry = ::integrator_core::fixed::SplitCarry<N>;
+            fn carry(&self, compensated: bool) -> Self::Carry {
+                ::integrator_core::fixed::SplitCarry::new(compensated)
+            }
+            // The same body as `Step::step_reusing`, on arrays of constant
+            // length (see `integrator_core::fixed`).
+            #[inline(always)]
+            #[allow(unused_variables, clippy::all, clippy::approx_constant, clippy::excessive_precision)]
+            fn step_fixed(&self, sys: &Sys, t: f64, h: f64, z: &mut [f64; N], carry: &mut Self::Carry, #reuse_arg: bool) {
+                debug_assert_eq!(2 * sys.dof(), N, "a fixed-size state must have the system's dimension");
+                let n: usize = N / 2;
+                let (q, p) = z.split_at_mut(n);
+                let (q, p) = (&mut q[..n], &mut p[..n]);
+                let ::integrator_core::fixed::SplitCarry { v, f, eq, ep, compensated } = carry;
+                let compensated = *compensated;
+                let (v, f): (&mut [f64], &mut [f64]) = (&mut v[..n], &mut f[..n]);
+                #(#code)*
+            }
+        }
         impl<Sys: ::integrator_core::Separable + ?Sized> ::integrator_core::Step<Sys> for #name {
             type Workspace = ::integrator_core::scheme::SplitWorkspace;
             fn workspace(&self, sys: &Sys) -> Self::Workspace {
@@ -315,6 +358,27 @@ pub fn explicit_prk(
         quote!(_reuse)
     };
     quote! {
+        impl<Sys: ::integrator_core::Separable + ?Sized, const N: usize> ::integrator_core::StepFixed<Sys, N> for #name {
+            type Carry = ::integrator_core::fixed::PrkCarry<N, #s>;
+            fn carry(&self, compensated: bool) -> Self::Carry {
+                ::integrator_core::fixed::PrkCarry::new(compensated)
+            }
+            // The same body as `Step::step_reusing`, on arrays of constant
+            // length (see `integrator_core::fixed`).
+            #[inline(always)]
+            #[allow(unused_variables, unused_mut, clippy::all, clippy::approx_constant, clippy::excessive_precision)]
+            fn step_fixed(&self, sys: &Sys, t: f64, h: f64, z: &mut [f64; N], carry: &mut Self::Carry, #reuse_arg: bool) {
+                debug_assert_eq!(2 * sys.dof(), N, "a fixed-size state must have the system's dimension");
+                let n: usize = N / 2;
+                let (q, p) = z.split_at_mut(n);
+                let ::integrator_core::fixed::PrkCarry { fv, gf, q: qs, p: ps, eq, ep, compensated } = carry;
+                let compensated = *compensated;
+                #(#code)*
+                #q_out
+                #p_out
+                #keep
+            }
+        }
         impl<Sys: ::integrator_core::Separable + ?Sized> ::integrator_core::Step<Sys> for #name {
             type Workspace = ::integrator_core::scheme::PrkWorkspace<#s>;
             fn workspace(&self, sys: &Sys) -> Self::Workspace {
