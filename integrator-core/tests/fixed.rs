@@ -54,7 +54,11 @@ where
     integrate(&method, &sys, &mut a, 0.0, H, STEPS, |_, _, _| {}).unwrap();
     let mut b = Z0;
     integrate_fixed(&method, &sys, &mut b, 0.0, H, STEPS, |_, _, _| {}).unwrap();
-    assert_eq!(a.map(f64::to_bits), b.map(f64::to_bits), "compensated: {a:?} vs {b:?}");
+    assert_eq!(
+        a.map(f64::to_bits),
+        b.map(f64::to_bits),
+        "compensated: {a:?} vs {b:?}"
+    );
     // Plain, reusing.
     let mut ws = method.workspace(&sys);
     ws.set_plain();
@@ -66,7 +70,11 @@ where
     }
     let mut b = Z0;
     integrate_fixed_with(&method, &sys, &mut b, 0.0, H, STEPS, false, |_, _, _| {}).unwrap();
-    assert_eq!(a.map(f64::to_bits), b.map(f64::to_bits), "plain: {a:?} vs {b:?}");
+    assert_eq!(
+        a.map(f64::to_bits),
+        b.map(f64::to_bits),
+        "plain: {a:?} vs {b:?}"
+    );
     // The state moved (the test compares something).
     assert!((a[0] - Z0[0]).abs() > 1e-3);
 }
@@ -171,14 +179,17 @@ impl Separable for Repulsive {
 fn a_divergence_names_its_step_and_leaves_the_state() {
     let mut z = [1.0, 0.0];
     let mut seen = 0;
-    let err = integrate_fixed(&Rk4, &Repulsive, &mut z, 0.0, 1.0, 1000, |k, _, _| seen = k)
-        .unwrap_err();
+    let err =
+        integrate_fixed(&Rk4, &Repulsive, &mut z, 0.0, 1.0, 1000, |k, _, _| seen = k).unwrap_err();
     let StepError::Diverged { step, .. } = err else {
         panic!("expected a divergence, got {err}")
     };
     assert_eq!(step, seen + 1, "the observer saw every step before it");
     assert!(step < 1000);
-    assert!(z.iter().any(|v| !v.is_finite()), "z is left at the diverged state");
+    assert!(
+        z.iter().any(|v| !v.is_finite()),
+        "z is left at the diverged state"
+    );
     // The slice path agrees on where and what.
     let mut w = [1.0, 0.0];
     let slice = integrate(&Rk4, &Repulsive, &mut w, 0.0, 1.0, 1000, |_, _, _| {});
