@@ -36,6 +36,7 @@
 // resolve inside this crate too (its tests and doctests declare schemes).
 extern crate self as integrator_core;
 
+pub mod adaptive;
 mod error;
 pub mod fixed;
 pub mod implicit;
