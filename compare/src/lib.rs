@@ -77,7 +77,7 @@ pub use counting::{AsOde, AsSeparable, Counting, Counts};
 pub use error::{CompareError, Result};
 pub use method::{Fixed, Method, family_of};
 pub use problem::{Counted, Defaults, Family, Kind, Problem, Setup};
-pub use stepper::{Lib, Outcome, Status, Stepper, Workspace};
+pub use stepper::{Lib, Outcome, Small, Status, Stepper, Workspace};
 pub use sweep::Row;
 pub use work_precision::{SweepSettings, WorkPrecision, work_precision};
 

@@ -7,24 +7,28 @@ use integrator_core::library::*;
 
 use crate::counting::AsSeparable;
 use crate::problem::Problem;
-use crate::stepper::{Lib, Stepper};
+use crate::stepper::{Lib, Small, Stepper};
 
-/// Declares the library by id: which schemes step any `OdeSystem` (`rk`:
-/// Runge–Kutta tables, explicit and implicit) and which only separable
+/// Declares the library by id: which schemes step any `OdeSystem`
+/// (`explicit_rk`, `rk`: Runge–Kutta tables, explicit and implicit) and
+/// which only separable
 /// Hamiltonians (`separable`: drift–kick sequences, compositions and
 /// explicit pairs; `implicit_pairs`, which step `Hamiltonian`s — all our
 /// Hamiltonian problems are separable). Emits the id lists and the
 /// constructors, among them the time-transformed variants of the explicit
 /// separable schemes (`logh:ID`); `tests::library_lists_cover_the_registry`
-/// checks the lists against `REGISTRY`.
+/// checks the lists against `REGISTRY`. Explicit schemes are [`Small`]
+/// steppers (fixed-size state for small problems in timed runs), implicit
+/// ones [`Lib`].
 macro_rules! library {
     (
+        explicit_rk: [$($eid:literal => $ety:ident),* $(,)?],
         rk: [$($rid:literal => $rty:ident),* $(,)?],
         separable: [$($sid:literal => $sty:ident),* $(,)?],
         implicit_pairs: [$($iid:literal => $ity:ident),* $(,)?] $(,)?
     ) => {
         /// Ids of the Runge–Kutta tables (they step every `OdeSystem`).
-        pub const RK_IDS: &[&str] = &[$($rid),*];
+        pub const RK_IDS: &[&str] = &[$($eid,)* $($rid),*];
         /// Ids of the schemes that step separable Hamiltonians only.
         pub const SEPARABLE_IDS: &[&str] = &[$($sid,)* $($iid),*];
         /// Ids of the explicit schemes for separable Hamiltonians: those
@@ -50,8 +54,9 @@ macro_rules! library {
             P: Problem<Kind = AsSeparable> + Separable,
         {
             Some(match id {
+                $($eid => Box::new(Small($ety)),)*
                 $($rid => Box::new(Lib($rty)),)*
-                $($sid => Box::new(Lib($sty)),)*
+                $($sid => Box::new(Small($sty)),)*
                 $($iid => Box::new(Lib($ity)),)*
                 _ => return None,
             })
@@ -60,6 +65,7 @@ macro_rules! library {
         /// A Runge–Kutta table on any problem, `None` for any other id.
         pub fn rk_stepper<P: Problem>(id: &str) -> Option<Box<dyn Stepper<P>>> {
             Some(match id {
+                $($eid => Box::new(Small($ety)),)*
                 $($rid => Box::new(Lib($rty)),)*
                 _ => return None,
             })
@@ -68,11 +74,13 @@ macro_rules! library {
 }
 
 library! {
-    rk: [
+    explicit_rk: [
         "euler" => ExplicitEuler,
         "heun" => Heun,
         "rk4" => Rk4,
         "rk38" => Rk38,
+    ],
+    rk: [
         "implicit-euler" => ImplicitEuler,
         "midpoint" => ImplicitMidpoint,
         "gauss1" => GaussLegendre1,

@@ -8,6 +8,7 @@ use integrator_core::implicit::ImplicitWorkspace;
 use integrator_core::interp::RkInterpWorkspace;
 use integrator_core::linear::{LinearHamiltonian, Propagator};
 use integrator_core::scheme::{PrkWorkspace, RkWorkspace, SplitWorkspace};
+use integrator_core::fixed::StepFixed;
 use integrator_core::{OdeSystem, Step, check_start};
 
 use crate::problem::{Counted, Kind, Problem};
@@ -226,6 +227,78 @@ where
         }
         z.iter().all(|x| x.is_finite())
     }
+}
+
+/// An explicit scheme (a `butcher!` type with [`StepFixed`]) as a
+/// [`Stepper`] that times small problems on fixed-size state: where the
+/// state has 2, 4, 6 or 12 entries (the built-in problems' sizes, and the
+/// sizes the DOP853 peer runs on stack vectors), [`Stepper::bare`] steps
+/// a `[f64; N]` through `StepFixed::step_fixed`, so that both sides of a
+/// timing keep the state in registers; other sizes take the slice path.
+/// Both paths give the same bits (integrator-core's `tests/fixed.rs`), so
+/// the observed run, which counts evaluations, is [`Lib`]'s.
+pub struct Small<M>(pub M);
+
+/// The fixed-size sizes of [`Small`].
+macro_rules! small_sizes {
+    ($m:expr, $sys:expr, $z:expr, $h:expr, $n:expr; $($size:literal),*) => {
+        match $z.len() {
+            $($size => return bare_fixed::<P, M, $size>($m, $sys, $z, $h, $n),)*
+            _ => {}
+        }
+    };
+}
+
+impl<M, P> Stepper<P> for Small<M>
+where
+    P: Problem,
+    M: Step<P>
+        + Step<Counted<P>>
+        + StepFixed<P, 2>
+        + StepFixed<P, 4>
+        + StepFixed<P, 6>
+        + StepFixed<P, 12>
+        + Copy
+        + Send
+        + Sync,
+    <M as Step<P>>::Workspace: Workspace,
+    <M as Step<Counted<P>>>::Workspace: Workspace,
+{
+    fn observed(
+        &self,
+        sys: &P,
+        z: &mut [f64],
+        h: f64,
+        n: usize,
+        compensated: bool,
+        observe: &mut dyn FnMut(usize, f64, &[f64]) -> bool,
+    ) -> Outcome {
+        Lib(self.0).observed(sys, z, h, n, compensated, observe)
+    }
+
+    fn bare(&self, sys: &P, z: &mut [f64], h: f64, n: usize) -> bool {
+        if z.len() == sys.dim() {
+            small_sizes!(&self.0, sys, z, h, n; 2, 4, 6, 12);
+        }
+        Stepper::<P>::bare(&Lib(self.0), sys, z, h, n)
+    }
+}
+
+/// [`Lib`]'s bare run on a `[f64; N]` (compensated, first same as last).
+fn bare_fixed<P, M, const N: usize>(m: &M, sys: &P, z: &mut [f64], h: f64, n: usize) -> bool
+where
+    P: OdeSystem,
+    M: StepFixed<P, N>,
+{
+    let Ok(mut x) = <[f64; N]>::try_from(&*z) else {
+        return false;
+    };
+    let mut carry = m.carry(true);
+    for k in 0..n {
+        m.step_fixed(sys, k as f64 * h, h, &mut x, &mut carry, k > 0);
+    }
+    z.copy_from_slice(&x);
+    x.iter().all(|v| v.is_finite())
 }
 
 /// The exact one-step map `z ← R(hH)z + φ` of a Runge–Kutta table on the
