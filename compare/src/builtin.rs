@@ -120,6 +120,10 @@ impl Problem for Kepler {
     fn period(&self) -> Option<(f64, &'static str)> {
         Some((2.0 * PI, "orbit"))
     }
+    /// `σ = r`: the inverse distance as step density.
+    fn step_density(&self) -> Option<integrator_core::adaptive::DistancePower> {
+        Some(integrator_core::adaptive::DistancePower::new(1.0))
+    }
 }
 
 impl Problem for HenonHeiles {

@@ -53,6 +53,7 @@
 //! method or the file; a run that diverges or whose stage solver fails at
 //! step k is not an error but a row whose `status` says so.
 
+pub mod adaptive;
 pub mod builtin;
 pub mod counting;
 mod error;

@@ -159,6 +159,11 @@ impl<P: Problem> Method<P> {
         if let Some(base) = id.strip_prefix("logh:") {
             return Self::logh(base, sys);
         }
+        for (prefix, controller) in crate::adaptive::PREFIXES {
+            if let Some(base) = id.strip_prefix(prefix) {
+                return crate::adaptive::method(prefix, controller, base, sys);
+            }
+        }
         if id == "dop853" {
             return Self::dop853();
         }

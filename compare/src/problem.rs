@@ -94,6 +94,14 @@ pub trait Problem: OdeSystem + Clone + Send + Sync + Sized + 'static {
     fn special_ids(&self) -> Vec<String> {
         vec![]
     }
+    /// The step-size function of the reversible adaptive methods
+    /// (`adaptive:ID`, [`adaptive`](crate::adaptive)): `σ = |q|^α` for a
+    /// problem whose position is a distance from a centre (Kepler: the
+    /// inverse distance as step density, `α = 1`); `None` (the default):
+    /// the problem offers no adaptive methods.
+    fn step_density(&self) -> Option<integrator_core::adaptive::DistancePower> {
+        None
+    }
 }
 
 /// How the harness treats a problem type: the counting wrapper it runs the
@@ -119,6 +127,13 @@ pub trait Kind<P>: Sized + 'static {
     /// The explicit separable scheme `id` on the logarithmic Hamiltonian of
     /// `P` (`logh:ID`), `None` if `id` is not one or `P` is not separable.
     fn logh(id: &str) -> Option<Box<dyn Stepper<P>>>;
+    /// The symmetric scheme `id` under a reversible step-size controller
+    /// (`adaptive:ID`) with its facts, `None` if `id` is not symmetric or
+    /// `P` is not separable.
+    fn adaptive(
+        id: &str,
+        controller: integrator_core::adaptive::Controller,
+    ) -> Option<(Box<dyn Stepper<P>>, integrator_core::Info)>;
 }
 
 /// `P`'s counting wrapper.
@@ -149,6 +164,12 @@ impl<P: Problem<Kind = AsSeparable> + Separable> Kind<P> for AsSeparable {
     fn logh(id: &str) -> Option<Box<dyn Stepper<P>>> {
         library::logh_stepper::<P>(id)
     }
+    fn adaptive(
+        id: &str,
+        controller: integrator_core::adaptive::Controller,
+    ) -> Option<(Box<dyn Stepper<P>>, integrator_core::Info)> {
+        crate::adaptive::adaptive_stepper::<P>(id, controller)
+    }
 }
 
 impl<P: Problem<Kind = AsOde>> Kind<P> for AsOde {
@@ -170,6 +191,12 @@ impl<P: Problem<Kind = AsOde>> Kind<P> for AsOde {
         crate::interpreted::rk(table, id)
     }
     fn logh(_id: &str) -> Option<Box<dyn Stepper<P>>> {
+        None
+    }
+    fn adaptive(
+        _id: &str,
+        _controller: integrator_core::adaptive::Controller,
+    ) -> Option<(Box<dyn Stepper<P>>, integrator_core::Info)> {
         None
     }
 }

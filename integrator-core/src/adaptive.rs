@@ -224,6 +224,7 @@ impl<M, D> Reversible<M, D> {
     /// (negative: backwards), updating `z` and, for the integrating
     /// controller, `zeta`. Returns the step size taken and the number of
     /// method steps it cost. `z` is unchanged on error.
+    #[allow(clippy::too_many_arguments)]
     pub fn step<S>(
         &self,
         sys: &S,
@@ -308,6 +309,28 @@ impl<M, D> Reversible<M, D> {
         t0: f64,
         t_end: f64,
         eps: f64,
+        observe: impl FnMut(f64, &[f64]) -> bool,
+    ) -> Result<AdaptiveRun, AdaptiveError>
+    where
+        S: OdeSystem + ?Sized,
+        M: Step<S>,
+        D: StepDensity<S>,
+    {
+        let mut ws = self.scheme.workspace(sys);
+        self.integrate_in(sys, z, t0, t_end, eps, &mut ws, observe)
+    }
+
+    /// [`integrate_observed`](Self::integrate_observed) with the caller's
+    /// workspace (its settings: compensated summation, the stage solver's).
+    #[allow(clippy::too_many_arguments)]
+    pub fn integrate_in<S>(
+        &self,
+        sys: &S,
+        z: &mut [f64],
+        t0: f64,
+        t_end: f64,
+        eps: f64,
+        ws: &mut <M as Step<S>>::Workspace,
         mut observe: impl FnMut(f64, &[f64]) -> bool,
     ) -> Result<AdaptiveRun, AdaptiveError>
     where
@@ -328,7 +351,6 @@ impl<M, D> Reversible<M, D> {
             });
         }
         let mut zeta = self.start_control(sys, t0, z)?;
-        let mut ws = self.scheme.workspace(sys);
         let mut trial = Vec::with_capacity(z.len());
         let mut saved = z.to_vec();
         let mut run = AdaptiveRun {
@@ -344,7 +366,7 @@ impl<M, D> Reversible<M, D> {
             saved.copy_from_slice(z);
             let zeta0 = zeta;
             let (h, tries) = self
-                .step(sys, t, z, &mut zeta, eps, &mut ws, &mut trial)
+                .step(sys, t, z, &mut zeta, eps, ws, &mut trial)
                 .map_err(|source| match source {
                     SolveError::NotConverged {
                         iterations,
@@ -377,7 +399,7 @@ impl<M, D> Reversible<M, D> {
                 zeta = zeta0;
                 let last = t_end - t;
                 self.scheme
-                    .step(sys, t, last, z, &mut ws)
+                    .step(sys, t, last, z, ws)
                     .map_err(|source| AdaptiveError::Solve {
                         step: run.steps,
                         t,

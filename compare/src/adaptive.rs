@@ -1,0 +1,284 @@
+//! Reversible adaptive stepping in the comparisons: `adaptive:ID` steps a
+//! symmetric library scheme `ID` under the integrating reversible
+//! controller (Hairer–Söderlind 2005), `adaptive-implicit:ID` under the
+//! implicit symmetric rule `h = ε·(σ(yₙ) + σ(yₙ₊₁))/2` (Hairer 1997), both
+//! from [`integrator_core::adaptive`], with the problem's step density
+//! ([`Problem::step_density`]: the inverse distance for Kepler).
+//!
+//! A run asked for `n` steps of `h` over `[0, T]` takes `ε = h/σ(y₀)` (at
+//! the start, a step of `h` in `t`, as `logh:ID` does) and lands on `T`
+//! exactly (the last step cut); the row reports the steps actually taken.
+//! The implicit rule's evaluations include every iteration of its step
+//! size.
+
+use integrator_core::adaptive::{Controller, Reversible};
+use integrator_core::library::*;
+use integrator_core::{Scheme, Separable, Step};
+
+use crate::counting::{AsSeparable, Counting};
+use crate::error::{CompareError, Result};
+use crate::method::{Fixed, Method, family_of, symplectic_for};
+use crate::problem::{Kind, Problem};
+use crate::stepper::{Outcome, Status, Stepper, Workspace};
+
+/// A symmetric scheme under a reversible controller.
+pub struct Adaptive<M> {
+    pub scheme: M,
+    pub controller: Controller,
+}
+
+/// The prefixes of the two controllers.
+pub const PREFIXES: [(&str, Controller); 2] = [
+    ("adaptive:", Controller::Integrating),
+    ("adaptive-implicit:", Controller::Implicit),
+];
+
+fn run<P, S, M>(
+    a: &Adaptive<M>,
+    problem: &P,
+    sys: &S,
+    ws: &mut <M as Step<S>>::Workspace,
+    z: &mut [f64],
+    h: f64,
+    n: usize,
+    observe: &mut dyn FnMut(usize, f64, &[f64]) -> bool,
+) -> (Status, u64)
+where
+    P: Problem,
+    S: integrator_core::OdeSystem + Separable,
+    M: Step<S> + Copy,
+{
+    let Some(density) = problem.step_density() else {
+        return (
+            Status::SolverFailed {
+                step: 0,
+                reason: format!("the {} problem has no step density", problem.name()),
+            },
+            0,
+        );
+    };
+    let r = Reversible {
+        scheme: a.scheme,
+        density,
+        controller: a.controller,
+    };
+    use integrator_core::adaptive::StepDensity;
+    let sigma = density.sigma(sys, z);
+    let eps = h / sigma;
+    if !observe(0, 0.0, z) {
+        return (Status::Stopped { step: 0 }, 0);
+    }
+    let mut k = 0usize;
+    let mut stopped = false;
+    let result = r.integrate_in(sys, z, 0.0, h * n as f64, eps, ws, |t, z| {
+        k += 1;
+        if observe(k, t, z) {
+            true
+        } else {
+            stopped = true;
+            false
+        }
+    });
+    match result {
+        Ok(run) if stopped => (Status::Stopped { step: k }, run.steps),
+        Ok(run) => (Status::Ok, run.steps),
+        Err(integrator_core::adaptive::AdaptiveError::Diverged { step, .. }) => (
+            Status::Diverged {
+                step: step as usize,
+            },
+            step,
+        ),
+        Err(e) => (
+            Status::SolverFailed {
+                step: k + 1,
+                reason: e.to_string(),
+            },
+            k as u64,
+        ),
+    }
+}
+
+impl<P, M> Stepper<P> for Adaptive<M>
+where
+    P: Problem<Kind = AsSeparable> + Separable,
+    M: Step<P> + Step<Counting<P>> + Copy + Send + Sync,
+    <M as Step<Counting<P>>>::Workspace: Workspace,
+{
+    fn observed(
+        &self,
+        sys: &P,
+        z: &mut [f64],
+        h: f64,
+        n: usize,
+        compensated: bool,
+        observe: &mut dyn FnMut(usize, f64, &[f64]) -> bool,
+    ) -> Outcome {
+        let counted = <P::Kind as Kind<P>>::counted(sys);
+        let mut ws = Step::<Counting<P>>::workspace(&self.scheme, &counted);
+        ws.set_compensated(compensated);
+        let (status, steps) = run(self, sys, &counted, &mut ws, z, h, n, observe);
+        let counts = counted.counts();
+        let (newton_iterations, fixed_point_iterations, factorizations) = ws.solver_counts();
+        Outcome {
+            status,
+            evals: counts.force + counts.rhs,
+            newton_iterations,
+            fixed_point_iterations,
+            factorizations,
+            steps: Some(steps),
+        }
+    }
+
+    fn bare(&self, sys: &P, z: &mut [f64], h: f64, n: usize) -> bool {
+        let mut ws = Step::<P>::workspace(&self.scheme, sys);
+        let (status, _) = run(self, sys, sys, &mut ws, z, h, n, &mut |_, _, _| true);
+        status.is_ok() && z.iter().all(|x| x.is_finite())
+    }
+}
+
+macro_rules! symmetric {
+    ($($id:literal => $ty:ident),* $(,)?) => {
+        /// The symmetric library schemes, which the reversible controllers
+        /// accept (`tests::symmetric_ids_are_the_registry_s` checks the list
+        /// against the verified `INFO.symmetric`).
+        pub const SYMMETRIC_IDS: &[&str] = &[$($id),*];
+
+        fn stepper<P>(id: &str, controller: Controller) -> Option<(Box<dyn Stepper<P>>, integrator_core::Info)>
+        where
+            P: Problem<Kind = AsSeparable> + Separable,
+        {
+            Some(match id {
+                $($id => (
+                    Box::new(Adaptive { scheme: $ty, controller }) as Box<dyn Stepper<P>>,
+                    <$ty as Scheme>::INFO,
+                ),)*
+                _ => return None,
+            })
+        }
+    };
+}
+
+symmetric! {
+    "midpoint" => ImplicitMidpoint,
+    "gauss1" => GaussLegendre1,
+    "gauss2" => GaussLegendre2,
+    "gauss3" => GaussLegendre3,
+    "lobatto3a-2" => LobattoIIIA2,
+    "lobatto3a-3" => LobattoIIIA3,
+    "lobatto3b-2" => LobattoIIIB2,
+    "lobatto3b-3" => LobattoIIIB3,
+    "paper-dirk2" => PaperDirk2,
+    "paper-dirk4" => PaperDirk4,
+    "stormer-verlet" => StormerVerlet,
+    "lobatto3a3b-3" => LobattoIIIAIIIB3,
+    "leapfrog" => Leapfrog,
+    "forest-ruth" => ForestRuth,
+    "candy-rozmus4" => CandyRozmus4,
+    "mclachlan4" => McLachlan4,
+    "pefrl" => Pefrl,
+    "mclachlan-s5" => McLachlanS5,
+    "blanes-moan-prk6" => BlanesMoanPrk6,
+    "blanes-moan-prk10" => BlanesMoanPrk10,
+    "blanes-moan-srkn6b" => BlanesMoanSrkn6b,
+    "blanes-moan-srkn11b" => BlanesMoanSrkn11b,
+    "blanes-moan-srkn14a" => BlanesMoanSrkn14a,
+    "yoshida4" => Yoshida4,
+    "yoshida6" => Yoshida6,
+    "kahan-li6" => KahanLi6,
+    "mclachlan-ss9" => McLachlanSS9,
+    "kahan-li8" => KahanLi8,
+    "mclachlan8" => McLachlan8,
+    "sofroniou-spaletta10" => SofroniouSpaletta10,
+}
+
+/// `adaptive:BASE` / `adaptive-implicit:BASE` for `sys`, or why not: a
+/// problem that is not separable or has no step density, an unknown base,
+/// a base that is not symmetric.
+pub fn method<P: Problem>(prefix: &str, controller: Controller, base: &str, sys: &P) -> Result<Method<P>> {
+    let id = format!("{prefix}{base}");
+    let err = |why: String| Err(CompareError::method(&id, format!("method '{id}': {why}")));
+    if !<P::Kind as Kind<P>>::SEPARABLE {
+        return err(format!(
+            "the reversible controllers take the problem's step density; the {} problem is an OdeSystem only",
+            sys.name()
+        ));
+    }
+    if sys.step_density().is_none() {
+        return err(format!(
+            "the {} problem has no step density (adaptive steps apply to kepler and kepler-hard, whose density is the inverse distance)",
+            sys.name()
+        ));
+    }
+    match <P::Kind as Kind<P>>::adaptive(base, controller) {
+        Some((stepper, i)) => Ok(Method::Fixed(Fixed {
+            id,
+            order: i.order,
+            symplectic: symplectic_for::<P>(i.symplectic, i.symplectic_separable),
+            family: family_of(&i),
+            interpreted: false,
+            stepper,
+        })),
+        None => match integrator_core::library::info(base) {
+            Some(i) if !i.symmetric => err(format!(
+                "'{base}' is not symmetric: reversible step-size control needs a symmetric method; symmetric ones: {}",
+                SYMMETRIC_IDS.join(", ")
+            )),
+            _ => err(format!(
+                "unknown base method '{base}'; {prefix} takes one of {}",
+                SYMMETRIC_IDS.join(", ")
+            )),
+        },
+    }
+}
+
+/// The symmetric scheme `id` under `controller` on a separable problem.
+pub fn adaptive_stepper<P>(
+    id: &str,
+    controller: Controller,
+) -> Option<(Box<dyn Stepper<P>>, integrator_core::Info)>
+where
+    P: Problem<Kind = AsSeparable> + Separable,
+{
+    stepper(id, controller)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use integrator_core::library::REGISTRY;
+    use integrator_core::problems::Kepler;
+
+    #[test]
+    fn symmetric_ids_are_the_registry_s() {
+        let mut mine: Vec<&str> = SYMMETRIC_IDS.to_vec();
+        let mut registry: Vec<&str> = REGISTRY
+            .iter()
+            .filter(|(_, i)| i.symmetric)
+            .map(|(id, _)| *id)
+            .collect();
+        mine.sort_unstable();
+        registry.sort_unstable();
+        assert_eq!(
+            mine, registry,
+            "a symmetric library scheme is missing from compare/src/adaptive.rs (or one listed there is not symmetric)"
+        );
+    }
+
+    #[test]
+    fn non_symmetric_and_unknown_bases_are_refused() {
+        let sys = Kepler { e: 0.9 };
+        for (id, want) in [
+            ("adaptive:rk4", "not symmetric"),
+            ("adaptive-implicit:symplectic-euler-a", "not symmetric"),
+            ("adaptive:nope", "unknown base method 'nope'"),
+        ] {
+            let err = match Method::by_id(id, &sys) {
+                Err(e) => e.to_string(),
+                Ok(_) => panic!("{id} accepted"),
+            };
+            assert!(err.contains(want) && err.contains("leapfrog"), "{id}: {err}");
+        }
+        assert!(Method::by_id("adaptive:gauss2", &sys).is_ok());
+        assert!(Method::by_id("adaptive-implicit:kahan-li8", &sys).is_ok());
+    }
+}
