@@ -194,7 +194,12 @@ symmetric! {
 /// `adaptive:BASE` / `adaptive-implicit:BASE` for `sys`, or why not: a
 /// problem that is not separable or has no step density, an unknown base,
 /// a base that is not symmetric.
-pub fn method<P: Problem>(prefix: &str, controller: Controller, base: &str, sys: &P) -> Result<Method<P>> {
+pub fn method<P: Problem>(
+    prefix: &str,
+    controller: Controller,
+    base: &str,
+    sys: &P,
+) -> Result<Method<P>> {
     let id = format!("{prefix}{base}");
     let err = |why: String| Err(CompareError::method(&id, format!("method '{id}': {why}")));
     if !<P::Kind as Kind<P>>::SEPARABLE {
@@ -276,7 +281,10 @@ mod tests {
                 Err(e) => e.to_string(),
                 Ok(_) => panic!("{id} accepted"),
             };
-            assert!(err.contains(want) && err.contains("leapfrog"), "{id}: {err}");
+            assert!(
+                err.contains(want) && err.contains("leapfrog"),
+                "{id}: {err}"
+            );
         }
         assert!(Method::by_id("adaptive:gauss2", &sys).is_ok());
         assert!(Method::by_id("adaptive-implicit:kahan-li8", &sys).is_ok());

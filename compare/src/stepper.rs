@@ -4,11 +4,11 @@
 //! that implements [`Step`] for the problem a stepper: the library's
 //! schemes, a user's `butcher!` scheme, the run-time interpreters.
 
+use integrator_core::fixed::StepFixed;
 use integrator_core::implicit::ImplicitWorkspace;
 use integrator_core::interp::RkInterpWorkspace;
 use integrator_core::linear::{LinearHamiltonian, Propagator};
 use integrator_core::scheme::{PrkWorkspace, RkWorkspace, SplitWorkspace};
-use integrator_core::fixed::StepFixed;
 use integrator_core::{OdeSystem, Step, check_start};
 
 use crate::problem::{Counted, Kind, Problem};
