@@ -32,7 +32,7 @@ runs.csv columns (one row per run):
   method             scheme id (symlab list), gaussN-propagator, or dop853
   order              classical order (8 for dop853)
   symplectic         symplectic for this problem (separable problems: for separable H)
-  h                  step size (dop853, logh:ID: the average step T/steps)
+  h                  step size (dop853, logh:ID, adaptive:ID: the average step T/steps)
   tol                rtol = atol of dop853 (NaN for fixed-step methods)
   steps              steps taken (dop853: accepted steps)
   error              ‖z(T) − z_ref(T)‖₂/‖z_ref(T)‖₂ (NaN unless status is ok)
@@ -90,8 +90,11 @@ pub struct CompareArgs {
     #[arg(long, value_name = "FILE", conflicts_with_all = ["problem", "long", "hard", "peer_study", "from"])]
     problem_file: Option<PathBuf>,
     /// Comma-separated method ids (default: every method that applies):
-    /// `symlab list` ids, gaussN-propagator (gyroscopic), dop853, and
-    /// logh:ID (an explicit separable scheme on the logarithmic Hamiltonian).
+    /// `symlab list` ids, gaussN-propagator (gyroscopic), dop853,
+    /// logh:ID (an explicit separable scheme on the logarithmic
+    /// Hamiltonian), adaptive:ID and adaptive-implicit:ID (a symmetric
+    /// scheme, explicit or implicit, under a reversible step-size controller
+    /// with the inverse distance as step density: kepler, kepler-hard).
     #[arg(long, value_delimiter = ',', value_name = "ID,...")]
     methods: Option<Vec<String>>,
     /// A table file (TOML, as for `symlab check`) to add to the sweep: its

@@ -16,7 +16,7 @@
 //! | `method` | the method's id |
 //! | `order` | classical order (of the table; 8 for DOP853) |
 //! | `symplectic` | symplectic for this problem (separable problems: for separable Hamiltonians) |
-//! | `h` | step size; for `dop853` and `logh:ID` the average step `T/steps` |
+//! | `h` | step size; for `dop853`, `logh:ID` and `adaptive:ID` the average step `T/steps` |
 //! | `tol` | `rtol = atol` of `dop853`; NaN for fixed-step methods |
 //! | `steps` | steps taken (accepted steps for `dop853`) |
 //! | `error` | `‖z(T) − z_ref(T)‖₂ / ‖z_ref(T)‖₂`; NaN unless `status` is ok |
