@@ -6,6 +6,7 @@
 //! grammar, the table types and their analyses. It depends on neither faer nor
 //! syn, so the macro and the CLI share one verifier.
 
+pub mod algebraic;
 pub mod analysis;
 pub mod budget;
 pub mod catalogue;

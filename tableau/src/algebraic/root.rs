@@ -1,0 +1,273 @@
+//! Real roots of rational polynomials, each picked out by an isolating
+//! interval, refined by exact bisection with Sturm counts; the correctly
+//! rounded `f64` of a root is decided on certified enclosures, never by
+//! evaluating in floating point.
+
+use num_bigint::BigInt;
+use num_rational::BigRational;
+use num_traits::{One, Signed, Zero};
+
+use super::poly::{Poly, count_roots};
+use crate::number::rational_to_f64;
+
+/// One real root of a squarefree polynomial: `poly` has exactly one root in
+/// the half-open interval `(lo, hi]`, or the root is the rational `lo = hi`.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct RealRoot {
+    /// Monic and squarefree.
+    pub poly: Poly,
+    pub lo: BigRational,
+    pub hi: BigRational,
+    sturm: Vec<Poly>,
+}
+
+fn two() -> BigRational {
+    BigRational::from_integer(BigInt::from(2))
+}
+
+impl RealRoot {
+    /// The root of `poly` in `(lo, hi]`, if there is exactly one there
+    /// (`poly` is made squarefree and monic first). `Err` says how many there
+    /// are.
+    pub fn new(poly: &Poly, lo: BigRational, hi: BigRational) -> Result<RealRoot, usize> {
+        if poly.degree().unwrap_or(0) == 0 || lo > hi {
+            return Err(0);
+        }
+        let p = poly.squarefree();
+        let sturm = p.sturm();
+        if lo == hi {
+            return if p.eval(&lo).is_zero() {
+                Ok(RealRoot {
+                    poly: p,
+                    lo: lo.clone(),
+                    hi: lo,
+                    sturm,
+                })
+            } else {
+                Err(0)
+            };
+        }
+        let n = count_roots(&sturm, &lo, &hi);
+        if n != 1 {
+            return Err(n);
+        }
+        let mut r = RealRoot {
+            poly: p,
+            lo,
+            hi,
+            sturm,
+        };
+        if r.poly.eval(&r.hi).is_zero() {
+            r.lo = r.hi.clone();
+        }
+        Ok(r)
+    }
+
+    /// A rational number as a root of `x − r`.
+    pub fn rational(r: BigRational) -> RealRoot {
+        let poly = Poly(vec![-r.clone(), BigRational::one()]);
+        RealRoot {
+            sturm: poly.sturm(),
+            poly,
+            lo: r.clone(),
+            hi: r,
+        }
+    }
+
+    /// Every real root of `poly` in `(a, b]`, in increasing order.
+    pub fn isolate(poly: &Poly, a: &BigRational, b: &BigRational) -> Vec<RealRoot> {
+        let p = poly.squarefree();
+        let sturm = p.sturm();
+        let mut out = Vec::new();
+        let mut stack = vec![(a.clone(), b.clone())];
+        while let Some((lo, hi)) = stack.pop() {
+            let n = count_roots(&sturm, &lo, &hi);
+            if n == 0 {
+                continue;
+            }
+            if n == 1 {
+                let exact = p.eval(&hi).is_zero();
+                out.push(RealRoot {
+                    poly: p.clone(),
+                    lo: if exact { hi.clone() } else { lo },
+                    hi,
+                    sturm: sturm.clone(),
+                });
+                continue;
+            }
+            let mid = (&lo + &hi) / two();
+            // Upper half first on the stack so the lower half pops first.
+            stack.push((mid.clone(), hi));
+            stack.push((lo, mid));
+        }
+        out
+    }
+
+    pub fn is_rational(&self) -> bool {
+        self.lo == self.hi
+    }
+
+    pub fn width(&self) -> BigRational {
+        &self.hi - &self.lo
+    }
+
+    /// Split the interval at `m` (strictly inside), keeping the half that
+    /// holds the root; an exact hit makes the root rational.
+    pub fn split_at(&mut self, m: BigRational) {
+        if self.is_rational() {
+            return;
+        }
+        if self.poly.eval(&m).is_zero() {
+            self.lo = m.clone();
+            self.hi = m;
+            return;
+        }
+        if count_roots(&self.sturm, &self.lo, &m) == 1 {
+            self.hi = m;
+        } else {
+            self.lo = m;
+        }
+    }
+
+    /// Halve the interval.
+    pub fn bisect(&mut self) {
+        if !self.is_rational() {
+            let m = (&self.lo + &self.hi) / two();
+            self.split_at(m);
+        }
+    }
+
+    /// Refine until the width is at most `2^-bits`.
+    pub fn refine_to(&mut self, bits: u64) {
+        let eps = BigRational::new(BigInt::one(), BigInt::one() << bits);
+        while self.width() > eps {
+            self.bisect();
+        }
+    }
+
+    /// The `f64` nearest to the root (ties to even), decided on the exact
+    /// interval: refined until both ends round alike; a root exactly halfway
+    /// between two doubles is rational and is found exactly.
+    pub fn to_f64(&self) -> f64 {
+        let mut r = self.clone();
+        loop {
+            if r.is_rational() {
+                return rational_to_f64(&r.lo);
+            }
+            let (fl, fh) = (rational_to_f64(&r.lo), rational_to_f64(&r.hi));
+            if fl == fh {
+                return fl;
+            }
+            // Split at the rounding boundary between neighbouring doubles when
+            // there is one, else halve.
+            let next = next_up(fl);
+            if fh == next && fl.is_finite() && fh.is_finite() {
+                let mid = (f64_rational(fl) + f64_rational(fh)) / two();
+                if mid > r.lo && mid < r.hi {
+                    r.split_at(mid);
+                    continue;
+                }
+            }
+            r.bisect();
+        }
+    }
+
+    /// The exact sign of `q(root)` for a rational polynomial `q`: zero is
+    /// decided by `gcd(q, poly)` having the root (a Sturm count on the
+    /// isolating interval), the sign of a nonzero value on a refined
+    /// enclosure.
+    pub fn sign_of(&self, q: &Poly) -> i8 {
+        if self.is_rational() {
+            let v = q.eval(&self.lo);
+            return sign(&v);
+        }
+        let g = q.gcd(&self.poly);
+        if g.degree().unwrap_or(0) > 0 && count_roots(&g.sturm(), &self.lo, &self.hi) == 1 {
+            return 0;
+        }
+        let mut r = self.clone();
+        loop {
+            let (lo, hi) = q.eval_interval(&r.lo, &r.hi);
+            if lo.is_positive() {
+                return 1;
+            }
+            if hi.is_negative() {
+                return -1;
+            }
+            r.bisect();
+            if r.is_rational() {
+                return sign(&q.eval(&r.lo));
+            }
+        }
+    }
+}
+
+pub fn sign(v: &BigRational) -> i8 {
+    if v.is_positive() {
+        1
+    } else if v.is_negative() {
+        -1
+    } else {
+        0
+    }
+}
+
+/// The exact rational value of a finite double.
+pub fn f64_rational(x: f64) -> BigRational {
+    crate::rounding::f64_to_rational(x).expect("finite")
+}
+
+/// The next double above `x` (for finite `x`).
+pub fn next_up(x: f64) -> f64 {
+    if x.is_nan() || x == f64::INFINITY {
+        return x;
+    }
+    if x == 0.0 {
+        return f64::from_bits(1);
+    }
+    let b = x.to_bits();
+    if x > 0.0 {
+        f64::from_bits(b + 1)
+    } else {
+        f64::from_bits(b - 1)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn q(n: i64, d: i64) -> BigRational {
+        BigRational::new(n.into(), d.into())
+    }
+
+    #[test]
+    fn sqrt2_rounds_correctly() {
+        let r = RealRoot::new(&Poly::from_ints(&[-2, 0, 1]), q(1, 1), q(2, 1)).unwrap();
+        assert_eq!(r.to_f64(), std::f64::consts::SQRT_2);
+        let all = RealRoot::isolate(&Poly::from_ints(&[-2, 0, 1]), &q(-2, 1), &q(2, 1));
+        assert_eq!(all.len(), 2);
+        assert_eq!(all[0].to_f64(), -std::f64::consts::SQRT_2);
+    }
+
+    #[test]
+    fn rational_roots_and_ties_are_exact() {
+        // 2x − 1 − 2^-53: the root 1/2 + 2^-54 is a tie between 1/2 and
+        // 1/2 + 2^-53; ties to even gives 1/2.
+        let t = BigRational::new(BigInt::one(), BigInt::one() << 54u32);
+        let root = q(1, 2) + t;
+        let p = Poly(vec![-root.clone(), BigRational::one()]).mul(&Poly::from_ints(&[-3, 0, 1]));
+        let r = RealRoot::new(&p, q(0, 1), q(1, 1)).unwrap();
+        assert_eq!(r.to_f64(), 0.5);
+        assert_eq!(r.sign_of(&Poly(vec![-root, BigRational::one()])), 0);
+    }
+
+    #[test]
+    fn signs_are_exact() {
+        let r = RealRoot::new(&Poly::from_ints(&[-2, 0, 1]), q(1, 1), q(2, 1)).unwrap();
+        assert_eq!(r.sign_of(&Poly::from_ints(&[-2, 0, 1])), 0);
+        assert_eq!(r.sign_of(&Poly::from_ints(&[-4, 0, 0, 0, 1])), 0);
+        // √2 − 1.41421356 > 0
+        assert_eq!(r.sign_of(&Poly(vec![-q(141421356, 100000000), q(1, 1)])), 1);
+    }
+}
