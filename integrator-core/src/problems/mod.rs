@@ -11,6 +11,7 @@
 //! | [`RandomSeparable`] quadratic + cubic + quartic `V`, optional quartic `T` | `Separable` | — | `H` |
 //! | [`HenonHeiles`] chaotic at `H = 1/8` | `Separable` | numerical reference | `H` |
 //! | [`Fpu`] stiff FPU chain, `ω = 50` | `Separable` | numerical reference | `H`, `Σ Iⱼ` (adiabatic) |
+//! | [`OuterSolarSystem`] Sun and five outer planets (HLW I.2.3) | `Separable` | numerical reference | `H`, angular momentum |
 //! | [`gyroscopic`](crate::linear::gyroscopic) `Mq̈ + Gq̇ + Kq = f` | `OdeSystem` | matrix exponential | quadratic energy |
 //!
 //! The exact flows implement [`ExactFlow`]; they are exact up to a few
@@ -23,6 +24,7 @@ mod henon_heiles;
 mod kepler;
 mod nonseparable;
 mod oscillator;
+pub mod outer_solar;
 mod pendulum;
 mod random;
 
@@ -32,6 +34,7 @@ pub use henon_heiles::HenonHeiles;
 pub use kepler::Kepler;
 pub use nonseparable::NonSeparable;
 pub use oscillator::Oscillator;
+pub use outer_solar::OuterSolarSystem;
 pub use pendulum::{Pendulum, QuarticPendulum};
 pub use random::{RandomSeparable, SplitMix64};
 
