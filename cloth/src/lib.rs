@@ -143,6 +143,7 @@
 
 pub mod implicit;
 pub mod methods;
+pub mod minimise;
 mod model;
 mod output;
 pub mod scene;

@@ -36,22 +36,22 @@ impl Family {
 
 /// A spring between two free particles (indices into the free list).
 #[derive(Clone, Copy, Debug)]
-struct Spring {
-    a: u32,
-    b: u32,
+pub(crate) struct Spring {
+    pub(crate) a: u32,
+    pub(crate) b: u32,
     /// `k/L` (N/m).
-    kl: f64,
+    pub(crate) kl: f64,
     /// Rest length `L` (m).
-    rest: f64,
+    pub(crate) rest: f64,
 }
 
 /// A spring between a free particle and a pinned one.
 #[derive(Clone, Copy, Debug)]
-struct PinSpring {
-    a: u32,
-    pin: [f64; 3],
-    kl: f64,
-    rest: f64,
+pub(crate) struct PinSpring {
+    pub(crate) a: u32,
+    pub(crate) pin: [f64; 3],
+    pub(crate) kl: f64,
+    pub(crate) rest: f64,
 }
 
 #[derive(Clone, Copy, Debug)]
@@ -121,12 +121,21 @@ impl Penalty {
     /// `∂F/∂x` (symmetric).
     #[inline]
     fn force_jacobian(&self, x: &Vector3<f64>) -> Matrix3<f64> {
+        self.force_jacobian_projected(x, false)
+    }
+
+    /// `∂F/∂x`; `project`: without a sphere's tangential term
+    /// `(I − n̂n̂ᵀ)·φ'/r`, the only part of `−∂F/∂x` that can be negative, so
+    /// that `−∂F/∂x` is positive semidefinite (its projection onto the PSD
+    /// cone: the term is a multiple of the tangential projector).
+    #[inline]
+    fn force_jacobian_projected(&self, x: &Vector3<f64>, project: bool) -> Matrix3<f64> {
         match self.distance(x) {
             Some((d, n, r)) if d < 0.0 => {
                 let (_, d1, d2) = self.ramp(-d);
                 let nn = n * n.transpose();
                 let mut j = -d2 * nn;
-                if r.is_finite() {
+                if r.is_finite() && !project {
                     j += (Matrix3::identity() - nn) * (d1 / r);
                 }
                 j
@@ -791,7 +800,7 @@ impl ClothModel {
     }
 
     /// Springs, gravity and collider potential at `q`.
-    fn potential_terms(&self, q: &[f64]) -> (f64, f64, f64) {
+    pub(crate) fn potential_terms(&self, q: &[f64]) -> (f64, f64, f64) {
         let q3 = self.chunks(q);
         let mut springs = 0.0;
         for s in &self.ff {
@@ -847,7 +856,7 @@ impl ClothModel {
     /// # Panics
     /// If `values` is not exactly as long as the pattern or `q` shorter than `3·free`.
     pub fn force_jacobian_values(&self, q: &[f64], values: &mut [f64]) {
-        self.jacobian_into(q, values, false);
+        self.jacobian_into(q, values, false, false);
     }
 
     /// [`force_jacobian_values`](Self::force_jacobian_values) with the
@@ -860,10 +869,24 @@ impl ClothModel {
     /// needs an approximate Jacobian, so the converged steps are the same;
     /// only the iteration is better behaved (the clamp of Choi and Ko, 2002).
     pub fn force_jacobian_values_definite(&self, q: &[f64], values: &mut [f64]) {
-        self.jacobian_into(q, values, true);
+        self.jacobian_into(q, values, true, false);
     }
 
-    fn jacobian_into(&self, q: &[f64], values: &mut [f64], definite: bool) {
+    /// `−∇²V` projected so that `∇²V` is positive semidefinite, block by
+    /// block, in the order of
+    /// [`force_jacobian_pattern`](Self::force_jacobian_pattern): each
+    /// spring's 3×3 block `(k/L)[(1 − L/ℓ)I + (L/ℓ)d̂d̂ᵀ]` has the
+    /// eigenvalues `k/L` (along the spring) and `(k/L)(1 − L/ℓ)` (twice,
+    /// across it), and the latter is clamped at 0 — exactly the projection
+    /// of the block onto the PSD cone; a sphere collider's tangential term
+    /// (negative curvature of `V`) is dropped, the normal term kept; plane
+    /// colliders and gravity need nothing. The Hessian of the minimisation
+    /// solvers ([`crate::minimise`]). Allocates nothing.
+    pub fn force_jacobian_values_projected(&self, q: &[f64], values: &mut [f64]) {
+        self.jacobian_into(q, values, true, true);
+    }
+
+    fn jacobian_into(&self, q: &[f64], values: &mut [f64], definite: bool, project: bool) {
         let jac = self.jac();
         assert_eq!(
             values.len(),
@@ -887,9 +910,71 @@ impl ClothModel {
         for (x, &loc) in q3.iter().zip(&jac.diag) {
             let x = Vector3::from(*x);
             for c in &self.colliders {
-                add_block(values, loc, &c.force_jacobian(&x), 1.0);
+                add_block(values, loc, &c.force_jacobian_projected(&x, project), 1.0);
             }
         }
+    }
+
+    /// The springs with a free end: free–free and free–pinned.
+    pub(crate) fn springs(&self) -> (&[Spring], &[PinSpring]) {
+        (&self.ff, &self.fp)
+    }
+
+    /// Whether the scene has colliders.
+    pub fn has_colliders(&self) -> bool {
+        !self.colliders.is_empty()
+    }
+
+    /// The weight `m·g` of one particle (N).
+    pub fn weight(&self) -> Vector3<f64> {
+        Vector3::from(self.weight)
+    }
+
+    /// The force `F(q) = −∇V` into `out` (as
+    /// [`Separable::force`](integrator_core::Separable::force)), and the
+    /// force scale at `q`: the size of the terms whose round-off `F` carries.
+    /// That is the largest of a particle's weight, a spring's tension
+    /// `(k/L)|ℓ − L|`, a collider's push, and `κ·‖q‖_∞` with `κ` the largest
+    /// spring constant `k/L`: positions are known to an ulp of `‖q‖_∞`, and
+    /// an ulp of position moves a force by `κ` times it, so no `F` computed
+    /// in `f64` is more accurate than a few `ε·κ·‖q‖_∞`. A gradient measured
+    /// against this scale can be asked to vanish down to a small multiple of
+    /// `ε` whatever the net forces are (a hanging sheet's net forces are tiny
+    /// beside the tensions that balance them).
+    pub fn force_and_scale(&self, q: &[f64], out: &mut [f64]) -> f64 {
+        let n = self.free_count();
+        let q3 = &q.as_chunks::<3>().0[..n];
+        let f3 = &mut out.as_chunks_mut::<3>().0[..n];
+        f3.fill(self.weight);
+        let mut scale = Vector3::from(self.weight).norm();
+        let mut kappa: f64 = 0.0;
+        for s in &self.ff {
+            let (a, b) = (s.a as usize, s.b as usize);
+            let d = Vector3::from(q3[b]) - Vector3::from(q3[a]);
+            let l = d.norm();
+            let fd = d * (s.kl - s.kl * s.rest / l);
+            kappa = kappa.max(s.kl);
+            scale = scale.max((s.kl * (l - s.rest)).abs());
+            f3[a] = (Vector3::from(f3[a]) + fd).into();
+            f3[b] = (Vector3::from(f3[b]) - fd).into();
+        }
+        for s in &self.fp {
+            let a = s.a as usize;
+            let d = Vector3::from(s.pin) - Vector3::from(q3[a]);
+            let l = d.norm();
+            kappa = kappa.max(s.kl);
+            scale = scale.max((s.kl * (l - s.rest)).abs());
+            f3[a] = (Vector3::from(f3[a]) + d * (s.kl - s.kl * s.rest / l)).into();
+        }
+        for c in &self.colliders {
+            for (f, x) in f3.iter_mut().zip(q3) {
+                let push = c.force(&Vector3::from(*x));
+                scale = scale.max(push.norm());
+                *f = (Vector3::from(*f) + push).into();
+            }
+        }
+        let q_max = q.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        scale.max(kappa * q_max)
     }
 
     /// `y = −(∂F/∂q)·x / m = M⁻¹K·x` without the sparse matrix: spring by

@@ -134,6 +134,14 @@ pub enum RunError {
         #[source]
         source: SolveError,
     },
+    #[error("{method}: step {step} (t = {time} s) failed: {source}")]
+    Minimise {
+        method: &'static str,
+        step: usize,
+        time: f64,
+        #[source]
+        source: crate::minimise::MinimiseError,
+    },
     #[error("frame {frame} (t = {time} s): {source}")]
     Callback {
         frame: usize,
