@@ -281,7 +281,7 @@ pub fn weights_of(id: &str) -> Option<Vec<f64>> {
 /// midpoint steps (today `midpoint`, `paper-dirk2`, `paper-dirk4`), or the
 /// discrete gradient ([`DISCRETE_GRADIENT`]).
 pub fn is_minimisation(id: &str) -> bool {
-    weights_of(id).is_some()
+    id == DISCRETE_GRADIENT || weights_of(id).is_some()
 }
 
 /// The name of the energy–momentum conserving comparison scheme.
@@ -375,9 +375,19 @@ impl NewtonLinear {
         }
     }
 
-    /// Factorise `c·I + K⁺(x)`.
-    fn factor(&mut self, model: &ClothModel, x: &[f64], c: f64) -> Result<(), MinimiseError> {
-        model.force_jacobian_values_projected(x, &mut self.full);
+    /// Factorise `c·I + K⁺(x)` (or, with `old = Some(q)`, the discrete
+    /// gradient's projected Jacobian between `q` and `x` as midpoint).
+    fn factor(
+        &mut self,
+        model: &ClothModel,
+        x: &[f64],
+        old: Option<&[f64]>,
+        c: f64,
+    ) -> Result<(), MinimiseError> {
+        match old {
+            None => model.force_jacobian_values_projected(x, &mut self.full),
+            Some(q) => model.discrete_gradient_jacobian_projected(q, x, &mut self.full),
+        }
         for (v, &s) in self.values.iter_mut().zip(&self.source) {
             *v = if s == usize::MAX { 0.0 } else { -self.full[s] };
         }
@@ -406,6 +416,114 @@ impl NewtonLinear {
     fn solve(&mut self, rhs: &mut [f64]) {
         let n = rhs.len();
         faer::sparse::linalg::cholesky::LltRef::new(&self.cholesky, &self.l_values)
+            .solve_in_place_with_conj(
+                Conj::No,
+                MatMut::from_column_major_slice_mut(rhs, n, 1),
+                self.par,
+                MemStack::new(&mut self.mem),
+            );
+    }
+}
+
+/// The discrete gradient's linear algebra: `c·I − ∂F̄/∂x̄` (not symmetric)
+/// with faer's sparse LU, symbolic analysis once.
+struct DgLinear {
+    full: Vec<f64>,
+    diag: Vec<usize>,
+    symbolic: SymbolicSparseColMat<usize>,
+    lu: faer::sparse::linalg::lu::SymbolicLu<usize>,
+    numeric: faer::sparse::linalg::lu::NumericLu<usize, f64>,
+    values: Vec<f64>,
+    mem: MemBuffer,
+    par: Par,
+}
+
+impl DgLinear {
+    fn new(model: &ClothModel, par: Par) -> Result<DgLinear, RunError> {
+        let n = 3 * model.free_count();
+        let pattern = model.force_jacobian_pattern();
+        let has_diag = {
+            let mut seen = vec![false; n];
+            for &(r, c) in &pattern {
+                if r == c {
+                    seen[r] = true;
+                }
+            }
+            seen.iter().all(|&s| s)
+        };
+        if !has_diag {
+            return Err(RunError::Options(format!(
+                "method: {DISCRETE_GRADIENT} needs every free particle on a spring"
+            )));
+        }
+        let mut col_ptr = vec![0usize; n + 1];
+        for &(_, c) in &pattern {
+            col_ptr[c + 1] += 1;
+        }
+        for c in 0..n {
+            col_ptr[c + 1] += col_ptr[c];
+        }
+        let row_idx: Vec<usize> = pattern.iter().map(|&(r, _)| r).collect();
+        let diag = pattern
+            .iter()
+            .enumerate()
+            .filter(|(_, (r, c))| r == c)
+            .map(|(k, _)| k)
+            .collect();
+        let symbolic = SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx);
+        let lu =
+            faer::sparse::linalg::lu::factorize_symbolic_lu(symbolic.as_ref(), Default::default())
+                .map_err(|e| {
+                    RunError::Options(format!(
+                        "method: {DISCRETE_GRADIENT}: symbolic LU failed: {e:?}"
+                    ))
+                })?;
+        let mem = MemBuffer::new(StackReq::any_of(&[
+            lu.factorize_numeric_lu_scratch::<f64>(par, Default::default()),
+            lu.solve_in_place_scratch::<f64>(1, par),
+        ]));
+        Ok(DgLinear {
+            full: vec![0.0; pattern.len()],
+            values: vec![0.0; pattern.len()],
+            diag,
+            symbolic,
+            lu,
+            numeric: faer::sparse::linalg::lu::NumericLu::new(),
+            mem,
+            par,
+        })
+    }
+
+    fn factor(
+        &mut self,
+        model: &ClothModel,
+        q: &[f64],
+        x: &[f64],
+        c: f64,
+    ) -> Result<(), MinimiseError> {
+        model.discrete_gradient_jacobian(q, x, &mut self.full);
+        for (v, f) in self.values.iter_mut().zip(&self.full) {
+            *v = -f;
+        }
+        for &d in &self.diag {
+            self.values[d] += c;
+        }
+        let matrix = SparseColMatRef::new(self.symbolic.as_ref(), &self.values);
+        self.lu
+            .factorize_numeric_lu(
+                &mut self.numeric,
+                matrix,
+                self.par,
+                MemStack::new(&mut self.mem),
+                Default::default(),
+            )
+            .map(|_| ())
+            .map_err(|_| MinimiseError::NotDefinite { pivot: 0 })
+    }
+
+    fn solve(&mut self, rhs: &mut [f64]) {
+        let n = rhs.len();
+        faer::sparse::linalg::lu::LuRef::new_unchecked(&self.lu, &self.numeric)
             .solve_in_place_with_conj(
                 Conj::No,
                 MatMut::from_column_major_slice_mut(rhs, n, 1),
@@ -547,6 +665,7 @@ pub struct Minimiser {
     settings: Settings,
     mass: f64,
     newton: Option<NewtonLinear>,
+    dg: Option<DgLinear>,
     local_global: Option<LocalGlobalLinear>,
     x: Vec<f64>,
     y: Vec<f64>,
@@ -582,6 +701,7 @@ impl Minimiser {
             settings,
             mass: model.particle_mass(),
             newton,
+            dg: None,
             local_global,
             x: vec![0.0; n],
             y: vec![0.0; n],
@@ -646,6 +766,120 @@ impl Minimiser {
         Ok(())
     }
 
+    /// One step of size `h` of the discrete-gradient scheme
+    /// ([`ClothModel::discrete_gradient_force`]): `x̄ = (q + q')/2` solves
+    /// `(4/h²)M(x̄ − y) = F̄(q, x̄)`, `y = q + (h/2)v`, then `q' = 2x̄ − q`,
+    /// `v' = (4/h)(x̄ − q) − v`, as for the midpoint rule. `F̄` is not a
+    /// gradient in `x̄` and its Jacobian `(4/h²)M − ∂F̄/∂x̄` is not symmetric:
+    /// Newton's method with the exact Jacobian
+    /// ([`ClothModel::discrete_gradient_jacobian`]) and faer's sparse LU
+    /// (symbolic analysis once per run; the pattern of the springs), and a
+    /// backtracking line search on the residual `‖g‖₂` (the Newton
+    /// direction always descends it); it stops on the same gradient test.
+    pub fn discrete_gradient_step(
+        &mut self,
+        model: &ClothModel,
+        h: f64,
+        z: &mut [f64],
+    ) -> Result<(), MinimiseError> {
+        let n = z.len() / 2;
+        let m = self.mass;
+        let c = 4.0 * m / (h * h);
+        let (q, p) = z.split_at_mut(n);
+        for k in 0..n {
+            self.y[k] = q[k] + 0.5 * h * p[k] / m;
+        }
+        self.x.copy_from_slice(&self.y);
+        let tol = self.settings.tolerance;
+        let cap = self.settings.max_iterations;
+        if self.dg.is_none() {
+            self.dg = Some(
+                DgLinear::new(model, Par::Seq)
+                    .map_err(|_| MinimiseError::NotDefinite { pivot: 0 })?,
+            );
+        }
+        let lin = self.dg.as_mut().expect("built above");
+        let dg_gradient = |x: &[f64], f: &mut [f64], g: &mut [f64], y: &[f64]| -> (f64, f64) {
+            let mut scale = model.discrete_gradient_force(q, x, f);
+            let mut gmax: f64 = 0.0;
+            let mut g2 = 0.0;
+            for (((g, x), y), f) in g.iter_mut().zip(x).zip(y).zip(f.iter()) {
+                scale = scale.max(c * x.abs().max(y.abs()));
+                *g = c * (x - y) - f;
+                gmax = gmax.max(g.abs());
+                g2 += *g * *g;
+            }
+            (if gmax == 0.0 { 0.0 } else { gmax / scale }, g2.sqrt())
+        };
+        let (mut residual, mut norm) = dg_gradient(&self.x, &mut self.f, &mut self.g, &self.y);
+        let mut it = 0;
+        loop {
+            if !residual.is_finite() {
+                return Err(MinimiseError::NonFinite {
+                    solver: "discrete-gradient",
+                    iteration: it,
+                });
+            }
+            if residual <= tol {
+                self.stats.max_residual = self.stats.max_residual.max(residual);
+                break;
+            }
+            if it == cap {
+                return Err(MinimiseError::NotConverged {
+                    solver: "discrete-gradient",
+                    iterations: it,
+                    residual,
+                    tolerance: tol,
+                });
+            }
+            it += 1;
+            let clock = Instant::now();
+            lin.factor(model, q, &self.x, c)?;
+            self.stats.factor_seconds += clock.elapsed().as_secs_f64();
+            self.stats.factorizations += 1;
+            for (d, g) in self.dx.iter_mut().zip(&self.g) {
+                *d = -g;
+            }
+            lin.solve(&mut self.dx);
+            let mut alpha = 1.0;
+            let mut halvings = 0;
+            let mut trial_g = std::mem::take(&mut self.dx.clone());
+            loop {
+                for ((t, x), d) in self.trial.iter_mut().zip(&self.x).zip(&self.dx) {
+                    *t = x + alpha * d;
+                }
+                let (r, nn) = dg_gradient(&self.trial, &mut self.f, &mut trial_g, &self.y);
+                if nn < (1.0 - ARMIJO * alpha) * norm || r <= tol {
+                    residual = r;
+                    norm = nn;
+                    break;
+                }
+                halvings += 1;
+                self.stats.backtracks += 1;
+                if halvings > MAX_HALVINGS {
+                    return Err(MinimiseError::LineSearch {
+                        iteration: it,
+                        halvings,
+                        residual,
+                    });
+                }
+                alpha *= 0.5;
+            }
+            std::mem::swap(&mut self.x, &mut self.trial);
+            self.g.copy_from_slice(&trial_g);
+        }
+        self.stats.solves += 1;
+        self.stats.iterations += it;
+        self.stats.max_iterations = self.stats.max_iterations.max(it);
+        self.stats.steps += 1;
+        for k in 0..n {
+            let xb = self.x[k];
+            p[k] = m * (4.0 / h) * (xb - q[k]) - p[k];
+            q[k] = 2.0 * xb - q[k];
+        }
+        Ok(())
+    }
+
     fn newton_solve(&mut self, model: &ClothModel, c: f64) -> Result<usize, MinimiseError> {
         let tol = self.settings.tolerance;
         let cap = self.settings.max_iterations;
@@ -674,7 +908,7 @@ impl Minimiser {
             }
             it += 1;
             let clock = Instant::now();
-            lin.factor(model, &self.x, c)?;
+            lin.factor(model, &self.x, None, c)?;
             self.stats.factor_seconds += clock.elapsed().as_secs_f64();
             self.stats.factorizations += 1;
             for (d, g) in self.dx.iter_mut().zip(&self.g) {
@@ -864,6 +1098,18 @@ where
     let h = opts.step_size();
     opts.check()?;
     settings.check()?;
+    if weights.is_none() {
+        if sim.model.has_colliders() {
+            return Err(RunError::Options(format!(
+                "method: {DISCRETE_GRADIENT} handles springs and gravity; this scene has colliders"
+            )));
+        }
+        if settings.solver != Solver::Newton {
+            return Err(RunError::Options(format!(
+                "solver: {DISCRETE_GRADIENT} is solved with newton only (its equation is not a minimisation)"
+            )));
+        }
+    }
     let mut solver = Minimiser::new(&sim.model, settings)?;
     let mut frames = Vec::with_capacity(opts.frames.min(1 << 16) + 1);
     let mut emit = |sim: &Simulation, frames: &mut Vec<FrameStats>| -> Result<(), RunError> {
@@ -893,7 +1139,7 @@ where
             let t = t0 + (sim.steps - step0) as f64 * h;
             let result = match &weights {
                 Some(w) => solver.step(&sim.model, w, h, &mut sim.state),
-                None => unreachable!("the discrete gradient is not wired yet"),
+                None => solver.discrete_gradient_step(&sim.model, h, &mut sim.state),
             };
             if let Err(source) = result {
                 let step = sim.steps + 1;
@@ -939,4 +1185,38 @@ where
         solver: *solver.stats(),
         settings,
     })
+}
+
+/// What the solver of a run did.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum SolverStats {
+    /// An explicit run.
+    None,
+    /// The generic sparse stage solver ([`crate::implicit`]).
+    Stage(integrator_core::implicit::Stats),
+    /// A minimisation run.
+    Minimise(Stats, Settings),
+}
+
+/// Run any method that steps cloth: the midpoint family
+/// ([`is_minimisation`]) and the discrete gradient through [`run`] with
+/// `settings`, other implicit ones through the sparse stage solver, explicit
+/// ones with [`Simulation::run_named`].
+pub fn run_any<F>(
+    sim: &mut Simulation,
+    id: &str,
+    opts: &RunOptions,
+    settings: Settings,
+    on_frame: F,
+) -> Result<(RunReport, SolverStats), RunError>
+where
+    F: FnMut(&Frame<'_>) -> Result<(), CallbackError>,
+{
+    if is_minimisation(id) {
+        let r = run(sim, id, opts, settings, on_frame)?;
+        Ok((r.report, SolverStats::Minimise(r.solver, r.settings)))
+    } else {
+        let (report, stats) = cloth_implicit::run_method(sim, id, opts, on_frame)?;
+        Ok((report, stats.map_or(SolverStats::None, SolverStats::Stage)))
+    }
 }
