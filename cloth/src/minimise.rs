@@ -184,6 +184,11 @@ pub struct Stats {
     /// Newton steps taken in full without the Armijo test because the
     /// predicted decrease of `Φ` was below its round-off.
     pub roundoff_steps: usize,
+    /// Solves accepted at their round-off floor above the tolerance: Newton
+    /// steps whose predicted decrease of `Φ` was below its round-off, three
+    /// in a row, that no longer halved the gradient. Counted and reported,
+    /// with their residual in `max_residual`.
+    pub floor_accepts: usize,
     /// The largest final residual `‖∇Φ‖_∞/S` over all solves.
     pub max_residual: f64,
     /// Wall time in factorisations (s).
@@ -887,6 +892,7 @@ impl Minimiser {
         let mut residual = gradient(model, c, &self.x, &self.y, &mut self.f, &mut self.g);
         let mut phi = objective(model, c, &self.x, &self.y);
         let mut it = 0;
+        let mut stalled = 0;
         loop {
             if !residual.is_finite() || !phi.0.is_finite() {
                 return Err(MinimiseError::NonFinite {
@@ -952,7 +958,18 @@ impl Minimiser {
             };
             std::mem::swap(&mut self.x, &mut self.trial);
             phi = new_phi;
+            let before = residual;
             residual = gradient(model, c, &self.x, &self.y, &mut self.f, &mut self.g);
+            if -slope <= ROUNDOFF * phi.1 && residual > 0.5 * before {
+                stalled += 1;
+                if stalled >= 3 && residual > tol {
+                    self.stats.floor_accepts += 1;
+                    self.stats.max_residual = self.stats.max_residual.max(residual);
+                    return Ok(it);
+                }
+            } else {
+                stalled = 0;
+            }
         }
     }
 

@@ -17,6 +17,7 @@ use std::time::Instant;
 use anyhow::{Context, Result, anyhow, bail};
 use clap::Args;
 use cloth::implicit::{self as cloth_implicit};
+use cloth::minimise;
 use cloth::{FrameStats, RunError, RunOptions, Scene, Simulation, Vec3};
 use indicatif::{ProgressBar, ProgressStyle};
 
@@ -67,16 +68,18 @@ pub struct ClothArgs {
     /// writes stability.csv.
     #[arg(long)]
     pub stability: bool,
-    /// With --stability: the largest relative energy error |H − H₀|/E_ref
-    /// a stable run may show.
-    #[arg(
-        long,
-        value_name = "X",
-        default_value_t = 0.1,
-        requires = "stability",
-        allow_hyphen_values = true
-    )]
-    pub tolerance: f64,
+    /// Of a run of the midpoint family (midpoint, paper-dirk2, paper-dirk4)
+    /// or discrete-gradient: the minimisation solver's convergence
+    /// tolerance, ‖∇Φ‖_∞ relative to the force scale (default 1e-10). With
+    /// --stability: the largest relative energy error |H − H₀|/E_ref a
+    /// stable run may show (default 0.1).
+    #[arg(long, value_name = "X", allow_hyphen_values = true)]
+    pub tolerance: Option<f64>,
+    /// The solver of the midpoint family's steps, each an energy
+    /// minimisation: newton (PSD-projected Newton, line search, sparse
+    /// Cholesky; the default) or local-global (Liu et al. 2013).
+    #[arg(long, value_name = "NAME", allow_hyphen_values = true)]
+    pub solver: Option<String>,
     /// With --stability: simulated seconds per trial run (1e-6 to 1e6).
     #[arg(
         long,
@@ -147,17 +150,19 @@ pub fn run(args: &ClothArgs) -> Result<ExitCode> {
             .validate()
             .map_err(|e| anyhow!("--grid {grid}: {}", rename(&e, &file)))?;
     }
+    let settings = solver_settings(args)?;
     if args.stability {
-        if !(args.tolerance >= MIN_TOLERANCE && args.tolerance.is_finite()) {
+        let tolerance = args.tolerance.unwrap_or(0.1);
+        if !(tolerance >= MIN_TOLERANCE && tolerance.is_finite()) {
             bail!(
                 "--tolerance: must be at least {MIN_TOLERANCE:e} and finite (got {:e}): below that, round-off alone exceeds it",
-                args.tolerance
+                tolerance
             );
         }
-        if args.tolerance > BLOWUP {
+        if tolerance > BLOWUP {
             bail!(
                 "--tolerance: must be at most {BLOWUP} (got {:e}): a run whose relative energy error passes {BLOWUP} has blown up whatever the tolerance",
-                args.tolerance
+                tolerance
             );
         }
         let (lo, hi) = DURATION_RANGE;
@@ -185,7 +190,7 @@ pub fn run(args: &ClothArgs) -> Result<ExitCode> {
             None => stability::default_methods(),
         };
         let dir = output_dir(args, &scene)?;
-        return stability::run(&scene, &file, &methods, args.tolerance, args.duration, &dir);
+        return stability::run(&scene, &file, &methods, tolerance, args.duration, &dir);
     }
     let method = match &args.method {
         Some(m) => {
@@ -227,6 +232,7 @@ pub fn run(args: &ClothArgs) -> Result<ExitCode> {
             render_failure,
             obj_every: args.obj_every,
             dir: &dir,
+            settings,
         },
         note,
     )
@@ -302,7 +308,7 @@ fn regrid(scene: &mut Scene, nx: usize, ny: usize) {
 
 /// A method name that can step cloth, or an error listing those that can.
 fn check_method(id: &str, flag: &str) -> Result<()> {
-    if cloth_implicit::all_methods().contains(&id) {
+    if cloth_implicit::all_methods().contains(&id) || id == minimise::DISCRETE_GRADIENT {
         return Ok(());
     }
     let why = if integrator_core::library::info(id).is_some() {
@@ -311,9 +317,10 @@ fn check_method(id: &str, flag: &str) -> Result<()> {
         "is not a known method"
     };
     bail!(
-        "{flag}: \"{id}\" {why}; explicit: {}; implicit (sparse Newton): {}",
+        "{flag}: \"{id}\" {why}; explicit: {}; implicit (sparse Newton): {}; energy-momentum: {}",
         cloth::STEPPABLE.join(", "),
-        cloth_implicit::IMPLICIT.join(", ")
+        cloth_implicit::IMPLICIT.join(", "),
+        minimise::DISCRETE_GRADIENT
     )
 }
 
@@ -505,6 +512,31 @@ struct Plan<'a> {
     render_failure: bool,
     obj_every: usize,
     dir: &'a Path,
+    /// The minimisation solver's settings (midpoint family, discrete gradient).
+    settings: minimise::Settings,
+}
+
+/// `--solver` and `--tolerance` (of a run, not of `--stability`).
+fn solver_settings(args: &ClothArgs) -> Result<minimise::Settings> {
+    let solver = match args.solver.as_deref() {
+        None => minimise::Solver::Newton,
+        Some(name) => minimise::Solver::parse(name.trim()).with_context(|| {
+            format!(
+                "--solver: unknown solver \"{name}\"; expected one of {}",
+                minimise::Solver::NAMES.join(", ")
+            )
+        })?,
+    };
+    let mut settings = minimise::Settings::new(solver);
+    if !args.stability {
+        if let Some(t) = args.tolerance {
+            if !(t > 0.0 && t.is_finite()) {
+                bail!("--tolerance: must be a positive finite number (got {t})");
+            }
+            settings.tolerance = t;
+        }
+    }
+    Ok(settings)
 }
 
 fn simulate(
@@ -521,6 +553,7 @@ fn simulate(
         render_failure,
         obj_every,
         dir,
+        settings,
     } = *plan;
     let clock = Instant::now();
     let h0 = sim.stats().energy.total();
@@ -550,7 +583,7 @@ fn simulate(
         blown: None,
     };
     let last = opts.frames;
-    let result = cloth_implicit::run_method(&mut sim, method, opts, |frame| {
+    let result = minimise::run_any(&mut sim, method, opts, settings, |frame| {
         let k = frame.stats.frame;
         let rel = ((frame.stats.energy.total() - h0) / e_ref).abs();
         if rel.is_nan() || rel > BLOWUP {
@@ -611,7 +644,7 @@ fn simulate(
                 method,
                 report: &report,
                 opts,
-                solver: solver.as_ref(),
+                solver: &solver,
                 wall,
                 e_ref,
                 note: note.as_deref(),
@@ -622,10 +655,14 @@ fn simulate(
             print!("{}", s.render());
             return Ok(ExitCode::SUCCESS);
         }
-        Err(err @ (RunError::Diverged { .. } | RunError::Solve { .. })) => err.to_string(),
+        Err(
+            err @ (RunError::Diverged { .. }
+            | RunError::Solve { .. }
+            | RunError::Minimise { .. }),
+        ) => err.to_string(),
         Err(RunError::Callback { .. }) if col.blown.is_some() => {
             let (bad, rel) = col.blown.expect("checked");
-            locate_blowup(&mut sim, method, opts, &col.good_state, good, h0, e_ref)
+            locate_blowup(&mut sim, method, opts, settings, &col.good_state, good, h0, e_ref)
                 .unwrap_or_else(|| {
                     format!(
                         "{}: the cloth blew up between step {} and step {} (t = {} s to {} s): |H − H₀|/E_ref = {} at frame {} (limit {BLOWUP})",
@@ -691,6 +728,7 @@ fn locate_blowup(
     sim: &mut Simulation,
     method: &str,
     opts: &RunOptions,
+    settings: minimise::Settings,
     state: &[f64],
     good: FrameStats,
     h0: f64,
@@ -706,7 +744,7 @@ fn locate_blowup(
         frame_rate: opts.frame_rate * opts.substeps as f64,
     };
     let mut found = None;
-    let result = cloth_implicit::run_method(sim, method, &replay, |frame| {
+    let result = minimise::run_any(sim, method, &replay, settings, |frame| {
         let rel = ((frame.stats.energy.total() - h0) / e_ref).abs();
         if rel.is_nan() || rel > BLOWUP {
             found = Some((frame.stats, rel));
@@ -723,7 +761,14 @@ fn locate_blowup(
             good.frame + 1,
             show_rel(rel)
         )),
-        (Err(err @ (RunError::Diverged { .. } | RunError::Solve { .. })), None) => {
+        (
+            Err(
+                err @ (RunError::Diverged { .. }
+                | RunError::Solve { .. }
+                | RunError::Minimise { .. }),
+            ),
+            None,
+        ) => {
             Some(err.to_string())
         }
         _ => None,
@@ -784,7 +829,7 @@ struct Summary<'a> {
     method: &'a str,
     report: &'a cloth::RunReport,
     opts: &'a RunOptions,
-    solver: Option<&'a integrator_core::implicit::Stats>,
+    solver: &'a minimise::SolverStats,
     wall: f64,
     e_ref: f64,
     note: Option<&'a str>,
@@ -914,7 +959,29 @@ impl Summary<'_> {
             }
         });
         let _ = writeln!(s, "  max strain   {:.3} % (frame {frame})", 100.0 * strain);
-        if let Some(st) = self.solver {
+        if let minimise::SolverStats::Minimise(st, settings) = self.solver {
+            let _ = writeln!(
+                s,
+                "  solver       {} minimisation, tolerance {:e}: {:.2} iterations per step (at most {} in one solve), {:.2} factorisations per step ({} symbolic), {} line-search halvings, final residual ≤ {:.2e}{}",
+                settings.solver.name(),
+                settings.tolerance,
+                st.iterations_per_step(),
+                st.max_iterations,
+                st.factorizations_per_step(),
+                st.symbolic_factorizations,
+                st.backtracks,
+                st.max_residual,
+                if st.floor_accepts > 0 {
+                    format!(
+                        "; {} solves stopped at their round-off floor above the tolerance",
+                        st.floor_accepts
+                    )
+                } else {
+                    String::new()
+                }
+            );
+        }
+        if let minimise::SolverStats::Stage(st) = self.solver {
             let steps = st.steps.max(1) as f64;
             let _ = writeln!(
                 s,

@@ -125,7 +125,8 @@ fn trial(
     let mut h0 = None;
     let mut worst: f64 = 0.0;
     let mut over = (0.0, 0.0);
-    let result = cloth_implicit::run_method(&mut sim, method, &opts, |frame| {
+    let settings = cloth::minimise::Settings::default();
+    let result = cloth::minimise::run_any(&mut sim, method, &opts, settings, |frame| {
         let e = frame.stats.energy.total();
         let e0 = *h0.get_or_insert(e);
         let rel = ((e - e0) / e_ref).abs();
@@ -149,7 +150,9 @@ fn trial(
             0.0,
         ),
         Err(RunError::Diverged { step, time, .. }) => (Outcome::Blowup { step, time }, 0.0),
-        Err(RunError::Solve { step, time, .. }) => (Outcome::Newton { step, time }, 0.0),
+        Err(RunError::Solve { step, time, .. } | RunError::Minimise { step, time, .. }) => {
+            (Outcome::Newton { step, time }, 0.0)
+        }
         Err(e) => (Outcome::Other(e.to_string()), 0.0),
     }
 }
@@ -171,7 +174,8 @@ struct Found {
 }
 
 fn search(scene: &Scene, method: &str, h_lin: f64, duration: f64, tol: f64, e_ref: f64) -> Found {
-    let implicit = cloth_implicit::is_implicit(method);
+    let implicit =
+        cloth_implicit::is_implicit(method) || cloth::minimise::is_minimisation(method);
     let floor = duration / MAX_STEPS[implicit as usize];
     let cap = duration / MIN_STEPS;
     let mut trials = 0;
