@@ -81,7 +81,8 @@ fn problem_id(s: &str) -> std::result::Result<Builtin, String> {
 #[command(after_help = HELP)]
 pub struct CompareArgs {
     /// The problem: oscillator, gyroscopic, kepler, kepler-hard,
-    /// henon-heiles, fpu or pendulum.
+    /// henon-heiles, fpu, pendulum or outer-solar (the Sun and five outer
+    /// planets, HLW I.2.3, over 10⁵ days).
     #[arg(long, value_parser = problem_id, value_name = "PROBLEM")]
     problem: Option<Builtin>,
     /// A linear system M q'' + G q' + K q = f from a TOML file (fields m,
@@ -344,13 +345,16 @@ fn quick_methods(problem: Builtin) -> Vec<String> {
         Builtin::Kepler | Builtin::KeplerHard if cfg!(feature = "peer") => {
             &["leapfrog", "forest-ruth", "rk4", "gauss2", "dop853"]
         }
+        Builtin::OuterSolar if cfg!(feature = "peer") => {
+            &["stormer-verlet", "kahan-li8", "logh:kahan-li8", "dop853"]
+        }
         _ => &["leapfrog", "forest-ruth", "rk4", "gauss2"],
     };
     ids.iter().map(|s| s.to_string()).collect()
 }
 
-/// Every method that applies; the peer only on Kepler (the problem it was
-/// studied on), unless asked for by `--methods`.
+/// Every method that applies; the peer only on Kepler and the outer solar
+/// system (the problems it is compared on), unless asked for by `--methods`.
 fn default_methods<P: Problem>(setup: &Setup<P>, kepler: bool) -> Vec<String> {
     setup
         .method_ids()
@@ -364,7 +368,10 @@ fn resolve<P: Problem>(
     setup: &Setup<P>,
     builtin: Option<Builtin>,
 ) -> Result<Vec<Method<P>>> {
-    let kepler = matches!(builtin, Some(Builtin::Kepler | Builtin::KeplerHard));
+    let kepler = matches!(
+        builtin,
+        Some(Builtin::Kepler | Builtin::KeplerHard | Builtin::OuterSolar)
+    );
     let ids = match method_ids(args)? {
         Some(ids) => ids,
         // With table files and no --methods: the tables beside a few
@@ -411,6 +418,7 @@ fn work_precision(args: &CompareArgs, problem: Builtin) -> Result<()> {
         ),
         Builtin::HenonHeiles => sweep_problem(args, &plan, builtin::henon_heiles(t, true)?, b),
         Builtin::Fpu => sweep_problem(args, &plan, builtin::fpu(t, true)?, b),
+        Builtin::OuterSolar => sweep_problem(args, &plan, builtin::outer_solar(t, true)?, b),
         Builtin::Gyroscopic => {
             sweep_problem(args, &plan, builtin::gyroscopic(10, 1, 10.0, t, true)?, b)
         }

@@ -1,9 +1,11 @@
-//! The library's test problems as [`Problem`]s, and the seven built-in
+//! The library's test problems as [`Problem`]s, and the eight built-in
 //! instances of `symlab compare --problem` ([`Builtin`]).
 
 use integrator_core::OdeSystem;
 use integrator_core::linear::{self, LinearHamiltonian};
-use integrator_core::problems::{ExactFlow, Fpu, HenonHeiles, Kepler, Oscillator, Pendulum};
+use integrator_core::problems::{
+    ExactFlow, Fpu, HenonHeiles, Kepler, Oscillator, OuterSolarSystem, Pendulum,
+};
 
 use crate::counting::{AsOde, AsSeparable};
 use crate::error::{CompareError, Result};
@@ -25,6 +27,17 @@ const SHORT: Defaults = Defaults {
     h_min: 1e-4,
     h_max: 0.1,
 };
+/// The outer solar system over HLW's 10⁵ days, 500 to 5·10⁴ steps.
+const OUTER_SOLAR: Defaults = Defaults {
+    t_end: 1e5,
+    h_min: 2.0,
+    h_max: 200.0,
+};
+/// The step of the outer solar system's reference (days): Sofroniou–
+/// Spaletta's order-10 composition at `h = 5` agrees with `h = 2.5` and
+/// with Kahan–Li 8 at `h = 2` to 1e-11 over 10⁵ days
+/// (`integrator-core/tests/outer_solar.rs`).
+pub const OUTER_SOLAR_REFERENCE_STEP: f64 = 5.0;
 const PERIODIC: Defaults = Defaults {
     t_end: 100.0,
     h_min: 1e-3,
@@ -123,6 +136,41 @@ impl Problem for Kepler {
     /// `σ = r`: the inverse distance as step density.
     fn step_density(&self) -> Option<integrator_core::adaptive::DistancePower> {
         Some(integrator_core::adaptive::DistancePower::new(1.0))
+    }
+}
+
+/// The Sun and the five outer planets (HLW I.2.3), masses relative to the
+/// Sun, AU and days; the reference is a converged numerical solution
+/// ([`OUTER_SOLAR_REFERENCE_STEP`]).
+impl Problem for OuterSolarSystem {
+    type Kind = AsSeparable;
+    fn name(&self) -> String {
+        "outer-solar".into()
+    }
+    fn description(&self) -> String {
+        "outer solar system (HLW I.2.3)".into()
+    }
+    fn energy(&self, z: &[f64]) -> f64 {
+        integrator_core::energy(self, z)
+    }
+    fn start(&self) -> Vec<f64> {
+        self.initial_state()
+    }
+    /// Sofroniou–Spaletta order 10 at 5-day steps.
+    fn reference(&self, z0: &[f64], t: f64) -> std::result::Result<Vec<f64>, String> {
+        Ok(integrator_core::problems::reference_solution(
+            self,
+            z0,
+            t,
+            1.0 / OUTER_SOLAR_REFERENCE_STEP,
+        ))
+    }
+    fn defaults(&self) -> Defaults {
+        OUTER_SOLAR
+    }
+    /// Jupiter's period, about 4332.6 days.
+    fn period(&self) -> Option<(f64, &'static str)> {
+        Some((4332.59, "Jupiter orbit"))
     }
 }
 
@@ -241,10 +289,13 @@ pub enum Builtin {
     Fpu,
     /// Pendulum H = p²/2 − cos q from rest at q = 2; exact flow.
     Pendulum,
+    /// The Sun and five outer planets (HLW I.2.3) over 10⁵ days; numerical
+    /// reference.
+    OuterSolar,
 }
 
 impl Builtin {
-    pub const ALL: [Builtin; 7] = [
+    pub const ALL: [Builtin; 8] = [
         Builtin::Oscillator,
         Builtin::Gyroscopic,
         Builtin::Kepler,
@@ -252,6 +303,7 @@ impl Builtin {
         Builtin::HenonHeiles,
         Builtin::Fpu,
         Builtin::Pendulum,
+        Builtin::OuterSolar,
     ];
 
     pub fn name(self) -> &'static str {
@@ -263,6 +315,7 @@ impl Builtin {
             Builtin::HenonHeiles => "henon-heiles",
             Builtin::Fpu => "fpu",
             Builtin::Pendulum => "pendulum",
+            Builtin::OuterSolar => "outer-solar",
         }
     }
 
@@ -288,6 +341,7 @@ impl Builtin {
             Builtin::Oscillator | Builtin::Pendulum => PERIODIC,
             Builtin::Kepler | Builtin::KeplerHard => KEPLER,
             Builtin::HenonHeiles | Builtin::Fpu | Builtin::Gyroscopic => SHORT,
+            Builtin::OuterSolar => OUTER_SOLAR,
         }
     }
 
@@ -301,6 +355,7 @@ impl Builtin {
             Builtin::HenonHeiles => "Hénon–Heiles (chaotic)",
             Builtin::Fpu => "stiff FPU (ω = 50)",
             Builtin::Pendulum => "pendulum (amplitude 2)",
+            Builtin::OuterSolar => "outer solar system (HLW I.2.3)",
         }
     }
 }
@@ -345,6 +400,11 @@ pub fn kepler(hard: bool, t_end: f64, with_reference: bool) -> Result<Setup<Kepl
         (Builtin::Kepler, 0.6)
     };
     make(id, Kepler { e }, t_end, with_reference)
+}
+
+/// The outer solar system ([`Builtin::OuterSolar`]).
+pub fn outer_solar(t_end: f64, with_reference: bool) -> Result<Setup<OuterSolarSystem>> {
+    make(Builtin::OuterSolar, OuterSolarSystem, t_end, with_reference)
 }
 
 pub fn henon_heiles(t_end: f64, with_reference: bool) -> Result<Setup<HenonHeiles>> {

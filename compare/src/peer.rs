@@ -53,7 +53,7 @@ mod imp {
 
     /// DOP853 on `setup` with `rtol = atol = tol`, default controller
     /// settings, at most `max_steps` steps (the solver's own limit). Stack vectors for the state sizes of
-    /// the built-in problems (2, 4, 12), heap vectors otherwise (the solver
+    /// the built-in problems (2, 4, 12, 36), heap vectors otherwise (the solver
     /// is generic over nalgebra's dimension types, which this crate does not
     /// name; hence a macro for the one body).
     pub fn dop853<P: Problem>(setup: &Setup<P>, tol: f64, max_steps: u32) -> PeerOutcome {
@@ -120,6 +120,7 @@ mod imp {
             2 => run!(SVector::<f64, 2>::from_column_slice(z0)),
             4 => run!(SVector::<f64, 4>::from_column_slice(z0)),
             12 => run!(SVector::<f64, 12>::from_column_slice(z0)),
+            36 => run!(SVector::<f64, 36>::from_column_slice(z0)),
             _ => run!(DVector::<f64>::from_column_slice(z0)),
         }
     }
