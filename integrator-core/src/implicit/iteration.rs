@@ -5,6 +5,7 @@
 // The kernels index stage blocks of several buffers with one index.
 #![allow(clippy::needless_range_loop)]
 
+use super::collocation::{SymplecticForm, symplectic_form};
 use super::settings::{Settings, Solver, Stats};
 use super::table::{ImplicitTable, Structure};
 use crate::error::SolveError;
@@ -371,15 +372,15 @@ pub(crate) struct Core {
     pub d: usize,
     pub s: usize,
     /// Stage increments `Zᵢ = Yᵢ − z`, stage after stage (`s·d`).
-    zs: Vec<f64>,
+    pub(super) zs: Vec<f64>,
     /// Starting values of the current step.
-    z0: Vec<f64>,
+    pub(super) z0: Vec<f64>,
     /// `F(Yᵢ)`.
-    f: Vec<f64>,
+    pub(super) f: Vec<f64>,
     /// `F(Yᵢ)` of the previous step, for the extrapolation.
     f_prev: Vec<f64>,
     /// Residuals and corrections.
-    res: Vec<f64>,
+    pub(super) res: Vec<f64>,
     /// A stage value `z + Zᵢ`.
     y: Vec<f64>,
     /// The explicit part of a DIRK stage.
@@ -387,7 +388,7 @@ pub(crate) struct Core {
     /// The state the previous step left, to know whether its history applies.
     z_end: Vec<f64>,
     /// Kahan compensation of the update.
-    comp: Vec<f64>,
+    pub(super) comp: Vec<f64>,
     h_prev: f64,
     history: bool,
     /// The table the caches were made for.
@@ -398,6 +399,12 @@ pub(crate) struct Core {
     /// `βᵢⱼ` for the `q` and the `p` components (`2·s·s`).
     beta: Vec<f64>,
     beta_r: f64,
+    /// The compensation `e` (state `z + e`) and the running minima of the
+    /// stage changes, of the symplectic-form iteration (`d` each).
+    pub(super) e: Vec<f64>,
+    pub(super) dmin: Vec<f64>,
+    /// The symplectic form of the table, if it has one.
+    pub(super) form: Option<SymplecticForm>,
     /// Counts the calls of `step`: a Jacobian stamped with the current one
     /// is fresh.
     pub attempt: u64,
@@ -429,6 +436,9 @@ impl Core {
             lagrange: vec![0.0; s * s],
             beta: vec![0.0; 2 * s * s],
             beta_r: f64::NAN,
+            e: vec![0.0; d],
+            dmin: vec![0.0; d],
+            form: None,
             attempt: 0,
             newton_sticky: false,
         }
@@ -470,6 +480,7 @@ impl Core {
         self.key.extend(entries());
         self.history = false;
         self.beta_r = f64::NAN;
+        self.form = symplectic_form(t);
         let s = S;
         self.distinct_c = (0..s).all(|i| (0..i).all(|j| (t.c[i] - t.c[j]).abs() > 1e-8));
         if !self.distinct_c {
@@ -976,22 +987,36 @@ where
         Solver::Auto => Solver::FixedPoint,
         other => other,
     };
-    let run = |core: &mut Core, lin: &mut L, solver: Solver| match (solver, dirk) {
+    // Symplectic tables with distinct nodes (Gauss) iterate in their
+    // symplectic form and update z themselves.
+    let symplectic = solver == Solver::FixedPoint
+        && !dirk
+        && core.settings.symplectic_form
+        && core.form.is_some();
+    let run = |core: &mut Core, lin: &mut L, z: &[f64], solver: Solver| match (solver, dirk) {
         (Solver::FixedPoint, true) => core.dirk(&tab, sys, t, h, z, lin, false, predicted),
         (Solver::FixedPoint, false) => core.fixed_point_stacked(&tab, sys, t, h, z),
         (_, true) => core.dirk(&tab, sys, t, h, z, lin, true, predicted),
         (_, false) => core.newton_stacked(&tab, sys, t, h, z, lin),
     };
-    let mut result = run(core, lin, solver);
+    let mut result = if symplectic {
+        core.step_symplectic(sys, t, h, z, predicted)
+    } else {
+        run(core, lin, z, solver)
+    };
+    let mut updated = symplectic && result.is_ok();
     if result.is_err() && core.settings.solver == Solver::Auto && solver == Solver::FixedPoint {
         core.newton_sticky = true;
-        result = run(core, lin, Solver::Newton);
+        result = run(core, lin, z, Solver::Newton);
+        updated = false;
     }
     if let Err(e) = result {
         core.stats.failures += 1;
         return Err(e);
     }
-    core.update(&tab, h, z);
+    if !updated {
+        core.update(&tab, h, z);
+    }
     std::mem::swap(&mut core.f, &mut core.f_prev);
     core.h_prev = h;
     core.z_end.copy_from_slice(z);

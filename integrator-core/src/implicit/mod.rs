@@ -66,13 +66,16 @@
 //! assert_eq!(ws.stats().factorizations, 1);
 //! ```
 
+pub mod collocation;
 mod dense;
 mod iteration;
 mod settings;
 mod sparse;
 mod table;
+mod twofold;
 mod workspace;
 
+pub use collocation::{FormSource, SymplecticForm, symplectic_form};
 pub use settings::{Settings, Solver, Stats};
 pub use sparse::SparseJacobian;
 pub use table::{ImplicitTable, Structure, structure_of};

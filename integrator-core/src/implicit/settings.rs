@@ -110,6 +110,16 @@ pub struct Settings {
     /// what the previous step left) from `Z = 0` (stage by stage: from the
     /// explicit part and the previous stage's derivative). Default `true`.
     pub extrapolate: bool,
+    /// Tables that are symplectic with distinct nodes (Gauss–Legendre) are
+    /// solved by fixed-point iteration in their symplectic form, as IRKGL16
+    /// does: coefficients `μᵢⱼ = aᵢⱼ/bⱼ` rounded with `μᵢⱼ + μⱼᵢ = 1`
+    /// exactly, iteration until the stage values stop changing, the state
+    /// carried in double-double (see
+    /// [`collocation`](super::collocation)). Applies wherever fixed-point
+    /// iteration is used ([`Solver::FixedPoint`], and [`Solver::Auto`] for
+    /// systems without a Jacobian); `false` solves them like other tables.
+    /// Default `true`.
+    pub symplectic_form: bool,
     /// Let faer use its rayon thread pool in factorisations and solves
     /// (worthwhile only for large systems). Default `false`.
     pub parallel: bool,
@@ -130,6 +140,7 @@ impl Default for Settings {
             update_rate: 0.5,
             finite_differences: true,
             extrapolate: true,
+            symplectic_form: true,
             parallel: false,
         }
     }
