@@ -52,8 +52,8 @@
 //! Both stop on the gradient: `‖∇Φ‖_∞ ≤ tol·S`, `S` the force scale at the
 //! iterate (the largest tension, weight, collider push or inertial term
 //! `(4/τ²)m|x − y|`, see [`ClothModel::force_and_scale`]). The default
-//! tolerance, [`DEFAULT_TOLERANCE`] `= 1e-10`, is a few hundred ulps of the
-//! forces: converged steps are the midpoint rule's to round-off, so the run
+//! tolerance, [`DEFAULT_TOLERANCE`] `= 1e-12`, is a few thousand ulps of the
+//! force scale: converged steps are the midpoint rule's to round-off, so the run
 //! is symplectic in practice. A solve that reaches its iteration cap is an
 //! error ([`MinimiseError::NotConverged`]), never accepted.
 
@@ -75,7 +75,7 @@ use crate::model::ClothModel;
 use crate::sim::{CallbackError, Frame, FrameStats, RunError, RunOptions, RunReport, Simulation};
 
 /// The default convergence tolerance on `‖∇Φ‖_∞` relative to the force scale.
-pub const DEFAULT_TOLERANCE: f64 = 1e-10;
+pub const DEFAULT_TOLERANCE: f64 = 1e-12;
 
 /// Default iteration caps per solve.
 pub const DEFAULT_NEWTON_ITERATIONS: usize = 100;

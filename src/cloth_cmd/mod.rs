@@ -70,7 +70,7 @@ pub struct ClothArgs {
     pub stability: bool,
     /// Of a run of the midpoint family (midpoint, paper-dirk2, paper-dirk4)
     /// or discrete-gradient: the minimisation solver's convergence
-    /// tolerance, ‖∇Φ‖_∞ relative to the force scale (default 1e-10). With
+    /// tolerance, ‖∇Φ‖_∞ relative to the force scale (default 1e-12). With
     /// --stability: the largest relative energy error |H − H₀|/E_ref a
     /// stable run may show (default 0.1).
     #[arg(long, value_name = "X", allow_hyphen_values = true)]
