@@ -231,8 +231,8 @@ where
 
 /// An explicit scheme (a `butcher!` type with [`StepFixed`]) as a
 /// [`Stepper`] that times small problems on fixed-size state: where the
-/// state has 2, 4, 6 or 12 entries (the built-in problems' sizes, and the
-/// sizes the DOP853 peer runs on stack vectors), [`Stepper::bare`] steps
+/// state has 2, 4, 6, 12 or 36 entries (the built-in problems' sizes, and
+/// the sizes the DOP853 peer runs on stack vectors), [`Stepper::bare`] steps
 /// a `[f64; N]` through `StepFixed::step_fixed`, so that both sides of a
 /// timing keep the state in registers; other sizes take the slice path.
 /// Both paths give the same bits (integrator-core's `tests/fixed.rs`), so
@@ -258,6 +258,7 @@ where
         + StepFixed<P, 4>
         + StepFixed<P, 6>
         + StepFixed<P, 12>
+        + StepFixed<P, 36>
         + Copy
         + Send
         + Sync,
@@ -278,7 +279,7 @@ where
 
     fn bare(&self, sys: &P, z: &mut [f64], h: f64, n: usize) -> bool {
         if z.len() == sys.dim() {
-            small_sizes!(&self.0, sys, z, h, n; 2, 4, 6, 12);
+            small_sizes!(&self.0, sys, z, h, n; 2, 4, 6, 12, 36);
         }
         Stepper::<P>::bare(&Lib(self.0), sys, z, h, n)
     }
