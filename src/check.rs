@@ -9,14 +9,19 @@ use serde_json::{Value, json};
 use tableau::analysis::{self, Analysis, Form};
 use tableau::file::TableFile;
 use tableau::order::OrderReport;
-use tableau::{catalogue, file};
+use tableau::catalogue;
 
 #[derive(clap::Args)]
 pub struct CheckArgs {
     /// A table file (TOML; see README for the format).
     #[arg(required_unless_present = "builtin", conflicts_with = "builtin")]
     file: Option<PathBuf>,
-    /// Analyse a built-in table instead (`symlab list` shows the ids).
+    /// Analyse a built-in table instead (`symlab list` shows the ids), or a
+    /// generated one: gauss, radau1a, radau2a, lobatto3a, lobatto3b,
+    /// lobatto3c with the stage count (`gauss8`, `radau2a5`, `gauss(8)`), or
+    /// the Lobatto IIIA–IIIB pair (`lobatto3a3b4`); the catalogue's
+    /// hand-written table wins where both exist (`gauss3`), `gauss(3)` always
+    /// generates.
     #[arg(long, value_name = "ID")]
     builtin: Option<String>,
     /// Print one JSON object instead of the readable report.
@@ -35,8 +40,35 @@ pub struct ListArgs {
 /// is an error (exit 2) from `main`.
 pub fn run(args: &CheckArgs) -> Result<ExitCode> {
     let (origin, tf) = match (&args.file, &args.builtin) {
-        (Some(path), _) => (path.display().to_string(), file::load(path)?),
-        (None, Some(id)) => (format!("builtin:{id}"), catalogue::load(id)?),
+        (Some(path), _) => match tableau::algebraic::file::load(path)? {
+            tableau::algebraic::file::Loaded::Classic(tf) => (path.display().to_string(), tf),
+            tableau::algebraic::file::Loaded::Generated(g) => {
+                return print_generated(&path.display().to_string(), &g, args.json);
+            }
+            tableau::algebraic::file::Loaded::Algebraic(a) => {
+                return print_algebraic(&path.display().to_string(), &a, args.json);
+            }
+        },
+        (None, Some(id)) => {
+            let generator_syntax = id.contains('(');
+            match catalogue::find(id) {
+                Some(entry) if !generator_syntax => (format!("builtin:{id}"), entry.load()?),
+                _ => match tableau::algebraic::generated::Generated::new(id) {
+                    Ok(g) => return print_generated(&format!("builtin:{id}"), &g, args.json),
+                    Err(gen_err) if generator_syntax => {
+                        anyhow::bail!("builtin:{id}: {gen_err}")
+                    }
+                    Err(gen_err) => match catalogue::load(id) {
+                        Err(e) if gen_err.contains("unknown generator") => {
+                            anyhow::bail!(
+                                "{e} (or a generated table: gauss8, radau2a5, lobatto3a3b4, …)"
+                            )
+                        }
+                        _ => anyhow::bail!("builtin:{id}: {gen_err}"),
+                    },
+                },
+            }
+        }
         (None, None) => unreachable!("clap requires one of them"),
     };
     let analysis = Analysis::of(&tf.table).map_err(|e| anyhow::anyhow!("{origin}: field {e}"))?;
@@ -49,6 +81,290 @@ pub fn run(args: &CheckArgs) -> Result<ExitCode> {
         print!("{}", readable(&origin, &tf, &analysis));
     }
     Ok(ExitCode::SUCCESS)
+}
+
+fn print_generated(
+    origin: &str,
+    g: &tableau::algebraic::generated::Generated,
+    json: bool,
+) -> Result<ExitCode> {
+    if json {
+        println!("{}", serde_json::to_string_pretty(&generated_json(g))?);
+    } else {
+        print!("{}", generated_readable(origin, g));
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+fn print_algebraic(
+    origin: &str,
+    f: &tableau::algebraic::file::AlgFile,
+    json: bool,
+) -> Result<ExitCode> {
+    let an = f.analyse();
+    let claims: Vec<(String, Result<(), String>)> = f
+        .claims
+        .iter()
+        .map(|c| (c.to_string(), f.check_claim(&an, c)))
+        .collect();
+    if json {
+        let w: Vec<Value> = an
+            .w
+            .iter()
+            .filter(|e| e.zero != Some(true))
+            .map(|e| json!({"i": e.i, "j": e.j, "zero": e.zero, "value_f64": e.value}))
+            .collect();
+        let v = json!({
+            "name": f.name,
+            "kind": "rk",
+            "stages": an.stages,
+            "entries": "algebraic",
+            "roots": f.field.names,
+            "row_sums_ok": an.row_sums_ok,
+            "symplectic": an.symplectic,
+            "w_nonzero": w,
+            "b_levels": an.b_levels,
+            "claims": claims.iter().map(|(c, v)| json!({"claim": c, "holds": v.is_ok(), "reason": v.as_ref().err()})).collect::<Vec<_>>(),
+        });
+        println!("{}", serde_json::to_string_pretty(&v)?);
+        return Ok(ExitCode::SUCCESS);
+    }
+    use std::fmt::Write;
+    let mut s = String::new();
+    let _ = writeln!(s, "{}  ({origin})", f.name);
+    if let Some(src) = &f.source {
+        let _ = writeln!(s, "  source       {src}");
+    }
+    let _ = writeln!(
+        s,
+        "  entries      real algebraic: polynomials in {} root(s) ({}), zero decided exactly",
+        f.field.names.len(),
+        f.field.names.join(", ")
+    );
+    let _ = writeln!(s, "  form         Runge–Kutta table, {} stages", an.stages);
+    let tri = |v: Option<bool>| match v {
+        Some(true) => "yes",
+        Some(false) => "no",
+        None => "undecided (beyond budget)",
+    };
+    let _ = writeln!(s, "  c            equals the row sums of A: {}", tri(an.row_sums_ok));
+    let _ = writeln!(s, "  symplectic   {}: W = BA + AᵀB − bbᵀ", tri(an.symplectic));
+    for e in an.w.iter().filter(|e| e.zero != Some(true)) {
+        match e.zero {
+            Some(false) => {
+                let _ = writeln!(
+                    s,
+                    "                 W[{}][{}] ≠ 0 (≈ {})",
+                    e.i,
+                    e.j,
+                    e.value.map_or("?".into(), |v| format!("{v:e}"))
+                );
+            }
+            _ => {
+                let _ = writeln!(s, "                 W[{}][{}] undecided (beyond budget)", e.i, e.j);
+            }
+        }
+    }
+    let holds = an.b_levels.iter().take_while(|v| **v == Some(true)).count();
+    let _ = writeln!(
+        s,
+        "  quadrature   B({holds}) holds exactly{}",
+        match an.b_levels.last() {
+            Some(Some(false)) => format!(", B({}) fails", holds + 1),
+            Some(None) => format!(", B({}) beyond budget", holds + 1),
+            _ => String::new(),
+        }
+    );
+    if !claims.is_empty() {
+        let _ = writeln!(s, "  claims");
+        for (c, v) in &claims {
+            match v {
+                Ok(()) => {
+                    let _ = writeln!(s, "    ✓ {c}");
+                }
+                Err(e) => {
+                    let _ = writeln!(s, "    ✗ {c}: {e}");
+                }
+            }
+        }
+    }
+    print!("{s}");
+    Ok(ExitCode::SUCCESS)
+}
+
+/// The JSON of design.md for a generated table, plus `generator`,
+/// `node_polynomial`, `order_proof`, `order_upper`, `a_stable`, `claims`,
+/// `max_w_rounded` and the timings.
+pub fn generated_json(g: &tableau::algebraic::generated::Generated) -> Value {
+    let claims: Vec<Value> = g
+        .claims
+        .iter()
+        .map(|(c, v)| {
+            json!({
+                "claim": c.to_string(),
+                "holds": v.is_ok(),
+                "reason": v.as_ref().err().map(|e| e.to_string()),
+            })
+        })
+        .collect();
+    json!({
+        "name": g.name,
+        "generator": g.generator.expression(),
+        "node_polynomial": g.node_polynomial.to_text("x"),
+        "kind": g.kind,
+        "stages": g.stages,
+        "class": if g.stages == 1 { "sdirk" } else { "implicit" },
+        "row_sums_ok": g.row_sums_ok,
+        "symplectic": g.symplectic,
+        "symplectic_separable": g.symplectic,
+        "order": g.proven_order(),
+        "order_upper": g.order.upper,
+        "order_proof": g.order.text,
+        "order_proof_p": g.order_p.as_ref().map(|o| o.text.clone()),
+        "tree_order": g.tree_order.as_ref().map(|t| t.order),
+        "tree_order_limit": g.tree_order.as_ref().map(|t| t.limit),
+        "symmetric": g.symmetric,
+        "stability_function": g.stability.as_ref().map(|r| r.to_text()),
+        "a_stable": g.a_stable,
+        "r_infinity": g.r_infinity.as_ref().map(|r| r.to_string()),
+        "claims": claims,
+        "max_w_rounded": g.max_w_rounded,
+        "max_w_nearest": g.max_w_nearest,
+        "verify_ms": g.verify_time.as_secs_f64() * 1e3,
+        "round_ms": g.round_time.as_secs_f64() * 1e3,
+    })
+}
+
+pub fn generated_readable(origin: &str, g: &tableau::algebraic::generated::Generated) -> String {
+    use std::fmt::Write;
+    let mut s = String::new();
+    let _ = writeln!(s, "{}  ({origin})", g.name);
+    let _ = writeln!(s, "  source       {}", g.source);
+    let _ = writeln!(
+        s,
+        "  generator    {}: nodes are the roots of P(x) = {}",
+        g.generator.expression(),
+        g.node_polynomial.to_text("x")
+    );
+    let _ = writeln!(
+        s,
+        "  exact        every entry is an element of Q[x]/(P) (per stage) or Q[x, y]/(P(x), (P(x) − P(y))/(x − y)) (per pair of stages): products of fields, so each identity below is decided exactly for all stages at once"
+    );
+    let form = if g.kind == "rk" {
+        "Runge–Kutta table"
+    } else {
+        "partitioned pair (Lobatto IIIA on q, IIIB on p)"
+    };
+    let class = if g.stages == 1 { "sdirk" } else { "implicit" };
+    let _ = writeln!(s, "  form         {form}, {} stages, {class}", g.stages);
+    let _ = writeln!(
+        s,
+        "  c            {}",
+        if g.row_sums_ok {
+            "equals the row sums of A (C(1))"
+        } else {
+            "differs from the row sums of A (C(1) fails)"
+        }
+    );
+    let rule = if g.kind == "rk" {
+        "W = BA + AᵀB − bbᵀ"
+    } else {
+        "Wᵢⱼ = bᵢâᵢⱼ + b̂ⱼaⱼᵢ − bᵢb̂ⱼ, and b = b̂"
+    };
+    let _ = writeln!(
+        s,
+        "  symplectic   {}: {rule} {}",
+        yes_no(g.symplectic),
+        if g.symplectic { "= 0 exactly" } else { "≠ 0 (exactly)" }
+    );
+    let lower = g.proven_order();
+    match g.order.upper {
+        Some(u) if g.kind == "rk" && u == lower => {
+            let _ = writeln!(s, "  order        {u} exactly");
+        }
+        _ => {
+            let _ = writeln!(s, "  order        ≥ {lower}");
+        }
+    }
+    let label = if g.kind == "rk" { "IIIA table" } else { "" };
+    let _ = writeln!(
+        s,
+        "  proof        {}{}",
+        if g.kind == "prk" { format!("{label}: ") } else { String::new() },
+        g.order.text
+    );
+    if let Some(p) = &g.order_p {
+        let _ = writeln!(s, "               IIIB table: {}", p.text);
+    }
+    match &g.tree_order {
+        Some(t) => {
+            let _ = writeln!(
+                s,
+                "  trees        {} on the radical form of the table ({} trees up to order {}): order {}",
+                if g.kind == "rk" { "checked" } else { "the pair's order checked" },
+                if g.kind == "rk" { "rooted" } else { "bicoloured" },
+                t.limit,
+                if t.order >= t.limit {
+                    format!("≥ {}", t.limit)
+                } else {
+                    t.order.to_string()
+                }
+            );
+        }
+        None => {
+            let _ = writeln!(
+                s,
+                "  trees        not enumerated (the nodes are not expressible with one square root; order {} needs no tree enumeration)",
+                g.order.lower
+            );
+        }
+    }
+    let _ = writeln!(s, "  symmetric    {}", yes_no(g.symmetric));
+    if let Some(r) = &g.stability {
+        let _ = writeln!(
+            s,
+            "  R(z)         {}   (|R(iy)| = 1 on the imaginary axis: {})",
+            r.to_text(),
+            yes_no(g.unimodular == Some(true))
+        );
+        let _ = writeln!(
+            s,
+            "  A-stable     {} (poles in Re z > 0 by an exact Routh–Hurwitz test, |R(iy)| ≤ 1 by an exact sign test of |Q(iy)|² − |P(iy)|²); R(∞) = {}",
+            yes_no(g.a_stable == Some(true)),
+            g.r_infinity.as_ref().map_or("-".into(), |r| r.to_string())
+        );
+    }
+    if let (Some(r), Some(n)) = (g.max_w_rounded, g.max_w_nearest) {
+        let _ = writeln!(
+            s,
+            "  f64          certified correct rounding{}; max |Wᵢⱼ| of the doubles (exact): {r:.3e} (plain nearest: {n:.3e})",
+            if g.symplectic {
+                ", then b summed to 1.0 and (aᵢⱼ, aⱼᵢ) chosen among faithful roundings to minimise W"
+            } else {
+                ""
+            }
+        );
+    }
+    let _ = writeln!(
+        s,
+        "  time         exact verification {:.0} ms, certified f64 coefficients {:.0} ms",
+        g.verify_time.as_secs_f64() * 1e3,
+        g.round_time.as_secs_f64() * 1e3
+    );
+    if !g.claims.is_empty() {
+        let _ = writeln!(s, "  claims");
+        for (c, v) in &g.claims {
+            match v {
+                Ok(()) => {
+                    let _ = writeln!(s, "    ✓ {c}");
+                }
+                Err(e) => {
+                    let _ = writeln!(s, "    ✗ {c}: {e}");
+                }
+            }
+        }
+    }
+    s
 }
 
 pub fn list(args: &ListArgs) -> Result<ExitCode> {

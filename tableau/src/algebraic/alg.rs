@@ -6,12 +6,23 @@
 //! the algebra `A = Q[x₁, …, xₖ]/(p₁(x₁), …, pₖ(xₖ))`, a product of fields
 //! (its points are all tuples of conjugates). The number it stands for is its
 //! value at the one point `(α₁, …, αₖ)`. Equality in `A` implies equality of
-//! the numbers but not conversely, so the zero test does not stop there: the
-//! value `γ = e(α)` is a root of the characteristic polynomial `χ(t)` of
-//! multiplication by `e` on the part of `A` that `e` involves; `γ = 0` exactly
-//! when `χ(0) = 0` and a certified enclosure of `γ` holds no other root of
-//! the squarefree part of `χ` (Sturm counts). This decides zero completely,
-//! for any number of roots, within the budget [`MAX_ZERO_TEST_DIMENSION`].
+//! the numbers but not conversely, so the zero test does not stop there:
+//!
+//! * in one root, `e(α) = 0` exactly when `gcd(e, p)` has a root in `α`'s
+//!   isolating interval (a Sturm count);
+//! * in several roots, scale each root to an algebraic integer
+//!   `x̃ₖ = Lₖαₖ` (root of the monic integer polynomial `Lₖ^d pₖ(x/Lₖ)`, every
+//!   complex root bounded by `Mₖ`, Cauchy's bound) and `e` to
+//!   `γ = Den·e(α) = Σ nₘ x̃ᵐ` with integers `nₘ`. Then `γ` is an algebraic
+//!   integer of degree at most `n = ∏ deg pₖ` whose conjugates are bounded by
+//!   `M = Σ |nₘ| ∏ Mₖ^{mₖ}`; if `γ ≠ 0` its norm is a nonzero integer, so
+//!   `|γ| ≥ M^{−(n−1)}`. A certified enclosure of `γ` inside
+//!   `(−M^{−(n−1)}, M^{−(n−1)})` therefore proves `γ = 0`, and one that
+//!   excludes 0 proves `γ ≠ 0`; refining the roots (Newton steps certified by
+//!   sign changes) makes one of the two happen.
+//!
+//! This decides zero completely, for any number of roots, within the budget
+//! [`MAX_ZERO_TEST_BITS`] on the precision the bound asks for.
 
 use std::collections::BTreeMap;
 
@@ -19,14 +30,14 @@ use num_bigint::BigInt;
 use num_rational::BigRational;
 use num_traits::{One, Signed, Zero};
 
-use super::poly::{Poly, count_roots, imul};
+use super::poly::{Poly, count_roots};
 use super::root::{RealRoot, f64_rational, next_up, sign};
 use crate::budget::BeyondBudget;
 use crate::number::rational_to_f64;
 
-/// The largest algebra (product of the degrees of the roots an expression
-/// involves) on which a zero test runs; above it the test is refused.
-pub const MAX_ZERO_TEST_DIMENSION: usize = 512;
+/// The most bits of precision (`(n − 1)·log₂ M`, see the module docs) a
+/// zero test may need; above it the test is refused rather than run long.
+pub const MAX_ZERO_TEST_BITS: u64 = 1 << 18;
 
 /// An exponent vector, trailing zeros trimmed.
 type Mono = Vec<u32>;
@@ -43,6 +54,8 @@ pub struct Field {
     pub roots: Vec<RealRoot>,
     /// Names for messages, one per root.
     pub names: Vec<String>,
+    /// Refined copies of the roots (narrower intervals), kept between tests.
+    refined: std::cell::RefCell<BTreeMap<usize, RealRoot>>,
 }
 
 fn trim(mut m: Mono) -> Mono {
@@ -297,6 +310,7 @@ impl Field {
             let new = RealRoot::new(&factor, root.lo.clone(), root.hi.clone())
                 .expect("the root stays in its interval");
             self.roots[k] = new;
+            self.refined.borrow_mut().remove(&k);
         }
         let inv = p
             .rem(&self.roots[k].poly)
@@ -305,23 +319,114 @@ impl Field {
         Ok(Alg::from_univariate(&inv, k))
     }
 
-    /// A certified enclosure of the value.
-    fn enclose(&self, a: &Alg, roots: &[RealRoot]) -> (BigRational, BigRational) {
-        let mut lo = BigRational::zero();
-        let mut hi = BigRational::zero();
+    /// Root `k` refined to width at most `2^-bits` (cached).
+    fn root_at(&self, k: usize, bits: u64) -> RealRoot {
+        let mut cache = self.refined.borrow_mut();
+        let r = cache.entry(k).or_insert_with(|| self.roots[k].clone());
+        let eps = BigRational::new(BigInt::one(), BigInt::one() << bits);
+        if r.width() > eps {
+            r.refine_to(bits);
+        }
+        r.clone()
+    }
+
+    /// A certified enclosure of the value, with the roots refined to
+    /// `2^-bits`. The root intervals are widened outward to dyadic endpoints
+    /// and the sum is taken in integers over one common denominator.
+    fn enclose(&self, a: &Alg, bits: u64) -> (BigRational, BigRational) {
+        use num_integer::Integer;
+        let sup = a.support();
+        let prec = bits + 16;
+        let scale = BigRational::from_integer(BigInt::one() << prec);
+        let ints: BTreeMap<usize, (BigInt, BigInt)> = sup
+            .iter()
+            .map(|&k| {
+                let r = self.root_at(k, bits);
+                let lo = (&r.lo * &scale).floor().to_integer();
+                let hi = (&r.hi * &scale).ceil().to_integer();
+                (k, (lo, hi))
+            })
+            .collect();
+        let mut den = BigInt::one();
+        let mut maxdeg = 0u64;
         for (m, c) in &a.terms {
-            let (mut tl, mut th) = (c.clone(), c.clone());
+            den = den.lcm(c.denom());
+            maxdeg = maxdeg.max(m.iter().map(|&e| e as u64).sum());
+        }
+        let mut lo = BigInt::zero();
+        let mut hi = BigInt::zero();
+        for (m, c) in &a.terms {
+            let n = c.numer() * (&den / c.denom());
+            let (mut tl, mut th) = (BigInt::one(), BigInt::one());
+            let mut deg = 0u64;
             for (k, &e) in m.iter().enumerate() {
                 for _ in 0..e {
-                    let (l, h) = imul(&tl, &th, &roots[k].lo, &roots[k].hi);
-                    tl = l;
-                    th = h;
+                    let (l, h) = &ints[&k];
+                    let ps = [&tl * l, &tl * h, &th * l, &th * h];
+                    tl = ps.iter().min().expect("four").clone();
+                    th = ps.iter().max().expect("four").clone();
+                    deg += 1;
                 }
             }
-            lo += tl;
-            hi += th;
+            let shift = (prec * (maxdeg - deg)) as usize;
+            let (a1, a2) = (&n * &tl, &n * &th);
+            let (l, h) = if a1 <= a2 { (a1, a2) } else { (a2, a1) };
+            lo += l << shift;
+            hi += h << shift;
         }
-        (lo, hi)
+        let d = den * (BigInt::one() << (prec * maxdeg) as usize);
+        (BigRational::new(lo, d.clone()), BigRational::new(hi, d))
+    }
+
+    /// `(Den, need)`: `γ = Den·e(α)` is an algebraic integer, zero exactly
+    /// when `|γ| < 2^-need` (see the [module docs](self)).
+    fn zero_bound(&self, a: &Alg) -> (BigRational, u64) {
+        use num_integer::Integer;
+        let sup = a.support();
+        let mut scale: BTreeMap<usize, (BigInt, BigInt)> = BTreeMap::new(); // L, M
+        let mut n: u64 = 1;
+        for &k in &sup {
+            let p = &self.roots[k].poly;
+            let d = p.degree().unwrap_or(1);
+            n = n.saturating_mul(d as u64);
+            let mut l = BigInt::one();
+            for c in &p.0 {
+                l = l.lcm(c.denom());
+            }
+            let mut m = BigInt::zero();
+            for (j, c) in p.0.iter().enumerate().take(d) {
+                let v = (c * BigRational::from_integer(num_traits::pow(l.clone(), d - j))).to_integer();
+                let v = if v.is_negative() { -v } else { v };
+                if v > m {
+                    m = v;
+                }
+            }
+            scale.insert(k, (l, m + BigInt::one()));
+        }
+        // c'ₘ = cₘ / ∏ Lₖ^{mₖ}; Den = lcm of their denominators.
+        let mut coeffs = Vec::new();
+        let mut den = BigInt::one();
+        for (m, c) in &a.terms {
+            let mut lp = BigInt::one();
+            let mut mp = BigInt::one();
+            for (k, &e) in m.iter().enumerate() {
+                if e > 0 {
+                    let (l, mk) = &scale[&k];
+                    lp *= num_traits::pow(l.clone(), e as usize);
+                    mp *= num_traits::pow(mk.clone(), e as usize);
+                }
+            }
+            let cp = c / BigRational::from_integer(lp);
+            den = den.lcm(cp.denom());
+            coeffs.push((cp, mp));
+        }
+        let den_q = BigRational::from_integer(den);
+        let mut bound = BigRational::zero();
+        for (cp, mp) in coeffs {
+            bound += (&cp * &den_q).abs() * BigRational::from_integer(mp);
+        }
+        let bits = bound.ceil().to_integer().bits().max(1);
+        (den_q, (n - 1).saturating_mul(bits) + 1)
     }
 
     /// Decide exactly whether the value of `a` is zero (see the
@@ -337,120 +442,96 @@ impl Field {
             let p = a.univariate(k).expect("one variable");
             return Ok(self.roots[k].sign_of(&p) == 0);
         }
-        let dims: Vec<usize> = sup
-            .iter()
-            .map(|&k| self.roots[k].poly.degree().unwrap_or(1))
-            .collect();
-        let n: usize = dims.iter().product();
-        if n > MAX_ZERO_TEST_DIMENSION {
+        for bits in [64, 128, 256] {
+            let (lo, hi) = self.enclose(&a, bits);
+            if lo.is_positive() || hi.is_negative() {
+                return Ok(false);
+            }
+        }
+        let (den, need) = self.zero_bound(&a);
+        if need > MAX_ZERO_TEST_BITS {
             return Err(BeyondBudget(format!(
-                "deciding whether an expression in {} roots ({}) is zero needs an algebra of dimension {n}, beyond the budget of {MAX_ZERO_TEST_DIMENSION} (tableau::algebraic::alg::MAX_ZERO_TEST_DIMENSION)",
+                "deciding whether an expression in {} roots ({}) is zero needs {need} bits of precision, beyond the budget of {MAX_ZERO_TEST_BITS} (tableau::algebraic::alg::MAX_ZERO_TEST_BITS)",
                 sup.len(),
                 sup.iter().map(|&k| self.names[k].as_str()).collect::<Vec<_>>().join(", ")
             )));
         }
-        // The basis: monomials with exponent < dims[i] in variable sup[i].
-        let width = sup.iter().max().map_or(0, |&k| k + 1);
-        let mut basis: Vec<Mono> = vec![vec![0; width]];
-        for (i, &k) in sup.iter().enumerate() {
-            let mut next = Vec::new();
-            for m in &basis {
-                for e in 0..dims[i] as u32 {
-                    let mut m2 = m.clone();
-                    m2[k] = e;
-                    next.push(m2);
-                }
-            }
-            basis = next;
-        }
-        let basis: Vec<Mono> = basis.into_iter().map(trim).collect();
-        let index: BTreeMap<&Mono, usize> = basis.iter().enumerate().map(|(i, m)| (m, i)).collect();
-        let mut mat = vec![vec![BigRational::zero(); n]; n];
-        for (col, m) in basis.iter().enumerate() {
-            let mut e = Alg::zero();
-            e.add_term(m.clone(), BigRational::one());
-            let prod = self.mul(&a, &e);
-            for (m2, c) in &prod.terms {
-                mat[index[m2]][col] = c.clone();
-            }
-        }
-        let chi = charpoly(mat);
-        if !chi.coeff(0).is_zero() {
-            return Ok(false);
-        }
-        let chi = chi.squarefree();
-        let seq = chi.sturm();
-        let mut roots: Vec<RealRoot> = self.roots.clone();
+        let eps = BigRational::new(BigInt::one(), BigInt::one() << need);
+        let mut bits = 512u64.max(need / 2);
         loop {
-            let (lo, hi) = self.enclose(&a, &roots);
+            let (lo, hi) = self.enclose(&a, bits);
             if lo.is_positive() || hi.is_negative() {
                 return Ok(false);
             }
-            let inside =
-                count_roots(&seq, &lo, &hi) + usize::from(chi.eval(&lo).is_zero());
-            if inside == 1 {
+            if (&lo * &den).abs() < eps && (&hi * &den).abs() < eps {
                 return Ok(true);
             }
-            for &k in &sup {
-                roots[k].bisect();
-            }
+            bits = bits.saturating_mul(2);
         }
     }
 
     /// The exact sign of the value.
     pub fn sign(&self, a: &Alg) -> Result<i8, BeyondBudget> {
         let a = self.reduce(a);
-        if self.is_zero(&a)? {
-            return Ok(0);
+        if let Some(r) = a.as_rational() {
+            return Ok(sign(&r));
         }
-        let sup = a.support();
-        let mut roots = self.roots.clone();
+        let mut bits = 64u64;
+        let mut tested = false;
         loop {
-            let (lo, hi) = self.enclose(&a, &roots);
+            let (lo, hi) = self.enclose(&a, bits);
             if lo.is_positive() {
                 return Ok(1);
             }
             if hi.is_negative() {
                 return Ok(-1);
             }
-            for &k in &sup {
-                roots[k].bisect();
+            if bits >= 256 && !tested {
+                if self.is_zero(&a)? {
+                    return Ok(0);
+                }
+                tested = true;
             }
+            bits *= 2;
         }
     }
 
     /// The `f64` nearest to the value (ties to even), decided on certified
-    /// enclosures; a value exactly halfway between two doubles is detected
-    /// by an exact zero test.
+    /// enclosures; a value that is zero, or exactly halfway between two
+    /// doubles, is detected by an exact zero test.
     pub fn to_f64(&self, a: &Alg) -> Result<f64, BeyondBudget> {
         let a = self.reduce(a);
         if let Some(r) = a.as_rational() {
             return Ok(rational_to_f64(&r));
         }
-        if self.is_zero(&a)? {
-            return Ok(0.0);
-        }
-        let sup = a.support();
-        let mut roots = self.roots.clone();
+        let mut bits = 96u64;
+        let mut zero_tested = false;
         let mut tested: Option<BigRational> = None;
         loop {
-            let (lo, hi) = self.enclose(&a, &roots);
+            let (lo, hi) = self.enclose(&a, bits);
             let (fl, fh) = (rational_to_f64(&lo), rational_to_f64(&hi));
             if fl == fh {
                 return Ok(fl);
             }
-            if fh == next_up(fl) && fl.is_finite() && fh.is_finite() {
-                let mid = (f64_rational(fl) + f64_rational(fh)) / BigRational::from_integer(2.into());
-                if lo <= mid && mid <= hi && tested.as_ref() != Some(&mid) {
-                    if self.is_zero(&a.sub(&Alg::rational(mid.clone())))? {
-                        return Ok(rational_to_f64(&mid));
+            if bits >= 256 {
+                if !zero_tested {
+                    if self.is_zero(&a)? {
+                        return Ok(0.0);
                     }
-                    tested = Some(mid);
+                    zero_tested = true;
+                }
+                if fh == next_up(fl) && fl.is_finite() && fh.is_finite() {
+                    let mid = (f64_rational(fl) + f64_rational(fh))
+                        / BigRational::from_integer(2.into());
+                    if lo <= mid && mid <= hi && tested.as_ref() != Some(&mid) {
+                        if self.is_zero(&a.sub(&Alg::rational(mid.clone())))? {
+                            return Ok(rational_to_f64(&mid));
+                        }
+                        tested = Some(mid);
+                    }
                 }
             }
-            for &k in &sup {
-                roots[k].bisect();
-            }
+            bits *= 2;
         }
     }
 
@@ -467,61 +548,6 @@ impl Field {
     }
 }
 
-/// The characteristic polynomial `det(t·I − M)` (Hessenberg reduction over
-/// Q, then the recurrence on the Hessenberg form).
-pub fn charpoly(mut h: Vec<Vec<BigRational>>) -> Poly {
-    let n = h.len();
-    for c in 0..n.saturating_sub(2) {
-        let Some(i) = (c + 1..n).find(|&i| !h[i][c].is_zero()) else {
-            continue;
-        };
-        if i != c + 1 {
-            h.swap(i, c + 1);
-            for row in h.iter_mut() {
-                row.swap(i, c + 1);
-            }
-        }
-        let t = h[c + 1][c].clone();
-        for j in c + 2..n {
-            if h[j][c].is_zero() {
-                continue;
-            }
-            let u = &h[j][c] / &t;
-            for k in 0..n {
-                if !h[c + 1][k].is_zero() {
-                    let d = &u * &h[c + 1][k];
-                    h[j][k] -= d;
-                }
-            }
-            for k in 0..n {
-                if !h[k][j].is_zero() {
-                    let d = &u * &h[k][j];
-                    h[k][c + 1] += d;
-                }
-            }
-        }
-    }
-    let mut p: Vec<Poly> = vec![Poly::one()];
-    for m in 1..=n {
-        let mut pm = Poly(vec![-h[m - 1][m - 1].clone(), BigRational::one()])
-            .trim()
-            .mul(&p[m - 1]);
-        let mut t = BigRational::one();
-        for i in (1..m).rev() {
-            t *= &h[i][i - 1];
-            if t.is_zero() {
-                break;
-            }
-            let f = &t * &h[i - 1][m - 1];
-            if !f.is_zero() {
-                pm = pm.sub(&p[i - 1].scale(&f));
-            }
-        }
-        p.push(pm);
-    }
-    p.pop().expect("n + 1 polynomials")
-}
-
 /// `sign(x)` for a rational, re-exported for callers.
 pub fn rational_sign(x: &BigRational) -> i8 {
     sign(x)
@@ -533,13 +559,6 @@ mod tests {
 
     fn q(n: i64, d: i64) -> BigRational {
         BigRational::new(n.into(), d.into())
-    }
-
-    #[test]
-    fn charpoly_of_a_small_matrix() {
-        // [[2, 1], [1, 2]]: t² − 4t + 3
-        let m = vec![vec![q(2, 1), q(1, 1)], vec![q(1, 1), q(2, 1)]];
-        assert_eq!(charpoly(m), Poly::from_ints(&[3, -4, 1]));
     }
 
     #[test]

@@ -688,13 +688,11 @@ impl PairMethod {
 // Entries as numbers: certified f64, and the radical form where there is one.
 
 impl Method {
-    /// A field with the nodes as variables `0 … s−1` (refined to 2^-200 so
-    /// that enclosures decide at once).
+    /// A field with the nodes as variables `0 … s−1`.
     fn node_field(&self) -> Field {
         let mut f = Field::default();
         for (i, r) in self.nodes.iter().enumerate() {
-            let mut r = r.clone();
-            r.refine_to(200);
+            let r = r.clone();
             // Push without deduplication: nodes are distinct roots.
             f.roots.push(r);
             f.names.push(format!("c{i}"));

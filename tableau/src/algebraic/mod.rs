@@ -25,6 +25,8 @@
 
 pub mod alg;
 pub mod family;
+pub mod file;
+pub mod generated;
 pub mod pair;
 pub mod poly;
 pub mod root;

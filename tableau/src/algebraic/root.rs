@@ -137,11 +137,44 @@ impl RealRoot {
         }
     }
 
-    /// Refine until the width is at most `2^-bits`.
+    /// Refine until the width is at most `2^-bits`: bisection to a narrow
+    /// interval, then Newton steps on dyadic rationals, each accepted only
+    /// when an exact sign change certifies the root in the new, smaller
+    /// interval (a failed step falls back to bisection).
     pub fn refine_to(&mut self, bits: u64) {
         let eps = BigRational::new(BigInt::one(), BigInt::one() << bits);
+        let dp = self.poly.derivative();
         while self.width() > eps {
-            self.bisect();
+            if self.is_rational() {
+                return;
+            }
+            let w = self.width();
+            let cur = (w.denom().bits() as i64 - w.numer().bits() as i64 - 1).max(0) as u64;
+            if cur < 40 {
+                self.bisect();
+                continue;
+            }
+            let prec = bits.min(2 * cur - 8).max(cur + 1);
+            let x = (&self.lo + &self.hi) / two();
+            let d = dp.eval(&x);
+            if d.is_zero() {
+                self.bisect();
+                continue;
+            }
+            let xn = &x - self.poly.eval(&x) / d;
+            let scale = BigInt::one() << (prec + 2);
+            let xn = BigRational::new((xn * BigRational::from_integer(scale.clone())).floor().to_integer(), scale);
+            let delta = BigRational::new(BigInt::one(), BigInt::one() << (prec + 1));
+            let (a, b) = (&xn - &delta, &xn + &delta);
+            let ok = a >= self.lo
+                && b <= self.hi
+                && sign(&self.poly.eval(&a)) * sign(&self.poly.eval(&b)) < 0;
+            if ok {
+                self.lo = a;
+                self.hi = b;
+            } else {
+                self.bisect();
+            }
         }
     }
 
