@@ -8,8 +8,9 @@
 //!   [--h-min H --h-max H --points N] [--repeats R] [--target E] [--out DIR]
 //!   [--quick]`, or `--problem-file FILE` for a linear system from a file:
 //!   a work–precision sweep ([`compare::work_precision`]).
-//! * `--peer-study`: our strongest schemes against DOP853 over 10, 100 and
-//!   1000 Kepler orbits ([`compare::peer_study`]).
+//! * `--peer-study [--problem kepler|kepler-hard]`: our strongest schemes
+//!   (fixed-step, `logh:ID`, `adaptive:ID`) against DOP853 over 100 and 1000
+//!   Kepler orbits at e = 0.6 and 0.9 ([`compare::peer_study`]).
 //! * `--long --problem kepler|oscillator|henon-heiles [--steps N]`: energy
 //!   error over 10⁶ steps of symplectic against non-symplectic pairs
 //!   ([`compare::long`]).
@@ -53,10 +54,13 @@ time of each method to reach --target (default 1e-8), fastest first, with steps 
 evaluations; the methods that did not reach it and why (smallest error and where); and,
 when dop853 ran, our fastest method against it at each decade 1e-2 ... 1e-12.
 
---peer-study (Kepler e = 0.6) runs kahan-li8, sofroniou-spaletta10, mclachlan8, kahan-li6,
-yoshida6, rk4, gauss3 and dop853 at 10, 100 and 1000 orbits (--quick: 1 and 10) and writes
-peer.csv (the runs.csv columns, then t_end) and peer.md (per run length and target 1e-6,
-1e-8, 1e-10: our fastest method against dop853, times, ratio, energy errors).
+--peer-study (Kepler e = 0.6 and e = 0.9; --problem kepler or kepler-hard for one) runs
+logh:sofroniou-spaletta10, logh:kahan-li8, logh:mclachlan8, adaptive:sofroniou-spaletta10,
+adaptive:kahan-li8, sofroniou-spaletta10, kahan-li8 and dop853 at 100 and 1000 orbits
+(--quick: 1 and 10 orbits, kahan-li8, logh:kahan-li8, adaptive:kahan-li8, dop853) and writes
+peer.csv (the runs.csv columns, then t_end; problem kepler or kepler-hard) and peer.md (per
+eccentricity, run length and target 1e-6, 1e-8, 1e-10: our fastest method against dop853,
+times, ratio, energy errors).
 
 --long writes long.csv (problem,method,order,symplectic,compensated,h,step,t,energy_error),
 long_fit.csv and long_energy.svg; --hard writes hard.csv and hard.md.
@@ -144,9 +148,10 @@ pub struct CompareArgs {
     /// time-to-error table (with --target).
     #[arg(long, value_name = "CSV", conflicts_with_all = ["hard", "long", "problem"])]
     from: Option<PathBuf>,
-    /// Run-length study against the peer on Kepler (e = 0.6): strong
-    /// schemes and DOP853 at 10, 100 and 1000 orbits; writes peer.csv and
-    /// peer.md (default directory out/compare/peer/).
+    /// Run-length study against the peer on Kepler (e = 0.6 and 0.9, or
+    /// the one --problem names): strong fixed-step, time-transformed and
+    /// reversible adaptive schemes and DOP853 at 100 and 1000 orbits;
+    /// writes peer.csv and peer.md (default directory out/compare/peer/).
     #[arg(long, conflicts_with_all = ["hard", "long", "from"])]
     peer_study: bool,
 }
@@ -467,16 +472,16 @@ fn sweep_problem<P: Problem>(
 
 fn peer_study(args: &CompareArgs) -> Result<()> {
     if let Some(p) = args.problem
-        && p != Builtin::Kepler
+        && !matches!(p, Builtin::Kepler | Builtin::KeplerHard)
     {
         bail!(
-            "--peer-study runs on kepler (e = 0.6) only, not on {}",
+            "--peer-study runs on kepler (e = 0.6) and kepler-hard (e = 0.9) only, not on {}",
             p.name()
         );
     }
     if let Some(name) = sweep_flag(args).or(args.steps.map(|_| "steps")) {
         bail!(
-            "--{name} does not apply to --peer-study: it runs 10, 100 and 1000 orbits with step ranges of its own"
+            "--{name} does not apply to --peer-study: it runs 100 and 1000 orbits with step ranges of its own"
         );
     }
     let mut settings = if args.quick {
@@ -484,6 +489,11 @@ fn peer_study(args: &CompareArgs) -> Result<()> {
     } else {
         compare::peer_study::PeerStudySettings::full()
     };
+    match args.problem {
+        Some(Builtin::Kepler) => settings.eccentricities = vec![0.6],
+        Some(Builtin::KeplerHard) => settings.eccentricities = vec![0.9],
+        _ => {}
+    }
     if let Some(r) = args.repeats {
         if r > 100 {
             bail!("--repeats must be at most 100, got {r}");

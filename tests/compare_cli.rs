@@ -442,33 +442,51 @@ fn quick_peer_study_writes_rows_for_each_run_length() {
     assert_eq!(header[..15], COLUMNS);
     assert_eq!(header[15], "t_end");
     let two_pi = 2.0 * std::f64::consts::PI;
-    for orbits in [1.0, 10.0] {
-        let mine: Vec<_> = rows
-            .iter()
-            .filter(|r| {
-                let t: f64 = r["t_end"].parse().unwrap();
-                (t - orbits * two_pi).abs() < 1e-9
-            })
-            .collect();
-        assert!(mine.iter().any(|r| r["method"] == "dop853"), "{orbits}");
-        assert!(mine.iter().any(|r| r["method"] == "kahan-li8"), "{orbits}");
+    for problem in ["kepler", "kepler-hard"] {
+        for orbits in [1.0, 10.0] {
+            let mine: Vec<_> = rows
+                .iter()
+                .filter(|r| {
+                    let t: f64 = r["t_end"].parse().unwrap();
+                    r["problem"] == problem && (t - orbits * two_pi).abs() < 1e-9
+                })
+                .collect();
+            for m in [
+                "dop853",
+                "kahan-li8",
+                "logh:kahan-li8",
+                "adaptive:kahan-li8",
+            ] {
+                assert!(
+                    mine.iter().any(|r| r["method"] == m),
+                    "{problem} {orbits} {m}"
+                );
+            }
+        }
     }
     let md = std::fs::read_to_string(dir.join("peer.md")).unwrap();
     assert!(md.contains("## Verdict"), "{md}");
     let verdict = table_after(&md, "## Verdict");
-    // One row per run length and target 1e-6, 1e-8, 1e-10.
-    assert_eq!(verdict.len(), 6, "{md}");
-    for (row, (orbits, target)) in verdict.iter().zip([
-        ("1", "1e-6"),
-        ("1", "1e-8"),
-        ("1", "1e-10"),
-        ("10", "1e-6"),
-        ("10", "1e-8"),
-        ("10", "1e-10"),
-    ]) {
-        assert_eq!((row[0].as_str(), row[1].as_str()), (orbits, target));
+    // One row per eccentricity, run length and target 1e-6, 1e-8, 1e-10.
+    assert_eq!(verdict.len(), 12, "{md}");
+    let mut want = vec![];
+    for e in ["0.6", "0.9"] {
+        for orbits in ["1", "10"] {
+            for target in ["1e-6", "1e-8", "1e-10"] {
+                want.push((e, orbits, target));
+            }
+        }
     }
-    for heading in ["## 1 orbit (T = 6.28)", "## 10 orbits (T = 62.83)"] {
+    for (row, (e, orbits, target)) in verdict.iter().zip(want) {
+        assert_eq!(
+            (row[0].as_str(), row[1].as_str(), row[2].as_str()),
+            (e, orbits, target)
+        );
+    }
+    for heading in [
+        "## e = 0.6, 1 orbit (T = 6.28)",
+        "## e = 0.9, 10 orbits (T = 62.83)",
+    ] {
         assert!(md.contains(heading), "no {heading:?} in\n{md}");
     }
     std::fs::remove_dir_all(&dir).unwrap();
@@ -482,7 +500,7 @@ fn the_peer_study_refuses_other_modes_and_settings() {
         (&["--peer-study", "--from", "x.csv"], "cannot be used with"),
         (
             &["--peer-study", "--problem", "fpu"],
-            "--peer-study runs on kepler (e = 0.6) only",
+            "--peer-study runs on kepler (e = 0.6) and kepler-hard (e = 0.9) only",
         ),
         (
             &["--peer-study", "--t-end", "10"],

@@ -1,8 +1,11 @@
-//! `symlab compare --peer-study`: our strongest schemes against DOP853 on
-//! Kepler (e = 0.6) as the run grows from 10 to 1000 orbits. The same
-//! sweeps as the work–precision comparison ([`sweep::sweep`]), one per run
-//! length, with step ranges chosen per length so that the good methods
-//! bracket errors around 1e-6 … 1e-12.
+//! `symlab compare --peer-study`: our strongest schemes — fixed-step,
+//! time-transformed (`logh:ID`) and reversible adaptive (`adaptive:ID`) —
+//! against DOP853 on Kepler with e = 0.6 and e = 0.9 over 100 and 1000
+//! orbits. The same sweeps as the work–precision comparison
+//! ([`sweep::sweep`]), one per eccentricity and run length, with step
+//! ranges chosen per length so that the good methods bracket errors around
+//! 1e-6 … 1e-12. (For `logh:ID` and `adaptive:ID` a step count `n` sets the
+//! first step `T/n`; they take the steps they need, reported in `steps`.)
 
 use std::f64::consts::PI;
 use std::fmt::Write as _;
@@ -20,17 +23,25 @@ use crate::sweep::{self, Row};
 
 /// The methods of the study (`--methods` replaces them).
 pub const METHODS: &[&str] = &[
-    "kahan-li8",
+    "logh:sofroniou-spaletta10",
+    "logh:kahan-li8",
+    "logh:mclachlan8",
+    "adaptive:sofroniou-spaletta10",
+    "adaptive:kahan-li8",
     "sofroniou-spaletta10",
-    "mclachlan8",
-    "kahan-li6",
-    "yoshida6",
-    "rk4",
-    "gauss3",
+    "kahan-li8",
     "dop853",
 ];
 /// The methods of `--quick`.
-pub const QUICK_METHODS: &[&str] = &["kahan-li8", "rk4", "dop853"];
+pub const QUICK_METHODS: &[&str] = &[
+    "kahan-li8",
+    "logh:kahan-li8",
+    "adaptive:kahan-li8",
+    "dop853",
+];
+
+/// The eccentricities of the study: `kepler` and `kepler-hard`.
+pub const ECCENTRICITIES: [f64; 2] = [0.6, 0.9];
 
 /// The relative errors of the verdict (`--target` adds one).
 pub const TARGETS: [f64; 3] = [1e-6, 1e-8, 1e-10];
@@ -47,13 +58,7 @@ pub struct Leg {
 
 /// From 20 steps per orbit (errors of order one for the eighth-order
 /// schemes) up, at most 10⁶ steps per run, about four points per decade.
-pub const LEGS: [Leg; 3] = [
-    Leg {
-        orbits: 10.0,
-        min_steps: 200,
-        max_steps: 100_000,
-        points: 12,
-    },
+pub const LEGS: [Leg; 2] = [
     Leg {
         orbits: 100.0,
         min_steps: 2_000,
@@ -86,6 +91,8 @@ pub const QUICK_LEGS: [Leg; 2] = [
 /// The settings of a peer study.
 #[derive(Clone, Debug)]
 pub struct PeerStudySettings {
+    /// The eccentricities (each one a Kepler problem, every leg on each).
+    pub eccentricities: Vec<f64>,
     pub legs: Vec<Leg>,
     /// Method ids; `dop853` must be among them.
     pub methods: Vec<String>,
@@ -100,12 +107,13 @@ pub struct PeerStudySettings {
 }
 
 impl PeerStudySettings {
-    /// 10, 100 and 1000 orbits, [`METHODS`], DOP853 at 1e-4 … 1e-18 (one
-    /// per decade; over 1000 orbits it reaches 1e-8 only near 1e-16, its
-    /// round-off floor near 1e-17), five timed runs per point (the close
-    /// calls need it), targets [`TARGETS`].
+    /// e = 0.6 and 0.9, 100 and 1000 orbits, [`METHODS`], DOP853 at
+    /// 1e-4 … 1e-18 (one per decade; over 1000 orbits it reaches 1e-8 only
+    /// near 1e-16, its round-off floor near 1e-17), five timed runs per
+    /// point (the close calls need it), targets [`TARGETS`].
     pub fn full() -> Self {
         PeerStudySettings {
+            eccentricities: ECCENTRICITIES.to_vec(),
             legs: LEGS.to_vec(),
             methods: METHODS.iter().map(|s| s.to_string()).collect(),
             tolerances: sweep::tolerances(sweep::PEER_TOLERANCES),
@@ -115,8 +123,8 @@ impl PeerStudySettings {
         }
     }
 
-    /// A smoke run: 1 and 10 orbits, 4 step counts and tolerances,
-    /// kahan-li8, rk4 and dop853, one timed run.
+    /// A smoke run: both eccentricities, 1 and 10 orbits, 4 step counts
+    /// and tolerances, [`QUICK_METHODS`], one timed run.
     pub fn quick() -> Self {
         PeerStudySettings {
             legs: QUICK_LEGS.to_vec(),
@@ -149,7 +157,21 @@ impl PeerStudySettings {
                 "--peer-study compares against dop853: keep it in --methods",
             ));
         }
-        if self.legs.is_empty() || self.tolerances.is_empty() || self.targets.is_empty() {
+        if let Some(e) = self
+            .eccentricities
+            .iter()
+            .find(|e| !(e.is_finite() && (0.0..1.0).contains(*e)))
+        {
+            return Err(CompareError::setting(
+                "eccentricities",
+                format!("a bound Kepler orbit needs 0 ≤ e < 1, got {e}"),
+            ));
+        }
+        if self.eccentricities.is_empty()
+            || self.legs.is_empty()
+            || self.tolerances.is_empty()
+            || self.targets.is_empty()
+        {
             return Err(CompareError::setting(
                 "legs",
                 "a peer study needs at least one run length, tolerance and target",
@@ -182,8 +204,9 @@ impl PeerStudySettings {
     }
 }
 
-/// The results of one run length.
+/// The results of one eccentricity and run length.
 pub struct LegRows {
+    pub e: f64,
     pub leg: Leg,
     pub t_end: f64,
     pub rows: Vec<Row>,
@@ -199,34 +222,45 @@ pub struct PeerStudy {
 /// Progress lines go to standard output.
 pub fn run(settings: PeerStudySettings) -> Result<PeerStudy> {
     settings.validate()?;
-    let sys = Kepler { e: 0.6 };
-    let methods: Vec<Method<Kepler>> = settings
-        .methods
-        .iter()
-        .map(|id| Method::by_id(id, &sys))
-        .collect::<Result<_>>()?;
     let repeats = settings.repeats;
     let mut results = Vec::new();
-    for &leg in &settings.legs {
-        let t_end = 2.0 * PI * leg.orbits;
-        let setup = builtin::kepler(false, t_end, true)?;
-        let steps = sweep::step_counts(
-            t_end,
-            t_end / leg.max_steps as f64,
-            t_end / leg.min_steps as f64,
-            leg.points,
-        );
-        println!(
-            "Kepler e = 0.6, {} orbits (T = {t_end:.2}): {} methods, {} step counts ({}–{}), dop853 at {} tolerances, {repeats} timed run(s) each",
-            leg.orbits,
-            methods.len(),
-            steps.len(),
-            steps[0],
-            steps.last().expect("at least one"),
-            settings.tolerances.len()
-        );
-        let rows = sweep::sweep(&setup, &methods, &steps, &settings.tolerances, repeats);
-        results.push(LegRows { leg, t_end, rows });
+    for &e in &settings.eccentricities {
+        let sys = Kepler { e };
+        let methods: Vec<Method<Kepler>> = settings
+            .methods
+            .iter()
+            .map(|id| Method::by_id(id, &sys))
+            .collect::<Result<_>>()?;
+        for &leg in &settings.legs {
+            let t_end = 2.0 * PI * leg.orbits;
+            let setup = if e == 0.6 || e == 0.9 {
+                builtin::kepler(e == 0.9, t_end, true)?
+            } else {
+                crate::problem::Setup::new(sys.clone(), t_end)?
+            };
+            let steps = sweep::step_counts(
+                t_end,
+                t_end / leg.max_steps as f64,
+                t_end / leg.min_steps as f64,
+                leg.points,
+            );
+            println!(
+                "Kepler e = {e}, {} orbits (T = {t_end:.2}): {} methods, {} step counts ({}–{}), dop853 at {} tolerances, {repeats} timed run(s) each",
+                leg.orbits,
+                methods.len(),
+                steps.len(),
+                steps[0],
+                steps.last().expect("at least one"),
+                settings.tolerances.len()
+            );
+            let rows = sweep::sweep(&setup, &methods, &steps, &settings.tolerances, repeats);
+            results.push(LegRows {
+                e,
+                leg,
+                t_end,
+                rows,
+            });
+        }
     }
     Ok(PeerStudy {
         settings,
@@ -275,12 +309,12 @@ fn orbits(leg: &Leg) -> String {
     format!("{}", leg.orbits)
 }
 
-/// `1 orbit`, `10 orbits`.
-fn orbits_words(leg: &Leg) -> String {
-    if leg.orbits == 1.0 {
-        "1 orbit".into()
+/// `e = 0.6, 1 orbit`, `e = 0.9, 10 orbits`.
+fn orbits_words(l: &LegRows) -> String {
+    if l.leg.orbits == 1.0 {
+        format!("e = {}, 1 orbit", l.e)
     } else {
-        format!("{} orbits", leg.orbits)
+        format!("e = {}, {} orbits", l.e, l.leg.orbits)
     }
 }
 
@@ -294,16 +328,17 @@ fn verdict_table(results: &[LegRows], targets: &[f64]) -> String {
     let mut s = String::new();
     let _ = writeln!(
         s,
-        "| orbits | target | fastest of ours | ours (ms) | ours max energy error | dop853 (ms) | dop853 max energy error | dop853 / ours | faster |"
+        "| e | orbits | target | fastest of ours | ours (ms) | ours max energy error | dop853 (ms) | dop853 max energy error | dop853 / ours | faster |"
     );
-    let _ = writeln!(s, "|---:|---:|---|---:|---:|---:|---:|---:|---|");
+    let _ = writeln!(s, "|---:|---:|---:|---|---:|---:|---:|---:|---:|---|");
     for l in results {
         for &t in targets {
             match duel(&l.rows, t) {
                 Some(d) => {
                     let _ = writeln!(
                         s,
-                        "| {} | {t:.0e} | {} | {} | {} | {} | {} | {} | {} |",
+                        "| {} | {} | {t:.0e} | {} | {} | {} | {} | {} | {} | {} |",
+                        l.e,
                         orbits(&l.leg),
                         d.ours.as_ref().map_or("—", |o| o.method.as_str()),
                         time_cell(d.ours.as_ref()),
@@ -317,7 +352,8 @@ fn verdict_table(results: &[LegRows], targets: &[f64]) -> String {
                 None => {
                     let _ = writeln!(
                         s,
-                        "| {} | {t:.0e} | — | not reached | — | not reached | — | — | neither |",
+                        "| {} | {} | {t:.0e} | — | not reached | — | not reached | — | — | neither |",
+                        l.e,
                         orbits(&l.leg)
                     );
                 }
@@ -337,19 +373,31 @@ fn markdown(
     repeats: usize,
 ) -> String {
     let mut s = String::new();
-    let lengths: Vec<String> = results.iter().map(|l| orbits(&l.leg)).collect();
+    let mut lengths: Vec<String> = results.iter().map(|l| orbits(&l.leg)).collect();
+    lengths.dedup();
+    let mut es: Vec<String> = results.iter().map(|l| l.e.to_string()).collect();
+    es.dedup();
+    let and = |v: &[String]| match v.split_last() {
+        Some((last, rest)) if !rest.is_empty() => format!("{} and {last}", rest.join(", ")),
+        _ => v.join(""),
+    };
     let _ = writeln!(
         s,
-        "# Kepler e = 0.6: our strongest schemes against DOP853 over {} orbits\n",
-        match lengths.split_last() {
-            Some((last, rest)) if !rest.is_empty() => format!("{} and {last}", rest.join(", ")),
-            _ => lengths.join(""),
-        }
+        "# Kepler e = {}: our strongest schemes against DOP853 over {} orbits\n",
+        and(&es),
+        and(&lengths)
     );
     let _ = writeln!(
         s,
-        "- Problem: Kepler, e = 0.6, from pericentre, orbit period 2π; error ‖z(T) − z_ref(T)‖₂/‖z_ref(T)‖₂ \
-         against the exact flow; energy error max |E − E₀|/|E₀| along the run."
+        "- Problem: Kepler, e = {}, from pericentre, orbit period 2π; error ‖z(T) − z_ref(T)‖₂/‖z_ref(T)‖₂ \
+         against the exact flow; energy error max |E − E₀|/|E₀| along the run.",
+        and(&es)
+    );
+    let _ = writeln!(
+        s,
+        "- logh:ID steps the logarithmic Hamiltonian (a fixed step in a fictitious time), adaptive:ID the \
+         symmetric scheme ID under the reversible integrating controller with step density 1/r; both start \
+         with a step of T/n for a step count n and take the steps they need (the `steps` column), landing on T."
     );
     let _ = writeln!(s, "- Methods: {}.", ids.join(", "));
     for l in results {
@@ -362,7 +410,7 @@ fn markdown(
         let _ = writeln!(
             s,
             "- {} (T = {:.2}): fixed-step methods at {} step counts from {} to {} (log-spaced).",
-            orbits_words(&l.leg),
+            orbits_words(l),
             l.t_end,
             steps.len(),
             steps[0],
@@ -404,7 +452,7 @@ fn markdown(
     let _ = writeln!(s);
     for l in results {
         let duels: Vec<Duel> = targets.iter().filter_map(|&t| duel(&l.rows, t)).collect();
-        let _ = writeln!(s, "**{}.**\n", orbits_words(&l.leg));
+        let _ = writeln!(s, "**{}.**\n", orbits_words(l));
         let v = report::verdict(&duels, &l.rows);
         if v.is_empty() {
             let _ = writeln!(s, "- Neither side reaches any of the targets.");
@@ -418,7 +466,7 @@ fn markdown(
         let _ = writeln!(
             s,
             "## {} (T = {:.2}): time to each target\n",
-            orbits_words(&l.leg),
+            orbits_words(l),
             l.t_end
         );
         let _ = write!(s, "| method | symplectic |");
