@@ -15,6 +15,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         settings.tolerance = t.parse()?;
     }
     let mut sim = Simulation::new(&scene)?;
+    let st = sim.model.stability();
+    println!(
+        "2/omega_max = {:.4e} s ({:.0} steps per 60 Hz frame)",
+        st.h_max,
+        (1.0 / (60.0 * st.h_max)).ceil()
+    );
     let opts = RunOptions {
         frames,
         substeps,
@@ -23,7 +29,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let e0 = sim.stats().energy.total();
     let scale = sim.model.particle_mass() * sim.model.free_count() as f64 * 9.81;
     let every = (frames / 20).max(1);
-    let run = minimise::run(&mut sim, method, &opts, settings, |f| {
+    let mut worst: f64 = 0.0;
+    let result = minimise::run_any(&mut sim, method, &opts, settings, |f| {
+        worst = worst.max(((f.stats.energy.total() - e0) / scale).abs());
         if f.stats.frame % every == 0 {
             println!(
                 "frame {:5} t {:7.3} E {:+.6e} dE/scale {:+.3e} strain {:.4} |P| {:.3e}",
@@ -36,13 +44,18 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             );
         }
         Ok(())
-    })?;
-    let s = run.solver;
+    });
+    let (report, stats) = result?;
+    let s = match stats {
+        minimise::SolverStats::Minimise(s, _) => s,
+        _ => minimise::Stats::default(),
+    };
+    println!("max |dE|/(M g 1 m) = {worst:.3e}");
     println!(
         "{} {}: {:.3} ms/frame, {:.2} it/step, max it {}, fact/step {:.2}, backtracks {}, roundoff steps {}, max residual {:.2e}, factor {:.3} s of {:.3} s",
-        run.report.method,
+        report.method,
         solver.name(),
-        1e3 * run.report.stepping_seconds / frames as f64,
+        1e3 * report.stepping_seconds / frames as f64,
         s.iterations_per_step(),
         s.max_iterations,
         s.factorizations_per_step(),
@@ -50,7 +63,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         s.roundoff_steps,
         s.max_residual,
         s.factor_seconds,
-        run.report.stepping_seconds
+        report.stepping_seconds
     );
     Ok(())
 }

@@ -120,15 +120,21 @@ fn equals_the_stage_solver_to_roundoff() {
             let mut a = Simulation::new(&sc).unwrap();
             let mut b = Simulation::new(&sc).unwrap();
             let tight = Settings {
-                tolerance: 1e-13,
+                tolerance: 1e-14,
                 ..Settings::default()
             };
             let run = minimise::run(&mut a, id, &o, tight, |_| Ok(())).unwrap();
             implicit::run_implicit(&mut b, id, &o, |_| Ok(())).unwrap();
             let d = state_difference(&a.state, &b.state);
-            // Measured: 1e-10 (positions) to 3e-9 (momenta) at tolerance
-            // 1e-13; 1.6e-6 at 1e-10: the difference shrinks with the
-            // tolerance and is then at the stage solver's own accuracy.
+            // Measured at tolerance 1e-14: 1.3e-9 (midpoint) and 4e-10
+            // (paper-dirk2) with the collider, 7e-11 and 8e-11 without.
+            // Not round-off: the gradient test is relative to the size of
+            // its terms, c·|x| with c = 4m/τ², so x̄ is converged to
+            // tol·|x| and the momenta p' = m(4/τ)(x̄ − q) − p carry
+            // tol·4|x|/τ per step; the minimisation's own states at
+            // tolerances 1e-12, 1e-13, 1e-14 differ by 5e-6, 3e-8, 2e-9 in
+            // the momenta here (h = 1/1200 s).
+            println!("{id}: states differ by {d:e} after 120 steps");
             assert!(d < 1e-8, "{id}: states differ by {d:e} after 120 steps");
             assert_eq!(run.solver.steps, 120);
             assert_eq!(run.solver.symbolic_factorizations, 1);
@@ -157,9 +163,10 @@ fn local_global_agrees_with_newton() {
     // Measured 1.1e-9: both stop at ‖∇Φ‖ ≤ 1e-12 of the force scale, and the
     // momenta (small beside the positions) show that as ~1e-9 relative.
     assert!(d < 1e-8, "newton and local-global differ by {d:e}");
-    // One factorisation per step size for local/global, one per iteration for Newton.
+    // One factorisation per step size for local/global; Newton at most one
+    // per iteration (it keeps a factor while it contracts).
     assert_eq!(l.solver.factorizations, 1);
-    assert_eq!(n.solver.factorizations, n.solver.iterations);
+    assert!(n.solver.factorizations <= n.solver.iterations);
 }
 
 /// With gravity off, a released stretched sheet keeps its total momentum
