@@ -649,3 +649,70 @@ fn a_run_whose_energy_overflows_stops_naming_the_step_in_words() {
     assert_clean(&stderr);
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// The midpoint family through the minimisation solvers at one step per
+/// frame (a small grid, a few frames: CI), with the solver line in the
+/// summary; bad `--solver`, `--tolerance` and `--dt` exit 2 naming the flag.
+#[test]
+fn the_midpoint_family_runs_as_minimisation_and_bad_solver_flags_name_the_flag() {
+    let dir = temp_dir("minimise");
+    let out = dir.to_str().unwrap();
+    for (method, solver) in [
+        ("midpoint", "newton"),
+        ("paper-dirk2", "newton"),
+        ("midpoint", "local-global"),
+    ] {
+        let (code, stdout, stderr) = symlab(&[
+            "cloth",
+            "scenes/paper.toml",
+            "--grid",
+            "8x8",
+            "--method",
+            method,
+            "--solver",
+            solver,
+            "--dt",
+            "0.0166667",
+            "--frames",
+            "3",
+            "--out",
+            out,
+            "--render",
+            "none",
+            "--obj-every",
+            "0",
+        ]);
+        assert_eq!(code, 0, "{method} {solver}: {stderr}");
+        assert!(
+            stdout.contains(&format!(
+                "solver       {solver} minimisation, tolerance 1e-12"
+            )) && stdout.contains("iterations per step")
+                && stdout.contains("(1 symbolic)"),
+            "{stdout}"
+        );
+        assert!(stdout.contains("(1 per frame at"), "{stdout}");
+    }
+    for (args, flag) in [
+        (
+            vec!["--method", "midpoint", "--solver", "bogus"],
+            "--solver",
+        ),
+        (
+            vec!["--method", "midpoint", "--tolerance", "0"],
+            "--tolerance",
+        ),
+        (
+            vec!["--method", "midpoint", "--tolerance", "-1e-3"],
+            "--tolerance",
+        ),
+        (vec!["--method", "midpoint", "--dt", "abc"], "--dt"),
+    ] {
+        let mut full = vec!["cloth", "scenes/paper.toml", "--frames", "1", "--out", out];
+        full.extend(args.iter().copied());
+        let (code, _, stderr) = symlab(&full);
+        assert_eq!(code, 2, "{args:?}: {stderr}");
+        assert!(stderr.contains(flag), "{args:?}: {stderr}");
+        assert_clean(&stderr);
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}

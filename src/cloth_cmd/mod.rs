@@ -656,9 +656,7 @@ fn simulate(
             return Ok(ExitCode::SUCCESS);
         }
         Err(
-            err @ (RunError::Diverged { .. }
-            | RunError::Solve { .. }
-            | RunError::Minimise { .. }),
+            err @ (RunError::Diverged { .. } | RunError::Solve { .. } | RunError::Minimise { .. }),
         ) => err.to_string(),
         Err(RunError::Callback { .. }) if col.blown.is_some() => {
             let (bad, rel) = col.blown.expect("checked");
@@ -768,9 +766,7 @@ fn locate_blowup(
                 | RunError::Minimise { .. }),
             ),
             None,
-        ) => {
-            Some(err.to_string())
-        }
+        ) => Some(err.to_string()),
         _ => None,
     }
 }

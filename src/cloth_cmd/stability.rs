@@ -174,8 +174,7 @@ struct Found {
 }
 
 fn search(scene: &Scene, method: &str, h_lin: f64, duration: f64, tol: f64, e_ref: f64) -> Found {
-    let implicit =
-        cloth_implicit::is_implicit(method) || cloth::minimise::is_minimisation(method);
+    let implicit = cloth_implicit::is_implicit(method) || cloth::minimise::is_minimisation(method);
     let floor = duration / MAX_STEPS[implicit as usize];
     let cap = duration / MIN_STEPS;
     let mut trials = 0;
