@@ -14,6 +14,7 @@
 //! ulps of `T`. The row reports the steps actually taken (each trial step
 //! of the landing counts its evaluations, not as a step).
 
+use integrator_core::fixed::StepFixed;
 use integrator_core::time_transform::LogHamiltonian;
 use integrator_core::{Separable, Step};
 
@@ -29,13 +30,86 @@ pub struct LogH<M>(pub M);
 /// failure, not a hang.
 pub const MAX_STEPS: u64 = 100_000_000;
 
+/// How the run steps the extended state: on a `Vec` with the scheme's heap
+/// workspace ([`Slices`]), or on a `[f64; N]` with the scheme's carry
+/// ([`Fixed`], `integrator_core::fixed`), so that a small problem's state
+/// stays in registers as DOP853's stack vectors do. Both give the same bits.
+trait Engine<S: Separable> {
+    type State: AsRef<[f64]> + AsMut<[f64]> + Clone;
+    type Scratch: Clone;
+    fn state(&self, w: Vec<f64>) -> Option<Self::State>;
+    /// One step of `ds`; `false` if it failed.
+    fn step(
+        &self,
+        sys: &LogHamiltonian<S>,
+        ds: f64,
+        w: &mut Self::State,
+        scratch: &mut Self::Scratch,
+        reuse: bool,
+    ) -> bool;
+}
+
+/// The slice path: any [`Step`] scheme.
+struct Slices<'a, M>(&'a M);
+
+impl<S, M> Engine<S> for Slices<'_, M>
+where
+    S: Separable,
+    M: Step<LogHamiltonian<S>>,
+    M::Workspace: Clone,
+{
+    type State = Vec<f64>;
+    type Scratch = M::Workspace;
+    fn state(&self, w: Vec<f64>) -> Option<Vec<f64>> {
+        Some(w)
+    }
+    #[inline(always)]
+    fn step(
+        &self,
+        sys: &LogHamiltonian<S>,
+        ds: f64,
+        w: &mut Vec<f64>,
+        ws: &mut M::Workspace,
+        reuse: bool,
+    ) -> bool {
+        self.0.step_reusing(sys, 0.0, ds, w, ws, reuse).is_ok()
+    }
+}
+
+/// The fixed-size path for an extended state of `N` entries.
+struct Fixed<'a, M, const N: usize>(&'a M);
+
+impl<S, M, const N: usize> Engine<S> for Fixed<'_, M, N>
+where
+    S: Separable,
+    M: StepFixed<LogHamiltonian<S>, N>,
+{
+    type State = [f64; N];
+    type Scratch = M::Carry;
+    fn state(&self, w: Vec<f64>) -> Option<[f64; N]> {
+        w.try_into().ok()
+    }
+    #[inline(always)]
+    fn step(
+        &self,
+        sys: &LogHamiltonian<S>,
+        ds: f64,
+        w: &mut [f64; N],
+        carry: &mut M::Carry,
+        reuse: bool,
+    ) -> bool {
+        self.0.step_fixed(sys, 0.0, ds, w, carry, reuse);
+        true
+    }
+}
+
 /// `n` steps of the run as `(status, steps taken)`; `z` (`[q; p]` of the
 /// problem) is updated in place, `observe(step, t, z)` sees the restricted
 /// state after each step (and the start).
-fn run<S, M>(
-    m: &M,
+fn run<S, E>(
+    engine: &E,
     sys: &LogHamiltonian<S>,
-    ws: &mut M::Workspace,
+    ws: &mut E::Scratch,
     z: &mut [f64],
     t_end: f64,
     h: f64,
@@ -43,11 +117,10 @@ fn run<S, M>(
 ) -> (Status, u64)
 where
     S: Separable,
-    M: Step<LogHamiltonian<S>>,
-    M::Workspace: Clone,
+    E: Engine<S>,
 {
     let n = sys.inner.dof();
-    let mut w = match sys.extend(z, 0.0) {
+    let extended = match sys.extend(z, 0.0) {
         Ok(w) => w,
         Err(e) => {
             return (
@@ -59,6 +132,15 @@ where
             );
         }
     };
+    let Some(mut w) = engine.state(extended) else {
+        return (
+            Status::SolverFailed {
+                step: 0,
+                reason: "the extended state does not have the fixed size".into(),
+            },
+            0,
+        );
+    };
     let ds = h * (-sys.inner.potential(&z[..n]));
     if !observe(0, 0.0, z) {
         return (Status::Stopped { step: 0 }, 0);
@@ -69,24 +151,27 @@ where
     };
     let mut saved = w.clone();
     let mut k: u64 = 0;
-    while w[n] < t_end {
+    while w.as_ref()[n] < t_end {
         if k >= MAX_STEPS {
             return (
                 Status::SolverFailed {
                     step: k as usize,
-                    reason: format!("t = {} after {MAX_STEPS} steps of s; T not reached", w[n]),
+                    reason: format!(
+                        "t = {} after {MAX_STEPS} steps of s; T not reached",
+                        w.as_ref()[n]
+                    ),
                 },
                 k,
             );
         }
-        let t = w[n];
+        let t = w.as_ref()[n];
         // dt/ds = 1/(T(p) + p₀) now: near T, guard against passing it.
-        let rate = 1.0 / (sys.inner.kinetic(&w[n + 1..2 * n + 1]) + w[2 * n + 1]);
+        let rate = 1.0 / (sys.inner.kinetic(&w.as_ref()[n + 1..2 * n + 1]) + w.as_ref()[2 * n + 1]);
         if !(rate.is_finite() && rate > 0.0) {
             return (Status::Diverged { step: k as usize }, k);
         }
         if t + 2.0 * ds * rate < t_end {
-            if m.step_reusing(sys, 0.0, ds, &mut w, ws, k > 0).is_err() {
+            if !engine.step(sys, ds, &mut w, ws, k > 0) {
                 return (
                     Status::Diverged {
                         step: k as usize + 1,
@@ -95,14 +180,17 @@ where
                 );
             }
         } else {
-            saved.copy_from_slice(&w);
+            saved.clone_from(&w);
             let ws0 = ws.clone();
-            let trial = |sigma: f64, w: &mut Vec<f64>, ws: &mut M::Workspace| -> f64 {
-                w.copy_from_slice(&saved);
+            // Each trial from the same state and scratch, without reuse
+            // (as a plain `step`).
+            let trial = |sigma: f64, w: &mut E::State, ws: &mut E::Scratch| -> f64 {
+                w.clone_from(&saved);
                 *ws = ws0.clone();
-                match m.step(sys, 0.0, sigma, w, ws) {
-                    Ok(()) => w[n],
-                    Err(_) => f64::NAN,
+                if engine.step(sys, sigma, w, ws, false) {
+                    w.as_ref()[n]
+                } else {
+                    f64::NAN
                 }
             };
             let t_full = trial(ds, &mut w, ws);
@@ -157,22 +245,29 @@ where
             }
         }
         k += 1;
-        if w.iter().any(|x| !x.is_finite()) || w[n] <= t {
+        let wr = w.as_ref();
+        if wr.iter().any(|x| !x.is_finite()) || wr[n] <= t {
             return (Status::Diverged { step: k as usize }, k);
         }
-        restrict(&w, z);
-        if !observe(k as usize, w[n], z) {
+        restrict(wr, z);
+        if !observe(k as usize, wr[n], z) {
             return (Status::Stopped { step: k as usize }, k);
         }
     }
-    restrict(&w, z);
+    restrict(w.as_ref(), z);
     (Status::Ok, k)
 }
 
 impl<P, M> Stepper<P> for LogH<M>
 where
     P: Problem<Kind = AsSeparable> + Separable,
-    M: Step<LogHamiltonian<P>> + Step<LogHamiltonian<Counting<P>>> + Send + Sync,
+    M: Step<LogHamiltonian<P>>
+        + Step<LogHamiltonian<Counting<P>>>
+        + StepFixed<LogHamiltonian<P>, 4>
+        + StepFixed<LogHamiltonian<P>, 6>
+        + StepFixed<LogHamiltonian<P>, 38>
+        + Send
+        + Sync,
     <M as Step<LogHamiltonian<P>>>::Workspace: Clone,
     <M as Step<LogHamiltonian<Counting<P>>>>::Workspace: Workspace + Clone,
 {
@@ -188,7 +283,15 @@ where
         let counted = LogHamiltonian::new(<P::Kind as Kind<P>>::counted(sys));
         let mut ws = Step::<LogHamiltonian<Counting<P>>>::workspace(&self.0, &counted);
         ws.set_compensated(compensated);
-        let (status, steps) = run(&self.0, &counted, &mut ws, z, h * n as f64, h, observe);
+        let (status, steps) = run(
+            &Slices(&self.0),
+            &counted,
+            &mut ws,
+            z,
+            h * n as f64,
+            h,
+            observe,
+        );
         Outcome {
             status,
             evals: counted.inner.counts().force,
@@ -199,10 +302,48 @@ where
         }
     }
 
+    /// Timed on the fixed-size path where the extended state has 4, 6 or
+    /// 38 entries (the oscillator and pendulum, Kepler and Hénon–Heiles,
+    /// the outer solar system), on slices otherwise.
     fn bare(&self, sys: &P, z: &mut [f64], h: f64, n: usize) -> bool {
         let logh = LogHamiltonian::new(sys.clone());
-        let mut ws = Step::<LogHamiltonian<P>>::workspace(&self.0, &logh);
-        let (status, _) = run(&self.0, &logh, &mut ws, z, h * n as f64, h, |_, _, _| true);
+        let t_end = h * n as f64;
+        let (status, _) = match 2 * Separable::dof(&logh) {
+            4 => run_fixed::<P, M, 4>(&self.0, &logh, z, t_end, h),
+            6 => run_fixed::<P, M, 6>(&self.0, &logh, z, t_end, h),
+            38 => run_fixed::<P, M, 38>(&self.0, &logh, z, t_end, h),
+            _ => {
+                let mut ws = Step::<LogHamiltonian<P>>::workspace(&self.0, &logh);
+                run(&Slices(&self.0), &logh, &mut ws, z, t_end, h, |_, _, _| {
+                    true
+                })
+            }
+        };
         status.is_ok() && z.iter().all(|x| x.is_finite())
     }
+}
+
+/// An unobserved run on the fixed-size path (compensated, as the slice
+/// path's default workspace).
+fn run_fixed<S, M, const N: usize>(
+    m: &M,
+    sys: &LogHamiltonian<S>,
+    z: &mut [f64],
+    t_end: f64,
+    h: f64,
+) -> (Status, u64)
+where
+    S: Separable,
+    M: StepFixed<LogHamiltonian<S>, N>,
+{
+    let mut carry = m.carry(true);
+    run(
+        &Fixed::<M, N>(m),
+        sys,
+        &mut carry,
+        z,
+        t_end,
+        h,
+        |_, _, _| true,
+    )
 }

@@ -103,3 +103,27 @@ fn bad_logh_ids_are_clear_errors() {
         other => panic!("{other:?}"),
     }
 }
+
+#[test]
+fn the_timed_run_on_fixed_size_state_gives_the_observed_bits() {
+    // Kepler's extended state has 6 entries: `bare` steps a [f64; 6]
+    // (integrator_core::fixed), `observed` the slice path on the counting
+    // wrapper. Same arithmetic, same bits, landing included.
+    let setup = builtin::kepler(true, 4.0 * std::f64::consts::PI, true).unwrap();
+    for id in ["logh:leapfrog", "logh:kahan-li8", "logh:stormer-verlet"] {
+        let Method::Fixed(f) = Method::by_id(id, &setup.sys).unwrap() else {
+            panic!("{id} is a fixed-step method")
+        };
+        let n = 500;
+        let h = setup.t_end / n as f64;
+        let mut a = setup.z0.clone();
+        let out = f
+            .stepper
+            .observed(&setup.sys, &mut a, h, n, true, &mut |_, _, _| true);
+        assert!(out.status.is_ok(), "{id}: {:?}", out.status);
+        let mut b = setup.z0.clone();
+        assert!(f.stepper.bare(&setup.sys, &mut b, h, n), "{id}");
+        assert_eq!(a, b, "{id}");
+        assert_ne!(a, setup.z0, "{id}: the state moved");
+    }
+}
