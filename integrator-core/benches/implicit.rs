@@ -1,7 +1,10 @@
 //! Per-step cost of the implicit stage solvers.
 //!
 //! * `implicit/oscillator`, `implicit/kepler`: Gauss–Legendre 2 and 3 with
-//!   simplified Newton and with fixed-point iteration, both to round-off.
+//!   simplified Newton and with fixed-point iteration, both to round-off;
+//!   fixed point in the symplectic form (`fixed_point`, the default for
+//!   Gauss tables: `μ` coefficients, double-double state) and as for any
+//!   table (`fixed_point_a_form`: `Settings::symplectic_form` off).
 //! * `implicit/sdirk`: the paper's SDIRK (A = [[1/4, 0], [1/2, 1/4]]) on a
 //!   stiff spring chain of `d = 2n` unknowns, stage by stage (two solves of
 //!   size `d`, one factorisation) against the stacked solve (size `2d`);
@@ -204,7 +207,7 @@ fn per_step<Sys: OdeSystem + ?Sized, const S: usize>(
     report(ws.stats());
 }
 
-fn solvers() -> [(&'static str, Settings); 2] {
+fn solvers() -> [(&'static str, Settings); 3] {
     [
         (
             "newton",
@@ -217,6 +220,14 @@ fn solvers() -> [(&'static str, Settings); 2] {
             "fixed_point",
             Settings {
                 solver: Solver::FixedPoint,
+                ..Settings::default()
+            },
+        ),
+        (
+            "fixed_point_a_form",
+            Settings {
+                solver: Solver::FixedPoint,
+                symplectic_form: false,
                 ..Settings::default()
             },
         ),
