@@ -63,7 +63,10 @@ eccentricity, run length and target 1e-6, 1e-8, 1e-10: our fastest method agains
 times, ratio, energy errors).
 
 --long writes long.csv (problem,method,order,symplectic,compensated,h,step,t,energy_error),
-long_fit.csv and long_energy.svg; --hard writes hard.csv and hard.md.
+long_fit.csv and long_energy.svg; on kepler-hard it runs logh:kahan-li8, adaptive:kahan-li8
+and dop853 over 10⁴ orbits (--quick: 100) at equal work (about 4000 force evaluations per
+orbit each; dop853 at the tolerance nearest to that, in calls of 100 orbits), h being the
+mean step; --hard writes hard.csv and hard.md.
 
 --table FILE.toml (repeatable) adds a table file: its claims are verified exactly (a false
 claim or a malformed file: exit 2), then it is stepped by the run-time interpreter; its
@@ -134,7 +137,9 @@ pub struct CompareArgs {
     #[arg(long)]
     quick: bool,
     /// Long runs: energy error of symplectic vs non-symplectic pairs over
-    /// 10⁶ steps (kepler, oscillator, henon-heiles).
+    /// 10⁶ steps (kepler, oscillator, henon-heiles); on kepler-hard,
+    /// logh:kahan-li8, adaptive:kahan-li8 and dop853 over 10⁴ orbits at
+    /// equal work.
     #[arg(long, conflicts_with = "hard")]
     long: bool,
     /// Steps of the long runs (default 10⁶, at most 10⁷).
@@ -523,10 +528,46 @@ fn peer_study(args: &CompareArgs) -> Result<()> {
     Ok(())
 }
 
+/// `--long --problem kepler-hard`: logh:kahan-li8, adaptive:kahan-li8 and
+/// DOP853 over 10⁴ orbits (--quick: 100) at equal evaluations per orbit.
+fn long_variable(args: &CompareArgs) -> Result<()> {
+    if args.methods.is_some() {
+        bail!(
+            "--long on kepler-hard compares logh:kahan-li8, adaptive:kahan-li8 and dop853; --methods does not apply"
+        );
+    }
+    if let Some(name) = sweep_flag(args).or(args.steps.map(|_| "steps")) {
+        bail!("--{name} does not apply to --long on kepler-hard (10⁴ orbits, --quick 100)");
+    }
+    if !cfg!(feature = "peer") {
+        bail!("--long on kepler-hard runs dop853, which needs the `peer` feature");
+    }
+    let settings = if args.quick {
+        compare::long_variable::VariableSettings::quick()
+    } else {
+        compare::long_variable::VariableSettings::full()
+    };
+    let runs = compare::long_variable::run(settings)?;
+    let dir = out_dir(args, "kepler-hard")?;
+    compare::long::write(&dir, &runs)?;
+    println!(
+        "Kepler e = {}: {} orbits at about {} force evaluations per orbit each",
+        settings.e, settings.orbits, settings.evals_per_orbit
+    );
+    print!("{}", compare::long::summary(&runs));
+    for f in ["long.csv", "long_fit.csv", "long_energy.svg"] {
+        println!("wrote {}", dir.join(f).display());
+    }
+    Ok(())
+}
+
 fn long_runs(args: &CompareArgs) -> Result<()> {
     let Some(problem) = args.problem else {
-        bail!("--long needs --problem kepler, oscillator or henon-heiles");
+        bail!("--long needs --problem kepler, kepler-hard, oscillator or henon-heiles");
     };
+    if problem == Builtin::KeplerHard {
+        return long_variable(args);
+    }
     if args.methods.is_some() {
         bail!(
             "--long compares fixed pairs (leapfrog/heun, forest-ruth/rk4, gauss2/rk4); --methods does not apply"
@@ -555,7 +596,7 @@ fn long_runs(args: &CompareArgs) -> Result<()> {
         Builtin::Oscillator => go(builtin::oscillator(t, false)?, settings)?,
         Builtin::HenonHeiles => go(builtin::henon_heiles(t, false)?, settings)?,
         other => bail!(
-            "--long runs on kepler, oscillator or henon-heiles, not on {}",
+            "--long runs on kepler, kepler-hard, oscillator or henon-heiles, not on {}",
             other.name()
         ),
     };

@@ -17,6 +17,8 @@
 //!   [`WorkPrecision::write`] leaves `runs.csv`, log–log plots and
 //!   `report.md`;
 //! * [`long::run`]: 10⁶ steps and more, the energy error's growth exponent;
+//!   [`long_variable::run`]: the same for the time-transformed and adaptive
+//!   methods next to DOP853 over 10⁴ orbits of Kepler e = 0.9 at equal work;
 //! * [`hard::run_case`]: the largest stable step by bisection;
 //! * [`peer_study::run`]: our schemes (fixed-step, time-transformed,
 //!   reversible adaptive) against DOP853 over 100 and 1000 Kepler orbits at
@@ -63,6 +65,7 @@ pub mod interpreted;
 pub mod library;
 pub mod linear_file;
 pub mod long;
+pub mod long_variable;
 mod method;
 pub mod output;
 pub mod peer;

@@ -124,9 +124,65 @@ mod imp {
             _ => run!(DVector::<f64>::from_column_slice(z0)),
         }
     }
+    /// DOP853 on `sys` from `z0` over `[0, t_end]` (`rtol = atol = tol`,
+    /// default controller), `observe(t, z)` called at every accepted step
+    /// after the run; `(accepted steps, evaluations)` or the solver's error.
+    pub fn dop853_observed<P: Problem>(
+        sys: &P,
+        z0: &[f64],
+        t_end: f64,
+        tol: f64,
+        max_steps: u32,
+        observe: &mut dyn FnMut(f64, &[f64]),
+    ) -> Result<(u64, u64), String> {
+        macro_rules! run {
+            ($y0:expr) => {{
+                let mut solver = Dop853::from_param(
+                    Peer(sys),
+                    0.0,
+                    t_end,
+                    t_end,
+                    $y0,
+                    tol,
+                    tol,
+                    0.9,
+                    0.0,
+                    0.333,
+                    6.0,
+                    t_end,
+                    0.0,
+                    max_steps,
+                    1000,
+                    OutputType::Sparse,
+                );
+                let stats = solver.integrate().map_err(|e| e.to_string())?;
+                for (t, y) in solver.x_out().iter().zip(solver.y_out()).skip(1) {
+                    observe(*t, y.as_slice());
+                }
+                Ok((stats.accepted_steps as u64, stats.num_eval as u64))
+            }};
+        }
+        match z0.len() {
+            4 => run!(SVector::<f64, 4>::from_column_slice(z0)),
+            _ => run!(DVector::<f64>::from_column_slice(z0)),
+        }
+    }
 }
 #[cfg(feature = "peer")]
-pub use imp::dop853;
+pub use imp::{dop853, dop853_observed};
+
+/// Without the `peer` feature there is no DOP853.
+#[cfg(not(feature = "peer"))]
+pub fn dop853_observed<P: crate::problem::Problem>(
+    _sys: &P,
+    _z0: &[f64],
+    _t_end: f64,
+    _tol: f64,
+    _max_steps: u32,
+    _observe: &mut dyn FnMut(f64, &[f64]),
+) -> Result<(u64, u64), String> {
+    Err("the peer is not available (the `peer` feature is off)".into())
+}
 
 /// Without the `peer` feature there is no DOP853: every run says so.
 #[cfg(not(feature = "peer"))]
