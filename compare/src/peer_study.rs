@@ -373,10 +373,17 @@ fn markdown(
     repeats: usize,
 ) -> String {
     let mut s = String::new();
-    let mut lengths: Vec<String> = results.iter().map(|l| orbits(&l.leg)).collect();
-    lengths.dedup();
-    let mut es: Vec<String> = results.iter().map(|l| l.e.to_string()).collect();
-    es.dedup();
+    let distinct = |v: Vec<String>| {
+        let mut out: Vec<String> = Vec::new();
+        for x in v {
+            if !out.contains(&x) {
+                out.push(x);
+            }
+        }
+        out
+    };
+    let lengths = distinct(results.iter().map(|l| orbits(&l.leg)).collect());
+    let es = distinct(results.iter().map(|l| l.e.to_string()).collect());
     let and = |v: &[String]| match v.split_last() {
         Some((last, rest)) if !rest.is_empty() => format!("{} and {last}", rest.join(", ")),
         _ => v.join(""),
