@@ -581,7 +581,7 @@ impl LocalGlobalLinear {
             lap.push((s.a as usize, s.a as usize, s.kl));
         }
         lap.extend((0..n).map(|k| (k, k, 0.0)));
-        lap.sort_unstable_by(|x, y| (x.0, x.1).cmp(&(y.0, y.1)));
+        lap.sort_unstable_by_key(|x| (x.0, x.1));
         let mut merged: Vec<(usize, usize, f64)> = Vec::with_capacity(lap.len());
         for e in lap {
             match merged.last_mut() {

@@ -528,13 +528,11 @@ fn solver_settings(args: &ClothArgs) -> Result<minimise::Settings> {
         })?,
     };
     let mut settings = minimise::Settings::new(solver);
-    if !args.stability {
-        if let Some(t) = args.tolerance {
-            if !(t > 0.0 && t.is_finite()) {
-                bail!("--tolerance: must be a positive finite number (got {t})");
-            }
-            settings.tolerance = t;
+    if let (false, Some(t)) = (args.stability, args.tolerance) {
+        if !(t > 0.0 && t.is_finite()) {
+            bail!("--tolerance: must be a positive finite number (got {t})");
         }
+        settings.tolerance = t;
     }
     Ok(settings)
 }
@@ -722,6 +720,7 @@ fn simulate(
 
 /// Find the step at which a run blew up, by replaying the frame from the
 /// last good state one step at a time with the energy checked after each.
+#[allow(clippy::too_many_arguments)]
 fn locate_blowup(
     sim: &mut Simulation,
     method: &str,
