@@ -107,6 +107,11 @@ impl Alg {
         }
     }
 
+    /// The terms: exponent vectors (trailing zeros trimmed) and coefficients.
+    pub fn terms(&self) -> impl Iterator<Item = (&Vec<u32>, &BigRational)> {
+        self.terms.iter()
+    }
+
     /// The variables that occur.
     pub fn support(&self) -> Vec<usize> {
         let mut v: Vec<usize> = Vec::new();
@@ -221,7 +226,15 @@ impl Field {
     pub fn reduce(&self, a: &Alg) -> Alg {
         let mut cur = a.clone();
         for (k, root) in self.roots.iter().enumerate() {
-            let d = root.poly.degree().unwrap_or(0) as u32;
+            // A rational root is its value: reduce modulo x − r.
+            let linear;
+            let poly = if root.is_rational() {
+                linear = Poly(vec![-root.lo.clone(), BigRational::one()]);
+                &linear
+            } else {
+                &root.poly
+            };
+            let d = poly.degree().unwrap_or(0) as u32;
             if !cur.terms.keys().any(|m| m.get(k).copied().unwrap_or(0) >= d) {
                 continue;
             }
@@ -235,7 +248,7 @@ impl Field {
                     out.add_term(m, c);
                     continue;
                 }
-                for (j, pj) in root.poly.0.iter().enumerate().take(d as usize) {
+                for (j, pj) in poly.0.iter().enumerate().take(d as usize) {
                     if pj.is_zero() {
                         continue;
                     }
@@ -334,6 +347,13 @@ impl Field {
     /// `2^-bits`. The root intervals are widened outward to dyadic endpoints
     /// and the sum is taken in integers over one common denominator.
     fn enclose(&self, a: &Alg, bits: u64) -> (BigRational, BigRational) {
+        let (lo, hi, d) = self.enclose_int(a, bits);
+        (BigRational::new(lo, d.clone()), BigRational::new(hi, d))
+    }
+
+    /// [`Self::enclose`] as `(lo, hi, den)`: the value lies in
+    /// `[lo/den, hi/den]`, `den > 0`, nothing normalised.
+    fn enclose_int(&self, a: &Alg, bits: u64) -> (BigInt, BigInt, BigInt) {
         use num_integer::Integer;
         let sup = a.support();
         let prec = bits + 16;
@@ -375,7 +395,7 @@ impl Field {
             hi += h << shift;
         }
         let d = den * (BigInt::one() << (prec * maxdeg) as usize);
-        (BigRational::new(lo, d.clone()), BigRational::new(hi, d))
+        (lo, hi, d)
     }
 
     /// `(Den, need)`: `γ = Den·e(α)` is an algebraic integer, zero exactly
@@ -456,14 +476,15 @@ impl Field {
                 sup.iter().map(|&k| self.names[k].as_str()).collect::<Vec<_>>().join(", ")
             )));
         }
-        let eps = BigRational::new(BigInt::one(), BigInt::one() << need);
-        let mut bits = 512u64.max(need / 2);
+        // |γ| = |Den·e(α)| < 2^-need, i.e. |x|·Den·2^need < d for x = lo, hi.
+        let dscale = den.to_integer() << (need as usize);
+        let mut bits = need + 128;
         loop {
-            let (lo, hi) = self.enclose(&a, bits);
+            let (lo, hi, d) = self.enclose_int(&a, bits);
             if lo.is_positive() || hi.is_negative() {
                 return Ok(false);
             }
-            if (&lo * &den).abs() < eps && (&hi * &den).abs() < eps {
+            if (lo.abs() * &dscale) < d && (hi.abs() * &dscale) < d {
                 return Ok(true);
             }
             bits = bits.saturating_mul(2);

@@ -85,7 +85,8 @@ impl Family {
 
     fn min_stages(self) -> usize {
         match self {
-            Family::Gauss | Family::Radau1A | Family::Radau2A => 1,
+            Family::Gauss | Family::Radau2A => 1,
+            // Radau IA with one stage has c = 0 but row sum 1.
             _ => 2,
         }
     }
@@ -785,6 +786,66 @@ impl Method {
         out
     }
 
+    /// The table written out as a table file with `root(...)` entries
+    /// ([`super::file`]): the nodes `c0 …` as roots of the node polynomial
+    /// (integer coefficients) with isolating intervals, every entry as a
+    /// polynomial in the nodes. `perturb = Some((i, j, text))` appends
+    /// ` + text` to `a[i][j]` (for tests of the refusal).
+    pub fn to_root_file(&self, name: &str, claims: &[&str], perturb: Option<(usize, usize, &str)>) -> String {
+        use num_integer::Integer;
+        let mut den = BigInt::one();
+        for c in &self.ring.p.0 {
+            den = den.lcm(c.denom());
+        }
+        let ip = self.ring.p.scale(&BigRational::from_integer(den));
+        let (f, a, b, _) = self.alg_table();
+        let text = |x: &Alg| alg_text(&f, x);
+        let mut out = format!("name = \"{name}\"\n");
+        out.push_str(&format!(
+            "source = \"written out by tableau::algebraic::family::Method::to_root_file from the exact {} table\"\n",
+            self.family.title()
+        ));
+        let cl: Vec<String> = claims.iter().map(|c| format!("\"{c}\"")).collect();
+        out.push_str(&format!("claims = [{}]\n\n[let]\n", cl.join(", ")));
+        for (i, r) in self.nodes.iter().enumerate() {
+            out.push_str(&format!(
+                "c{i} = \"root({}, {}, {})\"\n",
+                ip.to_text("x"),
+                r.lo,
+                r.hi
+            ));
+        }
+        out.push_str("\n[table]\n");
+        let _ = &mut out;
+        let mut body = String::from("a = [\n");
+        for i in 0..self.s {
+            let row: Vec<String> = (0..self.s)
+                .map(|j| {
+                    let mut t = text(&a[i][j]);
+                    if let Some((pi, pj, extra)) = perturb
+                        && (pi, pj) == (i, j)
+                    {
+                        t = format!("{t} + {extra}");
+                    }
+                    format!("  \"{t}\"")
+                })
+                .collect();
+            body.push_str(&format!(" [\n{}\n ],\n", row.join(",\n")));
+        }
+        body.push_str("]\nb = [\n");
+        let bs: Vec<String> = b.iter().map(|x| format!("  \"{}\"", text(x))).collect();
+        body.push_str(&bs.join(",\n"));
+        body.push_str("\n]\n");
+        // TOML: top-level keys must precede [let]; put a and b first.
+        let header_end = out.find("\n[let]").expect("let section");
+        let mut file = out[..header_end].to_string();
+        file.push('\n');
+        file.push_str(&body);
+        file.push_str(&out[header_end..out.find("\n[table]").expect("marker")]);
+        file.push('\n');
+        file
+    }
+
     /// The table over `Q(√d)` when the nodes need at most one square root
     /// (rational nodes and one quadratic factor), for the tree-based checks
     /// of [`crate::analysis`]; `None` otherwise.
@@ -833,6 +894,7 @@ fn radical_nodes(p: &Poly, roots: &[RealRoot]) -> Option<Vec<Number>> {
     }
     match rest.degree() {
         Some(0) => {}
+        Some(1) => found.push(Number::from_rational(-rest.coeff(0) / rest.coeff(1))),
         Some(2) => {
             let (c0, c1, c2) = (rest.coeff(0), rest.coeff(1), rest.coeff(2));
             let disc = &c1 * &c1 - q(4) * &c0 * &c2;
@@ -845,20 +907,48 @@ fn radical_nodes(p: &Poly, roots: &[RealRoot]) -> Option<Vec<Number>> {
         }
         _ => return None,
     }
-    // Order as the isolated roots: match each to its interval.
+    // Order as the isolated roots: a rational node is matched exactly, an
+    // irrational one by its refined isolating interval (f64 values of the
+    // candidates are correctly rounded and the nodes are far apart).
     let mut out = Vec::new();
     for r in roots {
-        let x = found
-            .iter()
-            .find(|n| {
-                let v = n.to_f64();
-                let (lo, hi) = (crate::number::rational_to_f64(&r.lo), crate::number::rational_to_f64(&r.hi));
-                v >= lo && v <= hi
-            })?
-            .clone();
+        let x = if r.is_rational() {
+            let v = Number::from_rational(r.lo.clone());
+            found.iter().find(|n| **n == v)?.clone()
+        } else {
+            let mut r = r.clone();
+            r.refine_to(80);
+            let (lo, hi) = (crate::number::rational_to_f64(&r.lo), crate::number::rational_to_f64(&r.hi));
+            found
+                .iter()
+                .find(|n| n.to_f64() >= lo && n.to_f64() <= hi)?
+                .clone()
+        };
         out.push(x);
     }
     Some(out)
+}
+
+/// An [`Alg`] as text in the grammar, variables named `c0, c1, …`.
+fn alg_text(f: &Field, x: &Alg) -> String {
+    let x = f.reduce(x);
+    let mut parts = Vec::new();
+    for (m, c) in x.terms() {
+        let mut t = c.to_string();
+        for (k, &e) in m.iter().enumerate() {
+            match e {
+                0 => {}
+                1 => t.push_str(&format!("*c{k}")),
+                _ => t.push_str(&format!("*c{k}^{e}")),
+            }
+        }
+        parts.push(format!("({t})"));
+    }
+    if parts.is_empty() {
+        "0".into()
+    } else {
+        parts.join(" + ")
+    }
 }
 
 fn univariate_alg(p: &Poly, var: usize) -> Alg {

@@ -86,6 +86,17 @@ impl RealRoot {
                 continue;
             }
             if n == 1 {
+                if p.degree() == Some(1) {
+                    // The root of a linear polynomial is rational.
+                    let r = -p.coeff(0) / p.coeff(1);
+                    out.push(RealRoot {
+                        poly: p.clone(),
+                        lo: r.clone(),
+                        hi: r,
+                        sturm: sturm.clone(),
+                    });
+                    continue;
+                }
                 let exact = p.eval(&hi).is_zero();
                 out.push(RealRoot {
                     poly: p.clone(),
@@ -138,41 +149,88 @@ impl RealRoot {
     }
 
     /// Refine until the width is at most `2^-bits`: bisection to a narrow
-    /// interval, then Newton steps on dyadic rationals, each accepted only
-    /// when an exact sign change certifies the root in the new, smaller
-    /// interval (a failed step falls back to bisection).
+    /// interval, then Newton steps in integer arithmetic on dyadic points
+    /// `X/2^k`, each accepted only when an exact sign change of the
+    /// polynomial certifies the root in the new, smaller interval (a failed
+    /// step falls back to bisection).
     pub fn refine_to(&mut self, bits: u64) {
+        use num_integer::Integer;
         let eps = BigRational::new(BigInt::one(), BigInt::one() << bits);
-        let dp = self.poly.derivative();
+        if self.is_rational() || self.width() <= eps {
+            return;
+        }
+        // Integer coefficients: D·p.
+        let mut den = BigInt::one();
+        for c in &self.poly.0 {
+            den = den.lcm(c.denom());
+        }
+        let ip: Vec<BigInt> = self
+            .poly
+            .0
+            .iter()
+            .map(|c| c.numer() * (&den / c.denom()))
+            .collect();
+        let d = ip.len() - 1;
+        // 2^{k·d}·D·p(X/2^k) and 2^{k(d−1)}·D·p'(X/2^k).
+        let eval = |x: &BigInt, k: u64| -> (BigInt, BigInt) {
+            let mut v = BigInt::zero();
+            let mut dv = BigInt::zero();
+            for (j, c) in ip.iter().enumerate().rev() {
+                // Horner with the scale folded in: v = v·X + c·2^{k(d−j)}
+                // computed as Σ c X^j 2^{k(d−j)}.
+                v = &v * x + (c << (k as usize * (d - j)));
+                if j > 0 {
+                    dv = &dv * x + ((c * BigInt::from(j)) << (k as usize * (d - j)));
+                }
+            }
+            // v has been built as Σ c_j X^j 2^{k(d−j)}; dv as
+            // Σ j c_j X^{j−1} 2^{k(d−j)}.
+            (v, dv)
+        };
+        let sgn = |v: &BigInt| -> i8 {
+            if v.is_positive() {
+                1
+            } else if v.is_negative() {
+                -1
+            } else {
+                0
+            }
+        };
+        let mut failures: u32 = 0;
         while self.width() > eps {
             if self.is_rational() {
                 return;
             }
             let w = self.width();
             let cur = (w.denom().bits() as i64 - w.numer().bits() as i64 - 1).max(0) as u64;
-            if cur < 40 {
+            if cur < 40 || failures > 3 {
+                self.bisect();
+                failures = failures.saturating_sub(1);
+                continue;
+            }
+            let k = bits.min(2 * cur - 8).max(cur + 1) + 2;
+            let scale = BigRational::from_integer(BigInt::one() << k);
+            let x = ((&self.lo + &self.hi) / two() * &scale).floor().to_integer();
+            let (v, dv) = eval(&x, k);
+            if dv.is_zero() {
                 self.bisect();
                 continue;
             }
-            let prec = bits.min(2 * cur - 8).max(cur + 1);
-            let x = (&self.lo + &self.hi) / two();
-            let d = dp.eval(&x);
-            if d.is_zero() {
-                self.bisect();
-                continue;
-            }
-            let xn = &x - self.poly.eval(&x) / d;
-            let scale = BigInt::one() << (prec + 2);
-            let xn = BigRational::new((xn * BigRational::from_integer(scale.clone())).floor().to_integer(), scale);
-            let delta = BigRational::new(BigInt::one(), BigInt::one() << (prec + 1));
-            let (a, b) = (&xn - &delta, &xn + &delta);
-            let ok = a >= self.lo
-                && b <= self.hi
-                && sign(&self.poly.eval(&a)) * sign(&self.poly.eval(&b)) < 0;
+            // p/p' in units of 2^-k is v/dv.
+            let xn = &x - v.div_floor(&dv);
+            let (a, b) = (&xn - BigInt::from(2), &xn + BigInt::from(2));
+            let (ra, rb) = (
+                BigRational::new(a.clone(), BigInt::one() << k),
+                BigRational::new(b.clone(), BigInt::one() << k),
+            );
+            let ok = ra >= self.lo
+                && rb <= self.hi
+                && sgn(&eval(&a, k).0) * sgn(&eval(&b, k).0) < 0;
             if ok {
-                self.lo = a;
-                self.hi = b;
+                self.lo = ra;
+                self.hi = rb;
             } else {
+                failures += 1;
                 self.bisect();
             }
         }
