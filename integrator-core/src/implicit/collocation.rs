@@ -389,8 +389,11 @@ impl Core {
                 for i in 0..s {
                     let row = &mu[i * s..(i + 1) * s];
                     let mut acc = e[k];
+                    // Plain multiply–add: `mul_add` is a libm call on
+                    // targets built without FMA, and one rounding more per
+                    // term is far below the round-off of the state.
                     for j in 0..s {
-                        acc = row[j].mul_add(l[j * d + k], acc);
+                        acc += row[j] * l[j * d + k];
                     }
                     let new = z[k] + acc;
                     let old = ys[i * d + k];

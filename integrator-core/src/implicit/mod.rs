@@ -34,6 +34,13 @@
 //! * The update `z ← z + h·Σ bᵢ·F(Yᵢ)` reuses the last evaluations (no
 //!   extra ones) and is compensated (Kahan), the compensation carried
 //!   across steps.
+//! * Symplectic tables with distinct nodes (Gauss–Legendre), wherever
+//!   fixed-point iteration is used, iterate in their **symplectic form**
+//!   as IRKGL16 does ([`collocation`]): `Yᵢ = z + Σⱼ μᵢⱼ·h·bⱼ·Fⱼ` with
+//!   `μᵢⱼ = aᵢⱼ/bⱼ` computed in double-double and rounded so that
+//!   `μᵢⱼ + μⱼᵢ = 1` exactly (the rounded method is exactly symplectic),
+//!   sweeps until the stage values stop changing, and the state carried as
+//!   `z + e` in double-double ([`Settings::symplectic_form`]).
 //! * A partitioned pair (`a_hat`) acts on `z = [q; p]`: `(A, b)` on the
 //!   first half of the components, `(Â, b̂)` on the second; the Newton
 //!   matrix has rows `I − h·(A⊗J)` for `q` and `I − h·(Â⊗J)` for `p`.
