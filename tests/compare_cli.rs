@@ -189,7 +189,28 @@ fn bad_arguments_are_clear_errors_with_exit_code_2() {
         (&["--problem", "kepler", "--points", "0"], "--points"),
         (
             &["--long", "--problem", "fpu"],
-            "--long runs on kepler, oscillator or henon-heiles",
+            "--long runs on kepler, kepler-hard, oscillator or henon-heiles",
+        ),
+        (
+            &["--long", "--problem", "kepler-hard", "--methods", "rk4"],
+            "--methods does not apply",
+        ),
+        // Time-transformed and reversible adaptive methods: bad bases.
+        (
+            &["--problem", "kepler-hard", "--methods", "adaptive:rk4"],
+            "'rk4' is not symmetric",
+        ),
+        (
+            &["--problem", "kepler", "--methods", "adaptive-implicit:nope"],
+            "unknown base method 'nope'",
+        ),
+        (
+            &["--problem", "fpu", "--methods", "adaptive:leapfrog"],
+            "has no step density",
+        ),
+        (
+            &["--problem", "kepler", "--methods", "logh:nope"],
+            "unknown base method 'nope'",
         ),
         (
             &["--long", "--problem", "kepler", "--steps", "5"],

@@ -234,10 +234,19 @@ pub fn write(dir: &Path, runs: &[LongRun]) -> Result<()> {
             markers: false,
         })
         .collect();
-    let title = format!(
-        "{}: energy error over {} steps of h = {}",
-        first.problem, first.steps, first.h
-    );
+    let title = if runs.iter().all(|r| r.h == first.h && r.steps == first.steps) {
+        format!(
+            "{}: energy error over {} steps of h = {}",
+            first.problem, first.steps, first.h
+        )
+    } else {
+        // Variable-step runs: each its own steps and mean step.
+        let t = first.samples.last().map_or(f64::NAN, |s| s.1);
+        format!(
+            "{}: energy error over t = {t:.0} (steps and mean step of each: long_fit.csv)",
+            first.problem
+        )
+    };
     plot::lines(
         &dir.join("long_energy.svg"),
         &Plot {
