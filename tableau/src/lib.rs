@@ -13,6 +13,7 @@ pub mod catalogue;
 pub mod claims;
 pub mod expr;
 pub mod file;
+pub mod midpoint;
 pub mod number;
 pub mod order;
 pub mod rounding;
