@@ -393,3 +393,85 @@ fn list_agrees_with_the_library_about_what_steps() {
     let (_, text, _) = symlab(&["list"]);
     assert!(!text.contains("not yet"), "{text}");
 }
+
+// ---------------------------------------------------------------------------
+// Generated tables and real algebraic entries (issue 15).
+
+#[test]
+fn builtin_gauss8_prints_exact_verdicts_and_the_order_proof() {
+    let (code, out, err) = timed(&["check", "--builtin", "gauss8"]);
+    assert_eq!(code, 0, "{err}");
+    for needle in [
+        "Gauss–Legendre, 8 stages (generated)",
+        "symplectic   yes: W = BA + AᵀB − bbᵀ = 0 exactly",
+        "order        16 exactly",
+        "B(16), C(8), D(8) hold exactly; Butcher's theorem gives order ≥ min(16, 8+8+1, 2·8+2) = 16",
+        "B(17) fails",
+        "symmetric    yes",
+        "A-stable     yes",
+        "✓ symplectic",
+        "✓ order = 16",
+    ] {
+        assert!(out.contains(needle), "missing {needle:?} in:\n{out}");
+    }
+    let v = check_json(&["--builtin", "gauss8"]);
+    assert_eq!(v["order"], 16);
+    assert_eq!(v["order_upper"], 16);
+    assert_eq!(v["symplectic"], true);
+    assert_eq!(v["generator"], "gauss(8)");
+    assert!(v["max_w_rounded"].as_f64().unwrap() < 4e-18);
+}
+
+#[test]
+fn builtin_generated_families_get_the_literature_verdicts() {
+    for (id, symplectic, order) in [
+        ("radau2a4", false, 7),
+        ("radau2a5", false, 9),
+        ("gauss(3)", true, 6),
+        ("lobatto3a4", false, 6),
+        ("lobatto3c5", false, 8),
+    ] {
+        let v = check_json(&["--builtin", id]);
+        assert_eq!(v["symplectic"], symplectic, "{id}");
+        assert_eq!(v["order"], order, "{id}");
+        assert!(v["claims"].as_array().unwrap().iter().all(|c| c["holds"] == true), "{id}: {v}");
+    }
+    let v = check_json(&["--builtin", "lobatto3a3b4"]);
+    assert_eq!(v["kind"], "prk");
+    assert_eq!(v["symplectic"], true);
+    assert_eq!(v["tree_order"], 6);
+}
+
+#[test]
+fn generate_in_a_table_file_and_bad_generators() {
+    let path = temp_table(
+        "gen.toml",
+        "name = \"my Radau\"\ngenerate = \"radau2a(5)\"\nclaims = [\"symplectic\", \"order = 9\"]\n",
+    );
+    let (code, out, err) = timed(&["check", &path]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("my Radau"), "{out}");
+    assert!(out.contains("✗ symplectic: not symplectic"), "{out}");
+    assert!(out.contains("✓ order = 9"), "{out}");
+    let bad = temp_table("badgen.toml", "generate = \"gauss(99)\"\n");
+    let (code, _, err) = timed(&["check", &bad]);
+    assert_eq!(code, 2);
+    assert!(err.contains("generate") && err.contains("badgen.toml"), "{err}");
+    let (code, _, err) = timed(&["check", "--builtin", "gauss(0)"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("gauss"), "{err}");
+}
+
+/// Gauss-6 written out entry by entry as polynomials in root(...) nodes, one
+/// entry perturbed by 1e-30: the run-time check refuses the symplecticity
+/// claim exactly, naming W[0][1]; unperturbed, the claim holds.
+#[test]
+fn perturbed_gauss6_root_file_is_refused_naming_w01() {
+    let (code, out, err) = timed(&["check", "tableau/tests/fixtures/gauss6_roots_perturbed.toml"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("symplectic   no"), "{out}");
+    assert!(out.contains("✗ symplectic: not symplectic: W[0][1] ≠ 0 (≈ 8.566224618958517e-32)"), "{out}");
+    let (code, out, err) = timed(&["check", "tableau/tests/fixtures/gauss6_roots.toml"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("✓ symplectic"), "{out}");
+}

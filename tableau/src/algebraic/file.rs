@@ -77,7 +77,10 @@ pub fn load(path: &Path) -> Result<Loaded, FileError> {
         message,
     };
     let meta = std::fs::metadata(path).map_err(|e| err(format!("cannot read the file: {e}")))?;
-    if meta.is_file() && meta.len() > MAX_FILE_BYTES {
+    // Anything but a regular file within the size limit (a device such as
+    // /dev/zero, a directory, a huge file) goes to the ordinary loader,
+    // which reads at most one byte past the limit and says what is wrong.
+    if !meta.is_file() || meta.len() > MAX_FILE_BYTES {
         // The ordinary loader gives the full message.
         return crate::file::load(path).map(Loaded::Classic);
     }
