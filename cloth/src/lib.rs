@@ -130,6 +130,12 @@
 //!   run through [`implicit::run_method`], which takes either kind.
 //! * [`ClothModel::stability`] estimates `ω_max` and `2/ω_max` at the initial
 //!   state (power iteration on `M⁻¹K`, plus a Gershgorin upper bound).
+//! * [`minimise::run_any`] runs any of them with the midpoint family
+//!   (`midpoint`, `paper-dirk2`, `paper-dirk4`, read off their tables) and
+//!   the discrete gradient ([`minimise::DISCRETE_GRADIENT`]) solved as
+//!   energy minimisation ([`minimise`]: Newton or local/global); this is
+//!   what `symlab cloth` uses. [`run_scene`] and [`implicit::run_method`]
+//!   keep the sparse stage solver for every implicit scheme.
 //!
 //! # For an implicit solver
 //!
