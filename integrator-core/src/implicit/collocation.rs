@@ -112,7 +112,7 @@ pub fn symplectic_form<const S: usize>(table: &ImplicitTable<S>) -> Option<Sympl
     }
     let (a, b, c) = (&table.a, &table.b, &table.c);
     let finite = a.iter().flatten().chain(b).chain(c).all(|x| x.is_finite());
-    if !finite || b.iter().any(|&x| x == 0.0) {
+    if !finite || b.contains(&0.0) {
         return None;
     }
     if !(0..S).all(|i| (0..i).all(|j| (c[i] - c[j]).abs() > 1e-8)) {
