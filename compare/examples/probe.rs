@@ -19,7 +19,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let repeats: usize = a[5].parse()?;
     let sys = Kepler { e };
     let t_end = orbits * 2.0 * std::f64::consts::PI;
-    let setup = compare::Setup::new(sys.clone(), t_end)?;
+    let setup = compare::Setup::new(sys, t_end)?;
     let methods: Vec<Method<Kepler>> = a[6]
         .split(',')
         .map(|id| Method::by_id(id, &sys))
@@ -38,10 +38,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         for x in &r {
             print!(" {}={:.3}ms", x.method, x.time_s * 1e3);
         }
-        if let Some(d) = duel(&rows, target) {
-            if let (Some(o), Some(p)) = (&d.ours, &d.peer) {
-                print!("  | best ours/dop853 = {:.2}", o.time_s / p.time_s);
-            }
+        if let Some(d) = duel(&rows, target)
+            && let (Some(o), Some(p)) = (&d.ours, &d.peer)
+        {
+            print!("  | best ours/dop853 = {:.2}", o.time_s / p.time_s);
         }
         println!();
     }

@@ -33,6 +33,7 @@ pub const PREFIXES: [(&str, Controller); 2] = [
     ("adaptive-implicit:", Controller::Implicit),
 ];
 
+#[allow(clippy::too_many_arguments)]
 fn run<P, S, M>(
     a: &Adaptive<M>,
     problem: &P,

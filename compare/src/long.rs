@@ -234,7 +234,10 @@ pub fn write(dir: &Path, runs: &[LongRun]) -> Result<()> {
             markers: false,
         })
         .collect();
-    let title = if runs.iter().all(|r| r.h == first.h && r.steps == first.steps) {
+    let title = if runs
+        .iter()
+        .all(|r| r.h == first.h && r.steps == first.steps)
+    {
         format!(
             "{}: energy error over {} steps of h = {}",
             first.problem, first.steps, first.h

@@ -236,7 +236,7 @@ pub fn run(settings: PeerStudySettings) -> Result<PeerStudy> {
             let setup = if e == 0.6 || e == 0.9 {
                 builtin::kepler(e == 0.9, t_end, true)?
             } else {
-                crate::problem::Setup::new(sys.clone(), t_end)?
+                crate::problem::Setup::new(sys, t_end)?
             };
             let steps = sweep::step_counts(
                 t_end,
