@@ -54,9 +54,11 @@
 //!   with simplified Newton and keeps Newton);
 //! * `F` is evaluated once more at the final stage values if the last sweep
 //!   moved them, so that the update uses the converged stages;
-//! * compensated summation: the state is carried as `z + e` in
-//!   double-double, `(z, e) ← (z + e) + Σⱼ Lⱼ` (TwoSum), and the stage
-//!   values include `e`; round-off in `z` then grows like `√n`.
+//! * compensated summation (unless
+//!   [`Settings::compensated`](super::Settings::compensated) is off): the
+//!   state is carried as `z + e` in double-double, `(z, e) ← (z + e) + Σⱼ Lⱼ`
+//!   (TwoSum), and the stage values include `e`; round-off in `z` then
+//!   grows like `√n`.
 
 // The kernels index stage blocks of several buffers with one index.
 #![allow(clippy::needless_range_loop)]
@@ -341,9 +343,11 @@ impl Core {
         let (mu, b, c) = (&form.mu[..], &form.b[..], &form.c[..]);
         let (ys, l, f) = (&mut self.zs, &mut self.res, &mut self.f);
         let (e, dmin, stats) = (&mut self.e, &mut self.dmin, &mut self.stats);
-        // The compensation: the state is z + e (`comp` holds −e).
+        // The compensation: the state is z + e (`comp` holds −e); none
+        // without `Settings::compensated`.
+        let compensated = self.settings.compensated;
         for k in 0..d {
-            e[k] = -self.comp[k];
+            e[k] = if compensated { -self.comp[k] } else { 0.0 };
         }
         for i in 0..s {
             for k in 0..d {
@@ -457,7 +461,11 @@ impl Core {
         for k in 0..d {
             let mut sum = 0.0;
             for i in 0..s {
-                sum += h * b[i] * f[i * d + k];
+                sum += (h * b[i]) * f[i * d + k];
+            }
+            if !compensated {
+                z[k] += sum;
+                continue;
             }
             let (hi, lo) = two_sum(z[k], sum);
             let (hi, lo) = fast_two_sum(hi, lo + e[k]);
