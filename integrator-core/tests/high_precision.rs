@@ -514,3 +514,35 @@ fn time_to_error_over_a_thousand_orbits() {
         }
     }
 }
+
+/// The generated tables of `tableau` (their symplecticity-aware `f64`
+/// rounding) are recognised as Gauss tables: the symplectic form is
+/// recomputed from their nodes, agrees with their correctly rounded nodes,
+/// and pairs to 1 exactly; Radau IIA has none. (The exact generation takes
+/// most of this test's time.)
+#[test]
+fn generated_tables_have_their_symplectic_form() {
+    use tableau::algebraic::generated::{Generated, GeneratedTable};
+    fn table<const S: usize>(text: &str) -> ImplicitTable<S> {
+        let g = Generated::new(text).unwrap();
+        let GeneratedTable::Rk(t) = &g.f64_table else {
+            panic!("{text}: a Runge–Kutta table")
+        };
+        let a: [[f64; S]; S] = std::array::from_fn(|i| std::array::from_fn(|j| t.a[i][j]));
+        ImplicitTable::new(
+            a,
+            std::array::from_fn(|i| t.b[i]),
+            std::array::from_fn(|i| t.c[i]),
+        )
+    }
+    fn check<const S: usize>(text: &str) {
+        let t = table::<S>(text);
+        check_form(&t, text);
+        let form = symplectic_form(&t).unwrap();
+        assert_eq!(form.c, t.c.to_vec(), "{text}: correctly rounded nodes");
+    }
+    check::<4>("gauss(4)");
+    check::<6>("gauss(6)");
+    check::<8>("gauss(8)");
+    assert!(symplectic_form(&table::<5>("radau2a(5)")).is_none());
+}
