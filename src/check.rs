@@ -7,9 +7,9 @@ use std::process::ExitCode;
 use anyhow::Result;
 use serde_json::{Value, json};
 use tableau::analysis::{self, Analysis, Form};
+use tableau::catalogue;
 use tableau::file::TableFile;
 use tableau::order::OrderReport;
-use tableau::catalogue;
 
 #[derive(clap::Args)]
 pub struct CheckArgs {
@@ -41,7 +41,7 @@ pub struct ListArgs {
 pub fn run(args: &CheckArgs) -> Result<ExitCode> {
     let (origin, tf) = match (&args.file, &args.builtin) {
         (Some(path), _) => match tableau::algebraic::file::load(path)? {
-            tableau::algebraic::file::Loaded::Classic(tf) => (path.display().to_string(), tf),
+            tableau::algebraic::file::Loaded::Classic(tf) => (path.display().to_string(), *tf),
             tableau::algebraic::file::Loaded::Generated(g) => {
                 return print_generated(&path.display().to_string(), &g, args.json);
             }
@@ -108,12 +108,11 @@ fn print_algebraic(
         .map(|c| (c.to_string(), f.check_claim(&an, c)))
         .collect();
     if json {
-        let w: Vec<Value> = an
-            .w
-            .iter()
-            .filter(|e| e.zero != Some(true))
-            .map(|e| json!({"i": e.i, "j": e.j, "zero": e.zero, "value_f64": e.value}))
-            .collect();
+        let w: Vec<Value> =
+            an.w.iter()
+                .filter(|e| e.zero != Some(true))
+                .map(|e| json!({"i": e.i, "j": e.j, "zero": e.zero, "value_f64": e.value}))
+                .collect();
         let v = json!({
             "name": f.name,
             "kind": "rk",
@@ -147,8 +146,16 @@ fn print_algebraic(
         Some(false) => "no",
         None => "undecided (beyond budget)",
     };
-    let _ = writeln!(s, "  c            equals the row sums of A: {}", tri(an.row_sums_ok));
-    let _ = writeln!(s, "  symplectic   {}: W = BA + AᵀB − bbᵀ", tri(an.symplectic));
+    let _ = writeln!(
+        s,
+        "  c            equals the row sums of A: {}",
+        tri(an.row_sums_ok)
+    );
+    let _ = writeln!(
+        s,
+        "  symplectic   {}: W = BA + AᵀB − bbᵀ",
+        tri(an.symplectic)
+    );
     for e in an.w.iter().filter(|e| e.zero != Some(true)) {
         match e.zero {
             Some(false) => {
@@ -161,7 +168,11 @@ fn print_algebraic(
                 );
             }
             _ => {
-                let _ = writeln!(s, "                 W[{}][{}] undecided (beyond budget)", e.i, e.j);
+                let _ = writeln!(
+                    s,
+                    "                 W[{}][{}] undecided (beyond budget)",
+                    e.i, e.j
+                );
             }
         }
     }
@@ -217,7 +228,11 @@ pub fn generated_json(g: &tableau::algebraic::generated::Generated) -> Value {
         "row_sums_ok": g.row_sums_ok,
         "symplectic": g.symplectic,
         "symplectic_separable": g.symplectic,
-        "order": g.proven_order(),
+        "order": if g.kind == "prk" && g.tree_order.is_none() {
+            Value::Null
+        } else {
+            json!(g.proven_order())
+        },
         "order_upper": g.order.upper,
         "order_proof": g.order.text,
         "order_proof_p": g.order_p.as_ref().map(|o| o.text.clone()),
@@ -275,10 +290,20 @@ pub fn generated_readable(origin: &str, g: &tableau::algebraic::generated::Gener
         s,
         "  symplectic   {}: {rule} {}",
         yes_no(g.symplectic),
-        if g.symplectic { "= 0 exactly" } else { "≠ 0 (exactly)" }
+        if g.symplectic {
+            "= 0 exactly"
+        } else {
+            "≠ 0 (exactly)"
+        }
     );
     let lower = g.proven_order();
     match g.order.upper {
+        _ if g.kind == "prk" && g.tree_order.is_none() => {
+            let _ = writeln!(
+                s,
+                "  order        the pair's order is not proven (bicoloured trees run only where the nodes need at most one square root, s ≤ 5); each table's own order below"
+            );
+        }
         Some(u) if g.kind == "rk" && u == lower => {
             let _ = writeln!(s, "  order        {u} exactly");
         }
@@ -290,7 +315,11 @@ pub fn generated_readable(origin: &str, g: &tableau::algebraic::generated::Gener
     let _ = writeln!(
         s,
         "  proof        {}{}",
-        if g.kind == "prk" { format!("{label}: ") } else { String::new() },
+        if g.kind == "prk" {
+            format!("{label}: ")
+        } else {
+            String::new()
+        },
         g.order.text
     );
     if let Some(p) = &g.order_p {
@@ -301,8 +330,16 @@ pub fn generated_readable(origin: &str, g: &tableau::algebraic::generated::Gener
             let _ = writeln!(
                 s,
                 "  trees        {} on the radical form of the table ({} trees up to order {}): order {}",
-                if g.kind == "rk" { "checked" } else { "the pair's order checked" },
-                if g.kind == "rk" { "rooted" } else { "bicoloured" },
+                if g.kind == "rk" {
+                    "checked"
+                } else {
+                    "the pair's order checked"
+                },
+                if g.kind == "rk" {
+                    "rooted"
+                } else {
+                    "bicoloured"
+                },
                 t.limit,
                 if t.order >= t.limit {
                     format!("≥ {}", t.limit)

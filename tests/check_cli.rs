@@ -434,7 +434,14 @@ fn builtin_generated_families_get_the_literature_verdicts() {
         let v = check_json(&["--builtin", id]);
         assert_eq!(v["symplectic"], symplectic, "{id}");
         assert_eq!(v["order"], order, "{id}");
-        assert!(v["claims"].as_array().unwrap().iter().all(|c| c["holds"] == true), "{id}: {v}");
+        assert!(
+            v["claims"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .all(|c| c["holds"] == true),
+            "{id}: {v}"
+        );
     }
     let v = check_json(&["--builtin", "lobatto3a3b4"]);
     assert_eq!(v["kind"], "prk");
@@ -456,7 +463,10 @@ fn generate_in_a_table_file_and_bad_generators() {
     let bad = temp_table("badgen.toml", "generate = \"gauss(99)\"\n");
     let (code, _, err) = timed(&["check", &bad]);
     assert_eq!(code, 2);
-    assert!(err.contains("generate") && err.contains("badgen.toml"), "{err}");
+    assert!(
+        err.contains("generate") && err.contains("badgen.toml"),
+        "{err}"
+    );
     let (code, _, err) = timed(&["check", "--builtin", "gauss(0)"]);
     assert_eq!(code, 2);
     assert!(err.contains("gauss"), "{err}");
@@ -467,10 +477,16 @@ fn generate_in_a_table_file_and_bad_generators() {
 /// claim exactly, naming W[0][1]; unperturbed, the claim holds.
 #[test]
 fn perturbed_gauss6_root_file_is_refused_naming_w01() {
-    let (code, out, err) = timed(&["check", "tableau/tests/fixtures/gauss6_roots_perturbed.toml"]);
+    let (code, out, err) = timed(&[
+        "check",
+        "tableau/tests/fixtures/gauss6_roots_perturbed.toml",
+    ]);
     assert_eq!(code, 0, "{err}");
     assert!(out.contains("symplectic   no"), "{out}");
-    assert!(out.contains("✗ symplectic: not symplectic: W[0][1] ≠ 0 (≈ 8.566224618958517e-32)"), "{out}");
+    assert!(
+        out.contains("✗ symplectic: not symplectic: W[0][1] ≠ 0 (≈ 8.566224618958517e-32)"),
+        "{out}"
+    );
     let (code, out, err) = timed(&["check", "tableau/tests/fixtures/gauss6_roots.toml"]);
     assert_eq!(code, 0, "{err}");
     assert!(out.contains("✓ symplectic"), "{out}");

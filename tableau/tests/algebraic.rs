@@ -20,24 +20,41 @@ fn q(n: i64, d: i64) -> BigRational {
 /// rationals without nesting).
 fn field() -> Field {
     let mut f = Field::default();
-    f.push(RealRoot::new(&Poly::from_ints(&[-2, 0, 1]), q(1, 1), q(2, 1)).unwrap(), "r2");
-    f.push(RealRoot::new(&Poly::from_ints(&[-8, 0, 1]), q(2, 1), q(3, 1)).unwrap(), "r8");
-    f.push(RealRoot::new(&Poly::from_ints(&[-1, -1, 0, 1]), q(1, 1), q(2, 1)).unwrap(), "plastic");
-    f.push(parse_root("root(70*x^4 - 140*x^3 + 90*x^2 - 20*x + 1, 0, 1/10)").unwrap(), "g4");
+    f.push(
+        RealRoot::new(&Poly::from_ints(&[-2, 0, 1]), q(1, 1), q(2, 1)).unwrap(),
+        "r2",
+    );
+    f.push(
+        RealRoot::new(&Poly::from_ints(&[-8, 0, 1]), q(2, 1), q(3, 1)).unwrap(),
+        "r8",
+    );
+    f.push(
+        RealRoot::new(&Poly::from_ints(&[-1, -1, 0, 1]), q(1, 1), q(2, 1)).unwrap(),
+        "plastic",
+    );
+    f.push(
+        parse_root("root(70*x^4 - 140*x^3 + 90*x^2 - 20*x + 1, 0, 1/10)").unwrap(),
+        "g4",
+    );
     f
 }
 
 /// A random element: a small polynomial in the four roots.
 fn element() -> impl Strategy<Value = Alg> {
-    prop::collection::vec((-5i64..=5, 1i64..=4, 0u32..3, 0u32..3, 0u32..3, 0u32..2), 1..5).prop_map(
-        |terms| {
-            let mut a = Alg::zero();
-            for (n, d, e0, e1, e2, e3) in terms {
-                a = a.add(&Alg::monomial(q(n, d), &[(0, e0), (1, e1), (2, e2), (3, e3)]));
-            }
-            a
-        },
+    prop::collection::vec(
+        (-5i64..=5, 1i64..=4, 0u32..3, 0u32..3, 0u32..3, 0u32..2),
+        1..5,
     )
+    .prop_map(|terms| {
+        let mut a = Alg::zero();
+        for (n, d, e0, e1, e2, e3) in terms {
+            a = a.add(&Alg::monomial(
+                q(n, d),
+                &[(0, e0), (1, e1), (2, e2), (3, e3)],
+            ));
+        }
+        a
+    })
 }
 
 proptest! {
@@ -140,14 +157,33 @@ fn conjugates() {
     let s = a.add(&b);
     assert!(!s.is_zero_poly());
     assert!(f.is_zero(&s).unwrap());
-    assert_eq!(f.to_f64(&a.sub(&b)).unwrap(), 2.0 * std::f64::consts::SQRT_2);
+    assert_eq!(
+        f.to_f64(&a.sub(&b)).unwrap(),
+        2.0 * std::f64::consts::SQRT_2
+    );
 }
 
 #[test]
 fn root_syntax_errors_name_the_problem() {
-    assert!(parse_root("root(x^2 - 2, -2, 2)").unwrap_err().contains("2 distinct real roots"));
-    assert!(parse_root("root(x^2 - 2, 2, 1)").unwrap_err().contains("empty"));
-    assert!(parse_root("root(y^2 - 2, 0, 2)").unwrap_err().contains("unknown name `y`"));
-    assert!(parse_root("root(x^2 - 2, 0)").unwrap_err().contains("three arguments"));
+    assert!(
+        parse_root("root(x^2 - 2, -2, 2)")
+            .unwrap_err()
+            .contains("2 distinct real roots")
+    );
+    assert!(
+        parse_root("root(x^2 - 2, 2, 1)")
+            .unwrap_err()
+            .contains("empty")
+    );
+    assert!(
+        parse_root("root(y^2 - 2, 0, 2)")
+            .unwrap_err()
+            .contains("unknown name `y`")
+    );
+    assert!(
+        parse_root("root(x^2 - 2, 0)")
+            .unwrap_err()
+            .contains("three arguments")
+    );
     assert!(parse_root("root(3, 0, 1)").unwrap_err().contains("degree"));
 }

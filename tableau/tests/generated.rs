@@ -25,7 +25,11 @@ use tableau::rounding::f64_to_rational;
 #[test]
 fn literature_verdicts_for_every_family_up_to_8_stages() {
     for fam in Family::ALL {
-        let s0 = if matches!(fam, Family::Gauss | Family::Radau2A) { 1 } else { 2 };
+        let s0 = if matches!(fam, Family::Gauss | Family::Radau2A) {
+            1
+        } else {
+            2
+        };
         for s in s0..=8 {
             let m = Method::new(fam, s);
             let v = m.verdicts();
@@ -82,8 +86,20 @@ fn lobatto_pair_order_by_bicoloured_trees() {
         let g = Generated::new(&format!("lobatto3a3b({s})")).unwrap();
         let t = g.tree_order.as_ref().expect("radical nodes");
         assert_eq!(t.order, 2 * s - 2, "s = {s}");
-        assert!(g.check_claim(&Claim::Order { p: 2 * s - 2, bound: None }).is_ok());
-        assert!(g.check_claim(&Claim::Order { p: 2 * s - 1, bound: None }).is_err());
+        assert!(
+            g.check_claim(&Claim::Order {
+                p: 2 * s - 2,
+                bound: None
+            })
+            .is_ok()
+        );
+        assert!(
+            g.check_claim(&Claim::Order {
+                p: 2 * s - 1,
+                bound: None
+            })
+            .is_err()
+        );
     }
     // s = 6 needs nested radicals: the pair's order is not proven.
     let g = Generated::new("lobatto3a3b6").unwrap();
@@ -111,8 +127,12 @@ fn generated_tables_equal_the_catalogue() {
     ];
     for (id, fam, s) in cases {
         let tf = tableau::catalogue::load(id).unwrap();
-        let Table::Rk(rk) = &tf.table else { panic!("{id}") };
-        let gen_table = Method::new(fam, s).radical_table().unwrap_or_else(|| panic!("{id}: no radical form"));
+        let Table::Rk(rk) = &tf.table else {
+            panic!("{id}")
+        };
+        let gen_table = Method::new(fam, s)
+            .radical_table()
+            .unwrap_or_else(|| panic!("{id}: no radical form"));
         assert_eq!(rk.a, gen_table.a, "{id}: A");
         assert_eq!(rk.b, gen_table.b, "{id}: b");
         assert_eq!(rk.abscissae(), gen_table.c.clone().unwrap(), "{id}: c");
@@ -137,14 +157,20 @@ fn tree_analysis_agrees_where_the_nodes_are_radicals() {
     for fam in Family::ALL {
         for s in 2..=5 {
             let m = Method::new(fam, s);
-            let Some(rk) = m.radical_table() else { continue };
+            let Some(rk) = m.radical_table() else {
+                continue;
+            };
             let v = m.verdicts();
             let a = Analysis::of(&Table::Rk(rk)).unwrap();
             let what = format!("{fam:?} s = {s}");
             assert_eq!(a.symplectic, v.symplectic, "{what}");
             assert_eq!(a.symmetric, v.symmetric, "{what}");
             if v.row_sums_ok {
-                assert_eq!(a.order.as_ref().unwrap().order, v.order.lower.min(10), "{what}");
+                assert_eq!(
+                    a.order.as_ref().unwrap().order,
+                    v.order.lower.min(10),
+                    "{what}"
+                );
             }
             assert_eq!(
                 a.stability.as_ref().map(|r| r.to_text()),
@@ -162,8 +188,14 @@ fn mpmath_values() -> Vec<(String, Vec<usize>, BigRational)> {
     text.lines()
         .map(|l| {
             let f: Vec<&str> = l.split_whitespace().collect();
-            let idx: Vec<usize> = f[1..f.len() - 1].iter().map(|x| x.parse().unwrap()).collect();
-            let v = tableau::expr::parse_number(f[f.len() - 1]).unwrap().as_rational().unwrap();
+            let idx: Vec<usize> = f[1..f.len() - 1]
+                .iter()
+                .map(|x| x.parse().unwrap())
+                .collect();
+            let v = tableau::expr::parse_number(f[f.len() - 1])
+                .unwrap()
+                .as_rational()
+                .unwrap();
             (f[0].to_string(), idx, v)
         })
         .collect()
@@ -215,7 +247,10 @@ fn gauss8_symplectic_rounding() {
         let ulp = f64_to_rational(f64::EPSILON * rational_to_f64(&v).abs()).unwrap();
         assert!(err <= ulp, "{kind}{idx:?}");
     }
-    let (wr, wn) = (tableau::rounding::max_abs_w(&r), tableau::rounding::max_abs_w(&near));
+    let (wr, wn) = (
+        tableau::rounding::max_abs_w(&r),
+        tableau::rounding::max_abs_w(&near),
+    );
     assert!(wr <= wn, "{wr:e} > {wn:e}");
     assert!(wr < 4e-18, "{wr:e}");
 }
@@ -228,11 +263,22 @@ fn gauss8_generated_report() {
     assert_eq!(g.generator, Generator::Rk(Family::Gauss, 8));
     assert!(g.symplectic && g.symmetric && g.row_sums_ok);
     assert_eq!(g.proven_order(), 16);
-    assert!(g.order.text.contains("B(16), C(8), D(8)"), "{}", g.order.text);
+    assert!(
+        g.order.text.contains("B(16), C(8), D(8)"),
+        "{}",
+        g.order.text
+    );
     assert!(g.order.text.contains("B(17) fails"), "{}", g.order.text);
     assert!(g.claims.iter().all(|(_, v)| v.is_ok()));
-    assert!(g.check_claim(&Claim::Order { p: 17, bound: None }).unwrap_err().0.contains("at most 16"));
-    let GeneratedTable::Rk(t) = &g.f64_table else { panic!() };
+    assert!(
+        g.check_claim(&Claim::Order { p: 17, bound: None })
+            .unwrap_err()
+            .0
+            .contains("at most 16")
+    );
+    let GeneratedTable::Rk(t) = &g.f64_table else {
+        panic!()
+    };
     assert_eq!(t.a.len(), 8);
     let radau = Generated::new("radau2a5").unwrap();
     assert!(!radau.symplectic);
@@ -247,9 +293,16 @@ const GAUSS6_ROOTS_PERTURBED: &str = include_str!("fixtures/gauss6_roots_perturb
 #[test]
 fn gauss6_root_fixtures_are_reproducible() {
     let m = Method::new(Family::Gauss, 6);
-    assert_eq!(m.to_root_file(GAUSS6_NAME, &["symplectic"], None), GAUSS6_ROOTS);
     assert_eq!(
-        m.to_root_file(GAUSS6_PERTURBED_NAME, &["symplectic"], Some((0, 1, "1e-30"))),
+        m.to_root_file(GAUSS6_NAME, &["symplectic"], None),
+        GAUSS6_ROOTS
+    );
+    assert_eq!(
+        m.to_root_file(
+            GAUSS6_PERTURBED_NAME,
+            &["symplectic"],
+            Some((0, 1, "1e-30"))
+        ),
         GAUSS6_ROOTS_PERTURBED
     );
 }
@@ -262,7 +315,9 @@ const GAUSS6_PERTURBED_NAME: &str =
 /// zero, each only at the point (not as polynomials in independent roots).
 #[test]
 fn gauss6_written_out_is_symplectic() {
-    let Loaded::Algebraic(f) = parse("gauss6_roots.toml", GAUSS6_ROOTS).unwrap() else { panic!() };
+    let Loaded::Algebraic(f) = parse("gauss6_roots.toml", GAUSS6_ROOTS).unwrap() else {
+        panic!()
+    };
     let an = f.analyse();
     assert_eq!(an.w.len(), 21);
     assert_eq!(an.symplectic, Some(true));
@@ -273,7 +328,9 @@ fn gauss6_written_out_is_symplectic() {
 /// naming W[0][1] (= b₀·10⁻³⁰ ≈ 8.57e-32) and no other entry.
 #[test]
 fn gauss6_perturbed_by_1e_30_is_refused_naming_the_w_entry() {
-    let Loaded::Algebraic(f) = parse("gauss6_roots_perturbed.toml", GAUSS6_ROOTS_PERTURBED).unwrap() else {
+    let Loaded::Algebraic(f) =
+        parse("gauss6_roots_perturbed.toml", GAUSS6_ROOTS_PERTURBED).unwrap()
+    else {
         panic!()
     };
     let an = f.analyse();
@@ -282,5 +339,8 @@ fn gauss6_perturbed_by_1e_30_is_refused_naming_the_w_entry() {
     assert_eq!(nonzero.len(), 1);
     assert_eq!((nonzero[0].i, nonzero[0].j), (0, 1));
     let err = f.check_claim(&an, &Claim::Symplectic).unwrap_err();
-    assert!(err.contains("W[0][1] ≠ 0 (≈ 8.566224618958517e-32)"), "{err}");
+    assert!(
+        err.contains("W[0][1] ≠ 0 (≈ 8.566224618958517e-32)"),
+        "{err}"
+    );
 }

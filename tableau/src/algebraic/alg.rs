@@ -131,7 +131,10 @@ impl Alg {
             return;
         }
         let m = trim(m);
-        let e = self.terms.entry(m.clone()).or_insert_with(BigRational::zero);
+        let e = self
+            .terms
+            .entry(m.clone())
+            .or_insert_with(BigRational::zero);
         *e += c;
         if e.is_zero() {
             self.terms.remove(&m);
@@ -235,13 +238,16 @@ impl Field {
                 &root.poly
             };
             let d = poly.degree().unwrap_or(0) as u32;
-            if !cur.terms.keys().any(|m| m.get(k).copied().unwrap_or(0) >= d) {
+            if !cur
+                .terms
+                .keys()
+                .any(|m| m.get(k).copied().unwrap_or(0) >= d)
+            {
                 continue;
             }
             // xₖ^d = −Σ_{j<d} p_j xₖ^j (p monic), applied from the top power down.
             let mut out = Alg::zero();
-            let mut pending: Vec<(Mono, BigRational)> =
-                cur.terms.into_iter().collect();
+            let mut pending: Vec<(Mono, BigRational)> = cur.terms.into_iter().collect();
             while let Some((m, c)) = pending.pop() {
                 let e = m.get(k).copied().unwrap_or(0);
                 if e < d {
@@ -308,7 +314,10 @@ impl Field {
             return Err(format!(
                 "division by an expression in {} roots ({}) is not supported: write the entry as a polynomial in the roots, or divide by an expression in one root",
                 sup.len(),
-                sup.iter().map(|&k| self.names[k].as_str()).collect::<Vec<_>>().join(", ")
+                sup.iter()
+                    .map(|&k| self.names[k].as_str())
+                    .collect::<Vec<_>>()
+                    .join(", ")
             ));
         }
         let k = sup[0];
@@ -415,7 +424,8 @@ impl Field {
             }
             let mut m = BigInt::zero();
             for (j, c) in p.0.iter().enumerate().take(d) {
-                let v = (c * BigRational::from_integer(num_traits::pow(l.clone(), d - j))).to_integer();
+                let v =
+                    (c * BigRational::from_integer(num_traits::pow(l.clone(), d - j))).to_integer();
                 let v = if v.is_negative() { -v } else { v };
                 if v > m {
                     m = v;
@@ -473,7 +483,10 @@ impl Field {
             return Err(BeyondBudget(format!(
                 "deciding whether an expression in {} roots ({}) is zero needs {need} bits of precision, beyond the budget of {MAX_ZERO_TEST_BITS} (tableau::algebraic::alg::MAX_ZERO_TEST_BITS)",
                 sup.len(),
-                sup.iter().map(|&k| self.names[k].as_str()).collect::<Vec<_>>().join(", ")
+                sup.iter()
+                    .map(|&k| self.names[k].as_str())
+                    .collect::<Vec<_>>()
+                    .join(", ")
             )));
         }
         // |γ| = |Den·e(α)| < 2^-need, i.e. |x|·Den·2^need < d for x = lo, hi.
@@ -542,8 +555,8 @@ impl Field {
                     zero_tested = true;
                 }
                 if fh == next_up(fl) && fl.is_finite() && fh.is_finite() {
-                    let mid = (f64_rational(fl) + f64_rational(fh))
-                        / BigRational::from_integer(2.into());
+                    let mid =
+                        (f64_rational(fl) + f64_rational(fh)) / BigRational::from_integer(2.into());
                     if lo <= mid && mid <= hi && tested.as_ref() != Some(&mid) {
                         if self.is_zero(&a.sub(&Alg::rational(mid.clone())))? {
                             return Ok(rational_to_f64(&mid));

@@ -18,6 +18,8 @@
 //!   polynomials of degree ≤ s − 2 under Lobatto quadrature) and
 //!   `g(x) = b₁ − ∫₀ˣ ℓ₁`.
 
+#![allow(clippy::needless_range_loop)] // index-heavy matrix code
+
 use num_bigint::BigInt;
 use num_rational::BigRational;
 use num_traits::{One, Signed, Zero};
@@ -133,9 +135,14 @@ impl Generator {
         } else {
             let digits = t.len() - t.chars().rev().take_while(char::is_ascii_digit).count();
             if digits == t.len() {
-                return Err(format!("`{text}`: no stage count (e.g. gauss8 or gauss(8))"));
+                return Err(format!(
+                    "`{text}`: no stage count (e.g. gauss8 or gauss(8))"
+                ));
             }
-            (t[..digits].trim_end_matches('-').to_string(), t[digits..].to_string())
+            (
+                t[..digits].trim_end_matches('-').to_string(),
+                t[digits..].to_string(),
+            )
         };
         let s: usize = num
             .parse()
@@ -236,7 +243,11 @@ impl Method {
 /// The collocation table on the nodes of `ring`.
 fn collocation(ring: &Ring) -> (Poly, Pair, Poly) {
     let f = ring.lagrange_integral();
-    let u = ring.p.derivative().inverse_mod(&ring.p).expect("squarefree");
+    let u = ring
+        .p
+        .derivative()
+        .inverse_mod(&ring.p)
+        .expect("squarefree");
     // Off-diagonal: F(x, y)·u(y).
     let fy = ring.reduce(f.clone());
     let a = ring.mul(&fy, &ring.from_y(&u));
@@ -378,7 +389,11 @@ fn stability(m: &Method) -> StabilityFunction {
             .map(|i| {
                 (0..s)
                     .map(|j| {
-                        let id = if i == j { BigRational::one() } else { BigRational::zero() };
+                        let id = if i == j {
+                            BigRational::one()
+                        } else {
+                            BigRational::zero()
+                        };
                         id - z * &mat[i][j]
                     })
                     .collect()
@@ -397,7 +412,13 @@ fn stability(m: &Method) -> StabilityFunction {
     let (num, den) = (num.divrem(&g).0, den.divrem(&g).0);
     let c0 = den.coeff(0);
     let (num, den) = (num.scale(&c0.recip()), den.scale(&c0.recip()));
-    let to_n = |p: &Poly| NPoly(p.0.iter().map(|c| Number::from_rational(c.clone())).collect());
+    let to_n = |p: &Poly| {
+        NPoly(
+            p.0.iter()
+                .map(|c| Number::from_rational(c.clone()))
+                .collect(),
+        )
+    };
     StabilityFunction {
         numerator: to_n(&num),
         denominator: to_n(&den),
@@ -482,9 +503,10 @@ fn hurwitz(p: &Poly) -> bool {
         rows.push(next);
     }
     let sign0 = a[0].is_positive();
-    rows.iter()
-        .take(n + 1)
-        .all(|r| r.first().is_some_and(|x| !x.is_zero() && x.is_positive() == sign0))
+    rows.iter().take(n + 1).all(|r| {
+        r.first()
+            .is_some_and(|x| !x.is_zero() && x.is_positive() == sign0)
+    })
 }
 
 /// `e(t) ≥ 0` for all `t ≥ 0`.
@@ -518,14 +540,30 @@ fn nonnegative_on_half_line(e: &Poly) -> bool {
     }
     // Cauchy bound for the roots.
     let lead = odd.lead();
-    let bound = odd.0.iter().map(|c| (c / &lead).abs()).fold(BigRational::zero(), |a, b| a + b) + q(1);
+    let bound = odd
+        .0
+        .iter()
+        .map(|c| (c / &lead).abs())
+        .fold(BigRational::zero(), |a, b| a + b)
+        + q(1);
     count_roots(&odd.sturm(), &BigRational::zero(), &bound) == 0
 }
 
 fn a_stability(r: &StabilityFunction) -> (bool, BigRational) {
-    let to_q = |p: &NPoly| Poly(p.0.iter().map(|n| n.as_rational().expect("rational")).collect()).trim();
+    let to_q = |p: &NPoly| {
+        Poly(
+            p.0.iter()
+                .map(|n| n.as_rational().expect("rational"))
+                .collect(),
+        )
+        .trim()
+    };
     let (n, d) = (to_q(&r.numerator), to_q(&r.denominator));
-    let r_inf = if n.degree() == d.degree() { n.lead() / d.lead() } else { BigRational::zero() };
+    let r_inf = if n.degree() == d.degree() {
+        n.lead() / d.lead()
+    } else {
+        BigRational::zero()
+    };
     // Poles in Re z > 0: D(−z) Hurwitz. |R(iy)| ≤ 1: E(y²) ≥ 0.
     let poles_ok = hurwitz(&reflect_z(&d));
     let nn = n.mul(&reflect_z(&n));
@@ -536,7 +574,13 @@ fn a_stability(r: &StabilityFunction) -> (bool, BigRational) {
             .iter()
             .enumerate()
             .filter(|(k, _)| k % 2 == 0)
-            .map(|(k, c)| if (k / 2) % 2 == 1 { -c.clone() } else { c.clone() })
+            .map(|(k, c)| {
+                if (k / 2) % 2 == 1 {
+                    -c.clone()
+                } else {
+                    c.clone()
+                }
+            })
             .collect(),
     )
     .trim();
@@ -590,7 +634,11 @@ impl Method {
         let ring = &self.ring;
         let om = Poly::from_ints(&[1, -1]);
         let pr = ring.p.compose(&om);
-        let sign = if self.s % 2 == 0 { q(1) } else { q(-1) };
+        let sign = if self.s.is_multiple_of(2) {
+            q(1)
+        } else {
+            q(-1)
+        };
         if pr != ring.p.scale(&sign) {
             return false;
         }
@@ -598,7 +646,10 @@ impl Method {
         if br != self.b {
             return false;
         }
-        let lhs = ring.sub(&ring.add(&self.a, &ring.reflect(&self.a)), &ring.from_y(&self.b));
+        let lhs = ring.sub(
+            &ring.add(&self.a, &ring.reflect(&self.a)),
+            &ring.from_y(&self.b),
+        );
         let dl = ring.r1(&self.d.add(&self.d.compose(&om)).sub(&self.b));
         lhs.is_zero() && dl.is_zero()
     }
@@ -626,7 +677,11 @@ fn order_proof(ring: &Ring, b: &Poly, a: &Pair, d: &Poly, s: usize, _what: &str)
     } else {
         let mut t = format!(
             "B({m_b}), C({m_c}), D({m_d}) hold exactly{}; Butcher's theorem gives order ≥ min({m_b}, {m_c}+{m_d}+1, 2·{m_c}+2) = {lower}",
-            if m_b == bcap { " (B checked up to this level only)" } else { "" }
+            if m_b == bcap {
+                " (B checked up to this level only)"
+            } else {
+                ""
+            }
         );
         if let Some(u) = upper {
             t.push_str(&format!(
@@ -750,7 +805,9 @@ impl Method {
         let s = self.s;
         let br: Vec<Bracket> = b.iter().map(|x| bracket(&f, x)).collect();
         let mut out = F64Table {
-            a: a.iter().map(|row| row.iter().map(|x| bracket(&f, x).nearest).collect()).collect(),
+            a: a.iter()
+                .map(|row| row.iter().map(|x| bracket(&f, x).nearest).collect())
+                .collect(),
             b: br.iter().map(|x| x.nearest).collect(),
             c: c.iter().map(|x| f.to_f64(x).expect("budget")).collect(),
         };
@@ -772,7 +829,10 @@ impl Method {
                                 - &bq[i] * &bq[j])
                                 .abs();
                             let moved = u8::from(u != x.nearest) + u8::from(v != y.nearest);
-                            if best.as_ref().is_none_or(|(bw, bm, _, _)| (&w, moved) < (bw, *bm)) {
+                            if best
+                                .as_ref()
+                                .is_none_or(|(bw, bm, _, _)| (&w, moved) < (bw, *bm))
+                            {
                                 best = Some((w, moved, u, v));
                             }
                         }
@@ -791,7 +851,12 @@ impl Method {
     /// (integer coefficients) with isolating intervals, every entry as a
     /// polynomial in the nodes. `perturb = Some((i, j, text))` appends
     /// ` + text` to `a[i][j]` (for tests of the refusal).
-    pub fn to_root_file(&self, name: &str, claims: &[&str], perturb: Option<(usize, usize, &str)>) -> String {
+    pub fn to_root_file(
+        &self,
+        name: &str,
+        claims: &[&str],
+        perturb: Option<(usize, usize, &str)>,
+    ) -> String {
         use num_integer::Integer;
         let mut den = BigInt::one();
         for c in &self.ring.p.0 {
@@ -888,7 +953,9 @@ fn radical_nodes(p: &Poly, roots: &[RealRoot]) -> Option<Vec<Number>> {
     let mut found: Vec<Number> = Vec::new();
     for cand in [q(0), q(1), BigRational::new(1.into(), 2.into())] {
         if rest.eval(&cand).is_zero() {
-            rest = rest.divrem(&Poly(vec![-cand.clone(), BigRational::one()])).0;
+            rest = rest
+                .divrem(&Poly(vec![-cand.clone(), BigRational::one()]))
+                .0;
             found.push(Number::from_rational(cand));
         }
     }
@@ -918,7 +985,10 @@ fn radical_nodes(p: &Poly, roots: &[RealRoot]) -> Option<Vec<Number>> {
         } else {
             let mut r = r.clone();
             r.refine_to(80);
-            let (lo, hi) = (crate::number::rational_to_f64(&r.lo), crate::number::rational_to_f64(&r.hi));
+            let (lo, hi) = (
+                crate::number::rational_to_f64(&r.lo),
+                crate::number::rational_to_f64(&r.hi),
+            );
             found
                 .iter()
                 .find(|n| n.to_f64() >= lo && n.to_f64() <= hi)?
@@ -997,7 +1067,11 @@ impl Bracket {
 /// The largest double `≤ r`.
 fn floor_f64(r: &BigRational) -> f64 {
     let d = crate::number::rational_to_f64(r);
-    if f64_rational(d) > *r { prev_down(d) } else { d }
+    if f64_rational(d) > *r {
+        prev_down(d)
+    } else {
+        d
+    }
 }
 
 fn prev_down(x: f64) -> f64 {
@@ -1059,9 +1133,21 @@ fn adjust_weights(br: &[Bracket]) -> Vec<f64> {
     }
     let n = br.len();
     let mirror = |i: usize| n - 1 - i;
-    let alt = |x: &Bracket| if x.nearest == x.lower { x.upper } else { x.lower };
+    let alt = |x: &Bracket| {
+        if x.nearest == x.lower {
+            x.upper
+        } else {
+            x.lower
+        }
+    };
     let units: Vec<Vec<usize>> = (0..n.div_ceil(2))
-        .map(|i| if mirror(i) != i && br[i].nearest == br[mirror(i)].nearest { vec![i, mirror(i)] } else { vec![i] })
+        .map(|i| {
+            if mirror(i) != i && br[i].nearest == br[mirror(i)].nearest {
+                vec![i, mirror(i)]
+            } else {
+                vec![i]
+            }
+        })
         .collect();
     let apply = |v: &mut Vec<f64>, u: &[usize]| {
         for &i in u {
@@ -1099,13 +1185,29 @@ mod tests {
 
     #[test]
     fn parse_ids() {
-        assert_eq!(Generator::parse("gauss8"), Ok(Generator::Rk(Family::Gauss, 8)));
-        assert_eq!(Generator::parse("gauss(8)"), Ok(Generator::Rk(Family::Gauss, 8)));
-        assert_eq!(Generator::parse("radau2a-5"), Ok(Generator::Rk(Family::Radau2A, 5)));
-        assert_eq!(Generator::parse("lobatto3a3b4"), Ok(Generator::Lobatto3A3B(4)));
+        assert_eq!(
+            Generator::parse("gauss8"),
+            Ok(Generator::Rk(Family::Gauss, 8))
+        );
+        assert_eq!(
+            Generator::parse("gauss(8)"),
+            Ok(Generator::Rk(Family::Gauss, 8))
+        );
+        assert_eq!(
+            Generator::parse("radau2a-5"),
+            Ok(Generator::Rk(Family::Radau2A, 5))
+        );
+        assert_eq!(
+            Generator::parse("lobatto3a3b4"),
+            Ok(Generator::Lobatto3A3B(4))
+        );
         assert!(Generator::parse("gauss0").is_err());
         assert!(Generator::parse("lobatto3a1").is_err());
-        assert!(Generator::parse("foo3").unwrap_err().contains("unknown generator"));
+        assert!(
+            Generator::parse("foo3")
+                .unwrap_err()
+                .contains("unknown generator")
+        );
     }
 
     #[test]

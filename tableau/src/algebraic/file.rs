@@ -29,6 +29,8 @@
 //! not computed for such files. A file without `generate` or `root(` is an
 //! ordinary table file.
 
+#![allow(clippy::needless_range_loop)] // index-heavy table code
+
 use std::collections::BTreeMap;
 use std::path::Path;
 
@@ -49,7 +51,7 @@ use crate::file::{FileError, TableFile, parse_table_file};
 #[derive(Debug)]
 pub enum Loaded {
     /// An ordinary table file ([`crate::file`]).
-    Classic(TableFile),
+    Classic(Box<TableFile>),
     /// `generate = "..."`.
     Generated(Box<Generated>),
     /// Entries with `root(...)`.
@@ -82,10 +84,10 @@ pub fn load(path: &Path) -> Result<Loaded, FileError> {
     // which reads at most one byte past the limit and says what is wrong.
     if !meta.is_file() || meta.len() > MAX_FILE_BYTES {
         // The ordinary loader gives the full message.
-        return crate::file::load(path).map(Loaded::Classic);
+        return crate::file::load(path).map(|t| Loaded::Classic(Box::new(t)));
     }
     let Ok(text) = std::fs::read_to_string(path) else {
-        return crate::file::load(path).map(Loaded::Classic);
+        return crate::file::load(path).map(|t| Loaded::Classic(Box::new(t)));
     };
     parse(&file, &text)
 }
@@ -93,12 +95,13 @@ pub fn load(path: &Path) -> Result<Loaded, FileError> {
 /// Parse a table file of any kind given as text.
 pub fn parse(file: &str, text: &str) -> Result<Loaded, FileError> {
     let Ok(doc) = text.parse::<toml::Table>() else {
-        return parse_table_file(file, text).map(Loaded::Classic);
+        return parse_table_file(file, text).map(|t| Loaded::Classic(Box::new(t)));
     };
     let has_root = match doc.get("let") {
-        Some(toml::Value::Table(t)) => t
-            .values()
-            .any(|v| v.as_str().is_some_and(|s| s.trim_start().starts_with("root("))),
+        Some(toml::Value::Table(t)) => t.values().any(|v| {
+            v.as_str()
+                .is_some_and(|s| s.trim_start().starts_with("root("))
+        }),
         _ => false,
     };
     if doc.contains_key("generate") {
@@ -107,7 +110,7 @@ pub fn parse(file: &str, text: &str) -> Result<Loaded, FileError> {
     if has_root {
         return alg_file(file, &doc).map(|a| Loaded::Algebraic(Box::new(a)));
     }
-    parse_table_file(file, text).map(Loaded::Classic)
+    parse_table_file(file, text).map(|t| Loaded::Classic(Box::new(t)))
 }
 
 fn ferr(file: &str, field: Option<&str>, message: impl Into<String>) -> FileError {
@@ -178,8 +181,13 @@ fn alg_file(file: &str, doc: &toml::Table) -> Result<AlgFile, FileError> {
             ));
         }
     }
-    let name = string_field(file, doc, "name")?
-        .ok_or_else(|| ferr(file, Some("name"), "missing: every table file needs a `name = \"...\"`"))?;
+    let name = string_field(file, doc, "name")?.ok_or_else(|| {
+        ferr(
+            file,
+            Some("name"),
+            "missing: every table file needs a `name = \"...\"`",
+        )
+    })?;
     let source = string_field(file, doc, "source")?;
     let claims = claims_of(file, doc)?.unwrap_or_default();
     let mut cx = AlgCx {
@@ -195,7 +203,13 @@ fn alg_file(file: &str, doc: &toml::Table) -> Result<AlgFile, FileError> {
             let text = match v {
                 toml::Value::String(s) => s.clone(),
                 toml::Value::Integer(n) => n.to_string(),
-                _ => return Err(ferr(file, Some(&fieldname), "expected a string or an integer")),
+                _ => {
+                    return Err(ferr(
+                        file,
+                        Some(&fieldname),
+                        "expected a string or an integer",
+                    ));
+                }
             };
             if text.trim_start().starts_with("root(") {
                 let r = parse_root(&text).map_err(|e| ferr(file, Some(&fieldname), e))?;
@@ -347,7 +361,9 @@ fn poly_of(e: &Expr) -> Result<Poly, String> {
             };
             b.pow(k)
         }
-        ExprKind::Call { .. } => return Err("sqrt/cbrt are not allowed in root(...)'s polynomial".into()),
+        ExprKind::Call { .. } => {
+            return Err("sqrt/cbrt are not allowed in root(...)'s polynomial".into());
+        }
     })
 }
 
@@ -370,7 +386,11 @@ impl AlgCx<'_> {
                 Some(field),
                 "a TOML float is not the decimal its author wrote: quote it, e.g. \"0.1\"",
             )),
-            _ => Err(ferr(self.file, Some(field), "expected a string or an integer")),
+            _ => Err(ferr(
+                self.file,
+                Some(field),
+                "expected a string or an integer",
+            )),
         }
     }
 
@@ -385,12 +405,20 @@ impl AlgCx<'_> {
 
     fn matrix(&mut self, v: Option<&toml::Value>, name: &str) -> Result<Vec<Vec<Alg>>, FileError> {
         let Some(toml::Value::Array(rows)) = v else {
-            return Err(ferr(self.file, Some(name), "missing or not an array of rows"));
+            return Err(ferr(
+                self.file,
+                Some(name),
+                "missing or not an array of rows",
+            ));
         };
         let mut out = Vec::new();
         for (i, row) in rows.iter().enumerate() {
             let Some(row) = row.as_array() else {
-                return Err(ferr(self.file, Some(&format!("{name}[{i}]")), "expected a row (an array)"));
+                return Err(ferr(
+                    self.file,
+                    Some(&format!("{name}[{i}]")),
+                    "expected a row (an array)",
+                ));
             };
             let mut r = Vec::new();
             for j in 0..row.len() {
@@ -451,7 +479,11 @@ impl AlgCx<'_> {
                     ))
                 })?;
                 let one = BigRational::from_integer(1.into());
-                let big = if r.abs() > one { r.abs() + &one } else { &one + &one };
+                let big = if r.abs() > one {
+                    r.abs() + &one
+                } else {
+                    &one + &one
+                };
                 let (poly, lo, name) = match func {
                     Func::Sqrt => {
                         if r.is_negative() {
@@ -460,15 +492,25 @@ impl AlgCx<'_> {
                         if r.is_zero() {
                             return Ok(Alg::zero());
                         }
-                        (Poly(vec![-r.clone(), BigRational::zero(), one.clone()]), BigRational::zero(), format!("sqrt({r})"))
+                        (
+                            Poly(vec![-r.clone(), BigRational::zero(), one.clone()]),
+                            BigRational::zero(),
+                            format!("sqrt({r})"),
+                        )
                     }
                     Func::Cbrt => (
-                        Poly(vec![-r.clone(), BigRational::zero(), BigRational::zero(), one.clone()]),
+                        Poly(vec![
+                            -r.clone(),
+                            BigRational::zero(),
+                            BigRational::zero(),
+                            one.clone(),
+                        ]),
                         -big.clone(),
                         format!("cbrt({r})"),
                     ),
                 };
-                let root = RealRoot::new(&poly, lo, big).map_err(|_| err("no unique root".into()))?;
+                let root =
+                    RealRoot::new(&poly, lo, big).map_err(|_| err("no unique root".into()))?;
                 self.field.push(root, name)
             }
         })
@@ -602,8 +644,8 @@ impl AlgFile {
             },
             Claim::Order { p, bound: None } => {
                 let holds = an.b_levels.iter().take_while(|v| **v == Some(true)).count();
-                if holds < *p {
-                    if an.b_levels.get(holds) == Some(&Some(false)) {
+                if holds < *p && an.b_levels.get(holds) == Some(&Some(false)) {
+                    {
                         return Err(format!(
                             "order {p} claimed but B({}) fails (Σ bᵢcᵢ^{holds} ≠ 1/{}), so the order is at most {holds}",
                             holds + 1,

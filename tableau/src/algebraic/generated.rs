@@ -261,9 +261,9 @@ impl Generated {
                     Err(ClaimError("not symmetric: the adjoint (nodes 1 − cᵢ, aᵢⱼ ↦ b_σ(j) − a_σ(i)σ(j)) is not the table under the reversal of the stages, the only permutation that can match the nodes".into()))
                 }
             }
-            Claim::Explicit => {
-                Err(ClaimError("not explicit: a collocation-type table is implicit".into()))
-            }
+            Claim::Explicit => Err(ClaimError(
+                "not explicit: a collocation-type table is implicit".into(),
+            )),
             Claim::Order { p, bound: _ } => {
                 let proven = self.proven_order();
                 if proven >= *p {

@@ -65,7 +65,10 @@ impl Ring {
     pub fn new(p: &Poly) -> Ring {
         let p = p.monic();
         let s = p.degree().expect("nonzero");
-        assert!(s >= 1 && p.is_squarefree(), "node polynomial must be squarefree");
+        assert!(
+            s >= 1 && p.is_squarefree(),
+            "node polynomial must be squarefree"
+        );
         // Q(x, y) = Σ_m c_m Σ_{k<m} x^{m−1−k} yᵏ: coefficient of yᵏ is
         // Σ_{m>k} c_m x^{m−1−k}.
         let qy = (0..s)
@@ -272,7 +275,10 @@ mod tests {
     #[test]
     fn q_vanishes_and_swap_is_an_involution() {
         let r = Ring::new(&shifted_legendre(4));
-        let g = r.mul(&r.from_x(&Poly::from_ints(&[1, 2, 3])), &r.from_y(&Poly::from_ints(&[0, 5, 0, 7])));
+        let g = r.mul(
+            &r.from_x(&Poly::from_ints(&[1, 2, 3])),
+            &r.from_y(&Poly::from_ints(&[0, 5, 0, 7])),
+        );
         assert_eq!(r.swap(&r.swap(&g)), g);
         assert_eq!(r.reflect(&r.reflect(&g)), g);
         // x + y + … : Q(x, y) itself reduces to zero

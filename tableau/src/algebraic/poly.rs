@@ -203,12 +203,7 @@ impl Poly {
     /// `∫₀ˣ self`.
     pub fn integral(&self) -> Poly {
         let mut v = vec![BigRational::zero()];
-        v.extend(
-            self.0
-                .iter()
-                .enumerate()
-                .map(|(k, c)| c / q(k as i64 + 1)),
-        );
+        v.extend(self.0.iter().enumerate().map(|(k, c)| c / q(k as i64 + 1)));
         Poly(v).trim()
     }
 
@@ -403,8 +398,13 @@ mod tests {
         let (qt, r) = a.divrem(&b);
         assert_eq!(qt, Poly::from_ints(&[-1, 1]));
         assert!(r.is_zero());
-        assert_eq!(a.gcd(&Poly::from_ints(&[-1, 0, 0, 1])), Poly::from_ints(&[-1, 1]));
-        let inv = Poly::from_ints(&[1, 1]).inverse_mod(&Poly::from_ints(&[-2, 0, 1])).unwrap();
+        assert_eq!(
+            a.gcd(&Poly::from_ints(&[-1, 0, 0, 1])),
+            Poly::from_ints(&[-1, 1])
+        );
+        let inv = Poly::from_ints(&[1, 1])
+            .inverse_mod(&Poly::from_ints(&[-2, 0, 1]))
+            .unwrap();
         // (1 + x)(−1 + x) = x² − 1 ≡ 1 mod x² − 2
         assert_eq!(inv, Poly::from_ints(&[-1, 1]));
     }
@@ -414,7 +414,18 @@ mod tests {
         let p = shifted_legendre(5);
         let seq = p.sturm();
         assert_eq!(count_roots(&seq, &q(0), &q(1)), 5);
-        assert_eq!(count_roots(&seq, &q(0), &BigRational::new(1.into(), 2.into())), 3);
-        assert_eq!(legendre(3), Poly(vec![q(0), BigRational::new((-3).into(), 2.into()), q(0), BigRational::new(5.into(), 2.into())]));
+        assert_eq!(
+            count_roots(&seq, &q(0), &BigRational::new(1.into(), 2.into())),
+            3
+        );
+        assert_eq!(
+            legendre(3),
+            Poly(vec![
+                q(0),
+                BigRational::new((-3).into(), 2.into()),
+                q(0),
+                BigRational::new(5.into(), 2.into())
+            ])
+        );
     }
 }

@@ -210,7 +210,9 @@ impl RealRoot {
             }
             let k = bits.min(2 * cur - 8).max(cur + 1) + 2;
             let scale = BigRational::from_integer(BigInt::one() << k);
-            let x = ((&self.lo + &self.hi) / two() * &scale).floor().to_integer();
+            let x = ((&self.lo + &self.hi) / two() * &scale)
+                .floor()
+                .to_integer();
             let (v, dv) = eval(&x, k);
             if dv.is_zero() {
                 self.bisect();
@@ -223,9 +225,8 @@ impl RealRoot {
                 BigRational::new(a.clone(), BigInt::one() << k),
                 BigRational::new(b.clone(), BigInt::one() << k),
             );
-            let ok = ra >= self.lo
-                && rb <= self.hi
-                && sgn(&eval(&a, k).0) * sgn(&eval(&b, k).0) < 0;
+            let ok =
+                ra >= self.lo && rb <= self.hi && sgn(&eval(&a, k).0) * sgn(&eval(&b, k).0) < 0;
             if ok {
                 self.lo = ra;
                 self.hi = rb;
