@@ -186,10 +186,12 @@ pub struct Stats {
     /// Newton steps taken in full without the Armijo test because the
     /// predicted decrease of `Φ` was below its round-off.
     pub roundoff_steps: usize,
-    /// Solves accepted at their round-off floor above the tolerance: Newton
-    /// steps whose predicted decrease of `Φ` was below its round-off, three
-    /// in a row, that no longer halved the gradient. Counted and reported,
-    /// with their residual in `max_residual`.
+    /// Solves accepted at their round-off floor above the tolerance: three
+    /// Newton steps in a row (each with a fresh factorisation) whose
+    /// predicted decrease of `Φ` was below its round-off or that moved no
+    /// coordinate by more than 4 ulps of the largest, and that no longer
+    /// halved the gradient. Counted and reported, with their residual in
+    /// `max_residual`.
     pub floor_accepts: usize,
     /// The largest final residual `‖∇Φ‖_∞/S` over all solves.
     pub max_residual: f64,
@@ -689,6 +691,8 @@ pub struct Minimiser {
     last_c: Option<f64>,
     g: Vec<f64>,
     dx: Vec<f64>,
+    /// Scratch for a gradient at a trial point.
+    dx_scratch: Vec<f64>,
     trial: Vec<f64>,
     f: Vec<f64>,
     stats: Stats,
@@ -727,6 +731,7 @@ impl Minimiser {
             last_c: None,
             g: vec![0.0; n],
             dx: vec![0.0; n],
+            dx_scratch: vec![0.0; n],
             trial: vec![0.0; n],
             f: vec![0.0; n],
             stats,
@@ -989,6 +994,19 @@ impl Minimiser {
                 if trial.0 <= phi.0 + ARMIJO * alpha * slope {
                     break trial;
                 }
+                // Where the decrease Armijo asks for is within a few
+                // thousand ulps of Φ, Φ's own round-off decides the test:
+                // there the full step is judged by the gradient instead
+                // (taken when it shrinks ‖∇Φ‖).
+                if halvings == 0 && -slope <= NOISY * phi.1 {
+                    let mut g_trial = std::mem::take(&mut self.dx_scratch);
+                    let r = gradient(model, c, &self.trial, &self.y, &mut self.f, &mut g_trial);
+                    self.dx_scratch = g_trial;
+                    if r < residual {
+                        self.stats.roundoff_steps += 1;
+                        break trial;
+                    }
+                }
                 halvings += 1;
                 self.stats.backtracks += 1;
                 if halvings > MAX_HALVINGS || slope >= 0.0 {
@@ -1005,7 +1023,15 @@ impl Minimiser {
             let before = residual;
             residual = gradient(model, c, &self.x, &self.y, &mut self.f, &mut self.g);
             refactor = !fresh && (halvings > 0 || residual > REUSE_CONTRACTION * before);
-            if -slope <= ROUNDOFF * phi.1 && residual > 0.5 * before {
+            // At round-off: a predicted decrease below the round-off of Φ,
+            // or a step that moved no coordinate by more than a few ulps of
+            // the largest. Counted only for steps with a fresh factor.
+            let moved = self.dx.iter().fold(0.0f64, |m, d| m.max((alpha * d).abs()));
+            let x_max = self.x.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+            let at_roundoff = -slope <= ROUNDOFF * phi.1 || moved <= 4.0 * f64::EPSILON * x_max;
+            if at_roundoff && !fresh && residual > 0.5 * before {
+                refactor = true;
+            } else if at_roundoff && residual > 0.5 * before {
                 stalled += 1;
                 if stalled >= 3 && residual > tol {
                     self.stats.floor_accepts += 1;
@@ -1082,6 +1108,9 @@ impl Minimiser {
         }
     }
 }
+
+/// Below this many ulps of `Φ`'s magnitude, Armijo's test is unreliable.
+const NOISY: f64 = 4096.0 * f64::EPSILON;
 
 /// A reused factorisation is kept while each iteration shrinks the
 /// gradient by at least this factor.
