@@ -51,6 +51,15 @@ pub trait Separable {
     fn velocity(&self, p: &[f64], out: &mut [f64]);
     /// `out = −∂V/∂q`: the force a kick moves `p` with.
     fn force(&self, q: &[f64], out: &mut [f64]);
+    /// `out = −∂V/∂q` and the return value `V(q)`, for methods that need
+    /// both at every kick (the logarithmic Hamiltonian's force is
+    /// `−∇V/(−V)`). Override it where the two share work (Kepler: one
+    /// square root for both); it must give the bits of
+    /// [`force`](Separable::force) and [`potential`](Separable::potential).
+    fn force_and_potential(&self, q: &[f64], out: &mut [f64]) -> f64 {
+        self.force(q, out);
+        self.potential(q)
+    }
 }
 
 impl<S: Separable + ?Sized> Hamiltonian for S {

@@ -145,8 +145,7 @@ impl<S: Separable> Separable for LogHamiltonian<S> {
     /// `p₀`.
     fn force(&self, q: &[f64], out: &mut [f64]) {
         let n = self.inner.dof();
-        let w = 1.0 / (-self.inner.potential(&q[..n]));
-        self.inner.force(&q[..n], &mut out[..n]);
+        let w = 1.0 / (-self.inner.force_and_potential(&q[..n], &mut out[..n]));
         for f in &mut out[..n] {
             *f *= w;
         }

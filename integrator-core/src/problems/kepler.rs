@@ -92,8 +92,11 @@ impl Separable for Kepler {
     fn kinetic(&self, p: &[f64]) -> f64 {
         0.5 * (p[0] * p[0] + p[1] * p[1])
     }
+    /// `−1/r`, with `r = √(q₁² + q₂²)` as the force computes it (not
+    /// `hypot`, a library call several times slower and of no use away
+    /// from overflow), so that `force_and_potential` gives the same bits.
     fn potential(&self, q: &[f64]) -> f64 {
-        -1.0 / q[0].hypot(q[1])
+        -1.0 / (q[0] * q[0] + q[1] * q[1]).sqrt()
     }
     fn velocity(&self, p: &[f64], out: &mut [f64]) {
         out[0] = p[0];
@@ -104,6 +107,16 @@ impl Separable for Kepler {
         let r3 = r2 * r2.sqrt();
         out[0] = -q[0] / r3;
         out[1] = -q[1] / r3;
+    }
+    /// One square root for both (the logarithmic Hamiltonian needs `V`
+    /// at every kick).
+    fn force_and_potential(&self, q: &[f64], out: &mut [f64]) -> f64 {
+        let r2 = q[0] * q[0] + q[1] * q[1];
+        let r = r2.sqrt();
+        let r3 = r2 * r;
+        out[0] = -q[0] / r3;
+        out[1] = -q[1] / r3;
+        -1.0 / r
     }
 }
 
