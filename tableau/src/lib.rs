@@ -3,7 +3,10 @@
 //! `tableau` holds everything that must be decided exactly and identically at
 //! compile time (by the `butcher!` macro) and at run time (by `symlab check`):
 //! the [`Number`] field (rationals extended by real radicals), the expression
-//! grammar, the table types and their analyses. It depends on neither faer nor
+//! grammar, the table types and their analyses; and, in [`algebraic`], real
+//! algebraic numbers (roots of rational polynomials with isolating intervals,
+//! exact zero tests) with the generated Gauss, Radau and Lobatto tables of any
+//! number of stages, verified in products of fields. It depends on neither faer nor
 //! syn, so the macro and the CLI share one verifier.
 
 pub mod algebraic;
