@@ -29,7 +29,7 @@ fn lit_mat(a: &[Vec<f64>]) -> TokenStream {
     quote!([#(#rows),*])
 }
 
-fn rk_consts(t: &F64Table, suffix: &str) -> TokenStream {
+pub(crate) fn rk_consts(t: &F64Table, suffix: &str) -> TokenStream {
     let s = t.b.len();
     let a_name = quote::format_ident!("A{}", suffix);
     let b_name = quote::format_ident!("B{}", suffix);
@@ -276,9 +276,15 @@ fn summary(v: &Verified) -> String {
 /// nearest double to the exact coefficient: what the linear model needs to
 /// form the one-step propagator `R(hH)`.
 fn stability_consts(v: &Verified) -> TokenStream {
-    let Some(r) = &v.analysis.stability else {
-        return TokenStream::new();
-    };
+    v.analysis
+        .stability
+        .as_ref()
+        .map(stability_tokens)
+        .unwrap_or_default()
+}
+
+/// The constants of an exact stability function (also for generated tables).
+pub(crate) fn stability_tokens(r: &tableau::analysis::stability::StabilityFunction) -> TokenStream {
     let to_f64 = |p: &[Number]| -> Vec<f64> { p.iter().map(Number::to_f64).collect() };
     let (p, q) = (lit(&to_f64(&r.numerator.0)), lit(&to_f64(&r.denominator.0)));
     let (np, nq) = (r.numerator.0.len(), r.denominator.0.len());

@@ -11,6 +11,7 @@
 
 mod ast;
 mod expand;
+mod generated;
 mod step;
 mod valid;
 
@@ -19,6 +20,11 @@ use proc_macro::TokenStream;
 #[proc_macro]
 pub fn butcher(input: TokenStream) -> TokenStream {
     let input = syn::parse_macro_input!(input as ast::Input);
+    match generated::validate(&input) {
+        Some(Ok(g)) => return generated::expand(&input, &g).into(),
+        Some(Err(err)) => return expand::stub(&input, err).into(),
+        None => {}
+    }
     match valid::validate(&input) {
         Ok(verified) => expand::expand(&input, &verified).into(),
         Err(err) => expand::stub(&input, err).into(),
