@@ -86,8 +86,15 @@ library! {
         "gauss1" => GaussLegendre1,
         "gauss2" => GaussLegendre2,
         "gauss3" => GaussLegendre3,
+        "gauss4" => GaussLegendre4,
+        "gauss5" => GaussLegendre5,
+        "gauss6" => GaussLegendre6,
+        "gauss7" => GaussLegendre7,
+        "gauss8" => GaussLegendre8,
         "radau2a-2" => RadauIIA2,
         "radau2a-3" => RadauIIA3,
+        "radau2a-4" => RadauIIA4,
+        "radau2a-5" => RadauIIA5,
         "lobatto3a-2" => LobattoIIIA2,
         "lobatto3a-3" => LobattoIIIA3,
         "lobatto3b-2" => LobattoIIIB2,
@@ -129,6 +136,7 @@ library! {
     ],
     implicit_pairs: [
         "lobatto3a3b-3" => LobattoIIIAIIIB3,
+        "lobatto3a3b-4" => LobattoIIIAIIIB4,
         "lobatto3c3cstar-2" => LobattoIIICIIICStar2,
     ],
 }
