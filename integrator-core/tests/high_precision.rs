@@ -21,7 +21,10 @@ use integrator_core::OdeSystem;
 use integrator_core::implicit::{
     self, FormSource, ImplicitTable, ImplicitWorkspace, Settings, Solver, symplectic_form,
 };
-use integrator_core::library::{GaussLegendre1, GaussLegendre2, GaussLegendre3, RadauIIA3};
+use integrator_core::library::{
+    GaussLegendre1, GaussLegendre2, GaussLegendre3, GaussLegendre4, GaussLegendre5, GaussLegendre6,
+    GaussLegendre7, GaussLegendre8, RadauIIA3, RadauIIA5,
+};
 use integrator_core::problems::{Kepler, RandomSeparable};
 
 mod common;
@@ -120,6 +123,13 @@ fn symplectic_forms_pair_to_one_exactly() {
     check_form(&gauss::<6>(), "gauss(6)");
     check_form(&gauss::<7>(), "gauss(7)");
     check_form(&gauss::<8>(), "gauss(8)");
+    // The library's generated tables.
+    check_form(&GaussLegendre4::TABLE, "gauss4");
+    check_form(&GaussLegendre5::TABLE, "gauss5");
+    check_form(&GaussLegendre6::TABLE, "gauss6");
+    check_form(&GaussLegendre7::TABLE, "gauss7");
+    check_form(&GaussLegendre8::TABLE, "gauss8");
+    assert!(symplectic_form(&RadauIIA5::TABLE).is_none());
     // Radau IIA is not symplectic: no symplectic form.
     assert!(symplectic_form(&RadauIIA3::TABLE).is_none());
 }
@@ -238,6 +248,17 @@ fn measured_orders_on_kepler() {
     check("gauss(6)", 12, measured_order(&gauss::<6>(), 0.1, 100, 99));
     check("gauss(7)", 14, measured_order(&gauss::<7>(), 0.1, 100, 99));
     check("gauss(8)", 16, measured_order(&gauss::<8>(), 0.1, 100, 99));
+    // The library's (identical steps: the form comes from the nodes).
+    check(
+        "gauss4",
+        8,
+        measured_order(&GaussLegendre4::TABLE, 0.2, 100, 99),
+    );
+    check(
+        "gauss8",
+        16,
+        measured_order(&GaussLegendre8::TABLE, 0.1, 100, 99),
+    );
     println!("{report}");
 }
 
@@ -264,10 +285,18 @@ fn symplectic_in_fact() {
                 d8 <= 1e-11 && d5 <= 1e-11 && d3 <= 1e-11,
                 "{d8:e} {d5:e} {d3:e}"
             );
+            for (name, d) in [
+                ("gauss4", defect(&GaussLegendre4::TABLE, seed, h)),
+                ("gauss6", defect(&GaussLegendre6::TABLE, seed, h)),
+                ("gauss7", defect(&GaussLegendre7::TABLE, seed, h)),
+                ("gauss8", defect(&GaussLegendre8::TABLE, seed, h)),
+            ] {
+                assert!(d <= 1e-11, "{name}: {d:e}");
+            }
         }
     }
     let radau = defect(&RadauIIA3::TABLE, 1, 0.2);
-    assert!(radau > 1e-9, "Radau IIA: {radau:e}");
+    assert!(radau > 1e-9, "Radau IIA 3: {radau:e}");
 }
 
 #[test]
