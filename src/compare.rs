@@ -56,7 +56,7 @@ when dop853 ran, our fastest method against it at each decade 1e-2 ... 1e-12.
 
 --peer-study (Kepler e = 0.6 and e = 0.9; --problem kepler or kepler-hard for one) runs
 logh:sofroniou-spaletta10, logh:kahan-li8, logh:mclachlan8, adaptive:sofroniou-spaletta10,
-adaptive:kahan-li8, sofroniou-spaletta10, kahan-li8 and dop853 at 100 and 1000 orbits
+adaptive:kahan-li8, sofroniou-spaletta10, kahan-li8, gauss8 and dop853 at 100 and 1000 orbits
 (--quick: 1 and 10 orbits, kahan-li8, logh:kahan-li8, adaptive:kahan-li8, dop853) and writes
 peer.csv (the runs.csv columns, then t_end; problem kepler or kepler-hard) and peer.md (per
 eccentricity, run length and target 1e-6, 1e-8, 1e-10: our fastest method against dop853,

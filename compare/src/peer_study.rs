@@ -30,6 +30,7 @@ pub const METHODS: &[&str] = &[
     "adaptive:kahan-li8",
     "sofroniou-spaletta10",
     "kahan-li8",
+    "gauss8",
     "dop853",
 ];
 /// The methods of `--quick`.
