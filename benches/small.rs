@@ -216,7 +216,7 @@ const VARIANTS: [&str; 6] = [
 /// Median and fastest ns per step of each runner over `ROUNDS` interleaved
 /// rounds, after `WARM_UP` untimed ones.
 fn time(mut runners: [&mut dyn FnMut() -> [f64; 4]; 6]) -> [(f64, f64); 6] {
-    let mut samples = vec![Vec::with_capacity(ROUNDS); 6];
+    let mut samples: Vec<Vec<f64>> = (0..6).map(|_| Vec::with_capacity(ROUNDS)).collect();
     for round in 0..WARM_UP + ROUNDS {
         for (s, run) in samples.iter_mut().zip(runners.iter_mut()) {
             let t0 = Instant::now();
