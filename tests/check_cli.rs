@@ -155,7 +155,15 @@ fn readable_report_and_builtin() {
     assert!(out.contains("✓ order = 4"), "{out}");
     let (code, out, _) = symlab(&["list"]);
     assert_eq!(code, 0);
-    for id in ["rk4", "gauss2", "gauss3", "forest-ruth", "stormer-verlet"] {
+    for id in [
+        "rk4",
+        "gauss2",
+        "gauss3",
+        "gauss8",
+        "radau2a-5",
+        "forest-ruth",
+        "stormer-verlet",
+    ] {
         assert!(
             out.lines().any(|l| l.starts_with(id)),
             "{id} missing from:\n{out}"
