@@ -9,7 +9,7 @@
 use crate::error::SolveError;
 
 /// Facts about a scheme, proven at compile time by `butcher!`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Info {
     pub name: &'static str,
     /// `"rk"`, `"prk"`, `"drift-kick"` or `"composition"`.
@@ -25,6 +25,16 @@ pub struct Info {
     /// Right-hand-side evaluations per step (force plus velocity evaluations
     /// for separable schemes), without first-same-as-last reuse.
     pub evaluations: usize,
+    /// `Some(b)` when the table is a composition of implicit midpoint steps
+    /// of sizes `b₁h, …, b_sh` (`aᵢᵢ = bᵢ/2`, `aᵢⱼ = bⱼ` for `j < i`), decided
+    /// by `butcher!` on the exact entries (`tableau::midpoint`), never on the
+    /// doubles; the weights are the table's `b` as rounded for stepping.
+    ///
+    /// Why it is a fact of the scheme: for `M q̈ = −∇V(q)` each midpoint step
+    /// is an energy minimisation, so a solver may step such a table (a user's
+    /// as well as the library's) as successive minimisations, which descend
+    /// at any step size, instead of through the generic stage equations.
+    pub midpoint_weights: Option<&'static [f64]>,
 }
 
 /// Implemented by every `butcher!` type.

@@ -99,6 +99,7 @@ pub fn expand(input: &Input, v: &Verified) -> TokenStream {
     };
     let (step_impl, evaluations) = step_code(name, v, &rounded);
     let summary = summary(v);
+    let midpoint_weights = midpoint_weights(v, &rounded);
     quote! {
         #(#attrs)*
         #[doc = ""]
@@ -119,6 +120,7 @@ pub fn expand(input: &Input, v: &Verified) -> TokenStream {
                 explicit: #explicit,
                 class: #class,
                 evaluations: #evaluations,
+                midpoint_weights: #midpoint_weights,
             };
         }
 
@@ -244,6 +246,21 @@ fn step_code(name: &syn::Ident, v: &Verified, rounded: &F64Rounded) -> (TokenStr
 }
 
 /// The solver's name for a class of implicit table.
+/// `Some(&[b…])` when the exact table is a composition of implicit midpoint
+/// steps ([`tableau::midpoint::composition_weights`], exact equality of the
+/// entries), with the weights as rounded for stepping; `None` otherwise.
+fn midpoint_weights(v: &Verified, rounded: &F64Rounded) -> TokenStream {
+    match (&v.table, rounded) {
+        (Table::Rk(rk), F64Rounded::Rk(t))
+            if tableau::midpoint::composition_weights(rk).is_some() =>
+        {
+            let b = lit(&t.b);
+            quote!(::core::option::Option::Some(&#b))
+        }
+        _ => quote!(::core::option::Option::None),
+    }
+}
+
 fn structure(class: Class) -> &'static str {
     match class {
         Class::Sdirk => "Sdirk",

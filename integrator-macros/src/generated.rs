@@ -16,7 +16,7 @@
 use proc_macro2::{Span, TokenStream};
 use quote::quote;
 use syn::Error;
-use tableau::algebraic::family::Generator;
+use tableau::algebraic::family::{Family, Generator};
 use tableau::algebraic::generated::{Generated, GeneratedTable, literature_claims};
 use tableau::claims::parse_claim;
 
@@ -146,6 +146,17 @@ pub fn expand(input: &Input, g: &Generated) -> TokenStream {
             ("prk", quote!(#q #p), code, 2 * stages, false)
         }
     };
+    // Of the generated families only the one-stage Gauss table (A = (1/2),
+    // b = (1): the midpoint rule itself) has the shape of a composition of
+    // midpoint steps; every other one has a full A (Gauss, Radau, Lobatto
+    // IIIC), a zero first row (IIIA) or a zero last column (IIIB). An exact
+    // fact of the families, not a floating-point test.
+    let midpoint_weights =
+        if g.generator == Generator::Rk(Family::Gauss, 1) {
+            quote!(::core::option::Option::Some(&[1.0]))
+        } else {
+            quote!(::core::option::Option::None)
+        };
     let facts: Vec<String> = g.claims.iter().map(|(c, _)| format!("`{c}`")).collect();
     let summary = format!(
         "*{title}* — generated (`{}`) and verified exactly at compile time: {}; order proof: {}. Source: {}.",
@@ -174,6 +185,7 @@ pub fn expand(input: &Input, g: &Generated) -> TokenStream {
                 explicit: false,
                 class: "implicit",
                 evaluations: #evaluations,
+                midpoint_weights: #midpoint_weights,
             };
         }
 
