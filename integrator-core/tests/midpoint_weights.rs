@@ -38,7 +38,10 @@ fn library_midpoint_family_is_marked() {
     assert_eq!(PaperDirk2::INFO.midpoint_weights, Some(&[0.5, 0.5][..]));
     let w = PaperDirk4::INFO.midpoint_weights.expect("the triple jump");
     assert_eq!(w.len(), 3);
-    assert!(w[1] < 0.0, "the middle weight of the triple jump is negative");
+    assert!(
+        w[1] < 0.0,
+        "the middle weight of the triple jump is negative"
+    );
     assert_eq!(w, &PaperDirk4::B[..]);
     assert_eq!(GaussLegendre2::INFO.midpoint_weights, None);
     assert_eq!(Gauss1::INFO.midpoint_weights, Some(&[1.0][..]));
