@@ -151,12 +151,11 @@ pub fn expand(input: &Input, g: &Generated) -> TokenStream {
     // midpoint steps; every other one has a full A (Gauss, Radau, Lobatto
     // IIIC), a zero first row (IIIA) or a zero last column (IIIB). An exact
     // fact of the families, not a floating-point test.
-    let midpoint_weights =
-        if g.generator == Generator::Rk(Family::Gauss, 1) {
-            quote!(::core::option::Option::Some(&[1.0]))
-        } else {
-            quote!(::core::option::Option::None)
-        };
+    let midpoint_weights = if g.generator == Generator::Rk(Family::Gauss, 1) {
+        quote!(::core::option::Option::Some(&[1.0]))
+    } else {
+        quote!(::core::option::Option::None)
+    };
     let facts: Vec<String> = g.claims.iter().map(|(c, _)| format!("`{c}`")).collect();
     let summary = format!(
         "*{title}* — generated (`{}`) and verified exactly at compile time: {}; order proof: {}. Source: {}.",
