@@ -44,6 +44,7 @@ mod integrate;
 pub mod interp;
 pub mod library;
 pub mod linear;
+pub mod minimise;
 pub mod problems;
 pub mod scheme;
 mod system;
