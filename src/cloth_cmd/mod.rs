@@ -6,6 +6,7 @@
 
 pub(crate) mod energy;
 pub(crate) mod render;
+mod growth;
 mod stability;
 
 use std::collections::BTreeMap;
@@ -705,6 +706,13 @@ fn simulate(
         written.push(format!("{} OBJ in frames/", col.objs));
     }
     eprintln!("error: {failure}");
+    let growth = energy_growth(&col.stats, e_ref);
+    eprintln!("  energy up to the last good frame: {}", growth.describe());
+    if growth.exponential() {
+        eprintln!(
+            "  the energy was growing exponentially before the run stopped (see energy.svg): the method is unstable at this step, whatever the solver"
+        );
+    }
     eprintln!(
         "  output up to the last good frame, {} (t = {:.4} s), was written to {}: {}; nothing after it",
         good.frame,
@@ -716,6 +724,12 @@ fn simulate(
         eprintln!("note: {n}");
     }
     Ok(ExitCode::from(EXIT_RUN_FAILED))
+}
+
+/// The fitted growth of the relative energy error over `frames`.
+fn energy_growth(frames: &[FrameStats], e_ref: f64) -> growth::Growth {
+    let times: Vec<f64> = frames.iter().map(|f| f.time).collect();
+    growth::fit(&times, &energy::relative_errors(frames, e_ref))
 }
 
 /// Find the step at which a run blew up, by replaying the frame from the
@@ -946,6 +960,7 @@ impl Summary<'_> {
             "  energy       max relative error {worst:.3e} (at t = {at:.3} s; |H − H₀|/E_ref, E_ref = {:.4e} J)",
             self.e_ref
         );
+        let _ = writeln!(s, "  growth       {}", energy_growth(&r.frames, self.e_ref).describe());
         let (strain, frame) = r.frames.iter().fold((0.0f64, 0usize), |(m, k), f| {
             if f.max_strain > m {
                 (f.max_strain, f.frame)
