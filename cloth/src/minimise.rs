@@ -1,90 +1,67 @@
 //! The implicit midpoint family on cloth as energy minimisation.
 //!
-//! # The midpoint step is a minimisation
+//! The derivation (a midpoint step of size `τ` is `x̄ = argmin (2/τ²)(x −
+//! y)ᵀM(x − y) + V(x)` with `y = q + (τ/2)v`, then `q' = 2x̄ − q`), the
+//! compositions (`paper-dirk2`, `paper-dirk4`) and the Newton solver live in
+//! [`integrator_core::minimise`]: the cloth is one [`SparsePotential`]
+//! (its Hessian is [`ClothModel::force_jacobian_values_projected`] negated,
+//! each spring's block projected onto its PSD part, a sphere collider's
+//! tangential term dropped) and [`Solver::Newton`] steps it with
+//! [`MidpointStepper`]. What stays here is cloth-specific:
 //!
-//! For `M q̈ = F(q) = −∇V(q)` (here `M = m·I`), one implicit midpoint step of
-//! size `τ` from `(q, v)` is
-//!
-//! ```text
-//! q' = q + τ·(v + v')/2,   v' = v + τ·M⁻¹F(x̄),   x̄ = (q + q')/2.
-//! ```
-//!
-//! Then `x̄ = q + (τ/2)(v + v')/2 = q + (τ/2)v + (τ²/4)M⁻¹F(x̄)`, i.e. with
-//! `y = q + (τ/2)v`, `(4/τ²)M(x̄ − y) − F(x̄) = 0`: `x̄` is a stationary
-//! point of
-//!
-//! ```text
-//! Φ(x) = (2/τ²)(x − y)ᵀM(x − y) + V(x),   ∇Φ = (4/τ²)M(x − y) − F(x),
-//! ```
-//!
-//! and afterwards `q' = 2x̄ − q`, `v' = 2(v + v')/2 − v = (2/τ)(q' − q) − v
-//! = (4/τ)(x̄ − q) − v` (with momenta `p = M v`). This is a backward-Euler
-//! half step (`x̄` is the backward-Euler position after `τ/2`) followed by
-//! an explicit half step (the reflection `q' = 2x̄ − q`). The tests check the
-//! steps against the generic stage solver's implicit midpoint rule.
-//!
-//! A symplectic diagonally implicit RK method whose table has
-//! `aᵢᵢ = bᵢ/2` and `aᵢⱼ = bⱼ` (`j < i`) is the composition of midpoint steps
-//! of sizes `b₁h, …, b_sh` (Hairer–Lubich–Wanner VI.4): [`composition`]
-//! reads the weights off a table, and the paper's `paper-dirk2` (`b = (½,
-//! ½)`) and `paper-dirk4` (the triple jump, with a negative middle weight)
-//! step as successive minimisations. A negative `τ` changes nothing: the
-//! mass term `(2/τ²)M` is still positive.
-//!
-//! # Solvers
-//!
-//! * [`Solver::Newton`]: Newton's method on `Φ` with the Hessian
-//!   `(4/τ²)M + K⁺`, `K⁺` the PSD projection of `∇²V` block by block
-//!   ([`ClothModel::force_jacobian_values_projected`]), so the Hessian is
-//!   positive definite at any step size, every direction descends, and a
-//!   backtracking (Armijo) line search on `Φ` makes each iteration decrease
-//!   `Φ`. faer's sparse Cholesky (`LLᵀ`): symbolic analysis (AMD ordering)
-//!   once per run, a numeric factorisation per iteration.
 //! * [`Solver::LocalGlobal`] (Liu, Bargteil, O'Brien and Kavan 2013, "Fast
 //!   simulation of mass-spring systems"): each spring's `½(k/L)(ℓ − L)²` is
 //!   `min_{|e| = L} ½(k/L)|d − e|²`, so alternating the projection of every
 //!   spring (`e = L·d/|d|`, local) with one solve of the quadratic in `x`
 //!   (global, the matrix `(4/τ²)M + L`, `L` the spring Laplacian, factorised
-//!   once per step size: a scalar `n × n` Cholesky used for the three
-//!   coordinates) decreases `Φ` monotonically. Linear convergence; no
-//!   colliders (a penalty is not a distance to a set; refused).
+//!   once per step size with the layer's [`SparseLlt`]: a scalar `n × n`
+//!   Cholesky used for the three coordinates) decreases `Φ` monotonically.
+//!   Linear convergence; no colliders (a penalty is not a distance to a set;
+//!   refused). Its global step computes `x̄` itself, so its gradient test is
+//!   relative to `max(S, c·max(|x̄|, |y|))`, the size of the terms it is
+//!   computed from, not to the correction's.
+//! * The discrete gradient ([`DISCRETE_GRADIENT`], Gonzalez 1996): its
+//!   equation is not a minimisation (its Jacobian is not symmetric), so
+//!   Newton with faer's sparse LU and a line search on the residual.
 //!
-//! Both stop on the gradient: `‖∇Φ‖_∞ ≤ tol·S`, `S` the force scale at the
-//! iterate (the largest tension, weight, collider push or inertial term
-//! `(4/τ²)m|x − y|`, see [`ClothModel::force_and_scale`]). The default
-//! tolerance, [`DEFAULT_TOLERANCE`] `= 1e-12`, is a few thousand ulps of the
-//! force scale: converged steps are the midpoint rule's to round-off, so the run
-//! is symplectic in practice. A solve that reaches its iteration cap is an
-//! error ([`MinimiseError::NotConverged`]), never accepted.
+//! Every solver stops on the gradient: `‖∇Φ‖_∞ ≤ tol·S`, `S` the force scale
+//! ([`ClothModel::force_and_scale`]: the largest tension, weight, collider
+//! push, or stiffness times `‖x‖_∞`) or the inertial term's size. The
+//! default tolerance, [`DEFAULT_TOLERANCE`] `= 1e-12`, is a few thousand
+//! ulps of the force scale: converged steps are the midpoint rule's to
+//! round-off, so the run is symplectic in practice. A solve that reaches its
+//! iteration cap is an error ([`MinimiseError::NotConverged`]), never
+//! accepted.
 
 use std::time::Instant;
 
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
-use faer::linalg::cholesky::llt::factor::LltRegularization;
-use faer::sparse::linalg::cholesky::{
-    CholeskySymbolicParams, SymbolicCholesky, SymmetricOrdering, factorize_symbolic_cholesky,
-};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
-use faer::{Conj, MatMut, Par, Side};
+use faer::{Conj, MatMut, Par};
 use integrator_core::implicit::ImplicitTable;
+use integrator_core::minimise::{
+    Mass, MidpointSettings, MidpointStepper, NewtonSettings, SparseLlt, SparsePotential,
+    UpperPattern,
+};
 use nalgebra::Vector3;
+
+pub use integrator_core::minimise::{
+    DEFAULT_NEWTON_ITERATIONS, DEFAULT_TOLERANCE, MinimiseError, Stats,
+};
 
 use crate::implicit::{self as cloth_implicit, TableVisitor};
 use crate::methods::MethodError;
 use crate::model::ClothModel;
 use crate::sim::{CallbackError, Frame, FrameStats, RunError, RunOptions, RunReport, Simulation};
 
-/// The default convergence tolerance on `‖∇Φ‖_∞` relative to the force scale.
-pub const DEFAULT_TOLERANCE: f64 = 1e-12;
-
-/// Default iteration caps per solve.
-pub const DEFAULT_NEWTON_ITERATIONS: usize = 100;
+/// The default iteration cap of a local/global solve.
 pub const DEFAULT_LOCAL_GLOBAL_ITERATIONS: usize = 20_000;
 
-/// Halvings of the Newton step before the line search gives up.
+/// Halvings of the discrete gradient's Newton step before its line search
+/// gives up.
 const MAX_HALVINGS: usize = 60;
 
-/// Armijo's sufficient-decrease constant.
+/// The sufficient-decrease constant of the discrete gradient's line search.
 const ARMIJO: f64 = 1e-4;
 
 /// The minimisation solver.
@@ -163,82 +140,6 @@ impl Settings {
     }
 }
 
-/// Counters of a minimisation run.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Stats {
-    /// Steps of the method.
-    pub steps: usize,
-    /// Midpoint solves (one per step and composition weight).
-    pub solves: usize,
-    /// Iterations over all solves (Newton steps or local/global rounds).
-    pub iterations: usize,
-    /// The most iterations one solve took.
-    pub max_iterations: usize,
-    /// Numeric factorisations (Newton: one per iteration; local/global: one
-    /// per distinct step size).
-    pub factorizations: usize,
-    /// Symbolic analyses (once per run).
-    pub symbolic_factorizations: usize,
-    /// Solves started from the previous solve's correction (it lowered `Φ`).
-    pub predicted: usize,
-    /// Halvings of the line search over the run.
-    pub backtracks: usize,
-    /// Newton steps taken in full without the Armijo test because the
-    /// predicted decrease of `Φ` was below its round-off.
-    pub roundoff_steps: usize,
-    /// Solves accepted at their round-off floor above the tolerance: three
-    /// Newton steps in a row (each with a fresh factorisation) whose
-    /// predicted decrease of `Φ` was below its round-off or that moved no
-    /// coordinate by more than 4 ulps of the largest, and that no longer
-    /// halved the gradient. Counted and reported, with their residual in
-    /// `max_residual`.
-    pub floor_accepts: usize,
-    /// The largest final residual `‖∇Φ‖_∞/S` over all solves.
-    pub max_residual: f64,
-    /// Wall time in factorisations (s).
-    pub factor_seconds: f64,
-}
-
-impl Stats {
-    /// Iterations per step.
-    pub fn iterations_per_step(&self) -> f64 {
-        self.iterations as f64 / self.steps.max(1) as f64
-    }
-    /// Factorisations per step.
-    pub fn factorizations_per_step(&self) -> f64 {
-        self.factorizations as f64 / self.steps.max(1) as f64
-    }
-}
-
-/// Why a midpoint solve failed.
-#[derive(Clone, Debug, PartialEq, thiserror::Error)]
-pub enum MinimiseError {
-    #[error(
-        "the {solver} minimisation did not converge in {iterations} iterations (‖∇Φ‖ = {residual:e} of the force scale; tolerance {tolerance:e})"
-    )]
-    NotConverged {
-        solver: &'static str,
-        iterations: usize,
-        residual: f64,
-        tolerance: f64,
-    },
-    #[error(
-        "the Newton line search found no decrease of the objective in {halvings} halvings at iteration {iteration} (‖∇Φ‖ = {residual:e} of the force scale)"
-    )]
-    LineSearch {
-        iteration: usize,
-        halvings: usize,
-        residual: f64,
-    },
-    #[error("the Hessian is not numerically positive definite (pivot {pivot})")]
-    NotDefinite { pivot: usize },
-    #[error("a non-finite value appeared in the {solver} iteration {iteration}")]
-    NonFinite {
-        solver: &'static str,
-        iteration: usize,
-    },
-}
-
 /// The composition weights of a table that is a composition of implicit
 /// midpoint steps: lower triangular with `aᵢᵢ = bᵢ/2`, `aᵢⱼ = bⱼ` (`j < i`),
 /// every `bᵢ ≠ 0` and `cᵢ` the row sums. Decided on the `f64` table by exact
@@ -296,151 +197,46 @@ pub fn is_minimisation(id: &str) -> bool {
 /// The name of the energy–momentum conserving comparison scheme.
 pub const DISCRETE_GRADIENT: &str = "discrete-gradient";
 
-/// The Newton linear algebra: the upper triangle of `(4/τ²)M + K⁺` in CSC.
-struct NewtonLinear {
-    /// Force-Jacobian values (full pattern).
-    full: Vec<f64>,
-    /// For each upper entry: its position in `full`, or `usize::MAX`.
-    source: Vec<usize>,
-    /// Positions of the diagonal entries in the upper values.
-    diag: Vec<usize>,
-    symbolic: SymbolicSparseColMat<usize>,
-    cholesky: SymbolicCholesky<usize>,
-    values: Vec<f64>,
-    l_values: Vec<f64>,
-    mem: MemBuffer,
-    par: Par,
-    /// The `c` of the factor in `l_values`, if any.
-    factored: Option<f64>,
-}
-
-fn upper_structure(
-    n: usize,
-    entries: &mut Vec<(usize, usize, usize)>,
-) -> (SymbolicSparseColMat<usize>, Vec<usize>, Vec<usize>) {
-    entries.extend((0..n).map(|k| (k, k, usize::MAX)));
-    entries.sort_unstable();
-    entries.dedup_by_key(|e| (e.0, e.1));
-    let mut col_ptr = vec![0usize; n + 1];
-    for &(c, _, _) in entries.iter() {
-        col_ptr[c + 1] += 1;
+/// The cloth as a [`SparsePotential`]: `M = m·I`, `V` springs + gravity +
+/// colliders, the force with its scale ([`ClothModel::force_and_scale`]),
+/// and `∇²V` projected block by block
+/// ([`ClothModel::force_jacobian_values_projected`], negated) on
+/// [`ClothModel::force_jacobian_pattern`].
+impl SparsePotential for ClothModel {
+    fn mass(&self) -> Mass<'_> {
+        Mass::Scalar(self.particle_mass())
     }
-    for c in 0..n {
-        col_ptr[c + 1] += col_ptr[c];
-    }
-    let row_idx: Vec<usize> = entries.iter().map(|e| e.1).collect();
-    let source: Vec<usize> = entries.iter().map(|e| e.2).collect();
-    let diag: Vec<usize> = entries
-        .iter()
-        .enumerate()
-        .filter(|(_, e)| e.0 == e.1)
-        .map(|(k, _)| k)
-        .collect();
-    (
-        SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx),
-        source,
-        diag,
-    )
-}
 
-fn analyse(
-    symbolic: &SymbolicSparseColMat<usize>,
-    par: Par,
-) -> (SymbolicCholesky<usize>, MemBuffer) {
-    let cholesky = factorize_symbolic_cholesky(
-        symbolic.as_ref(),
-        Side::Upper,
-        SymmetricOrdering::Amd,
-        CholeskySymbolicParams::default(),
-    )
-    .expect("the symbolic Cholesky of a valid pattern");
-    let mem = MemBuffer::new(StackReq::any_of(&[
-        cholesky.factorize_numeric_llt_scratch::<f64>(par, Default::default()),
-        cholesky.solve_in_place_scratch::<f64>(3, par),
-    ]));
-    (cholesky, mem)
-}
-
-impl NewtonLinear {
-    fn new(model: &ClothModel, par: Par) -> NewtonLinear {
-        let n = 3 * model.free_count();
-        let pattern = model.force_jacobian_pattern();
-        let mut entries: Vec<(usize, usize, usize)> = pattern
+    /// `|V|ₐ`: the springs, the colliders and `Σ|w·xₖ|` (gravity's terms).
+    fn potential_and_magnitude(&self, q: &[f64]) -> (f64, f64) {
+        let (springs, gravity, colliders) = self.potential_terms(q);
+        let w = self.weight();
+        let gravity_abs: f64 = q.as_chunks::<3>().0[..self.free_count()]
             .iter()
-            .enumerate()
-            .filter(|(_, (r, c))| r <= c)
-            .map(|(k, &(r, c))| (c, r, k))
-            .collect();
-        let (symbolic, source, diag) = upper_structure(n, &mut entries);
-        let (cholesky, mem) = analyse(&symbolic, par);
-        NewtonLinear {
-            full: vec![0.0; pattern.len()],
-            values: vec![0.0; source.len()],
-            l_values: vec![0.0; cholesky.len_val()],
-            source,
-            diag,
-            symbolic,
-            cholesky,
-            mem,
-            par,
-            factored: None,
-        }
+            .map(|p| w.dot(&Vector3::from(*p)).abs())
+            .sum();
+        (
+            springs + gravity + colliders,
+            springs + gravity_abs + colliders,
+        )
     }
 
-    /// Factorise `c·I + K⁺(x)` (or, with `old = Some(q)`, the discrete
-    /// gradient's projected Jacobian between `q` and `x` as midpoint).
-    fn factor(
-        &mut self,
-        model: &ClothModel,
-        x: &[f64],
-        old: Option<&[f64]>,
-        c: f64,
-    ) -> Result<(), MinimiseError> {
-        match old {
-            None => model.force_jacobian_values_projected(x, &mut self.full),
-            Some(q) => model.discrete_gradient_jacobian_projected(q, x, &mut self.full),
-        }
-        for (v, &s) in self.values.iter_mut().zip(&self.source) {
-            *v = if s == usize::MAX { 0.0 } else { -self.full[s] };
-        }
-        for &d in &self.diag {
-            self.values[d] += c;
-        }
-        let matrix = SparseColMatRef::new(self.symbolic.as_ref(), &self.values);
-        self.factored = None;
-        self.cholesky
-            .factorize_numeric_llt(
-                &mut self.l_values,
-                matrix,
-                Side::Upper,
-                LltRegularization::default(),
-                self.par,
-                MemStack::new(&mut self.mem),
-                Default::default(),
-            )
-            .map(|_| ())
-            .map_err(|e| match e {
-                faer::linalg::cholesky::llt::factor::LltError::NonPositivePivot { index } => {
-                    MinimiseError::NotDefinite { pivot: index }
-                }
-            })?;
-        if old.is_none() {
-            self.factored = Some(c);
-        }
-        Ok(())
+    fn force_and_scale(&self, q: &[f64], out: &mut [f64]) -> f64 {
+        ClothModel::force_and_scale(self, q, out)
     }
 
-    fn solve(&mut self, rhs: &mut [f64]) {
-        let n = rhs.len();
-        faer::sparse::linalg::cholesky::LltRef::new(&self.cholesky, &self.l_values)
-            .solve_in_place_with_conj(
-                Conj::No,
-                MatMut::from_column_major_slice_mut(rhs, n, 1),
-                self.par,
-                MemStack::new(&mut self.mem),
-            );
+    fn hessian_pattern(&self) -> Vec<(usize, usize)> {
+        self.force_jacobian_pattern()
+    }
+
+    fn hessian_values_projected(&self, q: &[f64], out: &mut [f64]) {
+        self.force_jacobian_values_projected(q, out);
+        for v in out.iter_mut() {
+            *v = -*v;
+        }
     }
 }
+
 
 /// The discrete gradient's linear algebra: `c·I − ∂F̄/∂x̄` (not symmetric)
 /// with faer's sparse LU, symbolic analysis once.
@@ -549,29 +345,30 @@ impl DgLinear {
             );
     }
 }
-
-/// The local/global linear algebra: the scalar matrix `c·I + L` (upper),
-/// factorised once per `c`.
+/// The local/global linear algebra: the scalar matrix `c·I + L` (`L` the
+/// spring Laplacian), factorised once per `c` with the layer's
+/// [`SparseLlt`].
 struct LocalGlobalLinear {
-    /// For each upper entry: the Laplacian value.
+    pattern: UpperPattern,
+    /// The Laplacian's entries, in the order of the pattern.
     laplacian: Vec<f64>,
-    diag: Vec<usize>,
-    symbolic: SymbolicSparseColMat<usize>,
-    cholesky: SymbolicCholesky<usize>,
+    llt: SparseLlt,
     values: Vec<f64>,
     /// Factorisations by `c` (a composition has up to three step sizes).
     factors: Vec<(f64, Vec<f64>)>,
-    mem: MemBuffer,
-    par: Par,
-    /// `e` per spring and the right-hand side (three columns).
+    /// The right-hand side (particle-major) and its column-major copy.
     rhs: Vec<f64>,
+    columns: Vec<f64>,
 }
 
 impl LocalGlobalLinear {
     fn new(model: &ClothModel, par: Par) -> LocalGlobalLinear {
         let n = model.free_count();
         let (ff, fp) = model.springs();
-        // (column, row, value) of the upper triangle, summed.
+        // (column, row, value) of the upper triangle, summed in this order
+        // (the order fixes the round-off of the diagonal, and with it how
+        // far the Laplacian's rows are from summing to zero: the drift of
+        // the momentum).
         let mut lap: Vec<(usize, usize, f64)> = Vec::with_capacity(3 * ff.len() + fp.len() + n);
         for s in ff {
             let (a, b) = (s.a as usize, s.b as usize);
@@ -591,24 +388,18 @@ impl LocalGlobalLinear {
                 _ => merged.push(e),
             }
         }
-        let mut entries: Vec<(usize, usize, usize)> = merged
-            .iter()
-            .enumerate()
-            .map(|(k, e)| (e.0, e.1, k))
-            .collect();
-        let (symbolic, source, diag) = upper_structure(n, &mut entries);
-        let laplacian = source.iter().map(|&s| merged[s].2).collect();
-        let (cholesky, mem) = analyse(&symbolic, par);
+        let pattern: Vec<(usize, usize)> = merged.iter().map(|e| (e.1, e.0)).collect();
+        let laplacian: Vec<f64> = merged.iter().map(|e| e.2).collect();
+        let pattern = UpperPattern::new(n, &pattern);
+        let llt = SparseLlt::new(&pattern, 3, par);
         LocalGlobalLinear {
+            values: vec![0.0; pattern.len()],
+            pattern,
             laplacian,
-            values: vec![0.0; source.len()],
-            diag,
-            symbolic,
-            cholesky,
+            llt,
             factors: Vec::new(),
-            mem,
-            par,
             rhs: vec![0.0; 3 * n],
+            columns: vec![0.0; 3 * n],
         }
     }
 
@@ -618,27 +409,10 @@ impl LocalGlobalLinear {
             return Ok(k);
         }
         let clock = Instant::now();
-        self.values.copy_from_slice(&self.laplacian);
-        for &d in &self.diag {
-            self.values[d] += c;
-        }
-        let mut l = vec![0.0; self.cholesky.len_val()];
-        let matrix = SparseColMatRef::new(self.symbolic.as_ref(), &self.values);
-        self.cholesky
-            .factorize_numeric_llt(
-                &mut l,
-                matrix,
-                Side::Upper,
-                LltRegularization::default(),
-                self.par,
-                MemStack::new(&mut self.mem),
-                Default::default(),
-            )
-            .map_err(|e| match e {
-                faer::linalg::cholesky::llt::factor::LltError::NonPositivePivot { index } => {
-                    MinimiseError::NotDefinite { pivot: index }
-                }
-            })?;
+        self.pattern
+            .assemble(&self.laplacian, |_| c, &mut self.values);
+        let mut l = vec![0.0; self.llt.factor_len()];
+        self.llt.factor(&self.values, &mut l)?;
         stats.factorizations += 1;
         stats.factor_seconds += clock.elapsed().as_secs_f64();
         if self.factors.len() >= 8 {
@@ -649,52 +423,42 @@ impl LocalGlobalLinear {
     }
 
     /// Solve `(c·I + L) X = R` for the three coordinate columns of `rhs`
-    /// (stored particle-major: `rhs[3k + axis]`).
+    /// (stored particle-major: `rhs[3k + axis]`), in place.
     fn solve(&mut self, k: usize) {
         let n = self.rhs.len() / 3;
-        // Reorder to column-major n × 3, solve, and back.
-        let mut cols = std::mem::take(&mut self.rhs);
-        let mut tmp = vec![0.0; 3 * n];
         for p in 0..n {
             for a in 0..3 {
-                tmp[a * n + p] = cols[3 * p + a];
+                self.columns[a * n + p] = self.rhs[3 * p + a];
             }
         }
-        faer::sparse::linalg::cholesky::LltRef::new(&self.cholesky, &self.factors[k].1)
-            .solve_in_place_with_conj(
-                Conj::No,
-                MatMut::from_column_major_slice_mut(&mut tmp, n, 3),
-                self.par,
-                MemStack::new(&mut self.mem),
-            );
+        self.llt.solve(&self.factors[k].1, &mut self.columns, 3);
         for p in 0..n {
             for a in 0..3 {
-                cols[3 * p + a] = tmp[a * n + p];
+                self.rhs[3 * p + a] = self.columns[a * n + p];
             }
         }
-        self.rhs = cols;
     }
 }
 
-/// The midpoint minimisation stepper for one cloth model: its linear
-/// algebra (analysed once), buffers and counters.
+/// The midpoint minimisation stepper for one cloth model: Newton through
+/// [`MidpointStepper`], or the local/global solver, and the discrete
+/// gradient; their linear algebra (analysed once), buffers and counters.
 pub struct Minimiser {
     settings: Settings,
     mass: f64,
-    newton: Option<NewtonLinear>,
+    newton: Option<MidpointStepper>,
     dg: Option<DgLinear>,
     local_global: Option<LocalGlobalLinear>,
     x: Vec<f64>,
     y: Vec<f64>,
-    /// `x̄ − y` of the last solve and its `c`.
-    last_correction: Vec<f64>,
-    last_c: Option<f64>,
     g: Vec<f64>,
     dx: Vec<f64>,
     /// Scratch for a gradient at a trial point.
-    dx_scratch: Vec<f64>,
+    g_trial: Vec<f64>,
     trial: Vec<f64>,
     f: Vec<f64>,
+    /// The counters of local/global and discrete-gradient steps (Newton's
+    /// are its stepper's).
     stats: Stats,
 }
 
@@ -708,17 +472,31 @@ impl Minimiser {
         let par = Par::Seq;
         let mut stats = Stats::default();
         let (newton, local_global) = match settings.solver {
-            Solver::Newton => (Some(NewtonLinear::new(model, par)), None),
+            Solver::Newton => {
+                let stepper = MidpointStepper::with_par(
+                    model,
+                    MidpointSettings {
+                        newton: NewtonSettings {
+                            tolerance: settings.tolerance,
+                            max_iterations: settings.max_iterations,
+                        },
+                        compensated: true,
+                    },
+                    par,
+                )
+                .map_err(|e| RunError::Options(e.to_string()))?;
+                (Some(stepper), None)
+            }
             Solver::LocalGlobal => {
                 if model.has_colliders() {
                     return Err(RunError::Options(
                         "solver: local-global handles springs and gravity only; this scene has colliders (use --solver newton)".to_string(),
                     ));
                 }
+                stats.symbolic_factorizations = 1;
                 (None, Some(LocalGlobalLinear::new(model, par)))
             }
         };
-        stats.symbolic_factorizations = 1;
         Ok(Minimiser {
             settings,
             mass: model.particle_mass(),
@@ -727,32 +505,38 @@ impl Minimiser {
             local_global,
             x: vec![0.0; n],
             y: vec![0.0; n],
-            last_correction: vec![0.0; n],
-            last_c: None,
             g: vec![0.0; n],
             dx: vec![0.0; n],
-            dx_scratch: vec![0.0; n],
+            g_trial: vec![0.0; n],
             trial: vec![0.0; n],
             f: vec![0.0; n],
             stats,
         })
     }
 
+    /// The run's counters.
     pub fn stats(&self) -> &Stats {
-        &self.stats
+        match &self.newton {
+            Some(s) => s.stats(),
+            None => &self.stats,
+        }
     }
 
     pub fn settings(&self) -> &Settings {
         &self.settings
     }
 
-    /// One implicit midpoint step of size `tau` on `z = [q; p]`.
+    /// One implicit midpoint step of size `tau` on `z = [q; p]`. On error
+    /// `z` is unchanged.
     pub fn midpoint_step(
         &mut self,
         model: &ClothModel,
         tau: f64,
         z: &mut [f64],
     ) -> Result<(), MinimiseError> {
+        if let Some(stepper) = &mut self.newton {
+            return stepper.midpoint_step(model, tau, z);
+        }
         let n = z.len() / 2;
         let m = self.mass;
         let (q, p) = z.split_at_mut(n);
@@ -761,14 +545,7 @@ impl Minimiser {
         }
         self.x.copy_from_slice(&self.y);
         let c = 4.0 * m / (tau * tau);
-        let iterations = match self.settings.solver {
-            Solver::Newton => self.newton_solve(model, c)?,
-            Solver::LocalGlobal => self.local_global_solve(model, c)?,
-        };
-        for ((d, x), y) in self.last_correction.iter_mut().zip(&self.x).zip(&self.y) {
-            *d = x - y;
-        }
-        self.last_c = Some(c);
+        let iterations = self.local_global_solve(model, c)?;
         self.stats.solves += 1;
         self.stats.iterations += iterations;
         self.stats.max_iterations = self.stats.max_iterations.max(iterations);
@@ -788,12 +565,16 @@ impl Minimiser {
         h: f64,
         z: &mut [f64],
     ) -> Result<(), MinimiseError> {
+        if let Some(stepper) = &mut self.newton {
+            return stepper.step(model, weights, h, z);
+        }
         for &b in weights {
             self.midpoint_step(model, b * h, z)?;
         }
         self.stats.steps += 1;
         Ok(())
     }
+
 
     /// One step of size `h` of the discrete-gradient scheme
     /// ([`ClothModel::discrete_gradient_force`]): `x̄ = (q + q')/2` solves
@@ -828,6 +609,7 @@ impl Minimiser {
             );
         }
         let lin = self.dg.as_mut().expect("built above");
+        let stats = stats_of(&mut self.newton, &mut self.stats);
         let dg_gradient = |x: &[f64], f: &mut [f64], g: &mut [f64], y: &[f64]| -> (f64, f64) {
             let mut scale = model.discrete_gradient_force(q, x, f);
             let mut gmax: f64 = 0.0;
@@ -850,7 +632,7 @@ impl Minimiser {
                 });
             }
             if residual <= tol {
-                self.stats.max_residual = self.stats.max_residual.max(residual);
+                stats.max_residual = stats.max_residual.max(residual);
                 break;
             }
             if it == cap {
@@ -864,27 +646,26 @@ impl Minimiser {
             it += 1;
             let clock = Instant::now();
             lin.factor(model, q, &self.x, c)?;
-            self.stats.factor_seconds += clock.elapsed().as_secs_f64();
-            self.stats.factorizations += 1;
+            stats.factor_seconds += clock.elapsed().as_secs_f64();
+            stats.factorizations += 1;
             for (d, g) in self.dx.iter_mut().zip(&self.g) {
                 *d = -g;
             }
             lin.solve(&mut self.dx);
             let mut alpha = 1.0;
             let mut halvings = 0;
-            let mut trial_g = std::mem::take(&mut self.dx.clone());
             loop {
                 for ((t, x), d) in self.trial.iter_mut().zip(&self.x).zip(&self.dx) {
                     *t = x + alpha * d;
                 }
-                let (r, nn) = dg_gradient(&self.trial, &mut self.f, &mut trial_g, &self.y);
+                let (r, nn) = dg_gradient(&self.trial, &mut self.f, &mut self.g_trial, &self.y);
                 if nn < (1.0 - ARMIJO * alpha) * norm || r <= tol {
                     residual = r;
                     norm = nn;
                     break;
                 }
                 halvings += 1;
-                self.stats.backtracks += 1;
+                stats.backtracks += 1;
                 if halvings > MAX_HALVINGS {
                     return Err(MinimiseError::LineSearch {
                         iteration: it,
@@ -895,153 +676,18 @@ impl Minimiser {
                 alpha *= 0.5;
             }
             std::mem::swap(&mut self.x, &mut self.trial);
-            self.g.copy_from_slice(&trial_g);
+            std::mem::swap(&mut self.g, &mut self.g_trial);
         }
-        self.stats.solves += 1;
-        self.stats.iterations += it;
-        self.stats.max_iterations = self.stats.max_iterations.max(it);
-        self.stats.steps += 1;
+        stats.solves += 1;
+        stats.iterations += it;
+        stats.max_iterations = stats.max_iterations.max(it);
+        stats.steps += 1;
         for k in 0..n {
             let xb = self.x[k];
             p[k] = m * (4.0 / h) * (xb - q[k]) - p[k];
             q[k] = 2.0 * xb - q[k];
         }
         Ok(())
-    }
-
-    fn newton_solve(&mut self, model: &ClothModel, c: f64) -> Result<usize, MinimiseError> {
-        let tol = self.settings.tolerance;
-        let cap = self.settings.max_iterations;
-        let lin = self.newton.as_mut().expect("a Newton minimiser");
-        // Start from y plus the previous solve's correction x̄ − y, scaled
-        // by c_prev/c (it is about M⁻¹F·τ²/4), when that lowers Φ.
-        let mut phi = objective(model, c, &self.x, &self.y);
-        if let Some(c_prev) = self.last_c {
-            let r = c_prev / c;
-            for ((t, y), d) in self
-                .trial
-                .iter_mut()
-                .zip(&self.y)
-                .zip(&self.last_correction)
-            {
-                *t = y + r * d;
-            }
-            let guess = objective(model, c, &self.trial, &self.y);
-            if guess.0 < phi.0 {
-                std::mem::swap(&mut self.x, &mut self.trial);
-                phi = guess;
-                self.stats.predicted += 1;
-            }
-        }
-        let mut residual = gradient(model, c, &self.x, &self.y, &mut self.f, &mut self.g);
-        let mut it = 0;
-        let mut stalled = 0;
-        // Keep the last factor (of this c) while it contracts the gradient
-        // by REUSE_CONTRACTION per iteration; refactorise otherwise.
-        let mut refactor = lin.factored != Some(c);
-        loop {
-            if !residual.is_finite() || !phi.0.is_finite() {
-                return Err(MinimiseError::NonFinite {
-                    solver: "newton",
-                    iteration: it,
-                });
-            }
-            if residual <= tol {
-                self.stats.max_residual = self.stats.max_residual.max(residual);
-                return Ok(it);
-            }
-            if it == cap {
-                return Err(MinimiseError::NotConverged {
-                    solver: "newton",
-                    iterations: it,
-                    residual,
-                    tolerance: tol,
-                });
-            }
-            it += 1;
-            let fresh = refactor || lin.factored != Some(c);
-            if fresh {
-                let clock = Instant::now();
-                lin.factor(model, &self.x, None, c)?;
-                self.stats.factor_seconds += clock.elapsed().as_secs_f64();
-                self.stats.factorizations += 1;
-            }
-            for (d, g) in self.dx.iter_mut().zip(&self.g) {
-                *d = -g;
-            }
-            lin.solve(&mut self.dx);
-            let slope: f64 = self.dx.iter().zip(&self.g).map(|(d, g)| d * g).sum();
-            if !slope.is_finite() {
-                return Err(MinimiseError::NonFinite {
-                    solver: "newton",
-                    iteration: it,
-                });
-            }
-            let mut alpha = 1.0;
-            let mut halvings = 0;
-            let new_phi = loop {
-                for ((t, x), d) in self.trial.iter_mut().zip(&self.x).zip(&self.dx) {
-                    *t = x + alpha * d;
-                }
-                let trial = objective(model, c, &self.trial, &self.y);
-                // A decrease predicted below the round-off of Φ cannot be
-                // tested on Φ: take the full Newton step (the gradient test
-                // decides convergence, the cap stops a run that would not).
-                if halvings == 0 && -slope <= ROUNDOFF * phi.1 {
-                    self.stats.roundoff_steps += 1;
-                    break trial;
-                }
-                if trial.0 <= phi.0 + ARMIJO * alpha * slope {
-                    break trial;
-                }
-                // Where the decrease Armijo asks for is within a few
-                // thousand ulps of Φ, Φ's own round-off decides the test:
-                // there the full step is judged by the gradient instead
-                // (taken when it shrinks ‖∇Φ‖).
-                if halvings == 0 && -slope <= NOISY * phi.1 {
-                    let mut g_trial = std::mem::take(&mut self.dx_scratch);
-                    let r = gradient(model, c, &self.trial, &self.y, &mut self.f, &mut g_trial);
-                    self.dx_scratch = g_trial;
-                    if r < residual {
-                        self.stats.roundoff_steps += 1;
-                        break trial;
-                    }
-                }
-                halvings += 1;
-                self.stats.backtracks += 1;
-                if halvings > MAX_HALVINGS || slope >= 0.0 {
-                    return Err(MinimiseError::LineSearch {
-                        iteration: it,
-                        halvings,
-                        residual,
-                    });
-                }
-                alpha *= 0.5;
-            };
-            std::mem::swap(&mut self.x, &mut self.trial);
-            phi = new_phi;
-            let before = residual;
-            residual = gradient(model, c, &self.x, &self.y, &mut self.f, &mut self.g);
-            refactor = !fresh && (halvings > 0 || residual > REUSE_CONTRACTION * before);
-            // At round-off: a predicted decrease below the round-off of Φ,
-            // or a step that moved no coordinate by more than a few ulps of
-            // the largest. Counted only for steps with a fresh factor.
-            let moved = self.dx.iter().fold(0.0f64, |m, d| m.max((alpha * d).abs()));
-            let x_max = self.x.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-            let at_roundoff = -slope <= ROUNDOFF * phi.1 || moved <= 4.0 * f64::EPSILON * x_max;
-            if at_roundoff && !fresh && residual > 0.5 * before {
-                refactor = true;
-            } else if at_roundoff && residual > 0.5 * before {
-                stalled += 1;
-                if stalled >= 3 && residual > tol {
-                    self.stats.floor_accepts += 1;
-                    self.stats.max_residual = self.stats.max_residual.max(residual);
-                    return Ok(it);
-                }
-            } else {
-                stalled = 0;
-            }
-        }
     }
 
     fn local_global_solve(&mut self, model: &ClothModel, c: f64) -> Result<usize, MinimiseError> {
@@ -1109,15 +755,14 @@ impl Minimiser {
     }
 }
 
-/// Below this many ulps of `Φ`'s magnitude, Armijo's test is unreliable.
-const NOISY: f64 = 4096.0 * f64::EPSILON;
+/// The counters a step adds to: the Newton stepper's, or `own`.
+fn stats_of<'a>(newton: &'a mut Option<MidpointStepper>, own: &'a mut Stats) -> &'a mut Stats {
+    match newton {
+        Some(s) => s.stats_mut(),
+        None => own,
+    }
+}
 
-/// A reused factorisation is kept while each iteration shrinks the
-/// gradient by at least this factor.
-const REUSE_CONTRACTION: f64 = 0.25;
-
-/// Below this many ulps of `Φ`'s magnitude a predicted decrease is round-off.
-const ROUNDOFF: f64 = 64.0 * f64::EPSILON;
 
 /// `g = c(x − y) − F(x)` into `g`; returns `‖g‖_∞/S`, `S` the force scale
 /// ([`ClothModel::force_and_scale`]) or the inertial term's `c·max(|x|, |y|)`
@@ -1134,23 +779,6 @@ fn gradient(model: &ClothModel, c: f64, x: &[f64], y: &[f64], f: &mut [f64], g: 
     if gmax == 0.0 { 0.0 } else { gmax / scale }
 }
 
-/// `(Φ(x), |Φ|ₐ)`: the objective and the sum of the magnitudes of its
-/// terms (what its round-off is relative to).
-fn objective(model: &ClothModel, c: f64, x: &[f64], y: &[f64]) -> (f64, f64) {
-    let inertia: f64 = 0.5 * c * x.iter().zip(y).map(|(x, y)| (x - y) * (x - y)).sum::<f64>();
-    let (springs, gravity, colliders) = model.potential_terms(x);
-    let w = model.weight();
-    let gravity_abs: f64 = x
-        .as_chunks::<3>()
-        .0
-        .iter()
-        .map(|p| w.dot(&Vector3::from(*p)).abs())
-        .sum();
-    (
-        inertia + springs + gravity + colliders,
-        inertia + springs + gravity_abs + colliders,
-    )
-}
 
 /// A finished minimisation run.
 #[derive(Clone, Debug, PartialEq)]
