@@ -74,7 +74,11 @@ pub fn fit(times: &[f64], rel: &[f64]) -> Growth {
     Growth::Fitted {
         envelope,
         power,
-        e_folding: if rate > 0.0 { 1.0 / rate } else { f64::INFINITY },
+        e_folding: if rate > 0.0 {
+            1.0 / rate
+        } else {
+            f64::INFINITY
+        },
     }
 }
 
