@@ -12,6 +12,8 @@ use nalgebra::{Matrix3, Vector3};
 
 use crate::scene::{Collider, Scene, SceneError};
 
+mod avf;
+
 /// The three spring families.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Family {
