@@ -164,7 +164,8 @@ impl Newton {
             let inertia = c * mass.get(k) * u;
             scale = scale.max(inertia.abs());
             *g = inertia - f;
-            gmax = gmax.max(g.abs());
+            // f64::max ignores NaN: a non-finite entry must not vanish.
+            gmax = if g.is_finite() { gmax.max(g.abs()) } else { f64::NAN };
         }
         if gmax == 0.0 { 0.0 } else { gmax / scale }
     }
