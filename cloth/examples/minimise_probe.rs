@@ -52,7 +52,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     };
     println!("max |dE|/(M g 1 m) = {worst:.3e}");
     println!(
-        "{} {}: {:.3} ms/frame, {:.2} it/step, max it {}, fact/step {:.2}, backtracks {}, roundoff steps {}, max residual {:.2e}, factor {:.3} s of {:.3} s",
+        "{} {}: {:.3} ms/frame, {:.2} it/step, max it {}, fact/step {:.2}, backtracks {}, roundoff steps {}, floor accepts {}, max residual {:.2e}, factor {:.3} s of {:.3} s",
         report.method,
         solver.name(),
         1e3 * report.stepping_seconds / frames as f64,
@@ -61,6 +61,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         s.factorizations_per_step(),
         s.backtracks,
         s.roundoff_steps,
+        s.floor_accepts,
         s.max_residual,
         s.factor_seconds,
         report.stepping_seconds

@@ -237,7 +237,6 @@ impl SparsePotential for ClothModel {
     }
 }
 
-
 /// The discrete gradient's linear algebra: `c·I − ∂F̄/∂x̄` (not symmetric)
 /// with faer's sparse LU, symbolic analysis once.
 struct DgLinear {
@@ -575,7 +574,6 @@ impl Minimiser {
         Ok(())
     }
 
-
     /// One step of size `h` of the discrete-gradient scheme
     /// ([`ClothModel::discrete_gradient_force`]): `x̄ = (q + q')/2` solves
     /// `(4/h²)M(x̄ − y) = F̄(q, x̄)`, `y = q + (h/2)v`, then `q' = 2x̄ − q`,
@@ -763,7 +761,6 @@ fn stats_of<'a>(newton: &'a mut Option<MidpointStepper>, own: &'a mut Stats) -> 
     }
 }
 
-
 /// `g = c(x − y) − F(x)` into `g`; returns `‖g‖_∞/S`, `S` the force scale
 /// ([`ClothModel::force_and_scale`]) or the inertial term's `c·max(|x|, |y|)`
 /// (its terms' size), whichever is larger: the size of the round-off of `g`.
@@ -778,7 +775,6 @@ fn gradient(model: &ClothModel, c: f64, x: &[f64], y: &[f64], f: &mut [f64], g: 
     }
     if gmax == 0.0 { 0.0 } else { gmax / scale }
 }
-
 
 /// A finished minimisation run.
 #[derive(Clone, Debug, PartialEq)]

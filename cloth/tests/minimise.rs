@@ -152,9 +152,16 @@ fn equals_the_stage_solver_to_roundoff() {
             let d = state_difference(&a.state, &b.state);
             let p_max = a.state[n..].iter().fold(0.0f64, |m, v| m.max(v.abs()));
             let r = f64::EPSILON * 120.0 * o.step_size() * s_max / p_max;
-            println!("{id}: states differ by {d:e} = {:.2} R (R = {r:e}) after 120 steps", d / r);
+            println!(
+                "{id}: states differ by {d:e} = {:.2} R (R = {r:e}) after 120 steps",
+                d / r
+            );
             assert!(r < 3e-12, "{id}: R = {r:e}");
-            assert!(d < 16.0 * r, "{id}: states differ by {d:e} = {} R after 120 steps", d / r);
+            assert!(
+                d < 16.0 * r,
+                "{id}: states differ by {d:e} = {} R after 120 steps",
+                d / r
+            );
             assert_eq!(run.solver.steps, 120);
             assert_eq!(run.solver.floor_accepts, 0);
             assert_eq!(run.solver.symbolic_factorizations, 1);
@@ -317,4 +324,3 @@ fn bad_settings_are_refused() {
     assert!(err.to_string().contains("gauss2"), "{err}");
     assert_eq!(Solver::parse("bogus"), None);
 }
-

@@ -239,7 +239,10 @@ fn max_abs(x: &[f64]) -> f64 {
 fn difference(a: &[f64], b: &[f64]) -> (f64, f64) {
     let n = a.len() / 2;
     let half = |x: &[f64], y: &[f64]| {
-        let diff = x.iter().zip(y).fold(0.0f64, |m, (u, v)| m.max((u - v).abs()));
+        let diff = x
+            .iter()
+            .zip(y)
+            .fold(0.0f64, |m, (u, v)| m.max((u - v).abs()));
         diff / max_abs(x).max(max_abs(y))
     };
     (half(&a[..n], &b[..n]), half(&a[n..], &b[n..]))
@@ -340,8 +343,15 @@ fn triple_jump_with_a_negative_weight_equals_paper_dirk4() {
     );
     // The triple jump's stages are 1.35 h, −1.70 h, 1.35 h (4.4 h of kicks
     // per step, three solves): R counts h once, hence the factors.
-    assert!(dq < 3.0 * 500.0 * f64::EPSILON, "positions differ by {dq:e}");
-    assert!(dp < 4.0 * 16.0 * r, "momenta differ by {dp:e} = {} R", dp / r);
+    assert!(
+        dq < 3.0 * 500.0 * f64::EPSILON,
+        "positions differ by {dq:e}"
+    );
+    assert!(
+        dp < 4.0 * 16.0 * r,
+        "momenta differ by {dp:e} = {} R",
+        dp / r
+    );
 }
 
 /// A solve that reaches its cap is `NotConverged` naming the iterations,

@@ -99,7 +99,12 @@ impl UpperPattern {
 
     /// `upper = Σ pattern values` (entries below the diagonal skipped) and
     /// `diagonal[k]` added on the diagonal.
-    pub fn assemble(&self, pattern_values: &[f64], diagonal: impl Fn(usize) -> f64, upper: &mut [f64]) {
+    pub fn assemble(
+        &self,
+        pattern_values: &[f64],
+        diagonal: impl Fn(usize) -> f64,
+        upper: &mut [f64],
+    ) {
         upper.fill(0.0);
         for (&d, &v) in self.dest.iter().zip(pattern_values) {
             if d != usize::MAX {

@@ -215,11 +215,7 @@ impl MidpointStepper {
             }
             None => None,
         };
-        let objective = MidpointObjective {
-            sys,
-            y: &self.y,
-            c,
-        };
+        let objective = MidpointObjective { sys, y: &self.y, c };
         self.newton.solve(&objective, &mut self.u, guess)?;
         self.last.copy_from_slice(&self.u);
         self.last_c = Some(c);

@@ -165,7 +165,11 @@ impl Newton {
             scale = scale.max(inertia.abs());
             *g = inertia - f;
             // f64::max ignores NaN: a non-finite entry must not vanish.
-            gmax = if g.is_finite() { gmax.max(g.abs()) } else { f64::NAN };
+            gmax = if g.is_finite() {
+                gmax.max(g.abs())
+            } else {
+                f64::NAN
+            };
         }
         if gmax == 0.0 { 0.0 } else { gmax / scale }
     }
@@ -210,7 +214,11 @@ impl Newton {
         let c = obj.inertia();
         let mut phi = Self::objective(obj, u, &mut self.x);
         if let Some(guess) = guess {
-            assert_eq!(guess.len(), n, "Newton::solve: guess of dimension {n} expected");
+            assert_eq!(
+                guess.len(),
+                n,
+                "Newton::solve: guess of dimension {n} expected"
+            );
             let trial = Self::objective(obj, guess, &mut self.trial_x);
             if trial.0 < phi.0 {
                 u.copy_from_slice(guess);
@@ -332,10 +340,7 @@ impl Newton {
             // At round-off: a predicted decrease below the round-off of Φ,
             // or a step that moved no coordinate by more than a few ulps of
             // the largest. Counted only for steps with a fresh factor.
-            let moved = self
-                .dx
-                .iter()
-                .fold(0.0f64, |m, d| m.max((alpha * d).abs()));
+            let moved = self.dx.iter().fold(0.0f64, |m, d| m.max((alpha * d).abs()));
             let x_max = self.x.iter().fold(0.0f64, |m, x| m.max(x.abs()));
             let at_roundoff = -slope <= ROUNDOFF * phi.1 || moved <= 4.0 * f64::EPSILON * x_max;
             if at_roundoff && !fresh && residual > 0.5 * before {
