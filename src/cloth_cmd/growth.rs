@@ -15,7 +15,7 @@
 //!
 //! Growth like a power of `t` is not by itself a sign of a non-symplectic
 //! method: on the undamped cloth even symplectic Euler at a tenth of its
-//! stability limit shows an envelope growing like `t^0.7` over 10 s (the
+//! step limit (h·ω_max = 0.3) shows an envelope growing like `t^0.7` over 10 s (the
 //! swing's energy spreads into the stiff stretch modes, and a symplectic
 //! method's energy error scales with the energy at high frequency). An
 //! exponential envelope is what marks a method unstable at its step.
