@@ -14,7 +14,7 @@
 //! like `1 : 2 : 3 : 4`, an exponential one a straight line in `ln e`.
 //!
 //! Growth like a power of `t` is not by itself a sign of a non-symplectic
-//! method: on the undamped cloth even symplectic Euler at a tenth of its
+//! method: on the undamped cloth even symplectic Euler at a sixth of its
 //! step limit (h·ω_max = 0.3) shows an envelope growing like `t^0.7` over 10 s (the
 //! swing's energy spreads into the stiff stretch modes, and a symplectic
 //! method's energy error scales with the energy at high frequency). An
