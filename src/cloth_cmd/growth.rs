@@ -14,11 +14,11 @@
 //! like `1 : 2 : 3 : 4`, an exponential one a straight line in `ln e`.
 //!
 //! Growth like a power of `t` is not by itself a sign of a non-symplectic
-//! method: on the undamped cloth even symplectic Euler at a sixth of its
-//! step limit (h·ω_max = 0.3) shows an envelope growing like `t^0.7` over 10 s (the
-//! swing's energy spreads into the stiff stretch modes, and a symplectic
-//! method's energy error scales with the energy at high frequency). An
-//! exponential envelope is what marks a method unstable at its step.
+//! method: on the undamped paper scene even symplectic Euler's envelope grows
+//! like `t^0.7`–`t^1.2` over 10 s, at 162, 256 and 1024 substeps per frame
+//! alike, while its size shrinks with the step (1.0e-2, 5.5e-3, 6.4e-4 of
+//! E_ref at 10 s). An exponential envelope is what marks a method unstable at
+//! its step.
 
 /// The fitted growth of the energy error over a run.
 #[derive(Clone, Copy, Debug, PartialEq)]
