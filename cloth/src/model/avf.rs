@@ -280,15 +280,15 @@ impl Segment {
 /// `I₀ = ∫₀¹ dξ/|d + ξδ|` without cancellation (module documentation).
 #[inline]
 fn inverse_length_integral(a: f64, l0: f64, l1: f64, s0: f64, s1: f64, eta: f64) -> f64 {
-    let sigma = s0 + s1;
+    let (sigma, sum) = (s0 + s1, l0 + l1);
     // Orient so that s₀ + s₁ ≥ 0: then s₁ > 0 and R₁ = s₁ + ℓ₁ is safe.
-    let (s0, l0) = if sigma >= 0.0 { (s0, l0) } else { (-s1, l1) };
-    let r0 = if s0 >= 0.0 {
-        s0 + l0
+    let (s, l) = if sigma >= 0.0 { (s0, l0) } else { (-s1, l1) };
+    let r0 = if s >= 0.0 {
+        s + l
     } else {
-        eta * (eta / (l0 - s0))
+        eta * (eta / (l - s))
     };
-    let c = (l0 + l1 + sigma.abs()) / ((l0 + l1) * r0);
+    let c = (sum + sigma.abs()) / (sum * r0);
     let x = a * c;
     if x < 1.0 {
         if x > 0.0 { c * (x.ln_1p() / x) } else { c }
@@ -368,23 +368,26 @@ fn spring_avf_block(d: Vector3<f64>, d1: Vector3<f64>, kl: f64, rest: f64) -> Ma
         }
     }
     let base = 0.5 - c;
-    let mut b = (Matrix3::from_diagonal_element(base) + s) * kl;
-    // Eigenpairs of B: the plane's normal with (k/L)(½ − C), and those of
+    // Eigenpairs of B/(k/L): the plane's normal with ½ − C, and those of
     // the 2×2 [[sa, sb], [sb, sc]] shifted by ½ − C.
-    let n = dh.cross(&e2);
-    if base < 0.0 {
-        b -= (n * n.transpose()) * (kl * base);
-    }
     let mean = 0.5 * (sa + sc);
     let radius = (0.5 * (sa - sc)).hypot(sb);
+    let (lambda_plus, lambda_minus) = (base + mean + radius, base + mean - radius);
+    if base >= 0.0 && lambda_minus >= 0.0 {
+        // Nothing to project: B as summed (no eigenvector round-off).
+        return (Matrix3::from_diagonal_element(base) + s) * kl;
+    }
+    // Rebuilt from the nonnegative eigenpairs: subtracting a large negative
+    // part instead would leave its round-off, which can be negative.
     let theta = 0.5 * (2.0 * sb).atan2(sa - sc);
     let (cs, sn) = (theta.cos(), theta.sin());
+    let n = dh.cross(&e2);
     let v_plus = dh * cs + e2 * sn;
     let v_minus = e2 * cs - dh * sn;
-    for (mu, v) in [(mean + radius, v_plus), (mean - radius, v_minus)] {
-        let lambda = base + mu;
-        if lambda < 0.0 {
-            b -= (v * v.transpose()) * (kl * lambda);
+    let mut b = Matrix3::zeros();
+    for (lambda, v) in [(base, n), (lambda_plus, v_plus), (lambda_minus, v_minus)] {
+        if lambda > 0.0 {
+            b += (v * v.transpose()) * (kl * lambda);
         }
     }
     b
@@ -532,3 +535,4 @@ impl ClothModel {
         }
     }
 }
+
