@@ -406,7 +406,9 @@ fn spring_avf_block(d: Vector3<f64>, d1: Vector3<f64>, kl: f64, rest: f64) -> Ma
     let mut c = 0.0;
     let mut s = Matrix3::zeros();
     let (mut sa, mut sb, mut sc) = (0.0, 0.0, 0.0);
-    let eta = (d - dh * d.dot(&dh)).norm().min((d1 - dh * d1.dot(&dh)).norm());
+    let eta = (d - dh * d.dot(&dh))
+        .norm()
+        .min((d1 - dh * d1.dot(&dh)).norm());
     graded_rule(d.dot(&dh) / a, eta / a, |xi, w| {
         let r = d + delta * xi;
         let l = r.norm();
