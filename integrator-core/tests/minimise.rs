@@ -535,3 +535,238 @@ fn the_test_system_is_consistent() {
     OdeSystem::rhs(&sys, 0.0, &z, &mut dz);
     assert_eq!(&dz[d..], &f0[..]);
 }
+
+/// An FPU chain between walls, `V = Σ φ(qᵢ − qᵢ₋₁)`, `φ(r) = ½r² + ¼βr⁴`
+/// (`q₋₁ = qₙ = 0`), unit masses: a polynomial potential, so that the
+/// average vector field's integrals are exact with 3-point Gauss–Legendre.
+struct Fpu {
+    n: usize,
+    beta: f64,
+}
+
+impl Fpu {
+    fn r(&self, q: &[f64], i: usize) -> f64 {
+        let right = if i < self.n { q[i] } else { 0.0 };
+        let left = if i > 0 { q[i - 1] } else { 0.0 };
+        right - left
+    }
+    fn potential(&self, q: &[f64]) -> f64 {
+        (0..=self.n)
+            .map(|i| {
+                let r = self.r(q, i);
+                0.5 * r * r + 0.25 * self.beta * r.powi(4)
+            })
+            .sum()
+    }
+    /// `−∇V` into `out` (accumulated with weight `w`); the force scale.
+    fn add_force(&self, q: &[f64], w: f64, out: &mut [f64]) -> f64 {
+        let mut scale: f64 = 0.0;
+        let mut kappa: f64 = 0.0;
+        for i in 0..=self.n {
+            let r = self.r(q, i);
+            let t = r + self.beta * r.powi(3);
+            scale = scale.max(t.abs());
+            kappa = kappa.max(1.0 + 3.0 * self.beta * r * r);
+            if i < self.n {
+                out[i] -= w * t;
+            }
+            if i > 0 {
+                out[i - 1] += w * t;
+            }
+        }
+        scale.max(kappa * max_abs(q))
+    }
+    /// `∇²V` on the tridiagonal pattern `(i, i)`, `(i, i+1)` (upper),
+    /// accumulated with weight `w`.
+    fn add_hessian(&self, q: &[f64], w: f64, out: &mut [f64]) {
+        for i in 0..=self.n {
+            let r = self.r(q, i);
+            let k = w * (1.0 + 3.0 * self.beta * r * r);
+            if i < self.n {
+                out[2 * i] += k;
+            }
+            if i > 0 {
+                out[2 * (i - 1)] += k;
+            }
+            if i > 0 && i < self.n {
+                out[2 * (i - 1) + 1] -= k;
+            }
+        }
+    }
+    fn pattern(&self) -> Vec<(usize, usize)> {
+        (0..self.n)
+            .flat_map(|i| [(i, i), (i, (i + 1).min(self.n - 1))])
+            .collect()
+    }
+}
+
+/// The average vector field step as an [`Objective`]: `q₁ = base + u`,
+/// `base = q + h·v`, `c = 2/h²`, `U(q₁) = ∫₀¹ (V(q + ξΔ) − V(q))/ξ dξ`,
+/// `Δ = q₁ − q`, its force `−∫₀¹ ∇V(q + ξΔ) dξ` and Hessian
+/// `∫₀¹ ξ·∇²V(q + ξΔ) dξ`, by 3-point Gauss–Legendre (exact here).
+struct Avf<'a> {
+    sys: &'a Fpu,
+    q: &'a [f64],
+    base: Vec<f64>,
+    c: f64,
+}
+
+const GL3: [(f64, f64); 3] = [
+    (0.5 - 0.387_298_334_620_741_7, 5.0 / 18.0),
+    (0.5, 8.0 / 18.0),
+    (0.5 + 0.387_298_334_620_741_7, 5.0 / 18.0),
+];
+
+impl Avf<'_> {
+    fn at(&self, x: &[f64], xi: f64) -> Vec<f64> {
+        self.q
+            .iter()
+            .zip(x)
+            .map(|(q, x)| q + xi * (x - q))
+            .collect()
+    }
+}
+
+impl integrator_core::minimise::Objective for Avf<'_> {
+    fn dim(&self) -> usize {
+        self.sys.n
+    }
+    fn base(&self) -> &[f64] {
+        &self.base
+    }
+    fn inertia(&self) -> f64 {
+        self.c
+    }
+    fn mass(&self) -> Mass<'_> {
+        Mass::Scalar(1.0)
+    }
+    fn value(&self, x: &[f64]) -> (f64, f64) {
+        let v0 = self.sys.potential(self.q);
+        let mut u = 0.0;
+        let mut mag = 0.0;
+        for (xi, w) in GL3 {
+            let v = self.sys.potential(&self.at(x, xi));
+            u += w * (v - v0) / xi;
+            mag += w * (v.abs() + v0.abs()) / xi;
+        }
+        (u, mag)
+    }
+    fn force(&self, x: &[f64], force: &mut [f64]) -> f64 {
+        force.fill(0.0);
+        let mut scale: f64 = 0.0;
+        for (xi, w) in GL3 {
+            scale = scale.max(self.sys.add_force(&self.at(x, xi), w, force));
+        }
+        scale
+    }
+    fn hessian_projected(&self, x: &[f64], values: &mut [f64]) {
+        // V is convex (β > 0): its Hessian needs no projection.
+        values.fill(0.0);
+        for (xi, w) in GL3 {
+            self.sys.add_hessian(&self.at(x, xi), w * xi, values);
+        }
+    }
+}
+
+/// The layer's objective serves the average vector field step too (an
+/// energy-conserving, non-symplectic scheme): Newton on its objective with
+/// the same machinery keeps the FPU chain's energy to round-off at a large
+/// step (h = 0.5, h·ω_max ≈ 1 in the linear part, stiffer where the springs
+/// stretch), where the midpoint rule's energy moves by 2e-2 (measured).
+/// At tolerance 1e-14 the AVF's relative energy error over 200 steps was
+/// measured 9e-15; at the default 1e-12 it is 3.3e-12: the energy error
+/// follows the solver's tolerance.
+#[test]
+fn the_objective_serves_an_average_vector_field_step() {
+    use integrator_core::minimise::Newton;
+    let sys = Fpu { n: 12, beta: 2.0 };
+    let n = sys.n;
+    let mut q: Vec<f64> = (0..n).map(|i| 0.6 * (0.5 * i as f64).sin()).collect();
+    let mut v: Vec<f64> = (0..n).map(|i| 0.4 * (0.9 * i as f64).cos()).collect();
+    let energy =
+        |q: &[f64], v: &[f64]| sys.potential(q) + 0.5 * v.iter().map(|v| v * v).sum::<f64>();
+    let e0 = energy(&q, &v);
+    let h = 0.5;
+    let settings = NewtonSettings {
+        tolerance: 1e-14,
+        ..NewtonSettings::default()
+    };
+    let mut newton = Newton::new(n, &sys.pattern(), settings).unwrap();
+    let mut u = vec![0.0; n];
+    let mut worst: f64 = 0.0;
+    for _ in 0..200 {
+        let base: Vec<f64> = q.iter().zip(&v).map(|(q, v)| q + h * v).collect();
+        let obj = Avf {
+            sys: &sys,
+            q: &q,
+            base,
+            c: 2.0 / (h * h),
+        };
+        u.fill(0.0);
+        newton.solve(&obj, &mut u, None).unwrap();
+        let q1: Vec<f64> = obj.base.iter().zip(&u).map(|(b, u)| b + u).collect();
+        // v₁ = 2(q₁ − q)/h − v.
+        let v1: Vec<f64> = q1
+            .iter()
+            .zip(&q)
+            .zip(&v)
+            .map(|((q1, q), v)| 2.0 * (q1 - q) / h - v)
+            .collect();
+        q = q1;
+        v = v1;
+        worst = worst.max(((energy(&q, &v) - e0) / e0).abs());
+    }
+    println!(
+        "AVF: relative energy error {worst:e} over 200 steps, {:.1} Newton iterations per solve",
+        newton.stats().iterations as f64 / newton.stats().solves as f64
+    );
+    assert!(worst < 1e-12, "AVF energy error {worst:e}");
+    // The midpoint rule on the same chain and step does not keep it.
+    struct Sep<'a>(&'a Fpu);
+    impl Separable for Sep<'_> {
+        fn dof(&self) -> usize {
+            self.0.n
+        }
+        fn kinetic(&self, p: &[f64]) -> f64 {
+            0.5 * p.iter().map(|p| p * p).sum::<f64>()
+        }
+        fn potential(&self, q: &[f64]) -> f64 {
+            self.0.potential(q)
+        }
+        fn velocity(&self, p: &[f64], out: &mut [f64]) {
+            out.copy_from_slice(p);
+        }
+        fn force(&self, q: &[f64], out: &mut [f64]) {
+            self.force_and_scale(q, out);
+        }
+    }
+    impl SparsePotential for Sep<'_> {
+        fn mass(&self) -> Mass<'_> {
+            Mass::Scalar(1.0)
+        }
+        fn force_and_scale(&self, q: &[f64], out: &mut [f64]) -> f64 {
+            out.fill(0.0);
+            self.0.add_force(q, 1.0, out)
+        }
+        fn hessian_pattern(&self) -> Vec<(usize, usize)> {
+            self.0.pattern()
+        }
+        fn hessian_values_projected(&self, q: &[f64], out: &mut [f64]) {
+            out.fill(0.0);
+            self.0.add_hessian(q, 1.0, out);
+        }
+    }
+    let sep = Sep(&sys);
+    let mut z: Vec<f64> = (0..n)
+        .map(|i| 0.6 * (0.5 * i as f64).sin())
+        .chain((0..n).map(|i| 0.4 * (0.9 * i as f64).cos()))
+        .collect();
+    let mut stepper = MidpointStepper::new(&sep, MidpointSettings::default()).unwrap();
+    let mut worst_mid: f64 = 0.0;
+    for _ in 0..200 {
+        stepper.step(&sep, &[1.0], h, &mut z).unwrap();
+        worst_mid = worst_mid.max(((energy(&z[..n], &z[n..]) - e0) / e0).abs());
+    }
+    println!("midpoint: relative energy error {worst_mid:e}");
+    assert!(worst_mid > 1e-6, "midpoint energy error {worst_mid:e}");
+}
