@@ -5,8 +5,8 @@
 //! summary; or, with `--stability`, the largest stable step of each method.
 
 pub(crate) mod energy;
-pub(crate) mod render;
 mod growth;
+pub(crate) mod render;
 mod stability;
 
 use std::collections::BTreeMap;
@@ -960,7 +960,11 @@ impl Summary<'_> {
             "  energy       max relative error {worst:.3e} (at t = {at:.3} s; |H − H₀|/E_ref, E_ref = {:.4e} J)",
             self.e_ref
         );
-        let _ = writeln!(s, "  growth       {}", energy_growth(&r.frames, self.e_ref).describe());
+        let _ = writeln!(
+            s,
+            "  growth       {}",
+            energy_growth(&r.frames, self.e_ref).describe()
+        );
         let (strain, frame) = r.frames.iter().fold((0.0f64, 0usize), |(m, k), f| {
             if f.max_strain > m {
                 (f.max_strain, f.frame)
