@@ -376,14 +376,21 @@ fn graded_rule(s0_a: f64, eta_a: f64, mut f: impl FnMut(f64, f64)) {
     }
 }
 
-/// The PSD projection of the graded 4-point Gauss–Legendre approximation of
-/// `∫₀¹ ξ·H(d + ξδ) dξ` (module documentation), `H` as [`spring_block`].
+/// The graded 4-point Gauss–Legendre approximation of
+/// `∫₀¹ ξ·H(d + ξδ) dξ` (module documentation), `H` as [`spring_block`];
+/// `project`: its projection onto the PSD cone.
 #[inline]
-fn spring_avf_block(d: Vector3<f64>, d1: Vector3<f64>, kl: f64, rest: f64) -> Matrix3<f64> {
+fn spring_avf_block(
+    d: Vector3<f64>,
+    d1: Vector3<f64>,
+    kl: f64,
+    rest: f64,
+    project: bool,
+) -> Matrix3<f64> {
     let delta = d1 - d;
     let a = delta.norm();
     if a.is_nan() || a <= 0.0 {
-        return spring_block(&d, kl, rest, true) * 0.5;
+        return spring_block(&d, kl, rest, project) * 0.5;
     }
     let dh = delta / a;
     // An orthonormal basis (e₁ = δ̂, e₂) of a plane holding every r(ξ).
@@ -430,8 +437,8 @@ fn spring_avf_block(d: Vector3<f64>, d1: Vector3<f64>, kl: f64, rest: f64) -> Ma
     let mean = 0.5 * (sa + sc);
     let radius = (0.5 * (sa - sc)).hypot(sb);
     let (lambda_plus, lambda_minus) = (base + mean + radius, base + mean - radius);
-    if base >= 0.0 && lambda_minus >= 0.0 {
-        // Nothing to project: B as summed (no eigenvector round-off).
+    if !project || (base >= 0.0 && lambda_minus >= 0.0) {
+        // Nothing to project (or not asked to): B as summed.
         return (Matrix3::from_diagonal_element(base) + s) * kl;
     }
     // Rebuilt from the nonnegative eigenpairs: subtracting a large negative
@@ -567,6 +574,25 @@ impl ClothModel {
     /// # Panics
     /// If `values` is not exactly as long as the pattern.
     pub fn avf_jacobian_values_projected(&self, q: &[f64], q1: &[f64], values: &mut [f64]) {
+        self.avf_jacobian_into(q, q1, values, true);
+    }
+
+    /// [`avf_jacobian_values_projected`](Self::avf_jacobian_values_projected)
+    /// without the projection: the same quadrature of
+    /// `∂F̄/∂q₁ = −∫₀¹ ξ ∇²V dξ`, symmetric but indefinite where springs are
+    /// compressed. Where `c·M` plus it is still positive definite, Newton's
+    /// method converges quadratically with it, and only linearly with the
+    /// projected matrix (the projection drops curvature the objective has);
+    /// a solver may try its Cholesky factorisation first and fall back to the
+    /// projected one. Allocates nothing.
+    ///
+    /// # Panics
+    /// If `values` is not exactly as long as the pattern.
+    pub fn avf_jacobian_values(&self, q: &[f64], q1: &[f64], values: &mut [f64]) {
+        self.avf_jacobian_into(q, q1, values, false);
+    }
+
+    fn avf_jacobian_into(&self, q: &[f64], q1: &[f64], values: &mut [f64], project: bool) {
         let jac = self.jac();
         assert_eq!(
             values.len(),
@@ -580,7 +606,7 @@ impl ClothModel {
             let (a, b) = (s.a as usize, s.b as usize);
             let d = Vector3::from(q3[b]) - Vector3::from(q3[a]);
             let d1 = Vector3::from(p3[b]) - Vector3::from(p3[a]);
-            let k = spring_avf_block(d, d1, s.kl, s.rest);
+            let k = spring_avf_block(d, d1, s.kl, s.rest, project);
             add_block(values, [loc[0], loc[1]], &k, -1.0);
             add_block(values, [loc[2], loc[3]], &k, 1.0);
             add_block(values, [loc[4], loc[5]], &k, 1.0);
@@ -590,7 +616,8 @@ impl ClothModel {
             let pin = Vector3::from(s.pin);
             let d = pin - Vector3::from(q3[s.a as usize]);
             let d1 = pin - Vector3::from(p3[s.a as usize]);
-            add_block(values, loc, &spring_avf_block(d, d1, s.kl, s.rest), -1.0);
+            let k = spring_avf_block(d, d1, s.kl, s.rest, project);
+            add_block(values, loc, &k, -1.0);
         }
     }
 }
