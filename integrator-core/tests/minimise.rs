@@ -442,10 +442,15 @@ fn bad_input_is_an_error() {
 }
 
 /// A free chain (no pin, no gravity) keeps its total momentum to round-off
-/// at a step far beyond the explicit limit (h·ω_max ≈ 10), with every
+/// at a step beyond the explicit limit (h = 0.2: h·ω_max ≈ 2.8 for the
+/// linear part, more where the quartic term stiffens), with every
 /// composition: `p' = p + τ·F(x̄)` and the internal forces sum to zero, so
 /// each kick changes `Σp` by the round-off of `ΣF` (a few ulps of the
-/// largest spring force per particle), whatever the residual.
+/// largest tension per particle), whatever the residual. The bound adds
+/// those worst cases up linearly; measured drifts are 2e-16 to 6e-15 (|P| =
+/// 1.3), against bounds of about 1e-11. (At h = 0.5 the midpoint rule's
+/// energy grows 1.7e5-fold on this chain, the Simo–Tarnow instability, and
+/// the momentum is still kept, to 4.5e-14.)
 #[test]
 fn a_free_chain_keeps_its_momentum() {
     let sys = Chain::new(10, false, 0.0);
@@ -463,7 +468,7 @@ fn a_free_chain_keeps_its_momentum() {
             (px, py)
         };
         let p0 = total(&z);
-        let h = 0.5;
+        let h = 0.2;
         let steps = 200;
         let mut bound = 0.0;
         for _ in 0..steps {
