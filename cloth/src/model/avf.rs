@@ -94,10 +94,13 @@
 //! J = (ℓ₁ − ℓ₀) + (d·δ)·I₀ − ℓ₀·ln(P/(2ℓ₀²)),   P = ℓ₀ℓ₁ + d·d₁.
 //! ```
 //!
-//! Evaluated as follows. For `a ≤ ℓ₀/2`, by 12-point Gauss–Legendre on the
-//! second integrand (analytic, its nearest singularity, a zero of `Q`, at
-//! `|ξ| = ℓ₀/a ≥ 2`, so the rule's error is below `5.83⁻²⁴ ≈ 4e-19`
-//! relatively: no cancellation as `a → 0`). Otherwise in closed form: for
+//! Evaluated as follows. For `a ≤ ℓ₀/2`, by `n`-point Gauss–Legendre on
+//! the second integrand (analytic; its nearest singularity, a zero of `Q`,
+//! is at `|ξ| = ℓ₀/a`, at least `z = ℓ₀/a − 1` from `[0, 1]`, so the rule's
+//! relative error is about `ρ⁻²ⁿ`, `ρ = 2z + 1 + √((2z + 1)² − 1)`; no
+//! cancellation as `a → 0`): `n = 4` for `a ≤ ℓ₀/32` (`126⁻⁸ ≈ 2e-17`),
+//! 6 for `a ≤ ℓ₀/8` (`30⁻¹² ≈ 2e-18`), 8 for `a ≤ ℓ₀/4` (`13.9⁻¹⁶ ≈ 5e-19`),
+//! 12 for `a ≤ ℓ₀/2` (`5.83⁻²⁴ ≈ 4e-19`). Otherwise in closed form: for
 //! `s₀ ≥ 0` as written (all terms well conditioned, the last as
 //! `ℓ₀·log1p((ℓ₀(ℓ₁ − ℓ₀) + d·δ)/(2ℓ₀²))`); for `s₀ < 0`, with
 //! `s₀ = −ℓ₀ + R₀`, as `J = (ℓ₁ − ℓ₀) − ℓ₀·ln(R₁P/(2ℓ₀²R₀)) + R₀·a·I₀`,
@@ -162,6 +165,21 @@ const GL12: [(f64, f64); 6] = [
     (0.437_383_295_744_265_5, 0.124_573_522_906_701_39),
 ];
 
+/// Gauss–Legendre on `[0, 1]`, 8 points (as [`GL12`]).
+const GL8: [(f64, f64); 4] = [
+    (0.019855071751231884, 0.05061426814518813),
+    (0.10166676129318664, 0.11119051722668724),
+    (0.2372337950418355, 0.15685332293894363),
+    (0.4082826787521751, 0.181341891689181),
+];
+
+/// Gauss–Legendre on `[0, 1]`, 6 points (as [`GL12`]).
+const GL6: [(f64, f64); 3] = [
+    (0.03376524289842399, 0.08566224618958518),
+    (0.16939530676686773, 0.1803807865240693),
+    (0.38069040695840156, 0.23395696728634552),
+];
+
 /// Gauss–Legendre on `[0, 1]`, 4 points (as [`GL12`]).
 const GL4: [(f64, f64); 2] = [
     (0.069_431_844_202_973_71, 0.173_927_422_568_726_93),
@@ -183,8 +201,6 @@ struct Segment {
     /// The part of the ends across `δ`, and its length `η`.
     p: Vector3<f64>,
     eta: f64,
-    /// `I₀ = ∫₀¹ dξ/ℓ(ξ)` (`∞` when the segment passes through 0).
-    i0: f64,
 }
 
 impl Segment {
@@ -201,7 +217,6 @@ impl Segment {
         let (s0, s1) = (d.dot(&dh), d1.dot(&dh));
         let p = if l0 <= l1 { d - dh * s0 } else { d1 - dh * s1 };
         let eta = p.norm();
-        let i0 = inverse_length_integral(a, l0, l1, s0, s1, eta);
         Some(Segment {
             d,
             d1,
@@ -213,16 +228,22 @@ impl Segment {
             s1,
             p,
             eta,
-            i0,
         })
+    }
+
+    /// `I₀ = ∫₀¹ dξ/ℓ(ξ)` (`∞` when the segment passes through 0).
+    #[inline]
+    fn inverse_length_integral(&self) -> f64 {
+        inverse_length_integral(self.a, self.l0, self.l1, self.s0, self.s1, self.eta)
     }
 
     /// `W = ∫₀¹ r/|r| dξ = A·δ̂ + I₀·p`.
     #[inline]
     fn mean_direction(&self) -> Vector3<f64> {
         let along = self.dh * ((self.s0 + self.s1) / (self.l0 + self.l1));
-        if self.eta > 0.0 && self.i0.is_finite() {
-            along + self.p * self.i0
+        let i0 = self.inverse_length_integral();
+        if self.eta > 0.0 && i0.is_finite() {
+            along + self.p * i0
         } else {
             along
         }
@@ -238,7 +259,6 @@ impl Segment {
             s0,
             s1,
             eta,
-            i0,
             ..
         } = *self;
         if l1 == 0.0 {
@@ -250,8 +270,19 @@ impl Segment {
         let delta = self.d1 - d;
         let dd = d.dot(&delta);
         if a <= 0.5 * l0 {
+            // The fewest points whose error bound (module documentation) is
+            // below 1e-16 relatively.
+            let rule: &[(f64, f64)] = if a <= l0 / 32.0 {
+                &GL4
+            } else if a <= 0.125 * l0 {
+                &GL6
+            } else if a <= 0.25 * l0 {
+                &GL8
+            } else {
+                &GL12
+            };
             let mut sum = 0.0;
-            for &(x, w) in &GL12 {
+            for &(x, w) in rule {
                 for xi in [x, 1.0 - x] {
                     let l = (d + delta * xi).norm();
                     sum += w * (2.0 * dd + xi * a * a) / (l + l0);
@@ -260,6 +291,7 @@ impl Segment {
             return sum;
         }
         let dl = a * (s0 + s1) / (l0 + l1);
+        let i0 = self.inverse_length_integral();
         let t = if s0 >= 0.0 {
             dd * i0 - l0 * ((l0 * dl + dd) / (2.0 * l0 * l0)).ln_1p()
         } else {
@@ -331,9 +363,10 @@ fn spring_avf_potential(d: Vector3<f64>, d1: Vector3<f64>, kl: f64, rest: f64) -
     }
 }
 
-/// The most panels on either side of the closest approach in
-/// [`graded_rule`]: the first is at least `2⁻³⁰` of its side.
-const MAX_HALVINGS: i32 = 30;
+/// The first panel on either side of the closest approach in
+/// [`graded_rule`] is at least `2⁻³⁰` of its side (so at most about 30
+/// panels a side).
+const SMALLEST_PANEL: f64 = 1.0 / (1u64 << 30) as f64;
 
 /// Calls `f(ξ, w)` for the nodes and weights of a composite 4-point
 /// Gauss–Legendre rule on `[0, 1]` for integrands with a near-singularity
@@ -349,13 +382,13 @@ const MAX_HALVINGS: i32 = 30;
 fn graded_rule(s0_a: f64, eta_a: f64, mut f: impl FnMut(f64, f64)) {
     let raw = -s0_a;
     let star = raw.clamp(0.0, 1.0);
-    let w = eta_a.hypot(raw - star);
+    let w = (eta_a * eta_a + (raw - star) * (raw - star)).sqrt();
     for (dir, len) in [(1.0, 1.0 - star), (-1.0, star)] {
         if len.is_nan() || len <= 0.0 {
             continue;
         }
         let mut lo = 0.0;
-        let mut width = w.max(len * 2f64.powi(-MAX_HALVINGS));
+        let mut width = w.max(len * SMALLEST_PANEL);
         loop {
             let hi = if lo + 1.5 * width >= len {
                 len
@@ -394,11 +427,12 @@ fn spring_avf_block(
     }
     let dh = delta / a;
     // An orthonormal basis (e₁ = δ̂, e₂) of a plane holding every r(ξ).
-    let (l0, l1) = (d.norm(), d1.norm());
-    let far = if l0 >= l1 { d } else { d1 };
+    let (l0, l1) = (d.norm_squared(), d1.norm_squared());
+    let (far, near) = if l0 >= l1 { (d, d1) } else { (d1, d) };
     let across = far - dh * far.dot(&dh);
-    let e2 = if across.norm() > 1e-8 * far.norm() {
-        across.normalize()
+    let across_len = across.norm();
+    let e2 = if across_len > 1e-8 * l0.max(l1).sqrt() {
+        across / across_len
     } else {
         // (Nearly) collinear: any unit vector across δ̂.
         let pick = if dh.x.abs() <= dh.y.abs() && dh.x.abs() <= dh.z.abs() {
@@ -413,9 +447,8 @@ fn spring_avf_block(
     let mut c = 0.0;
     let mut s = Matrix3::zeros();
     let (mut sa, mut sb, mut sc) = (0.0, 0.0, 0.0);
-    let eta = (d - dh * d.dot(&dh))
-        .norm()
-        .min((d1 - dh * d1.dot(&dh)).norm());
+    // η from the nearer end (its round-off relative to the shorter length).
+    let eta = (near - dh * near.dot(&dh)).norm();
     graded_rule(d.dot(&dh) / a, eta / a, |xi, w| {
         let r = d + delta * xi;
         let l = r.norm();
@@ -435,7 +468,7 @@ fn spring_avf_block(
     // Eigenpairs of B/(k/L): the plane's normal with ½ − C, and those of
     // the 2×2 [[sa, sb], [sb, sc]] shifted by ½ − C.
     let mean = 0.5 * (sa + sc);
-    let radius = (0.5 * (sa - sc)).hypot(sb);
+    let radius = (0.25 * (sa - sc) * (sa - sc) + sb * sb).sqrt();
     let (lambda_plus, lambda_minus) = (base + mean + radius, base + mean - radius);
     if !project || (base >= 0.0 && lambda_minus >= 0.0) {
         // Nothing to project (or not asked to): B as summed.
@@ -511,8 +544,8 @@ impl ClothModel {
     /// `−`[`avf_force`](Self::avf_force), so that the AVF step is the
     /// minimiser of `(1/h²)(q₁ − q − hv)ᵀM(q₁ − q − hv) + U(q₁)`, and the value
     /// a line search on that objective needs. Each spring's `U` is
-    /// `(k/2L)(2d·δ + |δ|²/2) − k·J` with `J` by 12-point Gauss–Legendre for
-    /// `|δ| ≤ ℓ₀/2` and in closed form otherwise (module documentation);
+    /// `(k/2L)(2d·δ + |δ|²/2) − k·J` with `J` by 4- to 12-point
+    /// Gauss–Legendre for `|δ| ≤ ℓ₀/2` and in closed form otherwise (module documentation);
     /// gravity's is `−Σ m g·(x₁ − x)`. Accurate to round-off of its terms
     /// ([`avf_potential_and_magnitude`](Self::avf_potential_and_magnitude)).
     /// Colliders are not included (as [`avf_force`](Self::avf_force)).
