@@ -139,11 +139,15 @@
 //! panel, 8e-7 on the doubling ones) however close the segment comes to zero
 //! length; when the singularity is a whole side away (the common case: the
 //! spring does not come near zero length) a side is one panel, 4 points.
-//! A fixed 4-point rule was not enough: at one step per 60 Hz frame a
-//! spring moves by several times its length, the rule's error was then of
-//! order one and Newton's method on the AVF step converged only linearly.
-//! Newton needs only a good positive-semidefinite matrix, not the exact one
-//! (the converged step does not depend on it). `S` lives in the plane of
+//! (A fixed 4-point rule errs by order one where a segment passes within a
+//! small fraction of its length of zero length.) Newton needs only a good
+//! positive-semidefinite matrix, not the exact one (the converged step does
+//! not depend on it); but where springs are compressed the projection drops
+//! curvature the objective has, and Newton then converges only linearly:
+//! on the test's small cloth at one step per 60 Hz frame, 38.6 iterations
+//! per step with the projected matrix against 13.6 with the unprojected one
+//! ([`ClothModel::avf_jacobian_values`]) wherever `c·M` plus it is positive
+//! definite (`tests/avf.rs`, a dense Newton). `S` lives in the plane of
 //! `d` and `δ`, so `B`'s eigenvectors are the normal `n` of that plane
 //! (eigenvalue `(k/L)(½ − C)`) and the two of a 2×2 symmetric matrix in
 //! it; where one of the three eigenvalues is negative, `B` is rebuilt from
