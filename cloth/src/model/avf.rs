@@ -618,8 +618,10 @@ impl ClothModel {
     /// without the projection: the same quadrature of
     /// `∂F̄/∂q₁ = −∫₀¹ ξ ∇²V dξ`, symmetric but indefinite where springs are
     /// compressed. Where `c·M` plus it is still positive definite, Newton's
-    /// method converges quadratically with it, and only linearly with the
-    /// projected matrix (the projection drops curvature the objective has);
+    /// method converges nearly quadratically with it (the quadrature's
+    /// relative error, below about 1e-5, bounds the rate), and only linearly
+    /// with the projected matrix (the projection drops curvature the
+    /// objective has);
     /// a solver may try its Cholesky factorisation first and fall back to the
     /// projected one. Allocates nothing.
     ///
