@@ -687,7 +687,7 @@ fn the_midpoint_family_runs_as_minimisation_and_bad_solver_flags_name_the_flag()
             stdout.contains(&format!(
                 "solver       {solver} minimisation, tolerance 1e-12"
             )) && stdout.contains("iterations per step")
-                && stdout.contains("(1 symbolic)"),
+                && stdout.contains("(1 symbolic, "),
             "{stdout}"
         );
         assert!(stdout.contains("(1 per frame at"), "{stdout}");

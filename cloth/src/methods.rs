@@ -83,9 +83,15 @@ pub const STEPPABLE: &[&str] = &[
 ];
 
 /// Whether `id` names a scheme that can step cloth: an explicit one
-/// ([`STEPPABLE`]) or an implicit one ([`IMPLICIT`]).
+/// ([`STEPPABLE`]), an implicit one ([`IMPLICIT`]), or one of the two
+/// energy-conserving comparison schemes of [`crate::minimise`]
+/// (`avf`, `discrete-gradient`).
 pub fn check(id: &str) -> Result<(), MethodError> {
-    if STEPPABLE.contains(&id) || is_implicit(id) {
+    if STEPPABLE.contains(&id)
+        || is_implicit(id)
+        || id == crate::minimise::AVERAGE_VECTOR_FIELD
+        || id == crate::minimise::DISCRETE_GRADIENT
+    {
         Ok(())
     } else if library::info(id).is_some() {
         Err(MethodError::NotSteppable(id.to_string()))

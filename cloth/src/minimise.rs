@@ -38,10 +38,9 @@ use std::time::Instant;
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
 use faer::{Conj, MatMut, Par};
-use integrator_core::implicit::ImplicitTable;
 use integrator_core::minimise::{
-    Mass, MidpointSettings, MidpointStepper, NewtonSettings, SparseLlt, SparsePotential,
-    UpperPattern,
+    AveragedPotential, AvfStepper, Mass, MidpointSettings, MidpointStepper, NewtonSettings,
+    SparseLlt, SparsePotential, UpperPattern,
 };
 use nalgebra::Vector3;
 
@@ -49,7 +48,7 @@ pub use integrator_core::minimise::{
     DEFAULT_NEWTON_ITERATIONS, DEFAULT_TOLERANCE, MinimiseError, Stats,
 };
 
-use crate::implicit::{self as cloth_implicit, TableVisitor};
+use crate::implicit as cloth_implicit;
 use crate::methods::MethodError;
 use crate::model::ClothModel;
 use crate::sim::{CallbackError, Frame, FrameStats, RunError, RunOptions, RunReport, Simulation};
@@ -140,59 +139,30 @@ impl Settings {
     }
 }
 
-/// The composition weights of a table that is a composition of implicit
-/// midpoint steps: lower triangular with `aᵢᵢ = bᵢ/2`, `aᵢⱼ = bⱼ` (`j < i`),
-/// every `bᵢ ≠ 0` and `cᵢ` the row sums. Decided on the `f64` table by exact
-/// comparison (`bᵢ/2` is exact in binary, so a correctly rounded table of
-/// this shape passes and no other does), `None` otherwise.
-pub fn composition<const S: usize>(table: &ImplicitTable<S>) -> Option<Vec<f64>> {
-    if table.a_hat.is_some() {
-        return None;
-    }
-    for i in 0..S {
-        if table.b[i] == 0.0 || !table.b[i].is_finite() || table.a[i][i] != table.b[i] / 2.0 {
-            return None;
-        }
-        for j in 0..S {
-            let want = if j < i {
-                table.b[j]
-            } else if j > i {
-                0.0
-            } else {
-                continue;
-            };
-            if table.a[i][j] != want {
-                return None;
-            }
-        }
-    }
-    Some(table.b.to_vec())
-}
-
 /// The composition weights of a named implicit scheme, if it is one of the
-/// midpoint family ([`composition`]).
+/// midpoint family: a table with `aᵢᵢ = bᵢ/2`, `aᵢⱼ = bⱼ` (`j < i`), as
+/// `butcher!` decided on its exact entries
+/// ([`Info::midpoint_weights`](integrator_core::Info::midpoint_weights)),
+/// never on the doubles.
 pub fn weights_of(id: &str) -> Option<Vec<f64>> {
-    struct W;
-    impl TableVisitor for W {
-        type Output = Option<Vec<f64>>;
-        fn visit<const S: usize>(
-            self,
-            table: &ImplicitTable<S>,
-            _: &'static integrator_core::Info,
-        ) -> Self::Output {
-            composition(table)
-        }
-    }
-    cloth_implicit::with_table(id, W).ok().flatten()
+    cloth_implicit::info(id).and_then(|info| info.midpoint_weights.map(<[f64]>::to_vec))
 }
 
 /// Whether `id` steps through the minimisation solvers: a scheme of
 /// [`IMPLICIT`](crate::implicit::IMPLICIT) whose table is a composition of
-/// midpoint steps (today `midpoint`, `paper-dirk2`, `paper-dirk4`), or the
-/// discrete gradient ([`DISCRETE_GRADIENT`]).
+/// midpoint steps (today `midpoint`, `paper-dirk2`, `paper-dirk4`), the
+/// average vector field ([`AVERAGE_VECTOR_FIELD`]) or the discrete gradient
+/// ([`DISCRETE_GRADIENT`]).
 pub fn is_minimisation(id: &str) -> bool {
-    id == DISCRETE_GRADIENT || weights_of(id).is_some()
+    id == DISCRETE_GRADIENT || id == AVERAGE_VECTOR_FIELD || weights_of(id).is_some()
 }
+
+/// The name of the energy-conserving scheme solved as a minimisation: the
+/// average vector field discrete gradient
+/// ([`integrator_core::minimise::AvfStepper`], the cloth's integrals in
+/// [`ClothModel::avf_force`]). Conserves energy and linear momentum; not
+/// symplectic.
+pub const AVERAGE_VECTOR_FIELD: &str = "avf";
 
 /// The name of the energy–momentum conserving comparison scheme.
 pub const DISCRETE_GRADIENT: &str = "discrete-gradient";
@@ -234,6 +204,41 @@ impl SparsePotential for ClothModel {
         for v in out.iter_mut() {
             *v = -*v;
         }
+    }
+    fn hessian_values(&self, q: &[f64], out: &mut [f64]) -> bool {
+        self.force_jacobian_values(q, out);
+        for v in out.iter_mut() {
+            *v = -*v;
+        }
+        true
+    }
+}
+
+/// The cloth's segment averages for the AVF step (springs and gravity in
+/// closed form, [`ClothModel::avf_force`]; colliders are refused by the
+/// runner). The Hessian approximation is stored negated like the force
+/// Jacobian, hence the sign flip.
+impl AveragedPotential for ClothModel {
+    fn averaged_value(&self, q: &[f64], q1: &[f64]) -> (f64, f64) {
+        self.avf_potential_and_magnitude(q, q1)
+    }
+
+    fn averaged_force(&self, q: &[f64], q1: &[f64], out: &mut [f64]) -> f64 {
+        self.avf_force(q, q1, out)
+    }
+
+    fn averaged_hessian_projected(&self, q: &[f64], q1: &[f64], out: &mut [f64]) {
+        self.avf_jacobian_values_projected(q, q1, out);
+        for v in out.iter_mut() {
+            *v = -*v;
+        }
+    }
+    fn averaged_hessian(&self, q: &[f64], q1: &[f64], out: &mut [f64]) -> bool {
+        self.avf_jacobian_values(q, q1, out);
+        for v in out.iter_mut() {
+            *v = -*v;
+        }
+        true
     }
 }
 
@@ -446,6 +451,7 @@ pub struct Minimiser {
     settings: Settings,
     mass: f64,
     newton: Option<MidpointStepper>,
+    avf: Option<AvfStepper>,
     dg: Option<DgLinear>,
     local_global: Option<LocalGlobalLinear>,
     x: Vec<f64>,
@@ -500,6 +506,7 @@ impl Minimiser {
             settings,
             mass: model.particle_mass(),
             newton,
+            avf: None,
             dg: None,
             local_global,
             x: vec![0.0; n],
@@ -515,10 +522,37 @@ impl Minimiser {
 
     /// The run's counters.
     pub fn stats(&self) -> &Stats {
-        match &self.newton {
-            Some(s) => s.stats(),
-            None => &self.stats,
+        match (&self.avf, &self.newton) {
+            (Some(a), _) => a.stats(),
+            (None, Some(s)) => s.stats(),
+            (None, None) => &self.stats,
         }
+    }
+
+    /// One step of size `h` of the average vector field scheme
+    /// ([`AVERAGE_VECTOR_FIELD`]), one Newton minimisation through
+    /// [`AvfStepper`] with this minimiser's tolerance and cap (the solver
+    /// setting must be Newton; [`run`] refuses local/global). The model must
+    /// have no colliders. On error `z` is unchanged.
+    pub fn avf_step(
+        &mut self,
+        model: &ClothModel,
+        h: f64,
+        z: &mut [f64],
+    ) -> Result<(), MinimiseError> {
+        if self.avf.is_none() {
+            self.avf = Some(AvfStepper::new(
+                model,
+                MidpointSettings {
+                    newton: NewtonSettings {
+                        tolerance: self.settings.tolerance,
+                        max_iterations: self.settings.max_iterations,
+                    },
+                    compensated: true,
+                },
+            )?);
+        }
+        self.avf.as_mut().expect("built above").step(model, h, z)
     }
 
     pub fn settings(&self) -> &Settings {
@@ -796,13 +830,15 @@ pub fn run<F>(
     id: &str,
     opts: &RunOptions,
     settings: Settings,
-    mut on_frame: F,
+    on_frame: F,
 ) -> Result<MinimiseRun, RunError>
 where
     F: FnMut(&Frame<'_>) -> Result<(), CallbackError>,
 {
-    let (method, weights): (&'static str, Option<Vec<f64>>) = if id == DISCRETE_GRADIENT {
-        ("Discrete gradient (Gonzalez 1996), energy-momentum", None)
+    let kind = if id == DISCRETE_GRADIENT {
+        Kind::Gonzalez
+    } else if id == AVERAGE_VECTOR_FIELD {
+        Kind::Avf
     } else {
         let weights = weights_of(id).ok_or_else(|| {
             if cloth_implicit::is_implicit(id) {
@@ -811,21 +847,82 @@ where
                 MethodError::Unknown(id.to_string())
             }
         })?;
-        let info = cloth_implicit::info(id).expect("an implicit scheme");
-        (info.name, Some(weights))
+        Kind::Composition(weights)
     };
+    let method = match &kind {
+        Kind::Gonzalez => "Discrete gradient (Gonzalez 1996), energy-momentum",
+        Kind::Avf => "Average vector field (discrete gradient as minimisation), energy-conserving",
+        Kind::Composition(_) => cloth_implicit::info(id).expect("an implicit scheme").name,
+    };
+    run_kind(sim, method, kind, opts, settings, on_frame)
+}
+
+/// [`run`] for a `butcher!` scheme type whose table is a composition of
+/// midpoint steps ([`Info::midpoint_weights`](integrator_core::Info::midpoint_weights),
+/// decided exactly at compile time): a user's table of that shape steps
+/// through the minimisation solver like the library's. Refuses (naming the
+/// method) a scheme of another shape.
+pub fn run_scheme<S, F>(
+    sim: &mut Simulation,
+    opts: &RunOptions,
+    settings: Settings,
+    on_frame: F,
+) -> Result<MinimiseRun, RunError>
+where
+    S: integrator_core::Scheme,
+    F: FnMut(&Frame<'_>) -> Result<(), CallbackError>,
+{
+    let weights = S::INFO
+        .midpoint_weights
+        .ok_or_else(|| MethodError::NotSteppable(S::INFO.name.to_string()))?;
+    run_kind(
+        sim,
+        S::INFO.name,
+        Kind::Composition(weights.to_vec()),
+        opts,
+        settings,
+        on_frame,
+    )
+}
+
+/// What a minimisation run steps.
+enum Kind {
+    /// Midpoint steps of sizes `bᵢh`.
+    Composition(Vec<f64>),
+    /// The average vector field step.
+    Avf,
+    /// Gonzalez's discrete gradient (Newton with sparse LU).
+    Gonzalez,
+}
+
+fn run_kind<F>(
+    sim: &mut Simulation,
+    method: &'static str,
+    kind: Kind,
+    opts: &RunOptions,
+    settings: Settings,
+    mut on_frame: F,
+) -> Result<MinimiseRun, RunError>
+where
+    F: FnMut(&Frame<'_>) -> Result<(), CallbackError>,
+{
     let h = opts.step_size();
     opts.check()?;
     settings.check()?;
-    if weights.is_none() {
+    let name = match kind {
+        Kind::Gonzalez => Some(DISCRETE_GRADIENT),
+        Kind::Avf => Some(AVERAGE_VECTOR_FIELD),
+        Kind::Composition(_) => None,
+    };
+    if let Some(name) = name {
         if sim.model.has_colliders() {
             return Err(RunError::Options(format!(
-                "method: {DISCRETE_GRADIENT} handles springs and gravity; this scene has colliders"
+                "method: {name} handles springs and gravity; this scene has colliders"
             )));
         }
         if settings.solver != Solver::Newton {
             return Err(RunError::Options(format!(
-                "solver: {DISCRETE_GRADIENT} is solved with newton only (its equation is not a minimisation)"
+                "solver: {name} is solved with newton only"
             )));
         }
     }
@@ -856,9 +953,10 @@ where
         let clock = Instant::now();
         for _ in 0..opts.substeps {
             let t = t0 + (sim.steps - step0) as f64 * h;
-            let result = match &weights {
-                Some(w) => solver.step(&sim.model, w, h, &mut sim.state),
-                None => solver.discrete_gradient_step(&sim.model, h, &mut sim.state),
+            let result = match &kind {
+                Kind::Composition(w) => solver.step(&sim.model, w, h, &mut sim.state),
+                Kind::Avf => solver.avf_step(&sim.model, h, &mut sim.state),
+                Kind::Gonzalez => solver.discrete_gradient_step(&sim.model, h, &mut sim.state),
             };
             if let Err(source) = result {
                 let step = sim.steps + 1;

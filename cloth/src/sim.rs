@@ -207,6 +207,18 @@ impl Simulation {
         S: Step<ClothModel> + Scheme,
         F: FnMut(&Frame<'_>) -> Result<(), CallbackError>,
     {
+        // A table that is exactly a composition of midpoint steps (a user's
+        // as well as the library's) steps as successive minimisations,
+        // which descend at any step size, not through the stage equations.
+        if S::INFO.midpoint_weights.is_some() {
+            return crate::minimise::run_scheme::<S, F>(
+                self,
+                opts,
+                crate::minimise::Settings::default(),
+                on_frame,
+            )
+            .map(|r| r.report);
+        }
         let method = S::INFO.name;
         let h = opts.step_size();
         opts.check()?;
@@ -315,18 +327,22 @@ impl Simulation {
     }
 }
 
-/// Load nothing, build everything: run `scene` with its own method (explicit,
-/// or implicit through [`crate::implicit::run_method`]) and settings,
+/// Load nothing, build everything: run `scene` with its own method and
+/// settings through [`crate::minimise::run_any`] (the midpoint family and the
+/// energy-conserving schemes as minimisations with the default Newton
+/// settings, other implicit schemes through the sparse stage solver,
+/// explicit ones directly),
 /// calling `on_frame` for the initial state and every frame.
 pub fn run_scene<F>(scene: &Scene, on_frame: F) -> Result<(Simulation, RunReport), RunError>
 where
     F: FnMut(&Frame<'_>) -> Result<(), CallbackError>,
 {
     let mut sim = Simulation::new(scene)?;
-    let (report, _) = crate::implicit::run_method(
+    let (report, _) = crate::minimise::run_any(
         &mut sim,
         &scene.simulation.method,
         &RunOptions::from_scene(scene),
+        crate::minimise::Settings::default(),
         on_frame,
     )?;
     Ok((sim, report))

@@ -309,7 +309,10 @@ fn regrid(scene: &mut Scene, nx: usize, ny: usize) {
 
 /// A method name that can step cloth, or an error listing those that can.
 fn check_method(id: &str, flag: &str) -> Result<()> {
-    if cloth_implicit::all_methods().contains(&id) || id == minimise::DISCRETE_GRADIENT {
+    if cloth_implicit::all_methods().contains(&id)
+        || id == minimise::DISCRETE_GRADIENT
+        || id == minimise::AVERAGE_VECTOR_FIELD
+    {
         return Ok(());
     }
     let why = if integrator_core::library::info(id).is_some() {
@@ -318,9 +321,10 @@ fn check_method(id: &str, flag: &str) -> Result<()> {
         "is not a known method"
     };
     bail!(
-        "{flag}: \"{id}\" {why}; explicit: {}; implicit (sparse Newton): {}; energy-momentum: {}",
+        "{flag}: \"{id}\" {why}; explicit: {}; implicit (sparse Newton): {}; energy-conserving: {}, {}",
         cloth::STEPPABLE.join(", "),
         cloth_implicit::IMPLICIT.join(", "),
+        minimise::AVERAGE_VECTOR_FIELD,
         minimise::DISCRETE_GRADIENT
     )
 }
@@ -976,13 +980,14 @@ impl Summary<'_> {
         if let minimise::SolverStats::Minimise(st, settings) = self.solver {
             let _ = writeln!(
                 s,
-                "  solver       {} minimisation, tolerance {:e}: {:.2} iterations per step (at most {} in one solve), {:.2} factorisations per step ({} symbolic), {} line-search halvings, final residual ≤ {:.2e}{}",
+                "  solver       {} minimisation, tolerance {:e}: {:.2} iterations per step (at most {} in one solve), {:.2} factorisations per step ({} symbolic, {} of an exact Hessian found indefinite), {} line-search halvings, final residual ≤ {:.2e}{}",
                 settings.solver.name(),
                 settings.tolerance,
                 st.iterations_per_step(),
                 st.max_iterations,
                 st.factorizations_per_step(),
                 st.symbolic_factorizations,
+                st.indefinite,
                 st.backtracks,
                 st.max_residual,
                 if st.floor_accepts > 0 {

@@ -41,6 +41,13 @@ pub trait SparsePotential: Separable {
     /// needs only a positive-definite approximation of the Hessian: the
     /// converged step is the same.
     fn hessian_values_projected(&self, q: &[f64], out: &mut [f64]);
+    /// The values of `∇²V(q)` unprojected, where the system has them
+    /// (returns whether it wrote them): Newton tries them first
+    /// ([`Objective::hessian`] says why). Default: none.
+    fn hessian_values(&self, q: &[f64], out: &mut [f64]) -> bool {
+        let _ = (q, out);
+        false
+    }
 }
 
 /// The midpoint step's objective: `Φ(u) = ½·c·uᵀMu + V(y + u)`,
@@ -72,6 +79,9 @@ impl<P: SparsePotential + ?Sized> Objective for MidpointObjective<'_, P> {
     }
     fn hessian_projected(&self, x: &[f64], values: &mut [f64]) {
         self.sys.hessian_values_projected(x, values)
+    }
+    fn hessian(&self, x: &[f64], values: &mut [f64]) -> bool {
+        self.sys.hessian_values(x, values)
     }
 }
 
@@ -262,7 +272,7 @@ impl MidpointStepper {
 
 /// `*s += inc`, compensated: `comp` holds what the last additions lost.
 #[inline]
-fn kahan(s: &mut f64, comp: &mut f64, inc: f64) {
+pub(super) fn kahan(s: &mut f64, comp: &mut f64, inc: f64) {
     let y = inc - *comp;
     let sum = *s + y;
     *comp = (sum - *s) - y;

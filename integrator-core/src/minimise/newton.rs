@@ -178,10 +178,26 @@ impl Newton {
         let clock = Instant::now();
         let c = obj.inertia();
         let mass = obj.mass();
+        self.factored = None;
+        // The exact Hessian first, where the objective has it and the matrix
+        // is positive definite (quadratic convergence); else the projected.
+        if obj.hessian(&self.x, &mut self.hessian) {
+            self.pattern
+                .assemble(&self.hessian, |k| c * mass.get(k), &mut self.upper);
+            self.stats.factorizations += 1;
+            match self.llt.factor(&self.upper, &mut self.factor) {
+                Ok(()) => {
+                    self.factored = Some(c);
+                    self.stats.factor_seconds += clock.elapsed().as_secs_f64();
+                    return Ok(());
+                }
+                Err(MinimiseError::NotDefinite { .. }) => self.stats.indefinite += 1,
+                Err(e) => return Err(e),
+            }
+        }
         obj.hessian_projected(&self.x, &mut self.hessian);
         self.pattern
             .assemble(&self.hessian, |k| c * mass.get(k), &mut self.upper);
-        self.factored = None;
         self.llt.factor(&self.upper, &mut self.factor)?;
         self.factored = Some(c);
         self.stats.factor_seconds += clock.elapsed().as_secs_f64();
