@@ -661,6 +661,7 @@ fn the_midpoint_family_runs_as_minimisation_and_bad_solver_flags_name_the_flag()
         ("midpoint", "newton"),
         ("paper-dirk2", "newton"),
         ("midpoint", "local-global"),
+        ("avf", "newton"),
     ] {
         let (code, stdout, stderr) = symlab(&[
             "cloth",

@@ -435,3 +435,31 @@ fn a_users_midpoint_shaped_table_takes_the_minimisation_path() {
     assert_eq!(a.state, b.state);
     assert_eq!(m.stats().solves, 30);
 }
+
+/// A scene file naming a scheme of the midpoint family or an
+/// energy-conserving one runs it through the minimisation solver
+/// (`run_scene` goes through `minimise::run_any`): the same bits as
+/// `minimise::run` with the default settings.
+#[test]
+fn scene_files_run_the_minimisation_schemes() {
+    for method in ["midpoint", "paper-dirk2", minimise::AVERAGE_VECTOR_FIELD] {
+        let text = STRETCHED.replace(
+            "method = \"midpoint\"",
+            &format!("method = \"{method}\"\nframes = 5"),
+        );
+        let text = text.replacen("frames = 1\n", "", 1);
+        let sc = scene(&text);
+        let (sim, report) = cloth::run_scene(&sc, |_| Ok(())).unwrap();
+        assert_eq!(report.steps, 5, "{method}");
+        let mut direct = Simulation::new(&sc).unwrap();
+        minimise::run(
+            &mut direct,
+            method,
+            &opts(5, 1),
+            Settings::default(),
+            |_| Ok(()),
+        )
+        .unwrap();
+        assert_eq!(sim.state, direct.state, "{method}");
+    }
+}
