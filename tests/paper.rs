@@ -365,7 +365,7 @@ fn cloth_runs() -> HashMap<(String, usize), HashMap<String, String>> {
 #[test]
 fn cloth_at_one_step_per_frame_blows_up_every_explicit_method() {
     let runs = cloth_runs();
-    assert_eq!(runs.len(), 13, "{:?}", runs.keys());
+    assert_eq!(runs.len(), 14, "{:?}", runs.keys());
     for id in ["euler", "symplectic-euler-a", "stormer-verlet"] {
         let r = &runs[&(id.to_string(), 1)];
         assert_eq!(r["completed"], "false", "{id}: {r:?}");
@@ -382,6 +382,13 @@ fn cloth_at_one_step_per_frame_blows_up_every_explicit_method() {
         let h_omega: f64 = r["h_omega_max"].parse().unwrap();
         assert!(h_omega > 100.0, "{id}: h·ω_max = {h_omega}");
     }
+    // The energy-conserving comparison, also a minimisation: it runs and
+    // keeps the energy to its solver's tolerance (6.1e-6 of E_ref over
+    // 10 s measured; README).
+    let r = &runs[&("avf".to_string(), 1)];
+    assert_eq!(r["completed"], "true", "avf: {r:?}");
+    let worst: f64 = r["max_relative_energy_error"].parse().unwrap();
+    assert!(worst < 1e-5, "avf: max |H − H₀|/E_ref = {worst:e}");
 }
 
 #[test]
