@@ -121,7 +121,9 @@
 //!   `simulation.method`, `substeps`, `frames` as needed).
 //! * [`Simulation::new`] → model and initial state; [`Simulation::run_named`]
 //!   (a method id, [`RunOptions`], a frame callback) or [`Simulation::run`]
-//!   (any `S: Step<ClothModel> + Scheme`); [`run_scene`] does all three.
+//!   (any `S: Step<ClothModel> + Scheme`; a table that `butcher!` found to be
+//!   a composition of midpoint steps, `Info::midpoint_weights`, a user's
+//!   included, steps through [`minimise`]); [`run_scene`] does all three.
 //! * The callback gets a [`Frame`]: statistics, the model and the state;
 //!   [`Frame::positions`] and [`ClothModel::triangles`] feed [`write_obj`].
 //!   [`RunReport::frames`] feeds [`write_stats_csv`].
@@ -131,11 +133,14 @@
 //! * [`ClothModel::stability`] estimates `ω_max` and `2/ω_max` at the initial
 //!   state (power iteration on `M⁻¹K`, plus a Gershgorin upper bound).
 //! * [`minimise::run_any`] runs any of them with the midpoint family
-//!   (`midpoint`, `paper-dirk2`, `paper-dirk4`, read off their tables) and
-//!   the discrete gradient ([`minimise::DISCRETE_GRADIENT`]) solved as
-//!   energy minimisation ([`minimise`]: Newton or local/global); this is
-//!   what `symlab cloth` uses. [`run_scene`] and [`implicit::run_method`]
-//!   keep the sparse stage solver for every implicit scheme.
+//!   (`midpoint`, `paper-dirk2`, `paper-dirk4`: their `butcher!` facts say
+//!   so) solved as energy minimisation ([`minimise`]: Newton or
+//!   local/global), and the energy-conserving comparison schemes, the
+//!   average vector field ([`minimise::AVERAGE_VECTOR_FIELD`], also a
+//!   minimisation) and Gonzalez's discrete gradient
+//!   ([`minimise::DISCRETE_GRADIENT`]); this is what `symlab cloth` and
+//!   [`run_scene`] use. [`implicit::run_method`] keeps the sparse stage
+//!   solver for every implicit scheme.
 //!
 //! # For an implicit solver
 //!
