@@ -29,8 +29,10 @@ pub struct ClothArgs {
     pub scene: PathBuf,
     /// The method (default: the scene's): an explicit library scheme
     /// (symplectic-euler-a, stormer-verlet, leapfrog, forest-ruth, …, euler,
-    /// rk4) or an implicit one stepped with sparse Newton (gauss2, midpoint,
-    /// implicit-euler, gauss3, radau2a-3, paper-dirk2, paper-dirk4).
+    /// rk4), an implicit one (gauss2, implicit-euler, gauss3, radau2a-3
+    /// through the sparse stage solver; midpoint, paper-dirk2, paper-dirk4
+    /// as energy minimisations), or an energy-conserving comparison scheme
+    /// (avf, a minimisation; discrete-gradient).
     #[arg(long, value_name = "NAME", allow_hyphen_values = true)]
     pub method: Option<String>,
     /// Frames to simulate after the initial one (default: the scene's; at
@@ -69,8 +71,8 @@ pub struct ClothArgs {
     /// writes stability.csv.
     #[arg(long)]
     pub stability: bool,
-    /// Of a run of the midpoint family (midpoint, paper-dirk2, paper-dirk4)
-    /// or discrete-gradient: the minimisation solver's convergence
+    /// Of a run of the midpoint family (midpoint, paper-dirk2, paper-dirk4),
+    /// avf or discrete-gradient: the minimisation solver's convergence
     /// tolerance, ‖∇Φ‖_∞ relative to the force scale (default 1e-12). With
     /// --stability: the largest relative energy error |H − H₀|/E_ref a
     /// stable run may show (default 0.1).
@@ -517,7 +519,7 @@ struct Plan<'a> {
     render_failure: bool,
     obj_every: usize,
     dir: &'a Path,
-    /// The minimisation solver's settings (midpoint family, discrete gradient).
+    /// The minimisation solver's settings (midpoint family, avf, discrete gradient).
     settings: minimise::Settings,
 }
 
