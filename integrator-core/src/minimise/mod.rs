@@ -210,8 +210,7 @@ pub trait Objective {
     /// the projected Hessian, which drops that curvature, converges only
     /// linearly, at a rate set by the dropped part against `c·M`. [`Newton`]
     /// tries its Cholesky factorisation first and falls back to the
-    /// projected Hessian where it is not positive definite (for the rest of
-    /// that solve). Default: none.
+    /// projected Hessian where it is not positive definite. Default: none.
     fn hessian(&self, x: &[f64], values: &mut [f64]) -> bool {
         let _ = (x, values);
         false

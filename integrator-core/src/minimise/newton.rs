@@ -39,11 +39,6 @@ pub struct Newton {
     factor: Vec<f64>,
     /// The `c` of the factor in `factor`, if any.
     factored: Option<f64>,
-    /// Within one solve, once the exact Hessian was found indefinite the
-    /// projected one is used for the rest of the solve: an indefinite
-    /// attempt costs a factorisation, and the iterates of one solve stay
-    /// close together.
-    exact_indefinite: bool,
     x: Vec<f64>,
     trial_u: Vec<f64>,
     trial_x: Vec<f64>,
@@ -92,7 +87,6 @@ impl Newton {
             pattern: upper_pattern,
             llt,
             factored: None,
-            exact_indefinite: false,
             x: vec![0.0; n],
             trial_u: vec![0.0; n],
             trial_x: vec![0.0; n],
@@ -187,7 +181,7 @@ impl Newton {
         self.factored = None;
         // The exact Hessian first, where the objective has it and the matrix
         // is positive definite (quadratic convergence); else the projected.
-        if !self.exact_indefinite && obj.hessian(&self.x, &mut self.hessian) {
+        if obj.hessian(&self.x, &mut self.hessian) {
             self.pattern
                 .assemble(&self.hessian, |k| c * mass.get(k), &mut self.upper);
             self.stats.factorizations += 1;
@@ -197,10 +191,7 @@ impl Newton {
                     self.stats.factor_seconds += clock.elapsed().as_secs_f64();
                     return Ok(());
                 }
-                Err(MinimiseError::NotDefinite { .. }) => {
-                    self.stats.indefinite += 1;
-                    self.exact_indefinite = true;
-                }
+                Err(MinimiseError::NotDefinite { .. }) => self.stats.indefinite += 1,
                 Err(e) => return Err(e),
             }
         }
@@ -252,7 +243,6 @@ impl Newton {
                 self.stats.predicted += 1;
             }
         }
-        self.exact_indefinite = false;
         let result = self.iterate(obj, u, phi, tol, cap, c);
         if let Ok(it) = result {
             self.stats.solves += 1;
