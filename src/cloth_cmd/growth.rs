@@ -99,9 +99,15 @@ fn slope(x: &[f64; 4], y: &[f64; 4]) -> f64 {
 }
 
 impl Growth {
-    /// Whether the fit says the error grows exponentially.
+    /// Whether the fit says the error grows exponentially: faster than `t³`
+    /// over the run ([`EXPONENTIAL_POWER`]) and still faster than `t³` in
+    /// the last quarter (`e₄/e₃ ≥ (4/3)³`). The second condition keeps a
+    /// quiet start followed by a plateau (a transient, as a released cloth's
+    /// first swing) from being called exponential.
     pub fn exponential(&self) -> bool {
-        matches!(self, Growth::Fitted { power, .. } if *power >= EXPONENTIAL_POWER)
+        matches!(self, Growth::Fitted { power, envelope, .. }
+            if *power >= EXPONENTIAL_POWER
+                && envelope[3] >= (4.0f64 / 3.0).powi(3) * envelope[2])
     }
 
     /// One line for the run's summary.
@@ -119,7 +125,7 @@ impl Growth {
                     "max |H − H₀|/E_ref per quarter of the run {:.2e}, {:.2e}, {:.2e}, {:.2e}",
                     envelope[0], envelope[1], envelope[2], envelope[3]
                 );
-                let verdict = if power >= EXPONENTIAL_POWER {
+                let verdict = if self.exponential() {
                     format!(
                         "grows exponentially, ×e every {e_folding:.3} s (×10 every {:.3} s): not energy-stable at this step",
                         e_folding * std::f64::consts::LN_10
@@ -176,6 +182,25 @@ mod tests {
         };
         assert!((e_folding - 0.1).abs() < 1e-9, "{e_folding}");
         assert!(g.describe().contains("not energy-stable"));
+    }
+
+    #[test]
+    fn a_transient_then_a_plateau_is_not_exponential() {
+        // Quiet for the first quarter, then a jump to a level that stays.
+        let (t, e) = series(120, |t| {
+            if t < 0.6 {
+                1e-7
+            } else {
+                1e-3 * (1.0 + 0.1 * t)
+            }
+        });
+        let g = fit(&t, &e);
+        let Growth::Fitted { power, .. } = g else {
+            panic!()
+        };
+        assert!(power >= EXPONENTIAL_POWER, "{power}");
+        assert!(!g.exponential(), "{g:?}");
+        assert!(g.describe().contains("grows like t^"), "{}", g.describe());
     }
 
     #[test]
