@@ -157,6 +157,21 @@ pub fn is_minimisation(id: &str) -> bool {
     id == DISCRETE_GRADIENT || id == AVERAGE_VECTOR_FIELD || weights_of(id).is_some()
 }
 
+/// The name and order of the two energy-conserving comparison schemes
+/// ([`AVERAGE_VECTOR_FIELD`], [`DISCRETE_GRADIENT`]), which have no table
+/// and so no `Info`: both are implicit, symmetric, second order and not
+/// symplectic. `None` for any other id.
+pub fn energy_scheme(id: &str) -> Option<(&'static str, usize)> {
+    match id {
+        AVERAGE_VECTOR_FIELD => Some((
+            "Average vector field (discrete gradient as minimisation), energy-conserving",
+            2,
+        )),
+        DISCRETE_GRADIENT => Some(("Discrete gradient (Gonzalez 1996), energy-momentum", 2)),
+        _ => None,
+    }
+}
+
 /// The name of the energy-conserving scheme solved as a minimisation: the
 /// average vector field discrete gradient
 /// ([`integrator_core::minimise::AvfStepper`], the cloth's integrals in
@@ -850,8 +865,7 @@ where
         Kind::Composition(weights)
     };
     let method = match &kind {
-        Kind::Gonzalez => "Discrete gradient (Gonzalez 1996), energy-momentum",
-        Kind::Avf => "Average vector field (discrete gradient as minimisation), energy-conserving",
+        Kind::Gonzalez | Kind::Avf => energy_scheme(id).expect("an energy scheme").0,
         Kind::Composition(_) => cloth_implicit::info(id).expect("an implicit scheme").name,
     };
     run_kind(sim, method, kind, opts, settings, on_frame)

@@ -346,14 +346,17 @@ pub fn run(
     );
     for f in &found {
         let info = integrator_core::library::info(&f.method);
-        let (explicit, symp, order, name) = info.map_or((true, false, 0, ""), |i| {
-            (
+        let (explicit, symp, order, name) = match (info, cloth::minimise::energy_scheme(&f.method))
+        {
+            (Some(i), _) => (
                 i.explicit,
                 i.symplectic || i.symplectic_separable,
                 i.order,
                 i.name,
-            )
-        });
+            ),
+            (None, Some((name, order))) => (false, false, order, name),
+            (None, None) => (true, false, 0, ""),
+        };
         let kind = format!(
             "{}{}",
             if explicit { "E" } else { "I" },
