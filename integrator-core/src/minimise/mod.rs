@@ -70,13 +70,15 @@
 //!   step (`q₁ = q + h·v̄`) is the same shape with `base = q + h·v`,
 //!   `c = 2/h²` and `U(q₁) = ∫₀¹ (V(q + ξ(q₁ − q)) − V(q))/ξ dξ`, whose
 //!   force is `−∫₀¹ ∇V(q + ξ(q₁ − q)) dξ`: the system computes those
-//!   integrals in its `Objective` impl; Newton needs nothing else. A linear
-//!   term of `Φ` belongs in `U`.
-//! * [`Newton`]: Newton's method on `Φ` with the Hessian `c·M + K⁺`, `K⁺`
-//!   the system's projection of `∇²U` onto the positive-semidefinite cone
-//!   (block by block for springs), so that the Hessian is positive definite
-//!   at any step size, every direction descends, and a backtracking (Armijo)
-//!   line search on `Φ` decreases `Φ` at every iteration. faer's sparse
+//!   integrals ([`AveragedPotential`]) and [`AvfStepper`] steps it; Newton
+//!   needs nothing else. A linear term of `Φ` belongs in `U`.
+//! * [`Newton`]: Newton's method on `Φ` with the Hessian `c·M + ∇²U` where
+//!   the system gives `∇²U` and that matrix is positive definite
+//!   (quadratic convergence), else `c·M + K⁺`, `K⁺` the system's projection
+//!   of `∇²U` onto the positive-semidefinite cone (block by block for
+//!   springs), so that the Hessian is positive definite at any step size,
+//!   every direction descends, and a backtracking (Armijo) line search on
+//!   `Φ` decreases `Φ` at every iteration. faer's sparse
 //!   Cholesky (`LLᵀ`, [`SparseLlt`]): symbolic analysis (AMD ordering) once
 //!   per solver, a numeric factorisation per iteration, or the last factor
 //!   (of the same `c`) reused while each iteration still shrinks the
