@@ -98,7 +98,7 @@ impl<P: AveragedPotential + ?Sized> Objective for AvfObjective<'_, P> {
 }
 
 /// Steps an [`AveragedPotential`] system with the AVF method, each step one
-/// minimisation ([module documentation](self)). Holds the Newton solver (the
+/// minimisation (the [`minimise` module documentation](super)). Holds the Newton solver (the
 /// symbolic Cholesky of the Hessian pattern, analysed once) and every
 /// buffer: a step allocates nothing.
 pub struct AvfStepper {
