@@ -30,8 +30,9 @@
 
 use faer::Par;
 
-use super::midpoint::{MidpointSettings, SparsePotential, kahan};
+use super::midpoint::{MidpointSettings, SparsePotential};
 use super::newton::Newton;
+use super::update::Update;
 use super::{Mass, MinimiseError, Objective, Stats};
 
 /// A [`SparsePotential`] that also gives the segment averages of its force
@@ -103,7 +104,6 @@ impl<P: AveragedPotential + ?Sized> Objective for AvfObjective<'_, P> {
 /// buffer: a step allocates nothing.
 pub struct AvfStepper {
     newton: Newton,
-    compensated: bool,
     q: Vec<f64>,
     base: Vec<f64>,
     u: Vec<f64>,
@@ -113,9 +113,7 @@ pub struct AvfStepper {
     last: Vec<f64>,
     last_h: Option<f64>,
     guess: Vec<f64>,
-    comp: Vec<f64>,
-    z_end: Vec<f64>,
-    has_end: bool,
+    update: Update,
 }
 
 impl AvfStepper {
@@ -139,16 +137,13 @@ impl AvfStepper {
         let newton = Newton::with_par(n, &sys.hessian_pattern(), settings.newton, par)?;
         Ok(AvfStepper {
             newton,
-            compensated: settings.compensated,
             q: vec![0.0; n],
             base: vec![0.0; n],
             u: vec![0.0; n],
             last: vec![0.0; n],
             last_h: None,
             guess: vec![0.0; n],
-            comp: vec![0.0; 2 * n],
-            z_end: vec![0.0; 2 * n],
-            has_end: false,
+            update: Update::new(n, settings.compensated),
         })
     }
 
@@ -164,8 +159,7 @@ impl AvfStepper {
     /// the kept factorisation.
     pub fn reset(&mut self) {
         self.last_h = None;
-        self.has_end = false;
-        self.comp.fill(0.0);
+        self.update.reset();
         self.newton.forget_factor();
     }
 
@@ -192,9 +186,7 @@ impl AvfStepper {
                 "step size: h = {h} must be finite and nonzero"
             )));
         }
-        if self.has_end && z != self.z_end.as_slice() {
-            self.comp.fill(0.0);
-        }
+        self.update.begin(z);
         let mass = sys.mass();
         let (q, p) = z.split_at(n);
         self.q.copy_from_slice(q);
@@ -225,22 +217,7 @@ impl AvfStepper {
         // F̄ from the last gradient test (q₁ is then base + u to the solve's
         // tolerance).
         let (_, f) = self.newton.point_and_force();
-        let (q, p) = z.split_at_mut(n);
-        for k in 0..n {
-            let dq = h * (p[k] + 0.5 * h * f[k]) / mass.get(k);
-            let dp = h * f[k];
-            if self.compensated {
-                kahan(&mut q[k], &mut self.comp[k], dq);
-                kahan(&mut p[k], &mut self.comp[n + k], dp);
-            } else {
-                q[k] += dq;
-                p[k] += dp;
-            }
-        }
-        if self.compensated {
-            self.z_end.copy_from_slice(z);
-            self.has_end = true;
-        }
+        self.update.apply(z, f, h, mass);
         self.newton.stats_mut().steps += 1;
         Ok(())
     }

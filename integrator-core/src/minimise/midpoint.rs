@@ -4,6 +4,7 @@
 use faer::Par;
 
 use super::newton::Newton;
+use super::update::Update;
 use super::{Mass, MinimiseError, NewtonSettings, Objective, Stats};
 use crate::system::Separable;
 
@@ -112,7 +113,6 @@ impl Default for MidpointSettings {
 /// analysed once) and every buffer: a step allocates nothing.
 pub struct MidpointStepper {
     newton: Newton,
-    compensated: bool,
     y: Vec<f64>,
     u: Vec<f64>,
     /// The previous solve's correction and its `c`: the next solve starts
@@ -121,10 +121,8 @@ pub struct MidpointStepper {
     last: Vec<f64>,
     last_c: Option<f64>,
     guess: Vec<f64>,
-    /// The Kahan compensation of `z` and the state the last step left.
-    comp: Vec<f64>,
-    z_end: Vec<f64>,
-    has_end: bool,
+    /// The state update and its Kahan compensation.
+    update: Update,
 }
 
 impl MidpointStepper {
@@ -147,15 +145,12 @@ impl MidpointStepper {
         let newton = Newton::with_par(n, &sys.hessian_pattern(), settings.newton, par)?;
         Ok(MidpointStepper {
             newton,
-            compensated: settings.compensated,
             y: vec![0.0; n],
             u: vec![0.0; n],
             last: vec![0.0; n],
             last_c: None,
             guess: vec![0.0; n],
-            comp: vec![0.0; 2 * n],
-            z_end: vec![0.0; 2 * n],
-            has_end: false,
+            update: Update::new(n, settings.compensated),
         })
     }
 
@@ -175,8 +170,7 @@ impl MidpointStepper {
     /// the kept factorisation.
     pub fn reset(&mut self) {
         self.last_c = None;
-        self.has_end = false;
-        self.comp.fill(0.0);
+        self.update.reset();
         self.newton.forget_factor();
     }
 
@@ -204,10 +198,7 @@ impl MidpointStepper {
                 "step size: τ = {tau} must be finite and nonzero"
             )));
         }
-        if self.has_end && z != self.z_end.as_slice() {
-            // The caller changed the state: the compensation is not its own.
-            self.comp.fill(0.0);
-        }
+        self.update.begin(z);
         let mass = sys.mass();
         let (q, p) = z.split_at(n);
         for (k, y) in self.y.iter_mut().enumerate() {
@@ -232,22 +223,7 @@ impl MidpointStepper {
         // q' = q + τ·M⁻¹(p + (τ/2)F(x̄)), p' = p + τ·F(x̄): the stage
         // solver's update, F(x̄) from the last gradient test.
         let (_, f) = self.newton.point_and_force();
-        let (q, p) = z.split_at_mut(n);
-        for k in 0..n {
-            let dq = tau * (p[k] + 0.5 * tau * f[k]) / mass.get(k);
-            let dp = tau * f[k];
-            if self.compensated {
-                kahan(&mut q[k], &mut self.comp[k], dq);
-                kahan(&mut p[k], &mut self.comp[n + k], dp);
-            } else {
-                q[k] += dq;
-                p[k] += dp;
-            }
-        }
-        if self.compensated {
-            self.z_end.copy_from_slice(z);
-            self.has_end = true;
-        }
+        self.update.apply(z, f, tau, mass);
         Ok(())
     }
 
@@ -268,13 +244,4 @@ impl MidpointStepper {
         self.newton.stats_mut().steps += 1;
         Ok(())
     }
-}
-
-/// `*s += inc`, compensated: `comp` holds what the last additions lost.
-#[inline]
-pub(super) fn kahan(s: &mut f64, comp: &mut f64, inc: f64) {
-    let y = inc - *comp;
-    let sum = *s + y;
-    *comp = (sum - *s) - y;
-    *s = sum;
 }

@@ -137,6 +137,7 @@ mod avf;
 mod llt;
 mod midpoint;
 mod newton;
+mod update;
 
 pub use avf::{AveragedPotential, AvfStepper};
 pub use llt::{SparseLlt, UpperPattern};
