@@ -4,10 +4,17 @@
 //! y)ᵀM(x − y) + V(x)` with `y = q + (τ/2)v`, then `q' = 2x̄ − q`), the
 //! compositions (`paper-dirk2`, `paper-dirk4`) and the Newton solver live in
 //! [`integrator_core::minimise`]: the cloth is one [`SparsePotential`]
-//! (its Hessian is [`ClothModel::force_jacobian_values_projected`] negated,
-//! each spring's block projected onto its PSD part, a sphere collider's
-//! tangential term dropped) and [`Solver::Newton`] steps it with
-//! [`MidpointStepper`]. What stays here is cloth-specific:
+//! (its Hessian is [`ClothModel::force_jacobian_values`] negated, tried
+//! first, and [`ClothModel::force_jacobian_values_projected`] negated, each
+//! spring's block projected onto its PSD part, a sphere collider's
+//! tangential term dropped, where that is not definite) and
+//! [`Solver::Newton`] steps it with [`MidpointStepper`]. Which tables take
+//! this path is a fact `butcher!` proved on the exact table
+//! ([`weights_of`]). The cloth is also an
+//! [`AveragedPotential`] (the integrals in [`ClothModel::avf_force`]), so the
+//! energy-conserving average vector field step ([`AVERAGE_VECTOR_FIELD`])
+//! is the same Newton minimisation through [`AvfStepper`]. What stays here
+//! is cloth-specific:
 //!
 //! * [`Solver::LocalGlobal`] (Liu, Bargteil, O'Brien and Kavan 2013, "Fast
 //!   simulation of mass-spring systems"): each spring's `½(k/L)(ℓ − L)²` is
