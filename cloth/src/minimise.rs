@@ -73,7 +73,8 @@ const ARMIJO: f64 = 1e-4;
 /// The minimisation solver.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Solver {
-    /// Newton with PSD-projected Hessian, Armijo line search, sparse Cholesky.
+    /// Newton with the exact Hessian where definite, else PSD-projected;
+    /// Armijo line search, sparse Cholesky.
     Newton,
     /// Liu et al. 2013 local/global iterations with a prefactored matrix.
     LocalGlobal,

@@ -79,7 +79,7 @@ pub struct ClothArgs {
     #[arg(long, value_name = "X", allow_hyphen_values = true)]
     pub tolerance: Option<f64>,
     /// The solver of the midpoint family's steps, each an energy
-    /// minimisation: newton (PSD-projected Newton, line search, sparse
+    /// minimisation: newton (exact or PSD-projected Hessian, line search, sparse
     /// Cholesky; the default) or local-global (Liu et al. 2013).
     #[arg(long, value_name = "NAME", allow_hyphen_values = true)]
     pub solver: Option<String>,

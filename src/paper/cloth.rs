@@ -662,7 +662,7 @@ pub fn markdown(exp: &ClothExperiment, files: &[String]) -> String {
     if !mins.is_empty() {
         let _ = writeln!(
             w,
-            "- The midpoint family as energy minimisation (`cloth::minimise`: Newton with a PSD-projected Hessian and \
+            "- The midpoint family as energy minimisation (`cloth::minimise`: Newton with the exact or PSD-projected Hessian and \
              a line search on the objective, solved to ‖∇Φ‖ ≤ 1e-12 of the force scale) at one step per frame: {}. \
              A robust solve does not make the method stable: the midpoint rule conserves energy only for quadratic \
              potentials, and on these stiff springs at h·ω_max ≈ {:.0} its energy is not bounded (Simo and Tarnow 1992).",

@@ -1,4 +1,5 @@
-//! Newton's method on an [`Objective`] with the PSD-projected Hessian, an
+//! Newton's method on an [`Objective`] with the exact Hessian where it is
+//! positive definite and the PSD-projected one elsewhere, an
 //! Armijo line search on `Φ` that knows `Φ`'s round-off, and a sparse
 //! Cholesky factor reused while it still contracts.
 
