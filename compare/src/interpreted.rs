@@ -2,12 +2,22 @@
 //! verified exactly (as `symlab check` and `butcher!` do), then stepped by
 //! the run-time interpreters.
 //!
-//! The coefficients are rounded exactly as `butcher!` rounds them
-//! ([`tableau::rounding::round_table`] with the table's analysis), so an
-//! interpreted table takes the same steps as the generated scheme of the
-//! same table up to the order of floating-point operations: its errors and
-//! evaluation counts compare with generated code. Its wall times do not —
-//! explicit tables are stepped by loops over the table held in memory
+//! All three kinds of table file are read ([`tableau::algebraic::file`]):
+//! ordinary table files, generated tables (`generate = "gauss(8)"`) and
+//! tables with `root(...)` entries. Their claims are checked by the same
+//! exact analysis as `symlab check`'s, and a file with a false claim is
+//! refused, naming the claim and the evidence.
+//!
+//! The coefficients of an ordinary table file are rounded exactly as
+//! `butcher!` rounds them ([`tableau::rounding::round_table`] with the
+//! table's analysis), those of a generated table are `tableau`'s certified
+//! rounding (the constants of `butcher! { from: "gauss8" }`), and those of a
+//! `root(...)` table the correctly rounded doubles of its exact entries
+//! ([`tableau::algebraic::alg::Field::to_f64`]), as `butcher!` emits them.
+//! So an interpreted table takes the same steps as the generated scheme of
+//! the same table up to the order of floating-point operations: its errors
+//! and evaluation counts compare with generated code. Its wall times do
+//! not — explicit tables are stepped by loops over the table held in memory
 //! ([`RkInterpreter`], [`SplittingInterpreter`]) instead of unrolled code —
 //! so its rows are marked `interpreted`. Implicit tables and partitioned
 //! pairs go to the same stage solver as the generated schemes, with the
@@ -20,10 +30,12 @@ use integrator_core::implicit::{self, ImplicitTable, ImplicitWorkspace};
 use integrator_core::interp::{RkInterpreter, SplittingInterpreter};
 use integrator_core::{OdeSystem, SolveError, Step};
 use tableau::Table;
+use tableau::algebraic::file::{AlgAnalysis, AlgFile, Loaded};
+use tableau::algebraic::generated::{Generated, GeneratedTable};
 use tableau::analysis::{Analysis, Class, check_claim};
 use tableau::claims::Claim;
-use tableau::file::{TableFile, parse_table_file};
-use tableau::rounding::{F64Rounded, F64Table, round_table};
+use tableau::file::TableFile;
+use tableau::rounding::{F64Pair, F64Rounded, F64Table, round_table};
 
 use crate::error::{CompareError, Result};
 use crate::method::{Fixed, Method};
@@ -43,8 +55,106 @@ pub struct VerifiedTable {
     pub path: PathBuf,
     /// The method id: the file name without its extension.
     pub id: String,
-    pub file: TableFile,
-    pub analysis: Analysis,
+    /// What the file holds, with its exact analysis.
+    pub form: VerifiedForm,
+}
+
+/// The three kinds of table file, each with what was decided about it.
+#[derive(Clone, Debug)]
+pub enum VerifiedForm {
+    /// An ordinary table file (entries in rationals and radicals).
+    Classic { file: TableFile, analysis: Analysis },
+    /// `generate = "gauss(8)"`: verdicts, claims and certified coefficients.
+    Generated(Box<Generated>),
+    /// Entries with `root(...)`: the symplecticity verdict and `B(k)`,
+    /// and the coefficients as correctly rounded doubles.
+    Algebraic {
+        file: Box<AlgFile>,
+        analysis: AlgAnalysis,
+        coefficients: RootCoefficients,
+    },
+}
+
+/// The `f64` form of a table with `root(...)` entries.
+#[derive(Clone, Debug)]
+pub struct RootCoefficients {
+    /// `A`, `b` and `c` (the given `c`, else the exact row sums), each
+    /// entry the correctly rounded double of its exact value.
+    pub table: F64Table,
+    /// `aᵢⱼ = 0` for every `j ≥ i`, decided exactly.
+    pub explicit: bool,
+    /// The order proven for the table: the conditions decided for root
+    /// tables are `B(k)` (and `c` = row sums), so this is at most 2 (order
+    /// 1: Σbᵢ = 1; order 2: also Σbᵢcᵢ = 1/2 with c the row sums).
+    pub order: usize,
+}
+
+// TODO(partitioned root tables): when `AlgFile` gains `a_hat`/`b_hat`
+// (tableau's algebraic branch), round them here as `p` of an `F64Pair` and
+// step the pair as `Interpretable::Pair` (separable problems only, as other
+// pairs in the interpreters).
+/// The coefficients and the structure of a table with `root(...)` entries,
+/// exactly: every double is the correctly rounded exact entry, and the
+/// zero pattern of `A` is decided by exact zero tests.
+pub fn root_coefficients(
+    f: &AlgFile,
+    an: &AlgAnalysis,
+) -> std::result::Result<RootCoefficients, String> {
+    use tableau::algebraic::alg::Alg;
+    let field = &f.field;
+    let s = f.b.len();
+    let round = |x: &Alg, what: String| {
+        field
+            .to_f64(x)
+            .map_err(|e| format!("{what}: cannot round to f64 within the budget ({e:?})"))
+    };
+    let mut a = vec![vec![0.0; s]; s];
+    let mut explicit = true;
+    for i in 0..s {
+        for j in 0..s {
+            a[i][j] = round(&f.a[i][j], format!("a[{i}][{j}]"))?;
+            if j >= i && field.is_zero(&f.a[i][j]) != Ok(true) {
+                explicit = false;
+            }
+        }
+    }
+    let b = (0..s)
+        .map(|i| round(&f.b[i], format!("b[{i}]")))
+        .collect::<std::result::Result<Vec<f64>, String>>()?;
+    let c = (0..s)
+        .map(|i| match &f.c {
+            Some(c) => round(&c[i], format!("c[{i}]")),
+            None => {
+                let sum = f.a[i].iter().fold(Alg::zero(), |acc, x| acc.add(x));
+                round(&sum, format!("the row sum of a[{i}]"))
+            }
+        })
+        .collect::<std::result::Result<Vec<f64>, String>>()?;
+    let holds = an.b_levels.iter().take_while(|v| **v == Some(true)).count();
+    let order = if an.row_sums_ok == Some(true) {
+        holds.min(2)
+    } else {
+        holds.min(1)
+    };
+    Ok(RootCoefficients {
+        table: F64Table { a, b, c },
+        explicit,
+        order,
+    })
+}
+
+/// What the interpreters step: an ordinary table (rounded here as
+/// `butcher!` rounds it) or coefficients already rounded by `tableau`.
+#[derive(Clone, Copy, Debug)]
+pub enum Interpretable<'a> {
+    Table(&'a Table),
+    /// A Runge–Kutta table in `f64`, with its structure decided exactly.
+    Rk {
+        table: &'a F64Table,
+        explicit: bool,
+    },
+    /// A partitioned pair in `f64` (`q`: `A, b`; `p`: `Â, b̂`), implicit.
+    Pair(&'a F64Pair),
 }
 
 fn file_error(path: &Path, why: impl Into<String>) -> CompareError {
@@ -69,33 +179,80 @@ pub(crate) fn read_limited(path: &Path, limit: u64) -> std::result::Result<Strin
     Ok(text)
 }
 
-/// Read a table file and verify every claim it makes, exactly. A file that
-/// does not parse is an error naming the field; a claim that fails is an
-/// error naming the claim and the evidence (every failing claim is listed).
+/// Read a table file of any kind and verify every claim it makes, exactly,
+/// with the analysis `symlab check` runs. A file that does not parse is an
+/// error naming the field; a claim that fails is an error naming the claim
+/// and the evidence (every failing claim is listed).
 pub fn verify(path: &Path) -> Result<VerifiedTable> {
     let text = read_limited(path, MAX_FILE_BYTES).map_err(|why| file_error(path, why))?;
-    let file = parse_table_file(&path.display().to_string(), &text).map_err(|e| {
-        file_error(
-            path,
-            match &e.field {
-                Some(field) => format!("field {field}: {}", e.message),
-                None => e.message.clone(),
-            },
-        )
-    })?;
-    let analysis = Analysis::of(&file.table).map_err(|e| file_error(path, format!("field {e}")))?;
-    let failed: Vec<String> = file
-        .claims
-        .iter()
-        .filter_map(|c| {
-            check_claim(&file.table, &analysis, c)
-                .err()
-                .map(|e| format!("claim `{c}` does not hold: {e}"))
-        })
-        .collect();
-    if !failed.is_empty() {
-        return Err(file_error(path, failed.join("; ")));
-    }
+    let loaded =
+        tableau::algebraic::file::parse(&path.display().to_string(), &text).map_err(|e| {
+            file_error(
+                path,
+                match &e.field {
+                    Some(field) => format!("field {field}: {}", e.message),
+                    None => e.message.clone(),
+                },
+            )
+        })?;
+    let refused = |failed: Vec<String>| file_error(path, failed.join("; "));
+    let form = match loaded {
+        Loaded::Classic(file) => {
+            let file = *file;
+            let analysis =
+                Analysis::of(&file.table).map_err(|e| file_error(path, format!("field {e}")))?;
+            let failed: Vec<String> = file
+                .claims
+                .iter()
+                .filter_map(|c| {
+                    check_claim(&file.table, &analysis, c)
+                        .err()
+                        .map(|e| format!("claim `{c}` does not hold: {e}"))
+                })
+                .collect();
+            if !failed.is_empty() {
+                return Err(refused(failed));
+            }
+            VerifiedForm::Classic { file, analysis }
+        }
+        Loaded::Generated(g) => {
+            let failed: Vec<String> = g
+                .claims
+                .iter()
+                .filter_map(|(c, v)| {
+                    v.as_ref()
+                        .err()
+                        .map(|e| format!("claim `{c}` does not hold: {e}"))
+                })
+                .collect();
+            if !failed.is_empty() {
+                return Err(refused(failed));
+            }
+            VerifiedForm::Generated(g)
+        }
+        Loaded::Algebraic(file) => {
+            let analysis = file.analyse();
+            let failed: Vec<String> = file
+                .claims
+                .iter()
+                .filter_map(|c| {
+                    file.check_claim(&analysis, c)
+                        .err()
+                        .map(|e| format!("claim `{c}` does not hold: {e}"))
+                })
+                .collect();
+            if !failed.is_empty() {
+                return Err(refused(failed));
+            }
+            let coefficients =
+                root_coefficients(&file, &analysis).map_err(|e| file_error(path, e))?;
+            VerifiedForm::Algebraic {
+                file,
+                analysis,
+                coefficients,
+            }
+        }
+    };
     let id = path
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())
@@ -104,8 +261,14 @@ pub fn verify(path: &Path) -> Result<VerifiedTable> {
     Ok(VerifiedTable {
         path: path.to_path_buf(),
         id,
-        file,
-        analysis,
+        form,
+    })
+}
+
+fn claimed_order(claims: &[Claim]) -> Option<usize> {
+    claims.iter().find_map(|c| match c {
+        Claim::Order { p, .. } => Some(*p),
+        _ => None,
     })
 }
 
@@ -113,35 +276,62 @@ impl<P: Problem> Method<P> {
     /// A verified table file as a method, stepped by the interpreters; the
     /// id is the file name without its extension. Its order is the claimed
     /// order if the file claims one, else the verified order (on separable
-    /// systems for forms that step only those).
+    /// systems for forms that step only those; for a `root(...)` table the
+    /// order its decided conditions prove, at most 2).
     pub fn table_file(path: &Path) -> Result<Self> {
         Self::interpreted(&verify(path)?)
     }
 
     /// A verified table as a method (see [`table_file`](Method::table_file)).
     pub fn interpreted(t: &VerifiedTable) -> Result<Self> {
-        let stepper = <P::Kind as Kind<P>>::interpreted(&t.file.table, &t.id)?;
-        let a = &t.analysis;
-        let order = t
-            .file
-            .claims
-            .iter()
-            .find_map(|c| match c {
-                Claim::Order { p, .. } => Some(*p),
-                _ => None,
-            })
-            .unwrap_or(a.claimed_order_report().order);
-        let family = if !a.explicit_separable {
-            Family::Implicit
-        } else if matches!(t.file.table, Table::Rk(_)) {
-            Family::ExplicitRk
-        } else {
-            Family::Splitting
+        let (what, order, symplectic, family) = match &t.form {
+            VerifiedForm::Classic { file, analysis: a } => {
+                let order = claimed_order(&file.claims).unwrap_or(a.claimed_order_report().order);
+                let family = if !a.explicit_separable {
+                    Family::Implicit
+                } else if matches!(file.table, Table::Rk(_)) {
+                    Family::ExplicitRk
+                } else {
+                    Family::Splitting
+                };
+                let symplectic =
+                    crate::method::symplectic_for::<P>(a.symplectic, a.symplectic_separable);
+                (Interpretable::Table(&file.table), order, symplectic, family)
+            }
+            VerifiedForm::Generated(g) => {
+                let what = match &g.f64_table {
+                    GeneratedTable::Rk(table) => Interpretable::Rk {
+                        table,
+                        explicit: false,
+                    },
+                    GeneratedTable::Prk(pair) => Interpretable::Pair(pair),
+                };
+                let claims: Vec<Claim> = g.claims.iter().map(|(c, _)| c.clone()).collect();
+                let order = claimed_order(&claims).unwrap_or(g.proven_order());
+                (what, order, g.symplectic, Family::Implicit)
+            }
+            VerifiedForm::Algebraic {
+                analysis,
+                coefficients: k,
+                ..
+            } => {
+                let what = Interpretable::Rk {
+                    table: &k.table,
+                    explicit: k.explicit,
+                };
+                let family = if k.explicit {
+                    Family::ExplicitRk
+                } else {
+                    Family::Implicit
+                };
+                (what, k.order, analysis.symplectic == Some(true), family)
+            }
         };
+        let stepper = <P::Kind as Kind<P>>::interpreted(what, &t.id)?;
         Ok(Method::Fixed(Fixed {
             id: t.id.clone(),
             order,
-            symplectic: crate::method::symplectic_for::<P>(a.symplectic, a.symplectic_separable),
+            symplectic,
             family,
             interpreted: true,
             stepper,
@@ -222,34 +412,59 @@ fn analysis_error(id: &str, e: impl std::fmt::Display) -> CompareError {
 }
 
 /// A Runge–Kutta table on any problem.
-pub(crate) fn rk<P: Problem>(table: &Table, id: &str) -> Result<Box<dyn Stepper<P>>> {
-    let Table::Rk(_) = table else {
-        return Err(CompareError::method(
+pub(crate) fn rk<P: Problem>(what: Interpretable<'_>, id: &str) -> Result<Box<dyn Stepper<P>>> {
+    let pair_refused = |form: &str| {
+        CompareError::method(
             id,
             format!(
-                "table '{id}' is a {}: it steps separable Hamiltonians H = T(p) + V(q) only, and this problem \
-                 is an OdeSystem only; a Runge–Kutta table (a and b alone) steps it",
-                form_words(table)
+                "table '{id}' is a {form}: it steps separable Hamiltonians H = T(p) + V(q) only, and this problem \
+                 is an OdeSystem only; a Runge–Kutta table (a and b alone) steps it"
             ),
-        ));
+        )
     };
-    let analysis = Analysis::of(table).map_err(|e| analysis_error(id, e))?;
-    match round_table(table, &analysis) {
-        F64Rounded::Rk(t) if analysis.class == Class::Explicit => Ok(Box::new(Lib(
-            RkInterpreter::new(t.a, t.b, t.c).map_err(|e| analysis_error(id, e))?,
-        ))),
-        F64Rounded::Rk(t) => implicit_stepper::<P>(&t, None, id),
-        _ => unreachable!("a Runge–Kutta table rounds to one"),
+    match what {
+        Interpretable::Table(table) => {
+            let Table::Rk(_) = table else {
+                return Err(pair_refused(form_words(table)));
+            };
+            let analysis = Analysis::of(table).map_err(|e| analysis_error(id, e))?;
+            match round_table(table, &analysis) {
+                F64Rounded::Rk(t) => f64_rk::<P>(&t, analysis.class == Class::Explicit, id),
+                _ => unreachable!("a Runge–Kutta table rounds to one"),
+            }
+        }
+        Interpretable::Rk { table, explicit } => f64_rk::<P>(table, explicit, id),
+        Interpretable::Pair(_) => Err(pair_refused("partitioned pair")),
+    }
+}
+
+/// A Runge–Kutta table in `f64`: explicit ones by the loop interpreter,
+/// the others by the stage solver.
+fn f64_rk<P: Problem>(t: &F64Table, explicit: bool, id: &str) -> Result<Box<dyn Stepper<P>>> {
+    if explicit {
+        Ok(Box::new(Lib(RkInterpreter::new(
+            t.a.clone(),
+            t.b.clone(),
+            t.c.clone(),
+        )
+        .map_err(|e| analysis_error(id, e))?)))
+    } else {
+        implicit_stepper::<P>(t, None, id)
     }
 }
 
 /// Any table on a separable problem.
-pub(crate) fn separable<P>(table: &Table, id: &str) -> Result<Box<dyn Stepper<P>>>
+pub(crate) fn separable<P>(what: Interpretable<'_>, id: &str) -> Result<Box<dyn Stepper<P>>>
 where
     P: Problem<Kind = crate::counting::AsSeparable> + integrator_core::Separable,
 {
+    let table = match what {
+        Interpretable::Table(table) => table,
+        Interpretable::Rk { .. } => return rk(what, id),
+        Interpretable::Pair(pair) => return implicit_stepper::<P>(&pair.q, Some(&pair.p), id),
+    };
     match table {
-        Table::Rk(_) => rk(table, id),
+        Table::Rk(_) => rk(what, id),
         Table::Splitting(_) | Table::Composition(_) => Ok(Box::new(Lib(
             SplittingInterpreter::from_table(table).map_err(|e| analysis_error(id, e))?,
         ))),

@@ -123,7 +123,10 @@ pub trait Kind<P>: Sized + 'static {
     fn library_ids() -> Vec<&'static str>;
     /// A table file's table (rounded as `butcher!` rounds it) stepped by the
     /// run-time interpreters, or why this table cannot step `P`.
-    fn interpreted(table: &tableau::Table, id: &str) -> Result<Box<dyn Stepper<P>>>;
+    fn interpreted(
+        table: crate::interpreted::Interpretable<'_>,
+        id: &str,
+    ) -> Result<Box<dyn Stepper<P>>>;
     /// The explicit separable scheme `id` on the logarithmic Hamiltonian of
     /// `P` (`logh:ID`), `None` if `id` is not one or `P` is not separable.
     fn logh(id: &str) -> Option<Box<dyn Stepper<P>>>;
@@ -158,7 +161,10 @@ impl<P: Problem<Kind = AsSeparable> + Separable> Kind<P> for AsSeparable {
             .copied()
             .collect()
     }
-    fn interpreted(table: &tableau::Table, id: &str) -> Result<Box<dyn Stepper<P>>> {
+    fn interpreted(
+        table: crate::interpreted::Interpretable<'_>,
+        id: &str,
+    ) -> Result<Box<dyn Stepper<P>>> {
         crate::interpreted::separable(table, id)
     }
     fn logh(id: &str) -> Option<Box<dyn Stepper<P>>> {
@@ -187,7 +193,10 @@ impl<P: Problem<Kind = AsOde>> Kind<P> for AsOde {
     fn library_ids() -> Vec<&'static str> {
         library::RK_IDS.to_vec()
     }
-    fn interpreted(table: &tableau::Table, id: &str) -> Result<Box<dyn Stepper<P>>> {
+    fn interpreted(
+        table: crate::interpreted::Interpretable<'_>,
+        id: &str,
+    ) -> Result<Box<dyn Stepper<P>>> {
         crate::interpreted::rk(table, id)
     }
     fn logh(_id: &str) -> Option<Box<dyn Stepper<P>>> {

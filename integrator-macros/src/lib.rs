@@ -3,6 +3,9 @@
 //! verified exactly at compile time by the same `tableau` analysis that
 //! `symlab check` runs.
 //!
+//! Tables with `root(...)` entries in `let` ([`roots`]) are read as the
+//! `root(...)` table files of `tableau::algebraic::file`.
+//!
 //! The macro is split as thiserror and serde_derive are: [`ast`] parses the
 //! tokens, [`valid`] builds the exact table and checks every claim (all
 //! errors collected, each on the token it is about), [`expand`] emits the
@@ -12,6 +15,7 @@
 mod ast;
 mod expand;
 mod generated;
+mod roots;
 mod step;
 mod valid;
 
@@ -22,6 +26,11 @@ pub fn butcher(input: TokenStream) -> TokenStream {
     let input = syn::parse_macro_input!(input as ast::Input);
     match generated::validate(&input) {
         Some(Ok(g)) => return generated::expand(&input, &g).into(),
+        Some(Err(err)) => return expand::stub(&input, err).into(),
+        None => {}
+    }
+    match roots::validate(&input) {
+        Some(Ok(t)) => return roots::expand(&input, &t).into(),
         Some(Err(err)) => return expand::stub(&input, err).into(),
         None => {}
     }

@@ -1,0 +1,465 @@
+//! Entries in real algebraic numbers: `let c0 = root(6*x^2 - 6*x + 1, 0, 1/2);`
+//! binds the one root of the polynomial (in `x`, rational coefficients) in
+//! `(LO, HI]`, and the entries of `a`, `b` (and `c`) are polynomials in such
+//! roots — the `root(...)` table files of `tableau::algebraic::file`.
+//!
+//! The invocation is rendered to the text of such a table file and read by
+//! `tableau::algebraic::file::parse`, so the macro decides exactly what
+//! `symlab check` and `symlab compare --table` decide for the same table:
+//! symplecticity by exact zero tests of every `Wᵢⱼ` (a false claim names the
+//! nonzero entries), `B(k)`; order, symmetry and the other claims are not
+//! decided for such tables and are refused at the claim, saying so. Every
+//! error of the file reader names a field (`let.c0`, `a[0][1]`), which is
+//! mapped back to the token the user wrote.
+//!
+//! The coefficients are the correctly rounded doubles of the exact entries
+//! (`Field::to_f64`); the zero pattern of `A` is decided exactly: explicit
+//! tables are unrolled, the others step through the core's stage solver.
+
+use std::collections::BTreeMap;
+use std::fmt::Write;
+
+use proc_macro2::{Span, TokenStream};
+use quote::quote;
+use syn::Error;
+use tableau::algebraic::alg::Alg;
+use tableau::algebraic::file::{AlgAnalysis, AlgFile, Loaded};
+use tableau::claims::{Claim, parse_claim};
+use tableau::rounding::F64Table;
+
+use crate::ast::{Entry, Input, Value};
+use crate::expand::rk_consts;
+use crate::step;
+
+/// The fields a table with `root(...)` entries takes.
+// TODO(partitioned root tables): add "a_hat", "b_hat" (and "c_hat") here and
+// in `render` once `tableau::algebraic::file::AlgFile` reads them, and round
+// the `p` table in `coefficients` as the `q` table is.
+const KEYS: &[&str] = &["claims", "a", "b", "c"];
+
+/// A verified table with `root(...)` entries.
+pub struct RootTable {
+    pub file: AlgFile,
+    pub analysis: AlgAnalysis,
+    pub claims: Vec<Claim>,
+    pub coefficients: F64Table,
+    pub structure: Structure,
+    /// The order its decided conditions prove (at most 2).
+    pub order: usize,
+}
+
+/// The zero pattern of `A`, decided exactly.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum Structure {
+    Explicit,
+    Sdirk,
+    Dirk,
+    Full,
+}
+
+impl Structure {
+    fn class(self) -> &'static str {
+        match self {
+            Structure::Explicit => "explicit",
+            Structure::Sdirk => "sdirk",
+            Structure::Dirk => "dirk",
+            Structure::Full => "implicit",
+        }
+    }
+}
+
+/// `Some` when a `let` binds a `root(...)`: then the whole invocation is a
+/// table with algebraic entries.
+pub fn validate(input: &Input) -> Option<Result<RootTable, Error>> {
+    if !input.lets.iter().any(|l| is_root(&l.value)) {
+        return None;
+    }
+    Some(check(input))
+}
+
+/// `root ( … )` as the whole value: the `(` after `root` closes at the end.
+fn is_root(e: &Entry) -> bool {
+    let Some(inner) = e.text.strip_prefix("root (") else {
+        return false;
+    };
+    let mut depth = 1i32;
+    for (i, ch) in inner.char_indices() {
+        match ch {
+            '(' => depth += 1,
+            ')' => {
+                depth -= 1;
+                if depth == 0 {
+                    return i + 1 == inner.len();
+                }
+            }
+            _ => {}
+        }
+    }
+    false
+}
+
+#[derive(Default)]
+struct Errors(Option<Error>);
+
+impl Errors {
+    fn push(&mut self, span: Span, msg: impl std::fmt::Display) {
+        let e = Error::new(span, msg);
+        match &mut self.0 {
+            Some(all) => all.combine(e),
+            None => self.0 = Some(e),
+        }
+    }
+}
+
+/// A TOML basic string.
+fn quoted(s: &str) -> String {
+    let mut out = String::from("\"");
+    for ch in s.chars() {
+        match ch {
+            '\\' => out.push_str("\\\\"),
+            '"' => out.push_str("\\\""),
+            '\n' => out.push_str("\\n"),
+            '\r' => out.push_str("\\r"),
+            '\t' => out.push_str("\\t"),
+            c if c.is_control() => {
+                let _ = write!(out, "\\u{:04X}", c as u32);
+            }
+            c => out.push(c),
+        }
+    }
+    out.push('"');
+    out
+}
+
+/// The text `tableau` reads for a `let` value: `root(…)` without the space
+/// the token rendering puts after `root`.
+fn let_text(e: &Entry) -> String {
+    match e.text.strip_prefix("root (") {
+        Some(rest) if is_root(e) => format!("root({rest}"),
+        _ => e.text.clone(),
+    }
+}
+
+fn check(input: &Input) -> Result<RootTable, Error> {
+    let mut errs = Errors::default();
+    // Where each field of the rendered file came from.
+    let mut spans: BTreeMap<String, Span> = BTreeMap::new();
+    let mut root_args: BTreeMap<String, Span> = BTreeMap::new();
+    let mut claim_items: Vec<&Entry> = Vec::new();
+    let mut body = String::new();
+    let mut seen = Vec::new();
+    for f in &input.fields {
+        let k = f.key.to_string();
+        if !KEYS.contains(&k.as_str()) {
+            errs.push(
+                f.span(),
+                format!(
+                    "a table with root(...) entries takes the fields {}, not `{k}` (roots are read for Runge–Kutta tables)",
+                    KEYS.join(", ")
+                ),
+            );
+            continue;
+        }
+        if seen.contains(&k) {
+            errs.push(f.span(), format!("field `{k}` is given twice"));
+            continue;
+        }
+        seen.push(k.clone());
+        spans.insert(k.clone(), f.value.span());
+        match (k.as_str(), &f.value) {
+            ("claims", Value::Vector(items, _)) => claim_items.extend(items),
+            ("claims", v) => errs.push(v.span(), "claims are a list: `claims: [symplectic]`"),
+            ("a", Value::Matrix(rows, _)) => {
+                let mut text = String::from("a = [");
+                for (i, (row, row_span)) in rows.iter().enumerate() {
+                    spans.insert(format!("a[{i}]"), *row_span);
+                    let cells: Vec<String> = row
+                        .iter()
+                        .enumerate()
+                        .map(|(j, e)| {
+                            spans.insert(format!("a[{i}][{j}]"), e.span());
+                            quoted(&e.text)
+                        })
+                        .collect();
+                    let _ = write!(text, "[{}], ", cells.join(", "));
+                }
+                text.push_str("]\n");
+                body.push_str(&text);
+            }
+            ("a", v) => errs.push(v.span(), "`a` is a matrix: `a: [[…], […]]`"),
+            (_, Value::Vector(items, _)) => {
+                let cells: Vec<String> = items
+                    .iter()
+                    .enumerate()
+                    .map(|(i, e)| {
+                        spans.insert(format!("{k}[{i}]"), e.span());
+                        quoted(&e.text)
+                    })
+                    .collect();
+                let _ = writeln!(body, "{k} = [{}]", cells.join(", "));
+            }
+            (_, v) => errs.push(v.span(), format!("`{k}` is a vector: `{k}: […]`")),
+        }
+    }
+    for key in ["a", "b"] {
+        if !seen.iter().any(|k| k == key) {
+            errs.push(
+                input.name.span(),
+                format!("a table with root(...) entries needs `{key}`"),
+            );
+        }
+    }
+    let mut lets = String::from("[let]\n");
+    for l in &input.lets {
+        let name = l.name.to_string();
+        if spans
+            .insert(format!("let.{name}"), l.value.span())
+            .is_some()
+        {
+            errs.push(l.name.span(), format!("`let {name}` is bound twice"));
+        }
+        if is_root(&l.value) {
+            // The interval: LO and HI, after the first top-level comma.
+            let mut depth = 0i32;
+            let first_comma = l.value.text.char_indices().find_map(|(i, ch)| match ch {
+                '(' => {
+                    depth += 1;
+                    None
+                }
+                ')' => {
+                    depth -= 1;
+                    None
+                }
+                ',' if depth == 1 => Some(i),
+                _ => None,
+            });
+            if let Some(i) = first_comma {
+                let end = l.value.text.len() - 1;
+                root_args.insert(
+                    format!("let.{name}"),
+                    l.value.span_at(i + 1, end.saturating_sub(i + 1)),
+                );
+            }
+        }
+        let _ = writeln!(lets, "{} = {}", quoted(&name), quoted(&let_text(&l.value)));
+    }
+    if let Some(e) = errs.0.take() {
+        return Err(e);
+    }
+    let text = format!("name = {}\n{body}{lets}", quoted(&input.name.to_string()));
+    let label = format!("butcher! {}", input.name);
+    let file = match tableau::algebraic::file::parse(&label, &text) {
+        Ok(Loaded::Algebraic(f)) => *f,
+        Ok(_) => {
+            return Err(Error::new(
+                input.name.span(),
+                "internal: the root(...) table was not read as one",
+            ));
+        }
+        Err(e) => {
+            let field = e.field.clone().unwrap_or_default();
+            let interval =
+                e.message.contains("distinct real roots") || e.message.contains("interval");
+            let span = interval
+                .then(|| root_args.get(&field))
+                .flatten()
+                .or_else(|| spans.get(&field))
+                .or_else(|| {
+                    // `a[1]` for a short row, `a` for a wrong shape.
+                    let head = field.split('[').next().unwrap_or("");
+                    spans.get(head)
+                })
+                .copied()
+                .unwrap_or_else(|| input.name.span());
+            let what = if field.starts_with("let.") {
+                format!("`let {}`", &field[4..])
+            } else if field.is_empty() {
+                "the table".to_string()
+            } else {
+                format!("`{field}`")
+            };
+            return Err(Error::new(span, format!("{what}: {}", e.message)));
+        }
+    };
+    let analysis = file.analyse();
+    let mut claims = Vec::new();
+    for item in claim_items {
+        match parse_claim(&item.text) {
+            Ok(c) => {
+                if let Err(m) = file.check_claim(&analysis, &c) {
+                    errs.push(item.span(), m);
+                }
+                claims.push(c);
+            }
+            Err(m) => errs.push(item.span(), m),
+        }
+    }
+    let (coefficients, structure) = match coefficients(&file) {
+        Ok(x) => x,
+        Err(m) => {
+            errs.push(input.name.span(), m);
+            return Err(errs.0.expect("just pushed"));
+        }
+    };
+    if let Some(e) = errs.0 {
+        return Err(e);
+    }
+    let holds = analysis
+        .b_levels
+        .iter()
+        .take_while(|v| **v == Some(true))
+        .count();
+    let order = if analysis.row_sums_ok == Some(true) {
+        holds.min(2)
+    } else {
+        holds.min(1)
+    };
+    Ok(RootTable {
+        file,
+        analysis,
+        claims,
+        coefficients,
+        structure,
+        order,
+    })
+}
+
+/// The correctly rounded coefficients and the exact zero pattern of `A`
+/// (an entry beyond the zero-test budget counts as nonzero).
+fn coefficients(f: &AlgFile) -> Result<(F64Table, Structure), String> {
+    let field = &f.field;
+    let s = f.b.len();
+    let zero = |x: &Alg| field.is_zero(x) == Ok(true);
+    let round = |x: &Alg, what: String| {
+        field
+            .to_f64(x)
+            .map_err(|e| format!("{what}: cannot be rounded to f64 within the budget ({e:?})"))
+    };
+    let mut a = vec![vec![0.0; s]; s];
+    for i in 0..s {
+        for j in 0..s {
+            a[i][j] = round(&f.a[i][j], format!("a[{i}][{j}]"))?;
+        }
+    }
+    let b = (0..s)
+        .map(|i| round(&f.b[i], format!("b[{i}]")))
+        .collect::<Result<Vec<f64>, String>>()?;
+    let c = (0..s)
+        .map(|i| match &f.c {
+            Some(c) => round(&c[i], format!("c[{i}]")),
+            None => {
+                let sum = f.a[i].iter().fold(Alg::zero(), |acc, x| acc.add(x));
+                round(&sum, format!("the row sum of a[{i}]"))
+            }
+        })
+        .collect::<Result<Vec<f64>, String>>()?;
+    let upper_zero = (0..s).all(|i| (i + 1..s).all(|j| zero(&f.a[i][j])));
+    let structure = if !upper_zero {
+        Structure::Full
+    } else if (0..s).all(|i| zero(&f.a[i][i])) {
+        Structure::Explicit
+    } else if (0..s).all(|i| !zero(&f.a[i][i]) && zero(&f.a[i][i].sub(&f.a[0][0]))) {
+        Structure::Sdirk
+    } else {
+        Structure::Dirk
+    };
+    Ok((F64Table { a, b, c }, structure))
+}
+
+/// The scheme type: the items of the `Table` path (facts, coefficients,
+/// step code), with the verdicts decided for root tables.
+pub fn expand(input: &Input, t: &RootTable) -> TokenStream {
+    let Input {
+        attrs, vis, name, ..
+    } = input;
+    let stages = t.analysis.stages;
+    let order = t.order;
+    let symplectic = t.analysis.symplectic == Some(true);
+    let class = t.structure.class();
+    let explicit = t.structure == Structure::Explicit;
+    let title = name.to_string();
+    let coefficients = rk_consts(&t.coefficients, "");
+    let step_code = match t.structure {
+        Structure::Explicit => step::explicit_rk(
+            name,
+            &t.coefficients.a,
+            &t.coefficients.b,
+            &t.coefficients.c,
+        ),
+        s => step::implicit(
+            name,
+            stages,
+            match s {
+                Structure::Sdirk => "Sdirk",
+                Structure::Dirk => "Dirk",
+                _ => "Full",
+            },
+            false,
+            quote!(::integrator_core::OdeSystem),
+        ),
+    };
+    let mut facts: Vec<String> = t.claims.iter().map(|c| format!("`{c}`")).collect();
+    if facts.is_empty() {
+        facts.push("no claims".into());
+    }
+    let summary = format!(
+        "*{title}* — entries in {} real algebraic root(s) ({}), verified exactly at compile time: {}. Symplecticity is decided exactly; order beyond 2, symmetry and the stability function are not decided for root(...) tables.",
+        t.file.field.names.len(),
+        t.file.field.names.join(", "),
+        facts.join(", ")
+    );
+    quote! {
+        #(#attrs)*
+        #[doc = ""]
+        #[doc = #summary]
+        #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+        #vis struct #name;
+
+        impl ::integrator_core::Scheme for #name {
+            const INFO: ::integrator_core::Info = ::integrator_core::Info {
+                name: #title,
+                form: "rk",
+                stages: #stages,
+                order: #order,
+                symplectic: #symplectic,
+                symplectic_separable: #symplectic,
+                separable_only: false,
+                symmetric: false,
+                explicit: #explicit,
+                class: #class,
+                evaluations: #stages,
+                midpoint_weights: ::core::option::Option::None,
+            };
+        }
+
+        #step_code
+
+        #[allow(clippy::approx_constant, clippy::excessive_precision)]
+        impl #name {
+            /// The table's name.
+            pub const NAME: &'static str = #title;
+            /// `"rk"`.
+            pub const FORM: &'static str = "rk";
+            /// Stages.
+            pub const STAGES: usize = #stages;
+            /// The order proven for a root(...) table: 1 when Σbᵢ = 1, 2 when
+            /// also Σbᵢcᵢ = 1/2 with c the row sums (decided exactly); higher
+            /// orders are not decided for such tables.
+            pub const ORDER: usize = #order;
+            /// Symplectic (W = 0), proven exactly.
+            pub const SYMPLECTIC: bool = #symplectic;
+            /// Symplectic for separable Hamiltonians (as `SYMPLECTIC` for a
+            /// Runge–Kutta table).
+            pub const SYMPLECTIC_SEPARABLE: bool = #symplectic;
+            /// Steps separable systems only: never, for a Runge–Kutta table.
+            pub const SEPARABLE_ONLY: bool = false;
+            /// Not decided for root(...) tables, so not claimed.
+            pub const SYMMETRIC: bool = false;
+            /// Explicit, decided by exact zero tests.
+            pub const EXPLICIT: bool = #explicit;
+            /// `"explicit"`, `"sdirk"`, `"dirk"` or `"implicit"`, decided exactly.
+            pub const CLASS: &'static str = #class;
+            #coefficients
+        }
+    }
+}
