@@ -47,7 +47,9 @@ runs.csv columns (one row per run):
                      fixed-point iterations of the stage solver (its choice when the
                      system has no Jacobian, as the separable problems)
   factorizations     LU factorisations of the stage solver
-  status             ok | diverged at step k | solver failed at step k: why
+  status             ok | diverged at step k | solver failed at step k: why |
+                     panicked at step k: message (a scheme or problem of your own,
+                     through the library; the sweep goes on)
 
 A sweep also writes report.md: the problem, T and the settings; the summary table; the wall
 time of each method to reach --target (default 1e-8), fastest first, with steps and
@@ -73,7 +75,14 @@ claim or a malformed file: exit 2), then it is stepped by the run-time interpret
 rows carry one more column, interpreted = true (errors and evaluations compare with
 generated code, wall times do not). --problem-file FILE.toml runs a linear system
 M q'' + G q' + K q = f read from a file (m, g, k, f, q0, p0, t_end, h_min, h_max) against
-its exact flow.";
+its exact flow; errors name the file and the field.
+
+--from CSV reads a runs.csv back (fields quoted as RFC 4180 says); a row with a negative
+h, error, energy_error or time_s, or a non-finite one where status is ok, is refused
+naming its line and column.
+
+Exit status: 0 done, 2 bad input (the message names the flag, file or field); a closed
+pipe (symlab compare ... | head) ends the process by SIGPIPE (status 141 in a shell).";
 
 fn problem_id(s: &str) -> std::result::Result<Builtin, String> {
     Builtin::from_name(s).map_err(|_| {
@@ -181,6 +190,15 @@ fn positive(name: &str, x: f64) -> Result<f64> {
     if !(x.is_finite() && x > 0.0) {
         bail!("--{name} must be a finite number > 0, got {}", num(x));
     }
+    // A subnormal time or step has lost its precision (5e-324 is the only
+    // number between 0 and 1e-323): no run means anything there.
+    if !x.is_normal() {
+        bail!(
+            "--{name} must be at least {:e} (the smallest normal f64), got {}",
+            f64::MIN_POSITIVE,
+            num(x)
+        );
+    }
     Ok(x)
 }
 
@@ -254,7 +272,14 @@ pub fn run(args: &CompareArgs) -> Result<ExitCode> {
             bail!("--steps belongs to --long");
         }
         let file = compare::linear_file::load(path)?;
-        let plan = plan(args, file.defaults)?;
+        let field =
+            |given: bool, name: &str| given.then(|| format!("{}: field {name}", path.display()));
+        let origin = Origin {
+            t_end: field(file.given.t_end, "t_end"),
+            h_min: field(file.given.h_min, "h_min"),
+            h_max: field(file.given.h_max, "h_max"),
+        };
+        let plan = plan_from(args, file.defaults, &origin)?;
         let setup = file.setup(plan.t_end)?;
         sweep_problem(args, &plan, setup, None)?;
     } else {
@@ -275,17 +300,47 @@ struct Plan {
     settings: SweepSettings,
 }
 
+/// Where the sweep defaults that no flag overrides come from: `None`, the
+/// problem's own; `Some(name)`, a problem file's field (`FILE: field h_min`),
+/// named as such in messages.
+#[derive(Default)]
+struct Origin {
+    t_end: Option<String>,
+    h_min: Option<String>,
+    h_max: Option<String>,
+}
+
 fn plan(args: &CompareArgs, defaults: compare::Defaults) -> Result<Plan> {
+    plan_from(args, defaults, &Origin::default())
+}
+
+fn plan_from(args: &CompareArgs, defaults: compare::Defaults, origin: &Origin) -> Result<Plan> {
     let t_def = defaults.t_end;
     let t_end = positive("t-end", args.t_end.unwrap_or(t_def))?;
+    // Who set each value: a flag, a problem file's field, or neither (the
+    // problem's default).
+    let who = |flag: Option<f64>, name: &str, file: &Option<String>| -> Option<String> {
+        if flag.is_some() {
+            Some(format!("--{name}"))
+        } else {
+            file.clone()
+        }
+    };
+    let who_t = who(args.t_end, "t-end", &origin.t_end);
+    let who_min = who(args.h_min, "h-min", &origin.h_min);
+    let who_max = who(args.h_max, "h-max", &origin.h_max);
     // Defaults the user did not give adapt to a short --t-end (one step at
     // most the whole run), so that an error names a flag that was given.
+    // A problem file's own values are not moved: a contradiction with a
+    // flag is an error naming both.
     let h_max = match args.h_max {
         Some(h) => positive("h-max", h)?,
+        None if origin.h_max.is_some() => defaults.h_max,
         None => defaults.h_max.min(t_end),
     };
     let h_min = match args.h_min {
         Some(h) => positive("h-min", h)?,
+        None if origin.h_min.is_some() => defaults.h_min,
         None => {
             let h = if args.quick {
                 t_def / 10_000.0
@@ -300,27 +355,41 @@ fn plan(args: &CompareArgs, defaults: compare::Defaults) -> Result<Plan> {
         }
     };
     let (lo, hi, t) = (num(h_min), num(h_max), num(t_end));
+    let end = who_t
+        .clone()
+        .unwrap_or_else(|| "the default end time".into());
     if h_min > h_max {
-        match (args.h_min.is_some(), args.h_max.is_some()) {
-            (true, true) => bail!("--h-min ({lo}) must not exceed --h-max ({hi})"),
-            (true, false) => bail!(
-                "--h-min ({lo}) exceeds the default largest step {hi} (the problem's, at most --t-end); give --h-max too"
+        match (&who_min, &who_max) {
+            (Some(a), Some(b)) => bail!("{a} ({lo}) must not exceed {b} ({hi})"),
+            (Some(a), None) => bail!(
+                "{a} ({lo}) exceeds the default largest step {hi} (the problem's, at most {end}); give --h-max too"
             ),
-            _ => bail!("--h-max ({hi}) is below the default smallest step {lo}; give --h-min too"),
+            (None, Some(b)) => {
+                bail!("{b} ({hi}) is below the default smallest step {lo}; give --h-min too")
+            }
+            (None, None) => bail!(
+                "the default smallest step {lo} exceeds the default largest step {hi}; give --h-min and --h-max"
+            ),
         }
     }
     if h_max > t_end {
-        bail!("--h-max ({hi}) exceeds the end time --t-end ({t})");
+        let b = who_max
+            .clone()
+            .unwrap_or_else(|| "the default largest step".into());
+        bail!("{b} ({hi}) exceeds the end time {end} ({t})");
     }
     if t_end / h_min > 1e8 {
         bail!(
-            "{} {lo} over --t-end {t} is {:.1e} steps per run; at most 1e8",
-            if args.h_min.is_some() {
-                "--h-min"
+            "{} {lo} over {end} {t} is {:.1e} steps per run; at most 1e8{}",
+            who_min
+                .clone()
+                .unwrap_or_else(|| "the default smallest step".into()),
+            t_end / h_min,
+            if who_min.is_some() {
+                ""
             } else {
-                "the default smallest step"
-            },
-            t_end / h_min
+                " (give --h-min too)"
+            }
         );
     }
     let points = args.points.unwrap_or(if args.quick { 4 } else { 10 });
@@ -447,7 +516,7 @@ fn sweep_problem<P: Problem>(
     println!(
         "{}: T = {}, {} methods, {} step sizes from h = {:.3e} to {:.3e} ({}–{} steps), {} timed run(s) each",
         setup.description,
-        plan.t_end,
+        num(plan.t_end),
         methods.len(),
         steps.len(),
         plan.t_end / steps[0] as f64,
@@ -681,7 +750,7 @@ fn hard_cases(args: &CompareArgs) -> Result<()> {
     ) -> Result<()> {
         notes.push(case.note.clone());
         let methods = hard_methods(args, &case.setup, problem, notes, case.name)?;
-        rows.extend(compare::hard::run_case(&case, &methods, tolerance, floor));
+        rows.extend(compare::hard::run_case(&case, &methods, tolerance, floor)?);
         Ok(())
     }
     let search = (tolerance, floor);

@@ -42,8 +42,66 @@ enum Command {
     Cloth(cloth_cmd::ClothArgs),
 }
 
+/// A closed pipe ends the process quietly, as `ls | head` does: Rust
+/// ignores SIGPIPE by default, so a write to a pipe whose reader has gone
+/// fails and `println!` panics ("failed printing to stdout: Broken pipe").
+/// With the default disposition restored the kernel ends the process with
+/// signal 13 (SIGPIPE; a shell reports exit status 141) and no message, on
+/// stdout, stderr and the progress bars alike.
+fn restore_sigpipe() {
+    #[cfg(unix)]
+    // SAFETY: called first thing in `main`, before any other thread exists;
+    // SIG_DFL is a valid disposition for SIGPIPE.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
+}
+
+/// The first command-line argument that is not valid UTF-8, as a message
+/// naming the flag it belongs to (clap says only "invalid UTF-8 was
+/// detected"). `args[0]` is the program.
+fn non_utf8_argument(args: &[std::ffi::OsString]) -> Option<String> {
+    let (i, bad) = args
+        .iter()
+        .enumerate()
+        .skip(1)
+        .find(|(_, a)| a.to_str().is_none())?;
+    let shown = bad.to_string_lossy();
+    let lossy = shown.as_ref();
+    // `--flag=VALUE`: the flag is the part before `=`.
+    if let Some(rest) = lossy.strip_prefix("--")
+        && let Some((flag, value)) = rest.split_once('=')
+        && flag.chars().all(|c| c.is_ascii_alphanumeric() || c == '-')
+        && !flag.is_empty()
+    {
+        return Some(format!(
+            "--{flag}: the value {value:?} is not valid UTF-8 (invalid bytes shown as �)"
+        ));
+    }
+    if lossy.starts_with('-') {
+        return Some(format!(
+            "argument {i} {lossy:?} is not valid UTF-8 (invalid bytes shown as �)"
+        ));
+    }
+    match args[i - 1].to_str() {
+        Some(prev) if i > 1 && prev.starts_with('-') && prev != "--" => Some(format!(
+            "{prev}: the value {lossy:?} is not valid UTF-8 (invalid bytes shown as �)"
+        )),
+        _ => Some(format!(
+            "argument {i} {lossy:?} is not valid UTF-8 (invalid bytes shown as �); \
+             file names and values must be UTF-8"
+        )),
+    }
+}
+
 fn main() -> ExitCode {
-    let cli = Cli::parse();
+    restore_sigpipe();
+    let args: Vec<std::ffi::OsString> = std::env::args_os().collect();
+    if let Some(msg) = non_utf8_argument(&args) {
+        eprintln!("error: {msg}");
+        return ExitCode::from(2);
+    }
+    let cli = Cli::parse_from(args);
     let result = match cli.command {
         Command::Check(args) => check::run(&args),
         Command::List(args) => check::list(&args),

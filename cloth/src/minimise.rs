@@ -917,6 +917,38 @@ enum Kind {
     Gonzalez,
 }
 
+/// Whether method `id` can run on a scene with (`has_colliders`) or
+/// without colliders through `solver`: `Err` with the reason — the same
+/// reason a run gives ([`run`], [`Minimiser::new`]), so that a caller may
+/// refuse a combination before it starts (`symlab cloth --stability` does).
+/// The energy schemes (`avf`, `discrete-gradient`) handle springs and
+/// gravity only and are solved with Newton only; the local/global solver
+/// handles no colliders. Methods that are not minimisations are not
+/// affected by `solver`.
+pub fn applicable(id: &str, has_colliders: bool, solver: Solver) -> Result<(), String> {
+    let energy = match id {
+        DISCRETE_GRADIENT => Some(DISCRETE_GRADIENT),
+        AVERAGE_VECTOR_FIELD => Some(AVERAGE_VECTOR_FIELD),
+        _ => None,
+    };
+    if let Some(name) = energy {
+        if has_colliders {
+            return Err(format!(
+                "method: {name} handles springs and gravity; this scene has colliders"
+            ));
+        }
+        if solver != Solver::Newton {
+            return Err(format!("solver: {name} is solved with newton only"));
+        }
+    } else if is_minimisation(id) && solver == Solver::LocalGlobal && has_colliders {
+        return Err(
+            "solver: local-global handles springs and gravity only; this scene has colliders (use --solver newton)"
+                .to_string(),
+        );
+    }
+    Ok(())
+}
+
 fn run_kind<F>(
     sim: &mut Simulation,
     method: &'static str,
@@ -937,16 +969,7 @@ where
         Kind::Composition(_) => None,
     };
     if let Some(name) = name {
-        if sim.model.has_colliders() {
-            return Err(RunError::Options(format!(
-                "method: {name} handles springs and gravity; this scene has colliders"
-            )));
-        }
-        if settings.solver != Solver::Newton {
-            return Err(RunError::Options(format!(
-                "solver: {name} is solved with newton only"
-            )));
-        }
+        applicable(name, sim.model.has_colliders(), settings.solver).map_err(RunError::Options)?;
     }
     let mut solver = Minimiser::new(&sim.model, settings)?;
     let mut frames = Vec::with_capacity(opts.frames.min(1 << 16) + 1);

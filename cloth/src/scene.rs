@@ -543,20 +543,54 @@ impl Scene {
         let spacing = |len: f64, n: usize| len / (n - 1) as f64;
         let (dx, dy) = (spacing(c.width, c.nx), spacing(c.height, c.ny));
         let origin = c.origin.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        // Lengths enter the model squared (a distance is the square root of
+        // a sum of squares, a spring's energy has (ℓ − L)²): a spacing whose
+        // square underflows (below about 1e-154 m) would put neighbours "at
+        // the same point", an extent whose square overflows would make every
+        // distance infinite.
+        let square_bad = |x: f64| bad(x * x);
         for (d, len, field) in [(dx, c.width, "cloth.width"), (dy, c.height, "cloth.height")] {
-            if bad(d) || bad(2.0 * d) {
+            if bad(d) || bad(2.0 * d) || square_bad(d) || square_bad(2.0 * d) {
                 return Err(r.err(
                     field,
                     format!(
-                        "{len:e} m gives a grid spacing of {d:e} m: not a positive normal length with room to double"
+                        "{len:e} m gives a grid spacing of {d:e} m: not a positive length whose double and square are normal numbers (about 1e-154 to 1e154 m)"
                     ),
                 ));
             }
             // The initial grid: spacing and extent scaled by prestretch,
             // placed at the origin. Blame the more extreme factor.
             let span = len * c.prestretch;
-            if bad(span) || bad(d * c.prestretch) || !(origin + span).is_finite() {
+            let spacing = d * c.prestretch;
+            let reach = origin + span;
+            if bad(span) || square_bad(spacing) || square_bad(reach) {
                 let field = if c.prestretch.ln().abs() > len.ln().abs() {
+                    "cloth.prestretch"
+                } else {
+                    field
+                };
+                let field = if origin > 0.0
+                    && origin.ln().abs() > span.ln().abs().max(spacing.ln().abs())
+                {
+                    "cloth.origin"
+                } else {
+                    field
+                };
+                return Err(r.err(
+                    field,
+                    format!(
+                        "{len:e} m scaled by prestretch {:e} gives an initial extent of {span:e} m and spacing {spacing:e} m from an origin at distance {origin:e} m: not lengths whose squares are normal numbers (about 1e-154 to 1e154 m)",
+                        c.prestretch,
+                    ),
+                ));
+            }
+            // Positions origin + i·Δ must stay apart after rounding.
+            if origin > 0.0 && spacing <= origin * 1e-12 {
+                // An origin far out, or a spacing made tiny by the size or
+                // the prestretch: blame the more extreme.
+                let field = if origin.ln().abs() >= spacing.ln().abs() {
+                    "cloth.origin"
+                } else if c.prestretch.ln().abs() > len.ln().abs() {
                     "cloth.prestretch"
                 } else {
                     field
@@ -564,19 +598,7 @@ impl Scene {
                 return Err(r.err(
                     field,
                     format!(
-                        "{len:e} m scaled by prestretch {:e} gives an initial extent of {span:e} m and spacing {:e} m from an origin at distance {origin:e} m: not positive finite lengths",
-                        c.prestretch,
-                        d * c.prestretch
-                    ),
-                ));
-            }
-            // Positions origin + i·Δ must stay apart after rounding.
-            if origin > 0.0 && d * c.prestretch <= origin * 1e-12 {
-                return Err(r.err(
-                    "cloth.origin",
-                    format!(
-                        "an origin {origin:e} m from zero leaves the grid spacing {:e} m to rounding (less than 1e-12 of it): particles would start at the same point",
-                        d * c.prestretch
+                        "an origin {origin:e} m from zero leaves the grid spacing {spacing:e} m to rounding (less than 1e-12 of it): particles would start at the same point",
                     ),
                 ));
             }
@@ -632,6 +654,37 @@ impl Scene {
             let Some(k) = k else { continue };
             for (rest, side) in rests {
                 let (kl, kappa) = (k / rest, k * rest);
+                // The spring's rate k/L per particle mass is ω²: finite, or
+                // the first step overflows.
+                let omega2 = kl / mass;
+                if kl.is_finite() && kappa.is_finite() && !omega2.is_finite() {
+                    let field =
+                        most_extreme(&[(k, field), (m.density, "material.density"), (rest, side)]);
+                    return Err(r.err(
+                        field,
+                        format!(
+                            "springs of stiffness {k:e} N and rest length {rest:e} m on particles of mass {mass:e} kg have k/(L·m) = ω² = {omega2:e} s⁻²: not finite"
+                        ),
+                    ));
+                }
+                // The elastic energy of the prestretch: ½·k·L·(s − 1)² per
+                // spring, at most 4 springs of a family per particle.
+                let strain = c.prestretch - 1.0;
+                let stored = 0.5 * kappa * strain * strain * 4.0 * n;
+                if kl.is_finite() && kappa.is_finite() && !stored.is_finite() {
+                    let field = most_extreme(&[
+                        (c.prestretch, "cloth.prestretch"),
+                        (k, field),
+                        (rest, side),
+                    ]);
+                    return Err(r.err(
+                        field,
+                        format!(
+                            "springs of stiffness {k:e} N and rest length {rest:e} m prestretched by {:e} store about {stored:e} J in all: not finite",
+                            c.prestretch
+                        ),
+                    ));
+                }
                 if !(kl.is_finite() && kappa.is_finite()) {
                     // Blame the more extreme of the two factors.
                     let field = if k.ln().abs() >= rest.ln().abs() {
@@ -653,8 +706,22 @@ impl Scene {
         let size = c.width.max(c.height) * c.prestretch;
         let fall = mass * n * g * (size + origin);
         if !(g.is_finite() && (mass * g).is_finite() && fall.is_finite()) {
+            // The factor that makes the product extreme: the density, |g|,
+            // the size (width, height, prestretch) or the origin.
+            let side = if c.width >= c.height {
+                (c.width, "cloth.width")
+            } else {
+                (c.height, "cloth.height")
+            };
+            let field = most_extreme(&[
+                (g, "gravity"),
+                (m.density, "material.density"),
+                side,
+                (c.prestretch, "cloth.prestretch"),
+                (origin, "cloth.origin"),
+            ]);
             return Err(r.err(
-                "gravity",
+                field,
                 format!(
                     "|g| = {g:e} m/s² on a cloth of mass {:e} kg and size {size:e} m gives a potential energy of {fall:e} J: not finite",
                     mass * n
@@ -703,6 +770,25 @@ impl Scene {
         }
         Ok(())
     }
+}
+
+/// The field whose value is farthest from 1 in magnitude (|ln x| largest):
+/// the one that makes a product of them overflow or underflow. Zero values
+/// (an origin at 0) are skipped; the first field wins ties.
+fn most_extreme<'a>(factors: &[(f64, &'a str)]) -> &'a str {
+    let mut best = factors[0].1;
+    let mut score = -1.0;
+    for &(x, field) in factors {
+        if x == 0.0 {
+            continue;
+        }
+        let s = x.abs().ln().abs();
+        if s > score {
+            best = field;
+            score = s;
+        }
+    }
+    best
 }
 
 fn kind(v: &Value) -> &'static str {

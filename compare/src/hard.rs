@@ -16,7 +16,7 @@ use std::path::Path;
 
 use rayon::prelude::*;
 
-use crate::error::{Result, write as write_file};
+use crate::error::{CompareError, Result, write as write_file};
 use crate::method::Fixed;
 use crate::problem::{Problem, Setup};
 use crate::stepper::Status;
@@ -84,6 +84,9 @@ pub enum Beyond {
     Diverged,
     EnergyAboveBound,
     SolverFailed(String),
+    /// The method or the problem panicked (the status label, which names
+    /// the step and the message).
+    Panicked(String),
 }
 
 impl Beyond {
@@ -92,6 +95,7 @@ impl Beyond {
             Beyond::Diverged => "diverged".into(),
             Beyond::EnergyAboveBound => format!("energy error above {BOUND}"),
             Beyond::SolverFailed(why) => format!("solver failed ({why})"),
+            Beyond::Panicked(label) => label.clone(),
         }
     }
 }
@@ -117,12 +121,18 @@ pub struct HardRow {
 fn probe<P: Problem>(setup: &Setup<P>, f: &Fixed<P>, n: u64) -> Result<(), Beyond> {
     let h = setup.t_end / n as f64;
     let mut z = setup.z0.clone();
-    let outcome = f
-        .stepper
-        .observed(&setup.sys, &mut z, h, n as usize, true, &mut |_, _, z| {
+    let outcome = crate::stepper::observed_caught(
+        &*f.stepper,
+        &setup.sys,
+        &mut z,
+        h,
+        n as usize,
+        true,
+        &mut |_, _, z| {
             let de = setup.energy_error(z);
             de.is_finite() && de <= BOUND
-        });
+        },
+    );
     match outcome.status {
         Status::Ok => Ok(()),
         Status::Diverged { .. } => Err(Beyond::Diverged),
@@ -134,6 +144,7 @@ fn probe<P: Problem>(setup: &Setup<P>, f: &Fixed<P>, n: u64) -> Result<(), Beyon
             }
         }
         Status::SolverFailed { reason, .. } => Err(Beyond::SolverFailed(short(&reason))),
+        s @ Status::Panicked { .. } => Err(Beyond::Panicked(s.label())),
     }
 }
 
@@ -149,7 +160,14 @@ fn short(reason: &str) -> String {
 }
 
 /// Bisection for one method. `tolerance`: stop when `h_hi/h_lo ≤ 1 + tolerance`.
-pub fn search<P: Problem>(case: &Case<P>, f: &Fixed<P>, tolerance: f64, floor: f64) -> HardRow {
+/// Bounded as [`run_case`] says.
+pub fn search<P: Problem>(
+    case: &Case<P>,
+    f: &Fixed<P>,
+    tolerance: f64,
+    floor: f64,
+) -> Result<HardRow> {
+    check(case, tolerance, floor)?;
     let t = case.setup.t_end;
     let steps = |h: f64| ((t / h).ceil() as u64).max(1);
     let mut probes = 0;
@@ -208,7 +226,7 @@ pub fn search<P: Problem>(case: &Case<P>, f: &Fixed<P>, tolerance: f64, floor: f
         lo = Some(l);
         hi = Some((u, why));
     }
-    HardRow {
+    Ok(HardRow {
         problem: case.name.into(),
         method: f.id.clone(),
         order: f.order,
@@ -218,21 +236,60 @@ pub fn search<P: Problem>(case: &Case<P>, f: &Fixed<P>, tolerance: f64, floor: f
         h_unstable: hi.map(|(n, b)| (t / n as f64, b)),
         omega_max: case.omega_max,
         probes,
-    }
+    })
 }
 
 /// Every method on one case, in parallel across methods.
+///
+/// The search is bounded before it starts: `case.h0` a finite step in
+/// `(0, T]` with at most [`MAX_PROBE_STEPS`] steps over `T`, `floor` (the
+/// smallest step tried, relative to `T`) in `(0, 1]` with `1/floor` at most
+/// [`MAX_PROBE_STEPS`], `tolerance` finite and > 0; anything else is an
+/// error naming the setting, not a search of `u64::MAX` steps.
 pub fn run_case<P: Problem>(
     case: &Case<P>,
     methods: &[Fixed<P>],
     tolerance: f64,
     floor: f64,
-) -> Vec<HardRow> {
+) -> Result<Vec<HardRow>> {
+    check(case, tolerance, floor)?;
     methods
         .par_iter()
         .map(|f| search(case, f, tolerance, floor))
         .collect()
 }
+
+/// The bounds of [`run_case`] and [`search`].
+fn check<P: Problem>(case: &Case<P>, tolerance: f64, floor: f64) -> Result<()> {
+    let t = case.setup.t_end;
+    if !(case.h0.is_finite() && case.h0 > 0.0 && case.h0 <= t && t / case.h0 <= MAX_PROBE_STEPS) {
+        return Err(CompareError::setting(
+            "h0",
+            format!(
+                "the first step must be finite, in (0, T = {t}] and at most {MAX_PROBE_STEPS:e} steps over T, got {}",
+                case.h0
+            ),
+        ));
+    }
+    if !(floor.is_finite() && floor > 0.0 && floor <= 1.0 && 1.0 / floor <= MAX_PROBE_STEPS) {
+        return Err(CompareError::setting(
+            "floor",
+            format!(
+                "the smallest step relative to T must be in [1/{MAX_PROBE_STEPS:e}, 1], got {floor}"
+            ),
+        ));
+    }
+    if !(tolerance.is_finite() && tolerance > 0.0) {
+        return Err(CompareError::setting(
+            "tolerance",
+            format!("the bisection's relative width must be finite and > 0, got {tolerance}"),
+        ));
+    }
+    Ok(())
+}
+
+/// The most steps of one probe of the stability search: 10⁸.
+pub const MAX_PROBE_STEPS: f64 = 1e8;
 
 fn h_label(r: &HardRow) -> String {
     match (&r.h_stable, &r.h_unstable) {
@@ -258,15 +315,16 @@ fn beyond(r: &HardRow) -> String {
 
 /// `hard.csv` and `hard.md`.
 pub fn write(dir: &Path, rows: &[HardRow], notes: &[String]) -> Result<()> {
+    use crate::output::csv_field;
     let mut s = String::from(
         "problem,method,order,symplectic,t_end,h_stable,h_unstable,h_omega_max,beyond,probes\n",
     );
     for r in rows {
         let _ = writeln!(
             s,
-            "{},{},{},{},{:e},{:e},{:e},{:e},\"{}\",{}",
-            r.problem,
-            r.method,
+            "{},{},{},{},{:e},{:e},{:e},{:e},{},{}",
+            csv_field(&r.problem),
+            csv_field(&r.method),
             r.order,
             r.symplectic,
             r.t_end,
@@ -276,7 +334,7 @@ pub fn write(dir: &Path, rows: &[HardRow], notes: &[String]) -> Result<()> {
                 (Some(h), Some(w)) => h * w,
                 _ => f64::NAN,
             },
-            beyond(r).replace('"', "'"),
+            csv_field(&beyond(r)),
             r.probes
         );
     }

@@ -54,12 +54,16 @@
 //!
 //! Errors are [`CompareError`] values naming the setting, the problem, the
 //! method or the file; a run that diverges or whose stage solver fails at
-//! step k is not an error but a row whose `status` says so.
+//! step k is not an error but a row whose `status` says so. So is a run
+//! whose scheme or problem — your code — panics: the panic is caught
+//! ([`guard`]), the row's status is `panicked at step k: <message>`, and the
+//! sweep goes on with the next run.
 
 pub mod adaptive;
 pub mod builtin;
 pub mod counting;
 mod error;
+pub mod guard;
 pub mod hard;
 pub mod interpreted;
 pub mod library;
@@ -82,9 +86,9 @@ pub use counting::{AsOde, AsSeparable, Counting, Counts};
 pub use error::{CompareError, Result};
 pub use method::{Fixed, Method, family_of};
 pub use problem::{Counted, Defaults, Family, Kind, Problem, Setup};
-pub use stepper::{Lib, Outcome, Small, Status, Stepper, Workspace};
+pub use stepper::{Lib, Outcome, Small, Status, Stepper, Workspace, bare_caught, observed_caught};
 pub use sweep::Row;
-pub use work_precision::{SweepSettings, WorkPrecision, work_precision};
+pub use work_precision::{MAX_SWEEP_STEPS, SweepSettings, WorkPrecision, work_precision};
 
 /// The README's Rust examples, compiled and run as doctests so that the
 /// documentation a user reads first cannot go stale. They live here, in the

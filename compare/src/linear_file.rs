@@ -57,9 +57,25 @@ pub struct LinearFile {
     pub sys: LinearHamiltonian,
     pub z0: Vec<f64>,
     /// The sweep defaults: the file's where given, else the gyroscopic
-    /// problem's (T = 10, h from 1e-4 to 0.1).
+    /// problem's (T = 10, h from 1e-4 to 0.1), a default step at most the
+    /// file's `t_end`.
     pub defaults: Defaults,
+    /// Which of `defaults` the file gave (`t_end`, `h_min`, `h_max`), so
+    /// that a message about them names the file's field.
+    pub given: Given,
 }
+
+/// Which sweep defaults a problem file gave.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Given {
+    pub t_end: bool,
+    pub h_min: bool,
+    pub h_max: bool,
+}
+
+/// The most steps of one run that a file's `t_end` and `h_min` may ask for
+/// (the same limit as the sweep's, [`SweepSettings::validate`](crate::SweepSettings::validate)).
+pub const MAX_STEPS_PER_RUN: f64 = 1e8;
 
 fn err(path: &Path, why: impl Into<String>) -> CompareError {
     CompareError::ProblemFile {
@@ -68,12 +84,45 @@ fn err(path: &Path, why: impl Into<String>) -> CompareError {
     }
 }
 
+/// A number for a message: plain where that is short, else scientific.
+fn num(x: f64) -> String {
+    if x == 0.0 || (1e-4..1e7).contains(&x.abs()) || !x.is_finite() {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
+    }
+}
+
+/// A TOML error as one line naming the line and the field the user wrote
+/// (`line 4: field t_end: invalid type: string "x", expected f64`).
+fn toml_message(text: &str, e: &toml::de::Error) -> String {
+    let message = e.message().trim().replace('\n', " ");
+    if let Some(rest) = message.strip_prefix("missing field ") {
+        return format!("field {} is missing", rest.trim_matches('`'));
+    }
+    let Some(span) = e.span() else {
+        return message;
+    };
+    let start = span.start.min(text.len());
+    let line = text[..start].matches('\n').count() + 1;
+    let line_text = text.lines().nth(line - 1).unwrap_or("");
+    let key = line_text
+        .split_once('=')
+        .map(|(k, _)| k.trim().trim_matches('"'))
+        .filter(|k| !k.is_empty() && !k.starts_with('#') && !k.starts_with('['));
+    match key {
+        Some(k) if !message.contains(&format!("`{k}`")) => {
+            format!("line {line}: field {k}: {message}")
+        }
+        _ => format!("line {line}: {message}"),
+    }
+}
+
 /// Read and check a linear problem file. Errors name the file and the field
 /// (`m`, `q0`, `t_end`, …) and say what is wrong.
 pub fn load(path: &Path) -> Result<LinearFile> {
     let text = crate::interpreted::read_limited(path, MAX_FILE_BYTES).map_err(|w| err(path, w))?;
-    let raw: Raw =
-        toml::from_str(&text).map_err(|e| err(path, e.to_string().trim().replace('\n', " ")))?;
+    let raw: Raw = toml::from_str(&text).map_err(|e| err(path, toml_message(&text, &e)))?;
     let n = raw.m.len();
     if n > MAX_DOF {
         return Err(err(
@@ -86,8 +135,19 @@ pub fn load(path: &Path) -> Result<LinearFile> {
     let zeros = || vec![vec![0.0; n]; n];
     let g = raw.g.unwrap_or_else(zeros);
     let f = raw.f.unwrap_or_else(|| vec![0.0; n]);
-    let sys = LinearHamiltonian::from_rows(&raw.m, &g, &raw.k, &f)
-        .map_err(|e| err(path, e.to_string()))?;
+    let sys = LinearHamiltonian::from_rows(&raw.m, &g, &raw.k, &f).map_err(|e| {
+        // The matrices' messages name them as the paper does (M, G, K, f);
+        // the file's fields are m, g, k, f.
+        let why = e.to_string();
+        let field = match why.split_whitespace().next() {
+            Some("M") => "field m",
+            Some("G") => "field g",
+            Some("K") => "field k",
+            Some("f") => "field f",
+            _ => "fields m, g, k, f",
+        };
+        err(path, format!("{field}: {why}"))
+    })?;
     let p0 = raw.p0.unwrap_or_else(|| vec![0.0; n]);
     for (field, v) in [("q0", &raw.q0), ("p0", &p0)] {
         if v.len() != n {
@@ -100,26 +160,96 @@ pub fn load(path: &Path) -> Result<LinearFile> {
             return Err(err(path, format!("field {field}: {x} is not finite")));
         }
     }
-    let base = sys.defaults();
-    let mut defaults = Defaults {
-        t_end: raw.t_end.unwrap_or(base.t_end),
-        h_min: raw.h_min.unwrap_or(base.h_min),
-        h_max: raw.h_max.unwrap_or(base.h_max),
+    let given = Given {
+        t_end: raw.t_end.is_some(),
+        h_min: raw.h_min.is_some(),
+        h_max: raw.h_max.is_some(),
     };
     for (field, x) in [
-        ("t_end", defaults.t_end),
-        ("h_min", defaults.h_min),
-        ("h_max", defaults.h_max),
+        ("t_end", raw.t_end),
+        ("h_min", raw.h_min),
+        ("h_max", raw.h_max),
     ] {
-        if !(x.is_finite() && x > 0.0) {
+        if let Some(x) = x
+            && !(x.is_finite() && x > 0.0)
+        {
             return Err(err(
                 path,
-                format!("field {field} must be a finite number > 0, got {x}"),
+                format!("field {field} must be a finite number > 0, got {}", num(x)),
             ));
         }
     }
-    defaults.h_max = defaults.h_max.min(defaults.t_end);
-    defaults.h_min = defaults.h_min.min(defaults.h_max);
+    let base = sys.defaults();
+    let t_end = raw.t_end.unwrap_or(base.t_end);
+    // A default step is at most the run (one step of at most t_end), and
+    // the smallest default at most the largest: a file's own values are
+    // never moved, and contradictions among them are refused.
+    let h_max = raw.h_max.unwrap_or(base.h_max.min(t_end));
+    let h_min = raw.h_min.unwrap_or(base.h_min.min(h_max));
+    let defaults = Defaults {
+        t_end,
+        h_min,
+        h_max,
+    };
+    match (given.h_min, given.h_max) {
+        (true, true) if h_min > h_max => {
+            return Err(err(
+                path,
+                format!(
+                    "field h_min ({}) must not exceed field h_max ({})",
+                    num(h_min),
+                    num(h_max)
+                ),
+            ));
+        }
+        (true, false) if h_min > h_max => {
+            return Err(err(
+                path,
+                format!(
+                    "field h_min ({}) exceeds the default largest step {} (at most t_end); give h_max too",
+                    num(h_min),
+                    num(h_max)
+                ),
+            ));
+        }
+        _ => {}
+    }
+    if given.h_max && h_max > t_end {
+        return Err(err(
+            path,
+            format!(
+                "field h_max ({}) exceeds {} ({})",
+                num(h_max),
+                if given.t_end {
+                    "field t_end"
+                } else {
+                    "the default end time t_end"
+                },
+                num(t_end)
+            ),
+        ));
+    }
+    if t_end / h_min > MAX_STEPS_PER_RUN {
+        let what = match (given.t_end, given.h_min) {
+            (_, true) => "field h_min".to_string(),
+            _ => "the default smallest step".to_string(),
+        };
+        let over = if given.t_end {
+            "field t_end"
+        } else {
+            "the default t_end"
+        };
+        return Err(err(
+            path,
+            format!(
+                "{what} ({}) over {over} ({}) is {:.1e} steps per run; at most 1e8{}",
+                num(h_min),
+                num(t_end),
+                t_end / h_min,
+                if given.h_min { "" } else { " (give h_min too)" }
+            ),
+        ));
+    }
     let stem = path
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())
@@ -142,14 +272,32 @@ pub fn load(path: &Path) -> Result<LinearFile> {
         sys,
         z0: raw.q0.into_iter().chain(p0).collect(),
         defaults,
+        given,
     })
 }
 
 impl LinearFile {
     /// The problem from the file's start to `t_end`, its reference the
     /// exact flow.
+    ///
+    /// Errors name the file and the fields behind them: a start whose
+    /// energy is not finite (`q0`, `p0` with `m`, `g`, `k`), an exact flow
+    /// that cannot be computed to `t_end`.
     pub fn setup(&self, t_end: f64) -> Result<Setup<LinearHamiltonian>> {
-        Ok(Setup::from_start(self.sys.clone(), self.z0.clone(), t_end)?
-            .named(self.name.clone(), self.description.clone()))
+        let setup = Setup::from_start(self.sys.clone(), self.z0.clone(), t_end).map_err(|e| {
+            let why = match e {
+                CompareError::Problem { why, .. } if why.contains("energy") => {
+                    format!("fields q0 and p0 (with m, g, k, f): {why}")
+                }
+                CompareError::Problem { why, .. } => format!(
+                    "the exact flow of fields m, g, k, f from q0, p0 to t_end = {}: {why}",
+                    num(t_end)
+                ),
+                CompareError::Setting { name, why } => format!("{name}: {why}"),
+                other => other.to_string(),
+            };
+            err(&self.path, why)
+        })?;
+        Ok(setup.named(self.name.clone(), self.description.clone()))
     }
 }

@@ -9,7 +9,7 @@ use rayon::prelude::*;
 
 use crate::error::{CompareError, Result, write as write_file};
 use crate::method::{Fixed, Method};
-use crate::output::loglog_slope;
+use crate::output::{csv_field, loglog_slope};
 use crate::plot::{self, Plot, Series};
 use crate::problem::{Problem, Setup};
 use crate::stepper::Status;
@@ -138,7 +138,8 @@ pub fn run<P: Problem>(
             let mut samples = Vec::with_capacity(ends.len());
             let mut next = 0;
             let mut window: f64 = 0.0;
-            let outcome = f.stepper.observed(
+            let outcome = crate::stepper::observed_caught(
+                &*f.stepper,
                 &setup.sys,
                 &mut z,
                 h,
@@ -198,7 +199,15 @@ pub fn write(dir: &Path, runs: &[LongRun]) -> Result<()> {
             let _ = writeln!(
                 s,
                 "{},{},{},{},{},{:e},{},{:e},{:e}",
-                r.problem, r.method, r.order, r.symplectic, r.compensated, r.h, k, t, e
+                csv_field(&r.problem),
+                csv_field(&r.method),
+                r.order,
+                r.symplectic,
+                r.compensated,
+                r.h,
+                k,
+                t,
+                e
             );
         }
     }
@@ -211,9 +220,9 @@ pub fn write(dir: &Path, runs: &[LongRun]) -> Result<()> {
         let last = r.samples.last().map_or(f64::NAN, |x| x.2);
         let _ = writeln!(
             s,
-            "{},{},{},{},{},{:e},{},{:e},{:e},\"{}\"",
-            r.problem,
-            r.method,
+            "{},{},{},{},{},{:e},{},{:e},{:e},{}",
+            csv_field(&r.problem),
+            csv_field(&r.method),
             r.order,
             r.symplectic,
             r.compensated,
@@ -221,7 +230,7 @@ pub fn write(dir: &Path, runs: &[LongRun]) -> Result<()> {
             r.steps,
             r.exponent.unwrap_or(f64::NAN),
             last,
-            r.status.label()
+            csv_field(&r.status.label())
         );
     }
     let path = dir.join("long_fit.csv");

@@ -30,6 +30,9 @@ use crate::stepper::Status;
 pub const METHODS: [&str; 2] = ["logh:kahan-li8", "adaptive:kahan-li8"];
 /// Orbits per DOP853 call.
 pub const CHUNK_ORBITS: f64 = 100.0;
+/// The most orbits of the study: 10⁵ (ten times the full study; at most
+/// 10¹¹ force evaluations per method).
+pub const MAX_ORBITS: f64 = 1e5;
 /// Energy-error windows per decade of time.
 const PER_DECADE: f64 = 20.0;
 
@@ -97,10 +100,29 @@ impl Windows<'_> {
 
 /// Run the study.
 pub fn run(settings: VariableSettings) -> Result<Vec<LongRun>> {
-    if !(settings.orbits.is_finite() && settings.orbits >= 10.0) {
+    if !(settings.orbits.is_finite() && (10.0..=MAX_ORBITS).contains(&settings.orbits)) {
         return Err(CompareError::setting(
             "orbits",
-            format!("at least 10 orbits, got {}", settings.orbits),
+            format!(
+                "between 10 and {MAX_ORBITS:e} orbits, got {}",
+                settings.orbits
+            ),
+        ));
+    }
+    if !(settings.e.is_finite() && (0.0..1.0).contains(&settings.e)) {
+        return Err(CompareError::setting(
+            "e",
+            format!("a bound Kepler orbit needs 0 ≤ e < 1, got {}", settings.e),
+        ));
+    }
+    if !(settings.evals_per_orbit.is_finite() && (100.0..=1e6).contains(&settings.evals_per_orbit))
+    {
+        return Err(CompareError::setting(
+            "evals_per_orbit",
+            format!(
+                "between 100 and 10⁶ force evaluations per orbit, got {}",
+                settings.evals_per_orbit
+            ),
         ));
     }
     let sys = Kepler { e: settings.e };
@@ -118,7 +140,8 @@ pub fn run(settings: VariableSettings) -> Result<Vec<LongRun>> {
         for _ in 0..3 {
             let n = (calib.t_end / h).round() as usize;
             let mut z = calib.z0.clone();
-            let out = f.stepper.observed(
+            let out = crate::stepper::observed_caught(
+                &*f.stepper,
                 &sys,
                 &mut z,
                 calib.t_end / n as f64,
@@ -143,14 +166,20 @@ pub fn run(settings: VariableSettings) -> Result<Vec<LongRun>> {
             samples: Vec::new(),
             step: 0,
         };
-        let out = f
-            .stepper
-            .observed(&sys, &mut z, t_end / n as f64, n, true, &mut |k, t, z| {
+        let out = crate::stepper::observed_caught(
+            &*f.stepper,
+            &sys,
+            &mut z,
+            t_end / n as f64,
+            n,
+            true,
+            &mut |k, t, z| {
                 if k > 0 {
                     w.see(t, long.energy_error(z));
                 }
                 true
-            });
+            },
+        );
         let steps = out.steps.unwrap_or(n as u64);
         runs.push(LongRun {
             problem: long.name.clone(),

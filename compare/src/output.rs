@@ -10,6 +10,19 @@ use crate::plot::{self, Plot, Series};
 use crate::problem::Family;
 use crate::sweep::{COLUMNS, Row};
 
+/// One CSV field as RFC 4180 writes it: as it is, or — when it holds a
+/// comma, a double quote, a CR or an LF — wrapped in double quotes with its
+/// quotes doubled. Every CSV file of the workspace writes its text fields
+/// through this (names come from user files and may hold anything), and
+/// [`read_runs`] reads them back.
+pub fn csv_field(s: &str) -> std::borrow::Cow<'_, str> {
+    if s.contains([',', '"', '\r', '\n']) {
+        format!("\"{}\"", s.replace('"', "\"\"")).into()
+    } else {
+        s.into()
+    }
+}
+
 /// `runs.csv`: the [`COLUMNS`], and `interpreted` after them when a table
 /// file ran (the rows of built-in and generated schemes keep the documented
 /// columns exactly).
@@ -40,7 +53,7 @@ pub fn write_csv_with(
         s.push_str(&r.csv());
         for v in values(i) {
             s.push(',');
-            s.push_str(&v);
+            s.push_str(&csv_field(&v));
         }
         if interpreted {
             s.push(',');
@@ -212,37 +225,71 @@ pub fn not_bracketed(rows: &[Row], target: f64) -> Vec<String> {
         .collect()
 }
 
-/// Split one CSV line, honouring double quotes.
-fn csv_fields(line: &str) -> Vec<String> {
-    let mut out = vec![String::new()];
+/// The records of a CSV text as RFC 4180 writes them: fields separated by
+/// commas, a field in double quotes may hold commas, doubled quotes and line
+/// breaks; CRLF or LF ends a record, empty lines are skipped. Each record
+/// with the line it starts on (from 1); an unterminated quote is an error
+/// naming that line.
+fn csv_records(text: &str) -> std::result::Result<Vec<(usize, Vec<String>)>, String> {
+    let mut out = Vec::new();
+    let mut fields = vec![String::new()];
     let mut quoted = false;
-    let mut chars = line.chars().peekable();
+    let mut line = 1;
+    let mut start = 1;
+    let mut chars = text.chars().peekable();
+    let mut end_record = |fields: &mut Vec<String>, start: usize| {
+        let record = std::mem::replace(fields, vec![String::new()]);
+        if !(record.len() == 1 && record[0].is_empty()) {
+            out.push((start, record));
+        }
+    };
     while let Some(c) = chars.next() {
-        let last = out.last_mut().expect("at least one field");
+        let last = fields.last_mut().expect("at least one field");
         match c {
             '"' if quoted && chars.peek() == Some(&'"') => {
                 chars.next();
                 last.push('"');
             }
             '"' => quoted = !quoted,
-            ',' if !quoted => out.push(String::new()),
-            c => last.push(c),
+            ',' if !quoted => fields.push(String::new()),
+            '\r' if !quoted && chars.peek() == Some(&'\n') => {}
+            '\n' if !quoted => {
+                end_record(&mut fields, start);
+                line += 1;
+                start = line;
+            }
+            c => {
+                if c == '\n' {
+                    line += 1;
+                }
+                last.push(c);
+            }
         }
     }
-    out
+    if quoted {
+        return Err(format!("line {start}: a quoted field is not closed"));
+    }
+    end_record(&mut fields, start);
+    Ok(out)
 }
 
 /// The rows of a `runs.csv` written by `symlab compare` (columns found by
-/// name; `interpreted` optional), e.g. to compute [`time_to_error`] again
-/// for a report. Read with a size limit of 256 MiB.
+/// name; `interpreted` optional; fields quoted as RFC 4180 says), e.g. to
+/// compute [`time_to_error`] again for a report. Read with a size limit of
+/// 256 MiB. A row whose numbers cannot have come from a run is refused,
+/// naming its line and column: a negative or non-finite `h`, `error`,
+/// `energy_error` or `time_s` in a row whose status is `ok` (a failed row
+/// has NaN there, as documented), a negative number anywhere, a `tol` that
+/// is neither NaN nor positive.
 pub fn read_runs(path: &Path) -> Result<Vec<Row>> {
     let err = |why: String| CompareError::Csv {
         path: path.to_path_buf(),
         why,
     };
     let text = crate::interpreted::read_limited(path, 256 << 20).map_err(err)?;
-    let mut lines = text.lines();
-    let header = csv_fields(lines.next().ok_or_else(|| err("empty file".into()))?);
+    let records = csv_records(&text).map_err(err)?;
+    let mut records = records.into_iter();
+    let (_, header) = records.next().ok_or_else(|| err("empty file".into()))?;
     let col = |name: &str| header.iter().position(|h| h == name);
     let idx: Vec<usize> = COLUMNS
         .iter()
@@ -250,31 +297,35 @@ pub fn read_runs(path: &Path) -> Result<Vec<Row>> {
         .collect::<Result<_>>()?;
     let interpreted_col = col("interpreted");
     let mut rows = Vec::new();
-    for (k, line) in lines.enumerate() {
-        let f = csv_fields(line);
+    for (line, f) in records {
         let at = |i: usize| -> Result<&str> {
             f.get(idx[i])
                 .map(String::as_str)
-                .ok_or_else(|| err(format!("line {} is short", k + 2)))
+                .ok_or_else(|| err(format!("line {line} is short: no column '{}'", COLUMNS[i])))
         };
         let num = |i: usize| -> Result<f64> {
             let v = at(i)?;
-            v.parse::<f64>().map_err(|_| {
+            let x = v.parse::<f64>().map_err(|_| {
                 err(format!(
-                    "line {}: '{v}' is not a number ({})",
-                    k + 2,
+                    "line {line}: '{v}' is not a number (column {})",
                     COLUMNS[i]
                 ))
-            })
+            })?;
+            if x < 0.0 {
+                return Err(err(format!(
+                    "line {line}: column {} is {v}; it is never negative",
+                    COLUMNS[i]
+                )));
+            }
+            Ok(x)
         };
         let int = |i: usize| -> Result<u64> {
             let v = num(i)?;
-            if v.is_finite() && v >= 0.0 {
+            if v.is_finite() && v >= 0.0 && v.fract() == 0.0 && v < 2f64.powi(63) {
                 Ok(v as u64)
             } else {
                 Err(err(format!(
-                    "line {}: '{v}' is not a count ({})",
-                    k + 2,
+                    "line {line}: '{v}' is not a count (column {})",
                     COLUMNS[i]
                 )))
             }
@@ -289,7 +340,7 @@ pub fn read_runs(path: &Path) -> Result<Vec<Row>> {
                 _ => Family::Splitting,
             }
         };
-        rows.push(Row {
+        let row = Row {
             problem: at(0)?.to_string(),
             method,
             family,
@@ -309,7 +360,30 @@ pub fn read_runs(path: &Path) -> Result<Vec<Row>> {
             interpreted: interpreted_col
                 .and_then(|i| f.get(i))
                 .is_some_and(|v| v == "true"),
-        });
+        };
+        if row.tol == 0.0 || row.tol.is_infinite() {
+            return Err(err(format!(
+                "line {line}: column tol is {}; it is NaN (fixed-step methods) or a finite number > 0",
+                row.tol
+            )));
+        }
+        if row.ok() {
+            for (name, x) in [
+                ("h", row.h),
+                ("error", row.error),
+                ("energy_error", row.energy_error),
+                ("time_s", row.time_s),
+            ] {
+                let positive = name == "h" || name == "time_s";
+                if !x.is_finite() || (positive && x == 0.0) {
+                    return Err(err(format!(
+                        "line {line}: column {name} is {x} in a row whose status is ok; it must be a finite number {}",
+                        if positive { "> 0" } else { ">= 0" }
+                    )));
+                }
+            }
+        }
+        rows.push(row);
     }
     Ok(rows)
 }
@@ -540,6 +614,89 @@ mod tests {
         assert_eq!(back[1].family, Family::Peer);
         assert_eq!(back[1].time_s, 2e-3);
         assert!(back[0].tol.is_nan());
+    }
+
+    #[test]
+    fn names_with_commas_quotes_and_newlines_round_trip() {
+        let mut rows = vec![
+            row("my,scheme", 0.1, 1e-6, 1e-3, 10),
+            row("say \"hi\"", 0.2, 1e-7, 2e-3, 20),
+            row("two\nlines\r\n", 0.3, 1e-8, 3e-3, 30),
+        ];
+        rows[0].problem = "a, \"b\"\nc".into();
+        rows[1].status = "panicked at step 3: called `Option::unwrap()`, \"x\"\nnext".into();
+        let path = std::env::temp_dir().join(format!("symlab-quoted-{}.csv", std::process::id()));
+        write_csv(&path, &rows).unwrap();
+        let text = std::fs::read_to_string(&path).unwrap();
+        assert!(text.contains("\"my,scheme\""), "{text}");
+        assert!(text.contains("\"say \"\"hi\"\"\""), "{text}");
+        let back = read_runs(&path).unwrap();
+        std::fs::remove_file(&path).unwrap();
+        assert_eq!(back.len(), 3);
+        for (a, b) in rows.iter().zip(&back) {
+            assert_eq!(a.problem, b.problem);
+            assert_eq!(a.method, b.method);
+            assert_eq!(a.status, b.status);
+            assert_eq!(a.error, b.error);
+        }
+        assert_eq!(csv_field("plain"), "plain");
+        assert_eq!(csv_field("a,b"), "\"a,b\"");
+    }
+
+    #[test]
+    fn runs_that_cannot_be_are_refused_naming_line_and_column() {
+        let good = row("rk4", 0.1, 1e-6, 1e-3, 10);
+        let dir = std::env::temp_dir();
+        let cases: Vec<(Box<dyn Fn(&mut Row)>, &str)> = vec![
+            (
+                Box::new(|r| r.time_s = -1e-3),
+                "line 3: column time_s is -1e-3",
+            ),
+            (
+                Box::new(|r| r.error = -1e-6),
+                "line 3: column error is -1e-6",
+            ),
+            (
+                Box::new(|r| r.error = f64::INFINITY),
+                "line 3: column error is inf",
+            ),
+            (
+                Box::new(|r| r.error = f64::NAN),
+                "line 3: column error is NaN",
+            ),
+            (
+                Box::new(|r| r.time_s = f64::NAN),
+                "line 3: column time_s is NaN",
+            ),
+            (Box::new(|r| r.h = 0.0), "line 3: column h is 0"),
+            (
+                Box::new(|r| r.energy_error = -1.0),
+                "line 3: column energy_error is -1e0",
+            ),
+            (Box::new(|r| r.tol = 0.0), "line 3: column tol is 0"),
+        ];
+        for (i, (edit, want)) in cases.into_iter().enumerate() {
+            let mut bad = good.clone();
+            edit(&mut bad);
+            let path = dir.join(format!("symlab-bad-{}-{i}.csv", std::process::id()));
+            write_csv(&path, &[good.clone(), bad]).unwrap();
+            let e = read_runs(&path).unwrap_err().to_string();
+            std::fs::remove_file(&path).unwrap();
+            assert!(e.contains(want), "{e} (want {want})");
+        }
+        // A failed row carries NaN: accepted.
+        let mut failed = good.clone();
+        failed.status = "diverged at step 4".into();
+        failed.error = f64::NAN;
+        failed.time_s = f64::NAN;
+        let path = dir.join(format!("symlab-failed-{}.csv", std::process::id()));
+        write_csv(&path, &[good, failed]).unwrap();
+        assert_eq!(read_runs(&path).unwrap().len(), 2);
+        // An unterminated quote names its line.
+        std::fs::write(&path, format!("{}\n\"rk4,oops\n", COLUMNS.join(","))).unwrap();
+        let e = read_runs(&path).unwrap_err().to_string();
+        std::fs::remove_file(&path).unwrap();
+        assert!(e.contains("line 2: a quoted field is not closed"), "{e}");
     }
 
     #[test]

@@ -210,6 +210,17 @@ impl<P: Problem<Kind = AsOde>> Kind<P> for AsOde {
     }
 }
 
+/// Set a problem up with a panic in its code caught: an error naming the
+/// problem's type and the panic's message.
+fn caught_setup<P>(f: impl FnOnce() -> Result<Setup<P>>) -> Result<Setup<P>> {
+    crate::guard::catch(f).unwrap_or_else(|message| {
+        Err(CompareError::problem(
+            std::any::type_name::<P>(),
+            format!("panicked while setting up (start, energy or reference): {message}"),
+        ))
+    })
+}
+
 /// A problem instance: the system, its start, the end time `T` and the
 /// reference state at `T` (empty for runs judged by the energy alone).
 #[derive(Clone, Debug)]
@@ -232,13 +243,22 @@ impl<P: Problem> Setup<P> {
     /// end state. Errors name what is wrong: a non-positive or non-finite
     /// `t_end`, a start or a reference of the wrong length or not finite, a
     /// non-finite energy.
+    ///
+    /// The problem's own code (its start, energy, reference) runs here; a
+    /// panic in it is caught and returned as an error naming the problem.
     pub fn new(sys: P, t_end: f64) -> Result<Self> {
-        let z0 = sys.start();
-        Self::from_start(sys, z0, t_end)
+        caught_setup(|| {
+            let z0 = sys.start();
+            Self::reference_from(sys, z0, t_end)
+        })
     }
 
     /// The problem from `z0` to `t_end`, with its reference end state.
     pub fn from_start(sys: P, z0: Vec<f64>, t_end: f64) -> Result<Self> {
+        caught_setup(|| Self::reference_from(sys, z0, t_end))
+    }
+
+    fn reference_from(sys: P, z0: Vec<f64>, t_end: f64) -> Result<Self> {
         let mut s = Self::energy_only_from(sys, z0, t_end)?;
         let reference = s.sys.reference(&s.z0, t_end).map_err(|why| {
             CompareError::problem(&s.name, format!("no reference solution: {why}"))
@@ -253,8 +273,10 @@ impl<P: Problem> Setup<P> {
     /// alone; a computed reference over 10⁴ time units would cost more than
     /// the runs).
     pub fn energy_only(sys: P, t_end: f64) -> Result<Self> {
-        let z0 = sys.start();
-        Self::energy_only_from(sys, z0, t_end)
+        caught_setup(|| {
+            let z0 = sys.start();
+            Self::energy_only_from(sys, z0, t_end)
+        })
     }
 
     fn energy_only_from(sys: P, z0: Vec<f64>, t_end: f64) -> Result<Self> {

@@ -30,6 +30,13 @@ pub enum Status {
     Stopped {
         step: usize,
     },
+    /// User code (a `Step` or a `Problem`) panicked during this step (0:
+    /// before the first step, e.g. building the workspace); the panic was
+    /// caught ([`observed_caught`]) and the experiment went on.
+    Panicked {
+        step: usize,
+        message: String,
+    },
 }
 
 impl Status {
@@ -45,6 +52,10 @@ impl Status {
                 format!("solver failed at step {step}: {reason}")
             }
             Status::Stopped { step } => format!("stopped at step {step}"),
+            Status::Panicked { step: 0, message } => {
+                format!("panicked before the first step: {message}")
+            }
+            Status::Panicked { step, message } => format!("panicked at step {step}: {message}"),
         }
     }
 }
@@ -134,6 +145,51 @@ pub trait Stepper<P>: Send + Sync {
     /// The same run on the bare system, no observer, default settings: what
     /// is timed. `false` if it failed or ended non-finite.
     fn bare(&self, sys: &P, z: &mut [f64], h: f64, n: usize) -> bool;
+}
+
+/// [`Stepper::observed`] with a panic of the method or the problem caught:
+/// the run then ends with [`Status::Panicked`] naming the step (the one
+/// after the last observed) and the panic's message, nothing is printed,
+/// and the caller goes on with the next run. Every experiment of this crate
+/// steps user code through this (and [`bare_caught`]).
+pub fn observed_caught<P>(
+    stepper: &dyn Stepper<P>,
+    sys: &P,
+    z: &mut [f64],
+    h: f64,
+    n: usize,
+    compensated: bool,
+    observe: &mut dyn FnMut(usize, f64, &[f64]) -> bool,
+) -> Outcome {
+    let mut next = 0;
+    let caught = crate::guard::catch(|| {
+        stepper.observed(sys, z, h, n, compensated, &mut |k, t, z| {
+            next = k + 1;
+            observe(k, t, z)
+        })
+    });
+    caught.unwrap_or_else(|message| Outcome {
+        status: Status::Panicked {
+            step: next,
+            message,
+        },
+        evals: 0,
+        newton_iterations: 0,
+        fixed_point_iterations: 0,
+        factorizations: 0,
+        steps: None,
+    })
+}
+
+/// [`Stepper::bare`] with a panic caught: `Err(message)`.
+pub fn bare_caught<P>(
+    stepper: &dyn Stepper<P>,
+    sys: &P,
+    z: &mut [f64],
+    h: f64,
+    n: usize,
+) -> Result<bool, String> {
+    crate::guard::catch(|| stepper.bare(sys, z, h, n))
 }
 
 /// The loop of [`integrate`](integrator_core::integrate), with the

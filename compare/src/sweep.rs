@@ -26,7 +26,7 @@
 //! | `newton_iterations` | simplified-Newton iterations of the implicit stage solver (0 for explicit methods) |
 //! | `fixed_point_iterations` | fixed-point iterations of the stage solver |
 //! | `factorizations` | LU factorisations of the stage solver |
-//! | `status` | `ok`, `diverged at step k[: why]`, or `solver failed at step k: why` |
+//! | `status` | `ok`, `diverged at step k[: why]`, `solver failed at step k: why`, or — when the scheme or the problem (user code) panicked — `panicked at step k: <message>` (`panicked before the first step: …`, `panicked in a timed run: …`; DOP853: `panicked: …`); the sweep goes on |
 //! | `interpreted` | only when a table file ran: `true` for its rows (stepped by a run-time interpreter) |
 
 use std::time::Instant;
@@ -93,16 +93,14 @@ pub const COLUMNS: &[&str] = &[
 ];
 
 impl Row {
+    /// The row as a line of `runs.csv` (no newline); text fields quoted as
+    /// RFC 4180 says ([`csv_field`](crate::output::csv_field)).
     pub fn csv(&self) -> String {
-        let status = if self.status.contains([',', '"']) {
-            format!("\"{}\"", self.status.replace('"', "\"\""))
-        } else {
-            self.status.clone()
-        };
+        use crate::output::csv_field;
         format!(
             "{},{},{},{},{:e},{:e},{},{:e},{:e},{:e},{},{},{},{},{}",
-            self.problem,
-            self.method,
+            csv_field(&self.problem),
+            csv_field(&self.method),
             self.order,
             self.symplectic,
             self.h,
@@ -115,7 +113,7 @@ impl Row {
             self.newton_iterations,
             self.fixed_point_iterations,
             self.factorizations,
-            status
+            csv_field(&self.status)
         )
     }
 }
@@ -238,7 +236,8 @@ pub fn fixed_run<P: Problem>(setup: &Setup<P>, f: &Fixed<P>, n: u64, repeats: us
     let mut z = setup.z0.clone();
     let mut energy_error: f64 = 0.0;
     // A state whose energy overflows has diverged even while it is finite.
-    let outcome = f.stepper.observed(
+    let outcome = crate::stepper::observed_caught(
+        &*f.stepper,
         &setup.sys,
         &mut z,
         h_asked,
@@ -268,19 +267,33 @@ pub fn fixed_run<P: Problem>(setup: &Setup<P>, f: &Fixed<P>, n: u64, repeats: us
         if !error.is_finite() {
             status = format!("diverged at step {n}: the error at T is not finite");
         } else {
-            let mut w = setup.z0.clone();
             let steps_asked = (setup.t_end / h_asked).round() as usize;
-            let mut fine = f.stepper.bare(&setup.sys, &mut w, h_asked, steps_asked);
+            let bare = || {
+                let mut w = setup.z0.clone();
+                crate::stepper::bare_caught(&*f.stepper, &setup.sys, &mut w, h_asked, steps_asked)
+            };
+            let mut fine = bare();
             let mut times = Vec::with_capacity(repeats);
             for _ in 0..repeats {
+                if !matches!(fine, Ok(true)) {
+                    break;
+                }
                 let mut w = setup.z0.clone();
                 let start = Instant::now();
-                fine &= f.stepper.bare(&setup.sys, &mut w, h_asked, steps_asked);
+                fine = crate::stepper::bare_caught(
+                    &*f.stepper,
+                    &setup.sys,
+                    &mut w,
+                    h_asked,
+                    steps_asked,
+                );
                 times.push(start.elapsed().as_secs_f64());
                 std::hint::black_box(&w);
             }
-            if fine {
-                time_s = median(times);
+            match fine {
+                Ok(true) => time_s = median(times),
+                Ok(false) => {}
+                Err(message) => status = format!("panicked in a timed run: {message}"),
             }
         }
     }
@@ -324,7 +337,16 @@ pub fn peer_step_limit(steps: &[u64]) -> u32 {
 /// `max_steps` bounds DOP853's accepted steps (see [`peer_step_limit`]); a
 /// run that needs more is a row whose status says so.
 pub fn peer_run<P: Problem>(setup: &Setup<P>, tol: f64, repeats: usize, max_steps: u32) -> Row {
-    let first = peer::dop853(setup, tol, max_steps);
+    let first = match crate::guard::catch(|| peer::dop853(setup, tol, max_steps)) {
+        Ok(first) => first,
+        Err(message) => peer::PeerOutcome {
+            end: Err(format!("panicked: {message}")),
+            energy_error: f64::NAN,
+            evals: 0,
+            accepted: 0,
+            seconds: f64::NAN,
+        },
+    };
     let mut row = Row {
         problem: setup.name.clone(),
         method: "dop853".into(),
@@ -362,11 +384,18 @@ pub fn peer_run<P: Problem>(setup: &Setup<P>, tol: f64, repeats: usize, max_step
         Ok(z) => {
             row.error = setup.error(z);
             row.status = "ok".into();
-            let times: Vec<f64> = (0..repeats)
-                .map(|_| peer::dop853(setup, tol, max_steps).seconds)
+            let times: std::result::Result<Vec<f64>, String> = (0..repeats)
+                .map(|_| crate::guard::catch(|| peer::dop853(setup, tol, max_steps).seconds))
                 .collect();
-            row.time_s = median(times);
+            match times {
+                Ok(times) => row.time_s = median(times),
+                Err(message) => {
+                    row.error = f64::NAN;
+                    row.status = format!("panicked in a timed run: {message}");
+                }
+            }
         }
+        Err(e) if e.starts_with("panicked: ") => row.status = e.clone(),
         Err(e) => row.status = format!("solver failed: {e}"),
     }
     row

@@ -108,6 +108,13 @@ impl SweepSettings {
     }
 }
 
+/// The most steps a sweep may take in all (every fixed-step method at every
+/// step count, observed, warmed up and timed): 10¹⁰, tens of minutes of
+/// explicit steps on the built-in problems in a release build. A sweep
+/// beyond it is refused before it starts rather than run for hours; the
+/// default sweeps take at most a few times 10⁷.
+pub const MAX_SWEEP_STEPS: f64 = 1e10;
+
 /// A finished work–precision sweep.
 pub struct WorkPrecision {
     /// The `problem` column and a line for titles.
@@ -147,6 +154,22 @@ pub fn work_precision<P: Problem>(
         ));
     }
     let steps = settings.step_counts(setup.t_end);
+    let fixed = methods
+        .iter()
+        .filter(|m| matches!(m, Method::Fixed(_)))
+        .count();
+    let per_method: f64 = steps.iter().map(|&n| n as f64).sum();
+    // An observed run, a warm-up and the timed runs per step count.
+    let runs = (2 + settings.repeats) as f64;
+    let total = fixed as f64 * per_method * runs;
+    if total > MAX_SWEEP_STEPS {
+        return Err(CompareError::setting(
+            "h_min",
+            format!(
+                "the sweep asks for {total:.1e} steps in all ({fixed} fixed-step methods × {per_method:.1e} steps over the step sizes × {runs} runs each: observed, warm-up, timed); at most {MAX_SWEEP_STEPS:.0e} — raise h_min (--h-min), or lower points, repeats or the number of methods"
+            ),
+        ));
+    }
     let rows = sweep::sweep(
         setup,
         methods,

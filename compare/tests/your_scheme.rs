@@ -416,3 +416,205 @@ fn a_scheme_that_fails_at_step_k_is_a_row_that_says_so() {
             .all(|r| r.error.is_nan() && r.time_s.is_nan())
     );
 }
+
+/// Explicit Euler that panics from t ≥ 0.3 on: user code with a bug.
+#[derive(Clone, Copy)]
+struct Panics;
+
+impl<S: integrator_core::OdeSystem + ?Sized> Step<S> for Panics {
+    type Workspace = Vec<f64>;
+    fn workspace(&self, sys: &S) -> Vec<f64> {
+        vec![0.0; sys.dim()]
+    }
+    fn step(
+        &self,
+        sys: &S,
+        t: f64,
+        h: f64,
+        z: &mut [f64],
+        ws: &mut Vec<f64>,
+    ) -> Result<(), SolveError> {
+        if t >= 0.3 {
+            let v: Vec<f64> = vec![];
+            let _ = v[7]; // index out of bounds
+        }
+        sys.rhs(t, z, ws);
+        for (zi, d) in z.iter_mut().zip(ws.iter()) {
+            *zi += h * d;
+        }
+        Ok(())
+    }
+}
+
+/// The quartic oscillator whose force panics once |q| < 0.9: a problem
+/// with a bug, found only after a few steps.
+#[derive(Clone, Debug)]
+struct PanickyQuartic;
+
+impl Separable for PanickyQuartic {
+    fn dof(&self) -> usize {
+        1
+    }
+    fn kinetic(&self, p: &[f64]) -> f64 {
+        0.5 * p[0] * p[0]
+    }
+    fn potential(&self, q: &[f64]) -> f64 {
+        0.25 * q[0].powi(4)
+    }
+    fn velocity(&self, p: &[f64], v: &mut [f64]) {
+        v[0] = p[0];
+    }
+    fn force(&self, q: &[f64], f: &mut [f64]) {
+        assert!(
+            q[0].abs() >= 0.9,
+            "the force is not defined at q = {}",
+            q[0]
+        );
+        f[0] = -q[0].powi(3);
+    }
+}
+
+impl Problem for PanickyQuartic {
+    type Kind = AsSeparable;
+    fn name(&self) -> String {
+        "panicky-quartic".into()
+    }
+    fn energy(&self, z: &[f64]) -> f64 {
+        integrator_core::energy(self, z)
+    }
+    fn start(&self) -> Vec<f64> {
+        vec![1.0, 0.0]
+    }
+    fn reference(&self, _z0: &[f64], _t: f64) -> Result<Vec<f64>, String> {
+        Ok(vec![0.0, -0.5])
+    }
+    fn defaults(&self) -> Defaults {
+        Quartic.defaults()
+    }
+}
+
+#[test]
+fn a_scheme_that_panics_is_a_failed_row_and_the_sweep_goes_on() {
+    let setup = Setup::new(Quartic, 1.0).unwrap();
+    let methods = vec![
+        Method::stepper(
+            "panics",
+            1,
+            false,
+            compare::Family::ExplicitRk,
+            Box::new(compare::Lib(Panics)),
+        ),
+        Method::scheme("suzuki4", Suzuki4),
+    ];
+    let settings = SweepSettings {
+        h_min: 0.05,
+        h_max: 0.1,
+        points: 2,
+        tolerances: vec![],
+        repeats: 1,
+        target: 1e-6,
+    };
+    let result = work_precision(&setup, &methods, &settings).unwrap();
+    assert_eq!(result.rows.len(), 4, "{:?}", result.rows);
+    let panics: Vec<_> = result
+        .rows
+        .iter()
+        .filter(|r| r.method == "panics")
+        .collect();
+    assert_eq!(panics.len(), 2);
+    // h = 0.1: the step from t = 0.3 is the fourth; h = 0.05: the seventh.
+    let want = ["panicked at step 4: ", "panicked at step 7: "];
+    for (r, want) in panics.iter().zip(want) {
+        assert!(!r.ok());
+        assert!(
+            r.status.starts_with(want) && r.status.contains("index out of bounds"),
+            "{}",
+            r.status
+        );
+        assert!(r.error.is_nan() && r.time_s.is_nan());
+    }
+    let good: Vec<_> = result
+        .rows
+        .iter()
+        .filter(|r| r.method == "suzuki4")
+        .collect();
+    assert_eq!(good.len(), 2);
+    assert!(
+        good.iter().all(|r| r.ok() && r.error.is_finite()),
+        "{good:?}"
+    );
+    // The row survives the CSV round trip, the message with its commas.
+    let dir = temp_dir("panics");
+    result.write(&dir).unwrap();
+    let back = compare::output::read_runs(&dir.join("runs.csv")).unwrap();
+    assert_eq!(back[0].status, panics[0].status);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_problem_that_panics_is_a_failed_row_for_every_method() {
+    let setup = Setup::new(PanickyQuartic, 1.0).unwrap();
+    let methods = vec![
+        Method::scheme("suzuki4", Suzuki4),
+        Method::by_id("rk4", &PanickyQuartic).unwrap(),
+    ];
+    let settings = SweepSettings {
+        h_min: 0.1,
+        h_max: 0.1,
+        points: 1,
+        tolerances: vec![],
+        repeats: 1,
+        target: 1e-6,
+    };
+    let result = work_precision(&setup, &methods, &settings).unwrap();
+    assert_eq!(result.rows.len(), 2);
+    for r in &result.rows {
+        assert!(
+            r.status.starts_with("panicked at step ")
+                && r.status.contains("the force is not defined at q = "),
+            "{}: {}",
+            r.method,
+            r.status
+        );
+    }
+    // A problem whose start panics is an error naming the panic, not a crash.
+    #[derive(Clone, Debug)]
+    struct NoStart;
+    impl Separable for NoStart {
+        fn dof(&self) -> usize {
+            1
+        }
+        fn kinetic(&self, p: &[f64]) -> f64 {
+            0.5 * p[0] * p[0]
+        }
+        fn potential(&self, q: &[f64]) -> f64 {
+            0.5 * q[0] * q[0]
+        }
+        fn velocity(&self, p: &[f64], v: &mut [f64]) {
+            v[0] = p[0];
+        }
+        fn force(&self, q: &[f64], f: &mut [f64]) {
+            f[0] = -q[0];
+        }
+    }
+    impl Problem for NoStart {
+        type Kind = AsSeparable;
+        fn name(&self) -> String {
+            "no-start".into()
+        }
+        fn energy(&self, z: &[f64]) -> f64 {
+            integrator_core::energy(self, z)
+        }
+        fn start(&self) -> Vec<f64> {
+            unimplemented!("no start yet")
+        }
+        fn reference(&self, z0: &[f64], _t: f64) -> Result<Vec<f64>, String> {
+            Ok(z0.to_vec())
+        }
+        fn defaults(&self) -> Defaults {
+            Quartic.defaults()
+        }
+    }
+    let e = Setup::new(NoStart, 1.0).unwrap_err().to_string();
+    assert!(e.contains("panicked") && e.contains("no start yet"), "{e}");
+}

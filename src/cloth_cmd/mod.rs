@@ -73,14 +73,17 @@ pub struct ClothArgs {
     pub stability: bool,
     /// Of a run of the midpoint family (midpoint, paper-dirk2, paper-dirk4),
     /// avf or discrete-gradient: the minimisation solver's convergence
-    /// tolerance, ‖∇Φ‖_∞ relative to the force scale (default 1e-12). With
+    /// tolerance, ‖∇Φ‖_∞ relative to the force scale (default 1e-12; 1e-15
+    /// to 1). With
     /// --stability: the largest relative energy error |H − H₀|/E_ref a
     /// stable run may show (default 0.1).
     #[arg(long, value_name = "X", allow_hyphen_values = true)]
     pub tolerance: Option<f64>,
     /// The solver of the midpoint family's steps, each an energy
     /// minimisation: newton (exact or PSD-projected Hessian, line search, sparse
-    /// Cholesky; the default) or local-global (Liu et al. 2013).
+    /// Cholesky; the default) or local-global (Liu et al. 2013; no colliders).
+    /// Also used by --stability's trials of those methods; refused when no
+    /// method of the run is a minimisation.
     #[arg(long, value_name = "NAME", allow_hyphen_values = true)]
     pub solver: Option<String>,
     /// With --stability: simulated seconds per trial run (1e-6 to 1e6).
@@ -133,6 +136,11 @@ fn count_parser(min: usize) -> impl Fn(&str) -> Result<usize, String> + Clone {
 /// round-off, which no step size can beat; the search would only halve
 /// down to its floor.
 const MIN_TOLERANCE: f64 = 1e-12;
+
+/// The range of a run's `--tolerance` (the minimisation solver's ‖∇Φ‖_∞
+/// relative to the force scale): the round-off of the force scale is about
+/// 1e-16 of it, and a tolerance of the whole scale accepts any guess.
+const RUN_TOLERANCE_RANGE: (f64, f64) = (1e-15, 1.0);
 
 /// Shortest and longest `--duration` of a stability trial (s). Below, the
 /// trial's step floor `duration/400000` approaches the smallest normal
@@ -192,8 +200,20 @@ pub fn run(args: &ClothArgs) -> Result<ExitCode> {
             }
             None => stability::default_methods(),
         };
+        for m in &methods {
+            check_applicable(m, &format!("--methods {m}"), &scene, &file, args)?;
+        }
+        check_solver_applies(args, methods.iter().map(String::as_str))?;
         let dir = output_dir(args, &scene)?;
-        return stability::run(&scene, &file, &methods, tolerance, args.duration, &dir);
+        return stability::run(
+            &scene,
+            &file,
+            &methods,
+            tolerance,
+            args.duration,
+            &dir,
+            settings,
+        );
     }
     let method = match &args.method {
         Some(m) => {
@@ -202,6 +222,12 @@ pub fn run(args: &ClothArgs) -> Result<ExitCode> {
         }
         None => scene.simulation.method.clone(),
     };
+    let from = match &args.method {
+        Some(m) => format!("--method {m}"),
+        None => format!("{file}: simulation.method {method}"),
+    };
+    check_applicable(&method, &from, &scene, &file, args)?;
+    check_solver_applies(args, [method.as_str()].into_iter())?;
     let (opts, note) = run_options(&scene, args, &file)?;
     let renders = render_frames(args.render.as_deref(), opts.frames)?;
     // Build the model (proportional to the springs), refusing a scene
@@ -239,6 +265,58 @@ pub fn run(args: &ClothArgs) -> Result<ExitCode> {
         },
         note,
     )
+}
+
+/// Refuse, before anything runs, a method that cannot step this scene with
+/// this solver ([`minimise::applicable`]: the energy schemes and the
+/// local/global solver handle no colliders; the energy schemes are solved
+/// with Newton only). A run and `--stability` refuse with the same message;
+/// `from` names where the method came from.
+fn check_applicable(
+    method: &str,
+    from: &str,
+    scene: &Scene,
+    file: &str,
+    args: &ClothArgs,
+) -> Result<()> {
+    let solver = solver_settings(args)?.solver;
+    let colliders = !scene.colliders.is_empty();
+    minimise::applicable(method, colliders, solver).map_err(|why| {
+        if let Some(why) = why.strip_prefix("solver: ") {
+            anyhow!(
+                "--solver {}: {why}{}",
+                solver.name(),
+                if colliders {
+                    format!(" ({file}: colliders)")
+                } else {
+                    String::new()
+                }
+            )
+        } else {
+            let why = why.strip_prefix("method: ").unwrap_or(&why);
+            anyhow!("{from}: {why} ({file}: colliders)")
+        }
+    })
+}
+
+/// `--solver` is the minimisation solver's: refused when none of the
+/// methods is solved by minimisation, rather than silently ignored.
+fn check_solver_applies<'a>(
+    args: &ClothArgs,
+    mut methods: impl Iterator<Item = &'a str> + Clone,
+) -> Result<()> {
+    let Some(solver) = &args.solver else {
+        return Ok(());
+    };
+    if !methods.clone().any(minimise::is_minimisation) {
+        let list: Vec<&str> = methods.by_ref().collect();
+        bail!(
+            "--solver {solver}: the minimisation solver steps the midpoint family (midpoint, paper-dirk2, paper-dirk4), avf and discrete-gradient; {} {} none of them",
+            list.join(", "),
+            if list.len() == 1 { "is" } else { "are" }
+        );
+    }
+    Ok(())
 }
 
 /// A scene error as the user's file names it: the model names the scene by
@@ -538,6 +616,12 @@ fn solver_settings(args: &ClothArgs) -> Result<minimise::Settings> {
     if let (false, Some(t)) = (args.stability, args.tolerance) {
         if !(t > 0.0 && t.is_finite()) {
             bail!("--tolerance: must be a positive finite number (got {t})");
+        }
+        let (lo, hi) = RUN_TOLERANCE_RANGE;
+        if !(lo..=hi).contains(&t) {
+            bail!(
+                "--tolerance: must be between {lo:e} and {hi} (got {t:e}): below, the residual's round-off alone exceeds it and no solve converges; above, a step is accepted without a solve"
+            );
         }
         settings.tolerance = t;
     }

@@ -16,6 +16,7 @@
 //! duration at the step found is then measured again alone, one method
 //! after the other.
 
+use compare::output::csv_field;
 use std::fmt::Write as _;
 use std::fs;
 use std::path::Path;
@@ -114,8 +115,8 @@ fn trial(
     method: &str,
     h: f64,
     duration: f64,
-    tol: f64,
-    e_ref: f64,
+    (tol, e_ref): (f64, f64),
+    settings: cloth::minimise::Settings,
 ) -> (Outcome, f64) {
     let mut sim = match Simulation::new(scene) {
         Ok(s) => s,
@@ -125,7 +126,6 @@ fn trial(
     let mut h0 = None;
     let mut worst: f64 = 0.0;
     let mut over = (0.0, 0.0);
-    let settings = cloth::minimise::Settings::default();
     let result = cloth::minimise::run_any(&mut sim, method, &opts, settings, |frame| {
         let e = frame.stats.energy.total();
         let e0 = *h0.get_or_insert(e);
@@ -173,14 +173,21 @@ struct Found {
     seconds: Option<f64>,
 }
 
-fn search(scene: &Scene, method: &str, h_lin: f64, duration: f64, tol: f64, e_ref: f64) -> Found {
+fn search(
+    scene: &Scene,
+    method: &str,
+    h_lin: f64,
+    duration: f64,
+    (tol, e_ref): (f64, f64),
+    settings: cloth::minimise::Settings,
+) -> Found {
     let implicit = cloth_implicit::is_implicit(method) || cloth::minimise::is_minimisation(method);
     let floor = duration / MAX_STEPS[implicit as usize];
     let cap = duration / MIN_STEPS;
     let mut trials = 0;
     let mut test = |h: f64| {
         trials += 1;
-        trial(scene, method, h, duration, tol, e_ref).0
+        trial(scene, method, h, duration, (tol, e_ref), settings).0
     };
     let start = h_lin.clamp(floor, cap);
     let first = test(start);
@@ -282,6 +289,7 @@ pub fn run(
     tol: f64,
     duration: f64,
     dir: &Path,
+    settings: cloth::minimise::Settings,
 ) -> Result<ExitCode> {
     let sim = Simulation::new(scene).map_err(|e| match e {
         cloth::SceneError::Field { field, message, .. } => anyhow!("{file}: {field}: {message}"),
@@ -295,13 +303,13 @@ pub fn run(
     let clock = Instant::now();
     let mut found: Vec<Found> = methods
         .par_iter()
-        .map(|m| search(scene, m, h_lin, duration, tol, e_ref))
+        .map(|m| search(scene, m, h_lin, duration, (tol, e_ref), settings))
         .collect();
     let search_seconds = clock.elapsed().as_secs_f64();
     // Time each method alone at its step.
     for f in &mut found {
         if let Some(h) = f.h {
-            let (o, secs) = trial(scene, &f.method, h, duration, tol, e_ref);
+            let (o, secs) = trial(scene, &f.method, h, duration, (tol, e_ref), settings);
             if o.stable() {
                 let opts = options(h, duration);
                 f.seconds = Some(secs / (opts.frames as f64 * opts.substeps as f64 * h));
@@ -386,8 +394,8 @@ pub fn run(
         );
         let _ = writeln!(
             csv,
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},\"{}\",\"{}\"",
-            f.method,
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            csv_field(&f.method),
             explicit,
             symp,
             order,
@@ -415,8 +423,8 @@ pub fn run(
                 .map_or(String::new(), |h| format!("{h:e}")),
             tol,
             duration,
-            name.replace('"', "'"),
-            f.limit.replace('"', "'"),
+            csv_field(name),
+            csv_field(&f.limit),
         );
     }
     let _ = writeln!(out);

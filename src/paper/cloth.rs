@@ -21,6 +21,7 @@
 //! resolutions of the same cloth shows what the paper's 16.7 ms step can
 //! and cannot have meant.
 
+use compare::output::csv_field;
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -364,8 +365,8 @@ pub fn write_files(exp: &ClothExperiment, dir: &Path) -> Result<Vec<String>> {
         let ms = ms_per_frame(r);
         let _ = writeln!(
             csv,
-            "{},{},{:e},{:.4},{},{},{:e},{:e},{:e},{:e},{},\"{}\"",
-            r.id,
+            "{},{},{:e},{:.4},{},{},{:e},{:e},{:e},{:e},{},{}",
+            csv_field(r.id),
             r.substeps,
             r.h,
             r.h_omega,
@@ -377,7 +378,7 @@ pub fn write_files(exp: &ClothExperiment, dir: &Path) -> Result<Vec<String>> {
             ms,
             r.newton_per_step
                 .map_or("NaN".into(), |n| format!("{n:.2}")),
-            r.stopped.clone().unwrap_or_default().replace('"', "'")
+            csv_field(r.stopped.as_deref().unwrap_or_default())
         );
     }
     let path = dir.join("cloth_runs.csv");

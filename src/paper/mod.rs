@@ -16,7 +16,7 @@ pub mod report;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use anyhow::{Context, Result};
+use anyhow::{Context, Result, bail};
 
 use oscillator::{Config, Experiment, errors_csv, h_name, oscillator_experiment, series_csv};
 
@@ -41,7 +41,8 @@ pub struct PaperArgs {
     /// The step sizes, comma-separated (the paper: 0.01, 0.05 and 0.1).
     #[arg(long = "h", value_name = "H,...", value_delimiter = ',', default_values_t = [0.01, 0.05, 0.1], allow_hyphen_values = true)]
     pub step_sizes: Vec<f64>,
-    /// Frames of the cloth comparison (figure 5), at 60 Hz; 0 skips it.
+    /// Frames of the cloth comparison (figure 5), at 60 Hz; 0 skips it; at
+    /// most 10⁶.
     #[arg(long, value_name = "N", default_value_t = cloth::DEFAULT_FRAMES, allow_hyphen_values = true)]
     pub cloth_frames: usize,
 }
@@ -89,6 +90,13 @@ pub fn write_oscillator(exp: &Experiment, dir: &Path) -> Result<()> {
 pub fn run(args: &PaperArgs) -> Result<ExitCode> {
     let config = args.config();
     config.validate()?;
+    if args.cloth_frames > ::cloth::MAX_FRAMES {
+        bail!(
+            "--cloth-frames must be at most {} (got {}): every frame's statistics stay in memory, and each of the comparison's runs simulates them all",
+            ::cloth::MAX_FRAMES,
+            args.cloth_frames
+        );
+    }
     let dir = &args.out;
     std::fs::create_dir_all(dir)
         .with_context(|| format!("--out {}: cannot create the directory", dir.display()))?;

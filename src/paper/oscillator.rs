@@ -521,8 +521,8 @@ pub fn errors_csv(exp: &Experiment) -> String {
         s.push_str(&format!(
             "{},{},{},{},{},{},{},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{},{}\n",
             r.h,
-            r.method.id(),
-            r.method.label(),
+            compare::output::csv_field(r.method.id()),
+            compare::output::csv_field(r.method.label()),
             info.order,
             info.symplectic,
             m.steps,
@@ -539,11 +539,9 @@ pub fn errors_csv(exp: &Experiment) -> String {
             m.energy_error_first_half,
             m.energy_error_second_half,
             m.energy_sign_changes,
-            // Quoted only where a comma would split it.
-            match r.status() {
-                st if st.contains([',', '"']) => format!("\"{}\"", st.replace('"', "'")),
-                st => st,
-            },
+            // Quoted as RFC 4180 says where a comma, quote or newline
+            // would split it.
+            compare::output::csv_field(&r.status()),
         ));
     }
     s
