@@ -108,10 +108,21 @@ fn print_algebraic(
         .map(|c| (c.to_string(), f.check_claim(&an, c)))
         .collect();
     if json {
+        // W is symmetric (Wᵢⱼ = bᵢaᵢⱼ + bⱼaⱼᵢ − bᵢbⱼ): the analysis decides
+        // i ≤ j and both (i, j) and (j, i) are listed, as for other tables.
         let w: Vec<Value> =
             an.w.iter()
                 .filter(|e| e.zero != Some(true))
-                .map(|e| json!({"i": e.i, "j": e.j, "zero": e.zero, "value_f64": e.value}))
+                .flat_map(|e| {
+                    let one = |i: usize, j: usize| {
+                        json!({"i": i, "j": j, "zero": e.zero, "value_f64": e.value})
+                    };
+                    if e.i == e.j {
+                        vec![one(e.i, e.j)]
+                    } else {
+                        vec![one(e.i, e.j), one(e.j, e.i)]
+                    }
+                })
                 .collect();
         let v = json!({
             "name": f.name,
@@ -153,8 +164,13 @@ fn print_algebraic(
     );
     let _ = writeln!(
         s,
-        "  symplectic   {}: W = BA + AᵀB − bbᵀ",
-        tri(an.symplectic)
+        "  symplectic   {}: W = BA + AᵀB − bbᵀ{}",
+        tri(an.symplectic),
+        if an.symplectic == Some(true) {
+            " = 0 exactly"
+        } else {
+            " (symmetric; entries i ≤ j below)"
+        }
     );
     for e in an.w.iter().filter(|e| e.zero != Some(true)) {
         match e.zero {
@@ -281,21 +297,15 @@ pub fn generated_readable(origin: &str, g: &tableau::algebraic::generated::Gener
             "differs from the row sums of A (C(1) fails)"
         }
     );
-    let rule = if g.kind == "rk" {
-        "W = BA + AᵀB − bbᵀ"
-    } else {
-        "Wᵢⱼ = bᵢâᵢⱼ + b̂ⱼaⱼᵢ − bᵢb̂ⱼ, and b = b̂"
-    };
-    let _ = writeln!(
-        s,
-        "  symplectic   {}: {rule} {}",
-        yes_no(g.symplectic),
-        if g.symplectic {
-            "= 0 exactly"
-        } else {
-            "≠ 0 (exactly)"
+    let verdict = match (g.kind == "rk", g.symplectic) {
+        (true, true) => "W = BA + AᵀB − bbᵀ = 0 exactly",
+        (true, false) => "W = BA + AᵀB − bbᵀ ≠ 0 (exactly)",
+        (false, true) => "Wᵢⱼ = bᵢâᵢⱼ + b̂ⱼaⱼᵢ − bᵢb̂ⱼ = 0 for all i, j, and b = b̂, exactly",
+        (false, false) => {
+            "Wᵢⱼ = bᵢâᵢⱼ + b̂ⱼaⱼᵢ − bᵢb̂ⱼ = 0 for all i, j and b = b̂ do not both hold (exactly)"
         }
-    );
+    };
+    let _ = writeln!(s, "  symplectic   {}: {verdict}", yes_no(g.symplectic));
     let lower = g.proven_order();
     match g.order.upper {
         _ if g.kind == "prk" && g.tree_order.is_none() => {
@@ -307,11 +317,21 @@ pub fn generated_readable(origin: &str, g: &tableau::algebraic::generated::Gener
         Some(u) if g.kind == "rk" && u == lower => {
             let _ = writeln!(s, "  order        {u} exactly");
         }
+        _ if g
+            .tree_order
+            .as_ref()
+            .is_some_and(|t| g.kind == "prk" && t.order < t.limit) =>
+        {
+            let _ = writeln!(
+                s,
+                "  order        {lower} exactly (the pair's order, on bicoloured trees below; each table's own order in the proof)"
+            );
+        }
         _ => {
             let _ = writeln!(s, "  order        ≥ {lower}");
         }
     }
-    let label = if g.kind == "rk" { "IIIA table" } else { "" };
+    let label = "IIIA table";
     let _ = writeln!(
         s,
         "  proof        {}{}",

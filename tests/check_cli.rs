@@ -499,3 +499,119 @@ fn perturbed_gauss6_root_file_is_refused_naming_w01() {
     assert_eq!(code, 0, "{err}");
     assert!(out.contains("✓ symplectic"), "{out}");
 }
+
+// ---------------------------------------------------------------------------
+// The text and JSON of generated pairs and root(...) files say what is true
+// and what the README documents.
+
+/// The IIIA–IIIB pair: symplecticity is W = 0 and b = b̂ (not "b = b̂ = 0"),
+/// the proof lines are labelled by table, and for s ≥ 6 the pair's own order
+/// is not claimed.
+#[test]
+fn generated_pair_text_says_what_holds() {
+    for id in ["lobatto3a3b4", "lobatto3a3b6", "lobatto3a3b8"] {
+        let (code, out, err) = timed(&["check", "--builtin", id]);
+        assert_eq!(code, 0, "{id}: {err}");
+        assert!(
+            out.contains(
+                "symplectic   yes: Wᵢⱼ = bᵢâᵢⱼ + b̂ⱼaⱼᵢ − bᵢb̂ⱼ = 0 for all i, j, and b = b̂, exactly"
+            ),
+            "{id}:\n{out}"
+        );
+        assert!(!out.contains("b̂ = 0"), "{id}:\n{out}");
+        assert!(
+            out.contains("  proof        IIIA table: B("),
+            "{id}:\n{out}"
+        );
+        assert!(
+            out.contains("               IIIB table: B("),
+            "{id}:\n{out}"
+        );
+        assert!(!out.contains("proof        :"), "{id}:\n{out}");
+    }
+    let (_, out, _) = timed(&["check", "--builtin", "lobatto3a3b4"]);
+    assert!(
+        out.contains("  order        6 exactly (the pair's order"),
+        "{out}"
+    );
+    let (_, out, _) = timed(&["check", "--builtin", "lobatto3a3b6"]);
+    assert!(
+        out.contains("  order        the pair's order is not proven"),
+        "{out}"
+    );
+    let (_, out, _) = timed(&["check", "--builtin", "gauss4"]);
+    assert!(
+        out.contains("symplectic   yes: W = BA + AᵀB − bbᵀ = 0 exactly"),
+        "{out}"
+    );
+    assert!(out.contains("  proof        B(8)"), "{out}");
+}
+
+/// Every field of a root file's JSON is in the README's `--json` paragraph;
+/// W is listed both ways, as for other tables.
+#[test]
+fn root_file_json_is_documented_and_lists_w_both_ways() {
+    let v = check_json(&["tests/tables/roots/gauss4-roots-perturbed.toml"]);
+    let mut keys: Vec<&str> = v.as_object().unwrap().keys().map(String::as_str).collect();
+    keys.sort();
+    assert_eq!(
+        keys,
+        [
+            "b_levels",
+            "claims",
+            "entries",
+            "kind",
+            "name",
+            "roots",
+            "row_sums_ok",
+            "stages",
+            "symplectic",
+            "w_nonzero"
+        ]
+    );
+    let readme =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/README.md")).unwrap();
+    for k in keys.iter().chain(&["zero", "value_f64"]) {
+        assert!(
+            readme.contains(&format!("`{k}`")),
+            "README does not document `{k}`"
+        );
+    }
+    assert_eq!(v["entries"], "algebraic");
+    assert_eq!(v["roots"].as_array().unwrap().len(), 4);
+    assert_eq!(v["symplectic"], false);
+    let w: Vec<(u64, u64, bool, f64)> = v["w_nonzero"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|e| {
+            (
+                e["i"].as_u64().unwrap(),
+                e["j"].as_u64().unwrap(),
+                e["zero"].as_bool().unwrap(),
+                e["value_f64"].as_f64().unwrap(),
+            )
+        })
+        .collect();
+    // a[0][1] + 10⁻⁴⁰ moves W[0][1] = W[1][0] by b₀·10⁻⁴⁰, b₀ = (18 − √30)/72.
+    let b0 = (18.0 - 30f64.sqrt()) / 72.0;
+    assert_eq!(w.len(), 2, "{w:?}");
+    assert_eq!((w[0].0, w[0].1, w[1].0, w[1].1), (0, 1, 1, 0));
+    for e in &w {
+        assert!(!e.2);
+        assert!((e.3 / (b0 * 1e-40) - 1.0).abs() < 1e-12, "{e:?}");
+    }
+    // The generated table's JSON fields are documented too.
+    let g = check_json(&["--builtin", "lobatto3a3b4"]);
+    for k in g.as_object().unwrap().keys() {
+        assert!(
+            readme.contains(&format!("`{k}`")),
+            "README does not document `{k}`"
+        );
+    }
+    let (_, out, _) = timed(&["check", "tests/tables/roots/gauss4-roots-perturbed.toml"]);
+    assert!(
+        out.contains("symplectic   no: W = BA + AᵀB − bbᵀ (symmetric; entries i ≤ j below)"),
+        "{out}"
+    );
+}

@@ -248,7 +248,14 @@ fn check(input: &Input) -> Result<RootTable, Error> {
     }
     let text = format!("name = {}\n{body}{lets}", quoted(&input.name.to_string()));
     let label = format!("butcher! {}", input.name);
-    let file = match tableau::algebraic::file::parse(&label, &text) {
+    let claim_texts: Vec<String> = claim_items.iter().map(|e| e.text.clone()).collect();
+    let Some(work) = on_big_stack(move || read_and_analyse(&label, &text, &claim_texts)) else {
+        return Err(Error::new(
+            input.name.span(),
+            "the exact analysis of this root(...) table failed (a panic in tableau): please report it",
+        ));
+    };
+    let file = match work.file {
         Ok(Loaded::Algebraic(f)) => *f,
         Ok(_) => {
             return Err(Error::new(
@@ -281,12 +288,11 @@ fn check(input: &Input) -> Result<RootTable, Error> {
             return Err(Error::new(span, format!("{what}: {}", e.message)));
         }
     };
-    let analysis = file.analyse();
     let mut claims = Vec::new();
-    for item in claim_items {
-        match parse_claim(&item.text) {
+    for ((item, parsed), verdict) in claim_items.iter().zip(work.claims).zip(work.verdicts) {
+        match parsed {
             Ok(c) => {
-                if let Err(m) = file.check_claim(&analysis, &c) {
+                if let Err(m) = verdict {
                     errs.push(item.span(), m);
                 }
                 claims.push(c);
@@ -294,7 +300,7 @@ fn check(input: &Input) -> Result<RootTable, Error> {
             Err(m) => errs.push(item.span(), m),
         }
     }
-    let (coefficients, structure) = match coefficients(&file) {
+    let (coefficients, structure) = match work.coefficients {
         Ok(x) => x,
         Err(m) => {
             errs.push(input.name.span(), m);
@@ -304,6 +310,7 @@ fn check(input: &Input) -> Result<RootTable, Error> {
     if let Some(e) = errs.0 {
         return Err(e);
     }
+    let analysis = work.analysis.expect("analysed when the file was read");
     let holds = analysis
         .b_levels
         .iter()
@@ -322,6 +329,157 @@ fn check(input: &Input) -> Result<RootTable, Error> {
         structure,
         order,
     })
+}
+
+/// What the reader and the exact analysis decided (no spans: it is computed
+/// on another thread).
+struct Work {
+    file: Result<Loaded, tableau::file::FileError>,
+    analysis: Option<AlgAnalysis>,
+    /// Each claim as parsed, and its verdict.
+    claims: Vec<Result<Claim, String>>,
+    verdicts: Vec<Result<(), String>>,
+    coefficients: Result<(F64Table, Structure), String>,
+}
+
+/// Read the rendered file, decide what its claims need, check them and
+/// round the coefficients.
+fn read_and_analyse(label: &str, text: &str, claim_texts: &[String]) -> Work {
+    let claims: Vec<Result<Claim, String>> = claim_texts.iter().map(|t| parse_claim(t)).collect();
+    let file = tableau::algebraic::file::parse(label, text);
+    let Ok(Loaded::Algebraic(f)) = &file else {
+        return Work {
+            file,
+            analysis: None,
+            verdicts: vec![Ok(()); claims.len()],
+            claims,
+            coefficients: Err(String::new()),
+        };
+    };
+    let wanted: Vec<Claim> = claims.iter().filter_map(|c| c.clone().ok()).collect();
+    let analysis = analyse_to(f, levels_needed(&wanted, f.b.len()));
+    let verdicts = claims
+        .iter()
+        .map(|c| match c {
+            Ok(c) => f.check_claim(&analysis, c),
+            Err(_) => Ok(()),
+        })
+        .collect();
+    let coefficients = coefficients(f);
+    Work {
+        analysis: Some(analysis),
+        claims,
+        verdicts,
+        coefficients,
+        file,
+    }
+}
+
+/// Run `f` on a thread with a large stack: the exact arithmetic recurses
+/// over the expression trees and, in the unoptimised build a proc macro
+/// gets, overflows the compiler's stack on tables of a few hundred terms.
+/// `None` if it panicked.
+fn on_big_stack<T: Send + 'static>(f: impl FnOnce() -> T + Send + 'static) -> Option<T> {
+    std::thread::Builder::new()
+        .name("butcher-roots".into())
+        .stack_size(512 << 20)
+        .spawn(f)
+        .ok()?
+        .join()
+        .ok()
+}
+
+/// (The same as `compare::interpreted::levels_needed`: a proc-macro crate
+/// cannot share code with a crate that depends on it.)
+/// The quadrature levels `B(k)` a table's claims need decided: `B(1)`,
+/// `B(2)` (for the order proven, at most 2) and, for an order claim `p`,
+/// up to `B(p + 1)`, so that the claim is refused with the same verdict as
+/// `symlab check` gives.
+fn levels_needed(claims: &[Claim], stages: usize) -> usize {
+    claims
+        .iter()
+        .filter_map(|c| match c {
+            Claim::Order { p, .. } => Some(p + 1),
+            _ => None,
+        })
+        .fold(2, usize::max)
+        .min(2 * stages + 1)
+}
+
+/// `AlgFile::analyse` with the quadrature conditions decided only up to
+/// `B(levels)`: the same exact zero tests (W, row sums, `B(k)`), in the same
+/// order, stopping where the claims need no more. (Deciding `B(k)` for large
+/// `k` over several roots is what makes the full analysis slow: over a minute
+/// for Gauss 4 written with roots in a debug build.)
+fn analyse_to(f: &AlgFile, levels: usize) -> AlgAnalysis {
+    use tableau::algebraic::alg::Alg;
+    use tableau::algebraic::file::WEntryAlg;
+    let field = &f.field;
+    let s = f.b.len();
+    let mut w = Vec::new();
+    for i in 0..s {
+        for j in i..s {
+            let e = field
+                .mul(&f.b[i], &f.a[i][j])
+                .add(&field.mul(&f.b[j], &f.a[j][i]))
+                .sub(&field.mul(&f.b[i], &f.b[j]));
+            let zero = field.is_zero(&e).ok();
+            let value = (zero == Some(false))
+                .then(|| field.to_f64(&e).ok())
+                .flatten();
+            w.push(WEntryAlg { i, j, zero, value });
+        }
+    }
+    let symplectic = if w.iter().any(|e| e.zero == Some(false)) {
+        Some(false)
+    } else if w.iter().all(|e| e.zero == Some(true)) {
+        Some(true)
+    } else {
+        None
+    };
+    let row_sum = |i: usize| f.a[i].iter().fold(Alg::zero(), |acc, x| acc.add(x));
+    let row_sums_ok = match &f.c {
+        None => Some(true),
+        Some(c) => {
+            let mut ok = Some(true);
+            for i in 0..s {
+                match field.is_zero(&row_sum(i).sub(&c[i])) {
+                    Ok(true) => {}
+                    Ok(false) => {
+                        ok = Some(false);
+                        break;
+                    }
+                    Err(_) => ok = None,
+                }
+            }
+            ok
+        }
+    };
+    let c: Vec<Alg> = match &f.c {
+        Some(c) => c.clone(),
+        None => (0..s).map(row_sum).collect(),
+    };
+    let mut b_levels = Vec::new();
+    for k in 1..=levels.min(2 * s + 1) {
+        // B(k): Σ bᵢcᵢ^(k−1) = 1/k, tested as k·Σ bᵢcᵢ^(k−1) − 1 = 0.
+        let mut sum = Alg::zero();
+        for i in 0..s {
+            sum = sum.add(&field.mul(&f.b[i], &field.pow(&c[i], (k - 1) as u32)));
+        }
+        let defect = field.mul(&Alg::int(k as i64), &sum).sub(&Alg::int(1));
+        let v = field.is_zero(&defect).ok();
+        b_levels.push(v);
+        if v != Some(true) {
+            break;
+        }
+    }
+    AlgAnalysis {
+        stages: s,
+        w,
+        symplectic,
+        row_sums_ok,
+        b_levels,
+    }
 }
 
 /// The correctly rounded coefficients and the exact zero pattern of `A`
