@@ -376,7 +376,10 @@ fn plan_from(args: &CompareArgs, defaults: compare::Defaults, origin: &Origin) -
         let b = who_max
             .clone()
             .unwrap_or_else(|| "the default largest step".into());
-        bail!("{b} ({hi}) exceeds the end time {end} ({t})");
+        match &who_t {
+            Some(w) => bail!("{b} ({hi}) exceeds the end time {w} ({t})"),
+            None => bail!("{b} ({hi}) exceeds the default end time ({t}); give --t-end too"),
+        }
     }
     if t_end / h_min > 1e8 {
         bail!(

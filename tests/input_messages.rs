@@ -55,15 +55,19 @@ fn problem_file_errors_name_the_file_and_its_field() {
         (
             "h_min = 0.5\n",
             &[],
-            &["field h_min (0.5)", "give h_max too"],
+            &["field h_min (0.5)", "give --h-max too"],
         ),
         (
             "t_end = 1e300\n",
             &[],
-            &["field t_end", "steps per run", "give h_min"],
+            &["field t_end", "steps per run", "give --h-min"],
         ),
         ("h_min = 1e-300\n", &[], &["field h_min", "steps per run"]),
-        ("h_max = 1e300\n", &[], &["field h_max", "t_end"]),
+        (
+            "h_max = 1e300\n",
+            &[],
+            &["field h_max", "the default end time (10)"],
+        ),
         // A file's field against a flag: both named.
         (
             "h_max = 0.5\n",

@@ -191,62 +191,40 @@ pub fn load(path: &Path) -> Result<LinearFile> {
         h_min,
         h_max,
     };
-    match (given.h_min, given.h_max) {
-        (true, true) if h_min > h_max => {
-            return Err(err(
-                path,
-                format!(
-                    "field h_min ({}) must not exceed field h_max ({})",
-                    num(h_min),
-                    num(h_max)
-                ),
-            ));
-        }
-        (true, false) if h_min > h_max => {
-            return Err(err(
-                path,
-                format!(
-                    "field h_min ({}) exceeds the default largest step {} (at most t_end); give h_max too",
-                    num(h_min),
-                    num(h_max)
-                ),
-            ));
-        }
-        _ => {}
-    }
-    if given.h_max && h_max > t_end {
+    // Contradictions among the file's own fields are refused here, naming
+    // both. A field against a default (the file gives h_min but not h_max)
+    // is left to the caller, whose flags may replace the default
+    // (`symlab compare` names the field and the flag);
+    // [`SweepSettings::validate`](crate::SweepSettings::validate) refuses
+    // what is left.
+    if given.h_min && given.h_max && h_min > h_max {
         return Err(err(
             path,
             format!(
-                "field h_max ({}) exceeds {} ({})",
+                "field h_min ({}) must not exceed field h_max ({})",
+                num(h_min),
+                num(h_max)
+            ),
+        ));
+    }
+    if given.h_max && given.t_end && h_max > t_end {
+        return Err(err(
+            path,
+            format!(
+                "field h_max ({}) exceeds field t_end ({})",
                 num(h_max),
-                if given.t_end {
-                    "field t_end"
-                } else {
-                    "the default end time t_end"
-                },
                 num(t_end)
             ),
         ));
     }
-    if t_end / h_min > MAX_STEPS_PER_RUN {
-        let what = match (given.t_end, given.h_min) {
-            (_, true) => "field h_min".to_string(),
-            _ => "the default smallest step".to_string(),
-        };
-        let over = if given.t_end {
-            "field t_end"
-        } else {
-            "the default t_end"
-        };
+    if given.h_min && given.t_end && t_end / h_min > MAX_STEPS_PER_RUN {
         return Err(err(
             path,
             format!(
-                "{what} ({}) over {over} ({}) is {:.1e} steps per run; at most 1e8{}",
+                "field h_min ({}) over field t_end ({}) is {:.1e} steps per run; at most 1e8",
                 num(h_min),
                 num(t_end),
                 t_end / h_min,
-                if given.h_min { "" } else { " (give h_min too)" }
             ),
         ));
     }
