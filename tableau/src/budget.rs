@@ -70,3 +70,40 @@ pub const MAX_ENTRY_BITS: u64 = 32768;
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
 #[error("{0}")]
 pub struct BeyondBudget(pub String);
+
+/// The most bits of precision (`(n − 1)·log₂ M`, see
+/// [`crate::algebraic::alg`]) a zero test in several roots may need; above
+/// it the test is refused rather than run long.
+pub const MAX_ZERO_TEST_BITS: u64 = 1 << 18;
+
+/// The work of one zero test, sign or rounding of a real algebraic number,
+/// in 64-bit word products (estimated before it is done, with Karatsuba's
+/// exponent for long operands: refining the roots to the precision asked
+/// for, and the certified enclosure of every term). See
+/// [`crate::algebraic::alg::work_of_enclosure`].
+pub const MAX_ZERO_TEST_WORK: u64 = 1 << 31;
+
+/// The work of all the zero tests of one table with `root(...)` entries
+/// together (symplecticity, row sums, `B(k)`), in the units of
+/// [`MAX_ZERO_TEST_WORK`]; the tests past it are reported as undecided.
+pub const MAX_ANALYSIS_WORK: u64 = 1 << 33;
+
+/// The most terms (monomials in the roots) of one real algebraic number
+/// after reduction; e.g. `(c0 + … + c7)^64` in eight roots of degree 8 has
+/// up to 8⁸ ≈ 1.7·10⁷ terms and is refused.
+pub const MAX_ALG_TERMS: usize = 1 << 14;
+
+/// The work of one product or power of real algebraic numbers in an
+/// entry: term products × the word products of their coefficients
+/// (estimated before it is done).
+pub const MAX_ALG_PRODUCT_WORK: u64 = 1 << 30;
+
+/// The largest degree of the polynomial of a `root(POLY, LO, HI)` (after
+/// expanding it); the node polynomials of generated tables have degree at
+/// most 16.
+pub const MAX_ROOT_DEGREE: usize = 64;
+
+/// The most bits of a `root(POLY, LO, HI)`: the numerators and denominators
+/// of POLY's coefficients and of LO and HI together. Sturm sequences grow
+/// like degree² × these bits.
+pub const MAX_ROOT_BITS: u64 = 1 << 13;

@@ -857,6 +857,18 @@ impl Method {
         claims: &[&str],
         perturb: Option<(usize, usize, &str)>,
     ) -> String {
+        self.to_root_file_with(name, claims, perturb, false)
+    }
+
+    /// [`Self::to_root_file`], with `c = ["c0", "c1", …]` written out when
+    /// `write_c` (without it, `c` is left to the row sums of `a`).
+    pub fn to_root_file_with(
+        &self,
+        name: &str,
+        claims: &[&str],
+        perturb: Option<(usize, usize, &str)>,
+        write_c: bool,
+    ) -> String {
         use num_integer::Integer;
         let mut den = BigInt::one();
         for c in &self.ring.p.0 {
@@ -873,11 +885,10 @@ impl Method {
         let cl: Vec<String> = claims.iter().map(|c| format!("\"{c}\"")).collect();
         out.push_str(&format!("claims = [{}]\n\n[let]\n", cl.join(", ")));
         for (i, r) in self.nodes.iter().enumerate() {
+            let (lo, hi) = isolating_interval(&self.ring.p, r);
             out.push_str(&format!(
-                "c{i} = \"root({}, {}, {})\"\n",
+                "c{i} = \"root({}, {lo}, {hi})\"\n",
                 ip.to_text("x"),
-                r.lo,
-                r.hi
             ));
         }
         out.push_str("\n[table]\n");
@@ -901,6 +912,10 @@ impl Method {
         let bs: Vec<String> = b.iter().map(|x| format!("  \"{}\"", text(x))).collect();
         body.push_str(&bs.join(",\n"));
         body.push_str("\n]\n");
+        if write_c {
+            let cs: Vec<String> = (0..self.s).map(|i| format!("\"c{i}\"")).collect();
+            body.push_str(&format!("c = [{}]\n", cs.join(", ")));
+        }
         // TOML: top-level keys must precede [let]; put a and b first.
         let header_end = out.find("\n[let]").expect("let section");
         let mut file = out[..header_end].to_string();
@@ -1000,6 +1015,25 @@ fn radical_nodes(p: &Poly, roots: &[RealRoot]) -> Option<Vec<Number>> {
 }
 
 /// An [`Alg`] as text in the grammar, variables named `c0, c1, …`.
+/// An interval `(lo, hi]` with `lo < hi` holding exactly the root `r` of
+/// `p`: the node's own interval, or for a rational node `r` (isolated as
+/// `[r, r]`) the interval `(r − 2⁻ᵗ, r + 2⁻ᵗ]` for the first `t` that
+/// isolates it, so that the file exercises the general root path.
+fn isolating_interval(p: &Poly, r: &RealRoot) -> (BigRational, BigRational) {
+    if !r.is_rational() {
+        return (r.lo.clone(), r.hi.clone());
+    }
+    let seq = p.sturm();
+    let mut w = BigRational::new(BigInt::one(), BigInt::from(2));
+    loop {
+        let (lo, hi) = (&r.lo - &w, &r.lo + &w);
+        if count_roots(&seq, &lo, &hi) == 1 {
+            return (lo, hi);
+        }
+        w /= q(2);
+    }
+}
+
 fn alg_text(f: &Field, x: &Alg) -> String {
     let x = f.reduce(x);
     let mut parts = Vec::new();

@@ -311,7 +311,7 @@ pub fn parse_root(text: &str) -> Result<RealRoot, String> {
             .ok_or_else(|| format!("{what} must be rational, found {n}"))
     };
     let (lo, hi) = (bound(parts[1], "LO")?, bound(parts[2], "HI")?);
-    if lo >= hi {
+    if super::poly::qle(&hi, &lo) {
         return Err(format!("the interval ({lo}, {hi}] is empty"));
     }
     RealRoot::new(&p, lo.clone(), hi.clone()).map_err(|n| {
@@ -458,7 +458,7 @@ impl AlgCx<'_> {
                 let k = self
                     .eval(field, exp)?
                     .as_rational()
-                    .filter(|k| k.is_integer() && k.abs() <= BigRational::from_integer(64.into()))
+                    .filter(|k| k.is_integer() && super::poly::qle(&k.abs(), &BigRational::from_integer(64.into())))
                     .ok_or_else(|| err("the exponent must be an integer with |k| ≤ 64".into()))?
                     .to_integer()
                     .to_i64()
@@ -479,7 +479,7 @@ impl AlgCx<'_> {
                     ))
                 })?;
                 let one = BigRational::from_integer(1.into());
-                let big = if r.abs() > one {
+                let big = if super::poly::qlt(&one, &r.abs()) {
                     r.abs() + &one
                 } else {
                     &one + &one

@@ -7,12 +7,12 @@ use num_bigint::BigInt;
 use num_rational::BigRational;
 use num_traits::{One, Signed, Zero};
 
-use super::poly::{Poly, count_roots};
+use super::poly::{Poly, count_roots, qeq, qle, qlt};
 use crate::number::rational_to_f64;
 
 /// One real root of a squarefree polynomial: `poly` has exactly one root in
 /// the half-open interval `(lo, hi]`, or the root is the rational `lo = hi`.
-#[derive(Clone, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug)]
 pub struct RealRoot {
     /// Monic and squarefree.
     pub poly: Poly,
@@ -20,6 +20,16 @@ pub struct RealRoot {
     pub hi: BigRational,
     sturm: Vec<Poly>,
 }
+
+/// The same polynomial and the same interval (compared with
+/// [`super::poly::qeq`]).
+impl PartialEq for RealRoot {
+    fn eq(&self, o: &RealRoot) -> bool {
+        self.poly == o.poly && qeq(&self.lo, &o.lo) && qeq(&self.hi, &o.hi)
+    }
+}
+
+impl Eq for RealRoot {}
 
 fn two() -> BigRational {
     BigRational::from_integer(BigInt::from(2))
@@ -30,12 +40,12 @@ impl RealRoot {
     /// (`poly` is made squarefree and monic first). `Err` says how many there
     /// are.
     pub fn new(poly: &Poly, lo: BigRational, hi: BigRational) -> Result<RealRoot, usize> {
-        if poly.degree().unwrap_or(0) == 0 || lo > hi {
+        if poly.degree().unwrap_or(0) == 0 || qlt(&hi, &lo) {
             return Err(0);
         }
         let p = poly.squarefree();
         let sturm = p.sturm();
-        if lo == hi {
+        if qeq(&lo, &hi) {
             return if p.eval(&lo).is_zero() {
                 Ok(RealRoot {
                     poly: p,
@@ -114,8 +124,29 @@ impl RealRoot {
         out
     }
 
+    /// Whether `o` is the same number: the same polynomial, and the root
+    /// in both intervals (a Sturm count on their intersection; two roots of
+    /// one polynomial in intervals that share no root are distinct).
+    pub fn same_root(&self, o: &RealRoot) -> bool {
+        if self.poly != o.poly {
+            return false;
+        }
+        match (self.is_rational(), o.is_rational()) {
+            (true, true) => qeq(&self.lo, &o.lo),
+            (false, false) => {
+                let lo = if qlt(&self.lo, &o.lo) { &o.lo } else { &self.lo };
+                let hi = if qlt(&self.hi, &o.hi) { &self.hi } else { &o.hi };
+                qlt(lo, hi) && count_roots(&self.sturm, lo, hi) == 1
+            }
+            // A rational root r of the polynomial is the other's root when
+            // it lies in the other's interval (which holds one root).
+            (true, false) => qlt(&o.lo, &self.lo) && qle(&self.lo, &o.hi),
+            (false, true) => qlt(&self.lo, &o.lo) && qle(&o.lo, &self.hi),
+        }
+    }
+
     pub fn is_rational(&self) -> bool {
-        self.lo == self.hi
+        qeq(&self.lo, &self.hi)
     }
 
     pub fn width(&self) -> BigRational {
@@ -156,7 +187,7 @@ impl RealRoot {
     pub fn refine_to(&mut self, bits: u64) {
         use num_integer::Integer;
         let eps = BigRational::new(BigInt::one(), BigInt::one() << bits);
-        if self.is_rational() || self.width() <= eps {
+        if self.is_rational() || qle(&self.width(), &eps) {
             return;
         }
         // Integer coefficients: D·p.
@@ -197,7 +228,7 @@ impl RealRoot {
             }
         };
         let mut failures: u32 = 0;
-        while self.width() > eps {
+        while qlt(&eps, &self.width()) {
             if self.is_rational() {
                 return;
             }
@@ -226,7 +257,7 @@ impl RealRoot {
                 BigRational::new(b.clone(), BigInt::one() << k),
             );
             let ok =
-                ra >= self.lo && rb <= self.hi && sgn(&eval(&a, k).0) * sgn(&eval(&b, k).0) < 0;
+                qle(&self.lo, &ra) && qle(&rb, &self.hi) && sgn(&eval(&a, k).0) * sgn(&eval(&b, k).0) < 0;
             if ok {
                 self.lo = ra;
                 self.hi = rb;
@@ -255,7 +286,7 @@ impl RealRoot {
             let next = next_up(fl);
             if fh == next && fl.is_finite() && fh.is_finite() {
                 let mid = (f64_rational(fl) + f64_rational(fh)) / two();
-                if mid > r.lo && mid < r.hi {
+                if qlt(&r.lo, &mid) && qlt(&mid, &r.hi) {
                     r.split_at(mid);
                     continue;
                 }
