@@ -749,6 +749,20 @@ impl Field {
         if sup.len() == 1 {
             return self.univariate_zero(&a, sup[0]);
         }
+        let a = match sup[..] {
+            [x, y] if !self.roots[x].is_rational()
+                && !self.roots[y].is_rational()
+                && self.roots[x].poly == self.roots[y].poly
+                && !self.roots[x].same_root(&self.roots[y]) =>
+            {
+                let r = self.reduce_conjugate_pair(&a, x, y);
+                if r.is_zero_poly() {
+                    return Ok(true);
+                }
+                r
+            }
+            _ => a,
+        };
         for bits in [64, 128, 256] {
             let (lo, hi, _) = self.enclose_int(&a, bits)?;
             if lo.is_positive() || hi.is_negative() {
@@ -892,6 +906,51 @@ impl Field {
                 Err(_) => "(beyond budget)".into(),
             },
         }
+    }
+
+    /// `a` reduced modulo the divided difference `Q(x, y) = (P(x) − P(y))/(x − y)`
+    /// in `y` (monic of degree `deg P − 1`), for two distinct roots `x`, `y`
+    /// of one polynomial `P`: `Q` vanishes there, so the value is unchanged,
+    /// and `{P(x), Q(x, y)}` is a Gröbner basis of the algebra of ordered
+    /// pairs of distinct roots (see [`super::pair`]), so an element that is
+    /// zero there reduces to the zero polynomial.
+    fn reduce_conjugate_pair(&self, a: &Alg, x: usize, y: usize) -> Alg {
+        let p = &self.roots[x].poly;
+        let d = p.degree().unwrap_or(0) as u32;
+        if d < 2 {
+            return a.clone();
+        }
+        // y^{d−1} ≡ −Σ_{k<d−1} q_k(x) y^k, q_k(x) = Σ_{m>k} p_m x^{m−1−k}.
+        let mut cur = a.clone();
+        for _ in 0..4 {
+            if !cur.terms.keys().any(|m| m.get(y).copied().unwrap_or(0) >= d - 1) {
+                break;
+            }
+            let mut out = Alg::zero();
+            for (m, c) in std::mem::take(&mut cur.terms) {
+                let e = m.get(y).copied().unwrap_or(0);
+                if e < d - 1 {
+                    out.add_term(m, c);
+                    continue;
+                }
+                for k in 0..(d - 1) {
+                    for mm in (k + 1)..=d {
+                        let pm = p.coeff(mm as usize);
+                        if pm.is_zero() {
+                            continue;
+                        }
+                        let mut m2 = m.clone();
+                        let w = m2.len().max(x + 1).max(y + 1);
+                        m2.resize(w, 0);
+                        m2[y] = e - (d - 1) + k;
+                        m2[x] += mm - 1 - k;
+                        out.add_term(m2, -(&c * &pm));
+                    }
+                }
+            }
+            cur = self.reduce(&out);
+        }
+        cur
     }
 
     /// The complete families of conjugates: groups of variables that are

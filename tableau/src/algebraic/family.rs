@@ -875,7 +875,20 @@ impl Method {
             den = den.lcm(c.denom());
         }
         let ip = self.ring.p.scale(&BigRational::from_integer(den));
-        let (f, a, b, _) = self.alg_table();
+        // Every node a variable (rational nodes too, with an isolating
+        // interval), so that each entry is the same polynomial in its nodes.
+        let mut f = Field::default();
+        for (i, r) in self.nodes.iter().enumerate() {
+            let (lo, hi) = isolating_interval(&self.ring.p, r);
+            let root = RealRoot::new(&self.ring.p, lo, hi).expect("an isolating interval");
+            f.roots.push(root);
+            f.names.push(format!("c{i}"));
+        }
+        let s = self.s;
+        let a: Vec<Vec<Alg>> = (0..s)
+            .map(|i| (0..s).map(|j| f.reduce(&self.a_alg(i, j))).collect())
+            .collect();
+        let b: Vec<Alg> = (0..s).map(|i| f.reduce(&self.b_alg(i))).collect();
         let text = |x: &Alg| alg_text(&f, x);
         let mut out = format!("name = \"{name}\"\n");
         out.push_str(&format!(
