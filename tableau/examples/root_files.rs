@@ -10,7 +10,11 @@ use tableau::algebraic::file::{Loaded, parse};
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let fams: Vec<Family> = match args.first() {
-        Some(n) => Family::ALL.iter().copied().filter(|f| f.name() == n).collect(),
+        Some(n) => Family::ALL
+            .iter()
+            .copied()
+            .filter(|f| f.name() == n)
+            .collect(),
         None => Family::ALL.to_vec(),
     };
     let stages: Vec<usize> = match args.get(1) {

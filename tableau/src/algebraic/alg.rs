@@ -35,9 +35,7 @@ use super::root::{RealRoot, f64_rational, next_up, sign};
 use crate::budget::BeyondBudget;
 use crate::number::rational_to_f64;
 
-pub use crate::budget::{
-    MAX_ALG_TERMS, MAX_ANALYSIS_WORK, MAX_ZERO_TEST_BITS, MAX_ZERO_TEST_WORK,
-};
+pub use crate::budget::{MAX_ALG_TERMS, MAX_ANALYSIS_WORK, MAX_ZERO_TEST_BITS, MAX_ZERO_TEST_WORK};
 
 /// An exponent vector, trailing zeros trimmed.
 type Mono = Vec<u32>;
@@ -245,13 +243,7 @@ fn qbits(c: &BigRational) -> u64 {
 /// degree-`d` polynomial at `bits`-bit points per step, the last step
 /// dominating a doubling sequence) and multiplying out every term in
 /// integers of up to `bits · deg` bits.
-pub fn work_of_enclosure(
-    terms: u64,
-    deg: u64,
-    cbits: u64,
-    root_degrees: &[u64],
-    bits: u64,
-) -> u64 {
+pub fn work_of_enclosure(terms: u64, deg: u64, cbits: u64, root_degrees: &[u64], bits: u64) -> u64 {
     let w = words(bits);
     let mut work: u64 = 0;
     for &d in root_degrees {
@@ -593,13 +585,7 @@ impl Field {
             .iter()
             .map(|&k| self.roots[k].poly.degree().unwrap_or(1) as u64)
             .collect();
-        let work = work_of_enclosure(
-            a.terms.len() as u64,
-            deg,
-            nbits + den.bits(),
-            &degs,
-            bits,
-        );
+        let work = work_of_enclosure(a.terms.len() as u64, deg, nbits + den.bits(), &degs, bits);
         if work > MAX_ZERO_TEST_WORK {
             return Err(BeyondBudget(format!(
                 "an enclosure of an expression with {} terms in {} roots ({}) to {bits} bits needs about {work} word products, beyond the budget of {MAX_ZERO_TEST_WORK} (tableau::budget::MAX_ZERO_TEST_WORK)",
@@ -750,10 +736,11 @@ impl Field {
             return self.univariate_zero(&a, sup[0]);
         }
         let a = match sup[..] {
-            [x, y] if !self.roots[x].is_rational()
-                && !self.roots[y].is_rational()
-                && self.roots[x].poly == self.roots[y].poly
-                && !self.roots[x].same_root(&self.roots[y]) =>
+            [x, y]
+                if !self.roots[x].is_rational()
+                    && !self.roots[y].is_rational()
+                    && self.roots[x].poly == self.roots[y].poly
+                    && !self.roots[x].same_root(&self.roots[y]) =>
             {
                 let r = self.reduce_conjugate_pair(&a, x, y);
                 if r.is_zero_poly() {
@@ -923,7 +910,11 @@ impl Field {
         // y^{d−1} ≡ −Σ_{k<d−1} q_k(x) y^k, q_k(x) = Σ_{m>k} p_m x^{m−1−k}.
         let mut cur = a.clone();
         for _ in 0..4 {
-            if !cur.terms.keys().any(|m| m.get(y).copied().unwrap_or(0) >= d - 1) {
+            if !cur
+                .terms
+                .keys()
+                .any(|m| m.get(y).copied().unwrap_or(0) >= d - 1)
+            {
                 break;
             }
             let mut out = Alg::zero();
@@ -1069,7 +1060,10 @@ impl Field {
             parts.get_mut(&j)?.insert((e, mr), c.clone());
         }
         let same = |x: &F, y: &F| {
-            x.len() == y.len() && x.iter().zip(y).all(|((k1, v1), (k2, v2))| k1 == k2 && qeq(v1, v2))
+            x.len() == y.len()
+                && x.iter()
+                    .zip(y)
+                    .all(|((k1, v1), (k2, v2))| k1 == k2 && qeq(v1, v2))
         };
         // The most frequent part.
         let mut best: Option<(&F, usize)> = None;

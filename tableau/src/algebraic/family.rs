@@ -728,6 +728,35 @@ impl PairMethod {
         }
     }
 
+    /// The pair written out as a table file with `root(...)` entries: `a`,
+    /// `b` of Lobatto IIIA (on `q`), `a_hat`, `b_hat` of Lobatto IIIB (on
+    /// `p`), the nodes as roots as in [`Method::to_root_file`];
+    /// `perturb = Some((i, j, text))` appends ` + text` to `a_hat[i][j]`,
+    /// and `write_c` writes `c` and `c_hat` (both the nodes).
+    pub fn to_root_file(
+        &self,
+        name: &str,
+        claims: &[&str],
+        perturb: Option<(usize, usize, &str)>,
+        write_c: bool,
+    ) -> String {
+        let qt = self.q.to_root_file_with(name, claims, None, write_c);
+        let pt = self.p.to_root_file_with(name, claims, perturb, write_c);
+        // The IIIB body (a, b, c) renamed to a_hat, b_hat, c_hat.
+        let start = pt.find("\na = [").expect("a") + 1;
+        let end = pt.find("\n[let]").expect("let");
+        let body = pt[start..end]
+            .replacen("a = [", "a_hat = [", 1)
+            .replacen("\nb = [", "\nb_hat = [", 1)
+            .replacen("\nc = [", "\nc_hat = [", 1);
+        let at = qt.find("\n[let]").expect("let");
+        let mut out = qt[..at].to_string();
+        out.push('\n');
+        out.push_str(&body);
+        out.push_str(&qt[at..]);
+        out
+    }
+
     pub fn verdicts(&self) -> PairVerdicts {
         let ring = &self.q.ring;
         let (off, diag) = w_parts(ring, &self.q.b, &self.q.a, &self.q.d, &self.p.a, &self.p.d);

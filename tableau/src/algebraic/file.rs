@@ -579,7 +579,10 @@ impl AlgCx<'_> {
                 let k = self
                     .eval(field, exp)?
                     .as_rational()
-                    .filter(|k| k.is_integer() && super::poly::qle(&k.abs(), &BigRational::from_integer(64.into())))
+                    .filter(|k| {
+                        k.is_integer()
+                            && super::poly::qle(&k.abs(), &BigRational::from_integer(64.into()))
+                    })
                     .ok_or_else(|| err("the exponent must be an integer with |k| ≤ 64".into()))?
                     .to_integer()
                     .to_i64()
@@ -822,7 +825,10 @@ impl AlgFile {
     /// [`crate::budget::MAX_ANALYSIS_WORK`]. A test beyond a budget is
     /// undecided (`None`), and [`AlgAnalysis::refusals`] says why.
     pub fn analyse(&self) -> AlgAnalysis {
-        let f = &self.field.clone().with_work_limit(crate::budget::MAX_ANALYSIS_WORK);
+        let f = &self
+            .field
+            .clone()
+            .with_work_limit(crate::budget::MAX_ANALYSIS_WORK);
         let s = self.b.len();
         let mut refusals = Vec::new();
         let mut w = Vec::new();
@@ -834,11 +840,11 @@ impl AlgFile {
             None => {
                 for i in 0..s {
                     for j in i..s {
-                        let e = w_entry(f, [&self.b[i], &self.b[j], &self.b[i]], [
-                            &self.a[i][j],
-                            &self.a[j][i],
-                            &self.b[j],
-                        ]);
+                        let e = w_entry(
+                            f,
+                            [&self.b[i], &self.b[j], &self.b[i]],
+                            [&self.a[i][j], &self.a[j][i], &self.b[j]],
+                        );
                         w.push(entry(f, e, i, j, &mut refusals));
                     }
                 }
@@ -892,7 +898,10 @@ impl AlgFile {
             Some((ah, bh)) => {
                 let ok = row_sums(f, ah, self.c_hat.as_ref(), &mut refusals, "c_hat");
                 let ch = abscissae(f, ah, self.c_hat.as_ref());
-                (ok, quadrature_levels(f, bh, &ch, 2 * s + 1, &mut refusals, "b_hat"))
+                (
+                    ok,
+                    quadrature_levels(f, bh, &ch, 2 * s + 1, &mut refusals, "b_hat"),
+                )
             }
             None => (None, Vec::new()),
         };
@@ -968,7 +977,11 @@ impl AlgFile {
                         holds + 1
                     ));
                 }
-                let hh = an.b_hat_levels.iter().take_while(|v| **v == Some(true)).count();
+                let hh = an
+                    .b_hat_levels
+                    .iter()
+                    .take_while(|v| **v == Some(true))
+                    .count();
                 if an.pair && hh < *p && an.b_hat_levels.get(hh) == Some(&Some(false)) {
                     return Err(format!(
                         "order {p} claimed but B({}) fails for b_hat (Σ b̂ᵢĉᵢ^{hh} ≠ 1/{}), so the order is at most {hh}",

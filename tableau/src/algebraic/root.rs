@@ -57,6 +57,26 @@ impl RealRoot {
                 Err(0)
             };
         }
+        // Every root has |x| < 1 + max|cₖ| (Cauchy, p monic) ≤ 2^k: clip the
+        // interval there, so that huge bounds cost no bisections.
+        let cauchy =
+            p.0.iter()
+                .map(|c| c.abs().ceil().to_integer().bits())
+                .max()
+                .unwrap_or(0)
+                + 1;
+        let big = BigRational::from_integer(BigInt::one() << cauchy);
+        let (lo, hi) = (
+            if qlt(&lo, &-big.clone()) {
+                -big.clone()
+            } else {
+                lo
+            },
+            if qlt(&big, &hi) { big } else { hi },
+        );
+        if qle(&hi, &lo) {
+            return Err(0);
+        }
         let n = count_roots(&sturm, &lo, &hi);
         if n != 1 {
             return Err(n);
@@ -134,8 +154,16 @@ impl RealRoot {
         match (self.is_rational(), o.is_rational()) {
             (true, true) => qeq(&self.lo, &o.lo),
             (false, false) => {
-                let lo = if qlt(&self.lo, &o.lo) { &o.lo } else { &self.lo };
-                let hi = if qlt(&self.hi, &o.hi) { &self.hi } else { &o.hi };
+                let lo = if qlt(&self.lo, &o.lo) {
+                    &o.lo
+                } else {
+                    &self.lo
+                };
+                let hi = if qlt(&self.hi, &o.hi) {
+                    &self.hi
+                } else {
+                    &o.hi
+                };
                 qlt(lo, hi) && count_roots(&self.sturm, lo, hi) == 1
             }
             // A rational root r of the polynomial is the other's root when
@@ -256,8 +284,9 @@ impl RealRoot {
                 BigRational::new(a.clone(), BigInt::one() << k),
                 BigRational::new(b.clone(), BigInt::one() << k),
             );
-            let ok =
-                qle(&self.lo, &ra) && qle(&rb, &self.hi) && sgn(&eval(&a, k).0) * sgn(&eval(&b, k).0) < 0;
+            let ok = qle(&self.lo, &ra)
+                && qle(&rb, &self.hi)
+                && sgn(&eval(&a, k).0) * sgn(&eval(&b, k).0) < 0;
             if ok {
                 self.lo = ra;
                 self.hi = rb;
