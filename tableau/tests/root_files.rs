@@ -185,12 +185,22 @@ fn lobatto5_weights_in_five_roots() {
     let f = alg(&text);
     let t0 = Instant::now();
     let an = f.analyse();
-    assert_eq!(an.b_levels[0], Some(true), "B(1): the weights sum to 1");
-    assert_eq!(&an.b_levels[..8], &[Some(true); 8]);
-    assert_eq!(an.b_levels[8], Some(false));
+    // c = the row sums = 0: B(1) holds (the weights sum to 1), B(2) fails.
+    assert_eq!(an.b_levels, vec![Some(true), Some(false)]);
     // W = −bbᵀ ≠ 0.
     assert_eq!(an.symplectic, Some(false));
     assert!(t0.elapsed() < hang_limit());
+    // With c the nodes: Lobatto quadrature, B(8) holds and B(9) fails.
+    let at = text.find("\n[let]").unwrap();
+    let with_c = format!(
+        "{}\nc = [\"c0\", \"c1\", \"c2\", \"c3\", \"c4\"]{}",
+        &text[..at],
+        &text[at..]
+    );
+    let an = alg(&with_c).analyse();
+    assert_eq!(&an.b_levels[..8], &[Some(true); 8]);
+    assert_eq!(an.b_levels[8], Some(false));
+    assert_eq!(an.row_sums_ok, Some(false));
 }
 
 /// Gauss–Legendre 4 with `c` left to the row sums (77 s and 600 MB before):
