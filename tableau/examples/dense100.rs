@@ -5,7 +5,9 @@
 use std::time::Instant;
 
 fn main() {
-    let s: usize = std::env::args().nth(1).map_or(100, |x| x.parse().expect("stages"));
+    let s: usize = std::env::args()
+        .nth(1)
+        .map_or(100, |x| x.parse().expect("stages"));
     let row = |i: usize| {
         let r: Vec<String> = (0..s).map(|j| format!("\"1/{}\"", i + j + 2)).collect();
         format!("[{}]", r.join(", "))

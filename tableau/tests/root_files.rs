@@ -180,7 +180,7 @@ fn lobatto5_weights_in_five_roots() {
     let text = m.to_root_file("w", &["symplectic"], None);
     let start = text.find("a = [").unwrap();
     let end = text.find("\nb = [").unwrap();
-    let zeros = vec![format!("[{}]", vec!["0"; 5].join(", ")); 5].join(", ");
+    let zeros = vec![format!("[{}]", ["0"; 5].join(", ")); 5].join(", ");
     let text = format!("{}a = [{zeros}]{}", &text[..start], &text[end..]);
     let f = alg(&text);
     let t0 = Instant::now();
