@@ -42,9 +42,10 @@ fn main() {
                         let an = f.analyse();
                         let t2 = t0.elapsed().as_secs_f64();
                         println!(
-                            "{} {s} {} parse {t1:.3}s total {t2:.3}s symplectic {:?} rows {:?} B {:?}",
+                            "{} {s} {} parse {t1:.3}s total {t2:.3}s work {} symplectic {:?} rows {:?} B {:?}",
                             fam.name(),
                             if wc { "c" } else { "noc" },
+                            an.work,
                             an.symplectic,
                             an.row_sums_ok,
                             an.b_levels

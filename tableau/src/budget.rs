@@ -95,7 +95,7 @@ pub const MAX_ZERO_TEST_BITS: u64 = 1 << 18;
 /// exponent for long operands: refining the roots to the precision asked
 /// for, and the certified enclosure of every term). See
 /// [`crate::algebraic::alg::work_of_enclosure`].
-pub const MAX_ZERO_TEST_WORK: u64 = 1 << 31;
+pub const MAX_ZERO_TEST_WORK: u64 = 1 << 33;
 
 /// The work of all the zero tests of one table with `root(...)` entries
 /// together (symplecticity, row sums, `B(k)`), in the units of
@@ -120,4 +120,4 @@ pub const MAX_ROOT_DEGREE: usize = 64;
 /// The most bits of a `root(POLY, LO, HI)`: the numerators and denominators
 /// of POLY's coefficients and of LO and HI together. Sturm sequences grow
 /// like degree² × these bits.
-pub const MAX_ROOT_BITS: u64 = 1 << 13;
+pub const MAX_ROOT_BITS: u64 = 1 << 14;

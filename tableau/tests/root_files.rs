@@ -35,6 +35,10 @@ fn check_family(fam: Family, s: usize, with_c: bool) -> f64 {
     let an = f.analyse();
     let secs = t0.elapsed().as_secs_f64();
     let tag = format!("{} {s} c={with_c}", fam.name());
+    assert!(an.work <= tableau::budget::MAX_ANALYSIS_WORK, "{tag}");
+    if std::env::var_os("ROOT_FILES_VERBOSE").is_some() {
+        println!("{tag}: work {}, refusals {:?}", an.work, an.refusals);
+    }
     if let Some(x) = an.symplectic {
         assert_eq!(x, v.symplectic, "{tag}: symplectic");
     }

@@ -30,8 +30,8 @@ use num_bigint::BigInt;
 use num_rational::BigRational;
 use num_traits::{One, Signed, Zero};
 
-use super::poly::{Poly, count_roots, qeq, qle, qlt};
-use super::root::{RealRoot, f64_rational, next_up, sign};
+use super::poly::{Poly, count_roots, qeq, qle};
+use super::root::{RealRoot, ceil_scaled, f64_rational, floor_scaled, next_up, sign};
 use crate::budget::BeyondBudget;
 use crate::number::rational_to_f64;
 
@@ -255,7 +255,19 @@ pub fn work_of_enclosure(terms: u64, deg: u64, cbits: u64, root_degrees: &[u64],
         per_term = per_term.saturating_add(mul_work(w.saturating_mul(t), w).saturating_mul(4));
     }
     per_term = per_term.saturating_add(mul_work(w.saturating_mul(deg.max(1)), words(cbits)) * 2);
+    // Calibrated against measured times: the refinement's bisections and
+    // Sturm counts, and the allocation of the long products, cost about three
+    // times the products counted above.
     work.saturating_add(per_term.saturating_mul(terms))
+        .saturating_mul(3)
+}
+
+/// The estimated work of isolating a root of `p`: its squarefree part and
+/// Sturm sequence, two remainder sequences (see [`Field`]'s gcd budget).
+pub fn root_work(p: &Poly) -> u64 {
+    let d = p.0.len() as u64;
+    let b = p.0.iter().map(qbits).max().unwrap_or(0);
+    Field::gcd_work(d, b).saturating_mul(2)
 }
 
 fn names(f: &Field, sup: &[usize]) -> String {
@@ -411,6 +423,7 @@ impl Field {
                 crate::budget::MAX_ALG_PRODUCT_WORK
             )));
         }
+        self.charge(work)?;
         let r = self.mul(a, b);
         self.check_size(&r)?;
         Ok(r)
@@ -473,7 +486,7 @@ impl Field {
     /// The estimated work of a gcd of univariate polynomials of degree at
     /// most `d` with coefficients of at most `b` bits over Q (Euclid's
     /// algorithm: about d² operations on numbers of up to 2·d·b bits).
-    fn gcd_work(d: u64, b: u64) -> u64 {
+    pub(crate) fn gcd_work(d: u64, b: u64) -> u64 {
         let w = words(2u64.saturating_mul(d + 1).saturating_mul(b + 64));
         (d + 1).saturating_mul(d + 1).saturating_mul(mul_work(w, w))
     }
@@ -493,7 +506,7 @@ impl Field {
     }
 
     /// Count `work` against the field's limit (if it has one).
-    fn charge(&self, work: u64) -> Result<(), BeyondBudget> {
+    pub(crate) fn charge(&self, work: u64) -> Result<(), BeyondBudget> {
         let spent = self.spent.get().saturating_add(work);
         if let Some(limit) = self.work_limit
             && spent > limit
@@ -553,8 +566,7 @@ impl Field {
     fn root_at(&self, k: usize, bits: u64) -> RealRoot {
         let mut cache = self.refined.borrow_mut();
         let r = cache.entry(k).or_insert_with(|| self.roots[k].clone());
-        let eps = BigRational::new(BigInt::one(), BigInt::one() << bits);
-        if qlt(&eps, &r.width()) {
+        if r.wider_than(bits) {
             r.refine_to(bits);
         }
         r.clone()
@@ -565,7 +577,13 @@ impl Field {
     /// and the sum is taken in integers over one common denominator.
     fn enclose(&self, a: &Alg, bits: u64) -> Result<(BigRational, BigRational), BeyondBudget> {
         let (lo, hi, d) = self.enclose_int(a, bits)?;
-        Ok((BigRational::new(lo, d.clone()), BigRational::new(hi, d)))
+        // Not normalised (a gcd of such long numbers costs more than the
+        // enclosure): used only for comparisons by cross multiplication and
+        // for rounding, which take any positive denominator.
+        Ok((
+            BigRational::new_raw(lo, d.clone()),
+            BigRational::new_raw(hi, d),
+        ))
     }
 
     /// The estimated work of [`Self::enclose_int`], refused past
@@ -581,10 +599,14 @@ impl Field {
             nbits = nbits.max(c.numer().bits());
             deg = deg.max(m.iter().map(|&e| e as u64).sum());
         }
+        // Roots already refined to this precision (cached) cost nothing.
+        let cache = self.refined.borrow();
         let degs: Vec<u64> = sup
             .iter()
+            .filter(|&&k| cache.get(&k).is_none_or(|r| r.wider_than(bits)))
             .map(|&k| self.roots[k].poly.degree().unwrap_or(1) as u64)
             .collect();
+        drop(cache);
         let work = work_of_enclosure(a.terms.len() as u64, deg, nbits + den.bits(), &degs, bits);
         if work > MAX_ZERO_TEST_WORK {
             return Err(BeyondBudget(format!(
@@ -604,14 +626,11 @@ impl Field {
         self.check_enclosure(a, bits)?;
         let sup = a.support();
         let prec = bits + 16;
-        let scale = BigRational::from_integer(BigInt::one() << prec);
         let ints: BTreeMap<usize, (BigInt, BigInt)> = sup
             .iter()
             .map(|&k| {
                 let r = self.root_at(k, bits);
-                let lo = (&r.lo * &scale).floor().to_integer();
-                let hi = (&r.hi * &scale).ceil().to_integer();
-                (k, (lo, hi))
+                (k, (floor_scaled(&r.lo, prec), ceil_scaled(&r.hi, prec)))
             })
             .collect();
         let mut den = BigInt::one();

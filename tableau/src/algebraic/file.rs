@@ -201,7 +201,8 @@ fn alg_file(file: &str, doc: &toml::Table) -> Result<AlgFile, FileError> {
     let claims = claims_of(file, doc)?.unwrap_or_default();
     let mut cx = AlgCx {
         file,
-        field: Field::default(),
+        // Parsing (roots, products) has the same total budget as analysis.
+        field: Field::default().with_work_limit(crate::budget::MAX_ANALYSIS_WORK),
         env: BTreeMap::new(),
     };
     if let Some(toml::Value::Table(lets)) = doc.get("let") {
@@ -222,6 +223,9 @@ fn alg_file(file: &str, doc: &toml::Table) -> Result<AlgFile, FileError> {
             };
             if text.trim_start().starts_with("root(") {
                 let r = parse_root(&text).map_err(|e| ferr(file, Some(&fieldname), e))?;
+                cx.field
+                    .charge(super::alg::root_work(&r.poly))
+                    .map_err(|e| ferr(file, Some(&fieldname), e.0))?;
                 let x = cx.field.push(r, k.clone());
                 cx.env.insert(k.clone(), x);
             } else {
@@ -330,7 +334,8 @@ fn alg_file(file: &str, doc: &toml::Table) -> Result<AlgFile, FileError> {
         name,
         source,
         claims,
-        field: cx.field,
+        // The parse's work is done; users of the field get a fresh budget.
+        field: cx.field.with_work_limit(crate::budget::MAX_ANALYSIS_WORK),
         a,
         b,
         c,
@@ -387,6 +392,15 @@ pub fn parse_root(text: &str) -> Result<RealRoot, String> {
     }
     if super::poly::qle(&hi, &lo) {
         return Err(format!("the interval ({lo}, {hi}] is empty"));
+    }
+    let work = super::alg::root_work(&p);
+    if work > crate::budget::MAX_ZERO_TEST_WORK {
+        return Err(format!(
+            "isolating a root of a polynomial of degree {} with coefficients of up to {} bits needs about {work} word products, beyond the budget of {} (tableau::budget::MAX_ZERO_TEST_WORK)",
+            p.degree().unwrap_or(0),
+            p.0.iter().map(qbits).max().unwrap_or(0),
+            crate::budget::MAX_ZERO_TEST_WORK
+        ));
     }
     RealRoot::new(&p, lo.clone(), hi.clone()).map_err(|n| {
         format!(
@@ -690,6 +704,9 @@ pub struct AlgAnalysis {
     /// Why each undecided verdict is undecided: the budget, its limit and
     /// its constant's path.
     pub refusals: Vec<String>,
+    /// The estimated work of the analysis, in the units of
+    /// [`crate::budget::MAX_ANALYSIS_WORK`].
+    pub work: u64,
 }
 
 /// The row sums of `a`, collapsed to as few roots as the field allows
@@ -918,6 +935,7 @@ impl AlgFile {
             row_sums_hat_ok,
             b_hat_levels,
             refusals,
+            work: f.work_spent(),
         }
     }
 

@@ -31,6 +31,28 @@ impl PartialEq for RealRoot {
 
 impl Eq for RealRoot {}
 
+/// `n / 2ᵏ`, reduced by stripping the common powers of two (no gcd: the
+/// binary gcd of `num-bigint` is quadratic with a large constant, and the
+/// refinement builds such numbers of hundreds of thousands of bits).
+pub fn dyadic(n: BigInt, k: u64) -> BigRational {
+    if n.is_zero() {
+        return BigRational::zero();
+    }
+    let t = n.trailing_zeros().unwrap_or(0).min(k);
+    BigRational::new_raw(n >> t as usize, BigInt::one() << (k - t) as usize)
+}
+
+/// `floor(x · 2ᵏ)` in integers, without normalising a rational.
+pub fn floor_scaled(x: &BigRational, k: u64) -> BigInt {
+    use num_integer::Integer;
+    (x.numer() << k as usize).div_floor(x.denom())
+}
+
+/// `ceil(x · 2ᵏ)` in integers.
+pub fn ceil_scaled(x: &BigRational, k: u64) -> BigInt {
+    -floor_scaled(&-x, k)
+}
+
 fn two() -> BigRational {
     BigRational::from_integer(BigInt::from(2))
 }
@@ -181,6 +203,22 @@ impl RealRoot {
         &self.hi - &self.lo
     }
 
+    /// Whether the interval is wider than `2^-bits`, in integers (no
+    /// normalised rational).
+    pub fn wider_than(&self, bits: u64) -> bool {
+        let (l, h) = (&self.lo, &self.hi);
+        let wn = h.numer() * l.denom() - l.numer() * h.denom();
+        (wn << bits as usize) > l.denom() * h.denom()
+    }
+
+    /// About `log₂(1/width)` (at most it, never more), in integers.
+    fn width_bits(&self) -> u64 {
+        let (l, h) = (&self.lo, &self.hi);
+        let wn = h.numer() * l.denom() - l.numer() * h.denom();
+        let wd = l.denom() * h.denom();
+        (wd.bits() as i64 - wn.bits() as i64 - 1).max(0) as u64
+    }
+
     /// Split the interval at `m` (strictly inside), keeping the half that
     /// holds the root; an exact hit makes the root rational.
     pub fn split_at(&mut self, m: BigRational) {
@@ -214,8 +252,7 @@ impl RealRoot {
     /// step falls back to bisection).
     pub fn refine_to(&mut self, bits: u64) {
         use num_integer::Integer;
-        let eps = BigRational::new(BigInt::one(), BigInt::one() << bits);
-        if self.is_rational() || qle(&self.width(), &eps) {
+        if self.is_rational() || !self.wider_than(bits) {
             return;
         }
         // Integer coefficients: D·p.
@@ -256,22 +293,21 @@ impl RealRoot {
             }
         };
         let mut failures: u32 = 0;
-        while qlt(&eps, &self.width()) {
+        while self.wider_than(bits) {
             if self.is_rational() {
                 return;
             }
-            let w = self.width();
-            let cur = (w.denom().bits() as i64 - w.numer().bits() as i64 - 1).max(0) as u64;
+            let cur = self.width_bits();
             if cur < 40 || failures > 3 {
                 self.bisect();
                 failures = failures.saturating_sub(1);
                 continue;
             }
             let k = bits.min(2 * cur - 8).max(cur + 1) + 2;
-            let scale = BigRational::from_integer(BigInt::one() << k);
-            let x = ((&self.lo + &self.hi) / two() * &scale)
-                .floor()
-                .to_integer();
+            // floor((lo + hi)/2 · 2^k) in integers.
+            let (l, h) = (&self.lo, &self.hi);
+            let x = ((l.numer() * h.denom() + h.numer() * l.denom()) << k as usize)
+                .div_floor(&((l.denom() * h.denom()) << 1usize));
             let (v, dv) = eval(&x, k);
             if dv.is_zero() {
                 self.bisect();
@@ -281,8 +317,8 @@ impl RealRoot {
             let xn = &x - v.div_floor(&dv);
             let (a, b) = (&xn - BigInt::from(2), &xn + BigInt::from(2));
             let (ra, rb) = (
-                BigRational::new(a.clone(), BigInt::one() << k),
-                BigRational::new(b.clone(), BigInt::one() << k),
+                dyadic(a.clone(), k),
+                dyadic(b.clone(), k),
             );
             let ok = qle(&self.lo, &ra)
                 && qle(&rb, &self.hi)
