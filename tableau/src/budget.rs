@@ -95,7 +95,7 @@ pub const MAX_ZERO_TEST_BITS: u64 = 1 << 18;
 /// exponent for long operands: refining the roots to the precision asked
 /// for, and the certified enclosure of every term). See
 /// [`crate::algebraic::alg::work_of_enclosure`].
-pub const MAX_ZERO_TEST_WORK: u64 = 1 << 33;
+pub const MAX_ZERO_TEST_WORK: u64 = 1 << 32;
 
 /// The work of all the zero tests of one table with `root(...)` entries
 /// together (symplecticity, row sums, `B(k)`), in the units of
@@ -110,7 +110,7 @@ pub const MAX_ALG_TERMS: usize = 1 << 14;
 /// The work of one product or power of real algebraic numbers in an
 /// entry: term products × the word products of their coefficients
 /// (estimated before it is done).
-pub const MAX_ALG_PRODUCT_WORK: u64 = 1 << 30;
+pub const MAX_ALG_PRODUCT_WORK: u64 = 1 << 32;
 
 /// The largest degree of the polynomial of a `root(POLY, LO, HI)` (after
 /// expanding it); the node polynomials of generated tables have degree at

@@ -223,8 +223,11 @@ fn alg_file(file: &str, doc: &toml::Table) -> Result<AlgFile, FileError> {
             };
             if text.trim_start().starts_with("root(") {
                 let r = parse_root(&text).map_err(|e| ferr(file, Some(&fieldname), e))?;
+                // Charged as for the widest interval the text allows
+                // (Cauchy's bound), since the one given is gone.
+                let wide = BigRational::from_integer(1.into());
                 cx.field
-                    .charge(super::alg::root_work(&r.poly))
+                    .charge(super::alg::isolation_work(&r.poly, &wide, &wide))
                     .map_err(|e| ferr(file, Some(&fieldname), e.0))?;
                 let x = cx.field.push(r, k.clone());
                 cx.env.insert(k.clone(), x);
@@ -334,8 +337,9 @@ fn alg_file(file: &str, doc: &toml::Table) -> Result<AlgFile, FileError> {
         name,
         source,
         claims,
-        // The parse's work is done; users of the field get a fresh budget.
-        field: cx.field.with_work_limit(crate::budget::MAX_ANALYSIS_WORK),
+        // The field keeps the work spent parsing: parsing and analysis share
+        // the budget.
+        field: cx.field,
         a,
         b,
         c,
@@ -393,7 +397,7 @@ pub fn parse_root(text: &str) -> Result<RealRoot, String> {
     if super::poly::qle(&hi, &lo) {
         return Err(format!("the interval ({lo}, {hi}] is empty"));
     }
-    let work = super::alg::root_work(&p);
+    let work = super::alg::isolation_work(&p, &lo, &hi);
     if work > crate::budget::MAX_ZERO_TEST_WORK {
         return Err(format!(
             "isolating a root of a polynomial of degree {} with coefficients of up to {} bits needs about {work} word products, beyond the budget of {} (tableau::budget::MAX_ZERO_TEST_WORK)",
@@ -402,11 +406,15 @@ pub fn parse_root(text: &str) -> Result<RealRoot, String> {
             crate::budget::MAX_ZERO_TEST_WORK
         ));
     }
-    RealRoot::new(&p, lo.clone(), hi.clone()).map_err(|n| {
+    let mut r = RealRoot::new(&p, lo.clone(), hi.clone()).map_err(|n| {
         format!(
             "the polynomial has {n} distinct real roots in ({lo}, {hi}], not exactly one: give an isolating interval"
         )
-    })
+    })?;
+    // Bisect to a narrow interval now, within the work just checked; later
+    // refinement takes certified Newton steps.
+    r.refine_to(64);
+    Ok(r)
 }
 
 fn qbits(c: &BigRational) -> u64 {
@@ -845,7 +853,7 @@ impl AlgFile {
         let f = &self
             .field
             .clone()
-            .with_work_limit(crate::budget::MAX_ANALYSIS_WORK);
+            .with_default_work_limit(crate::budget::MAX_ANALYSIS_WORK);
         let s = self.b.len();
         let mut refusals = Vec::new();
         let mut w = Vec::new();

@@ -316,10 +316,7 @@ impl RealRoot {
             // p/p' in units of 2^-k is v/dv.
             let xn = &x - v.div_floor(&dv);
             let (a, b) = (&xn - BigInt::from(2), &xn + BigInt::from(2));
-            let (ra, rb) = (
-                dyadic(a.clone(), k),
-                dyadic(b.clone(), k),
-            );
+            let (ra, rb) = (dyadic(a.clone(), k), dyadic(b.clone(), k));
             let ok = qle(&self.lo, &ra)
                 && qle(&rb, &self.hi)
                 && sgn(&eval(&a, k).0) * sgn(&eval(&b, k).0) < 0;
