@@ -34,6 +34,7 @@
 use std::collections::BTreeMap;
 use std::path::Path;
 
+use num_bigint::BigInt;
 use num_rational::BigRational;
 use num_traits::{Signed, ToPrimitive, Zero};
 
@@ -413,7 +414,26 @@ pub fn parse_root(text: &str) -> Result<RealRoot, String> {
     })?;
     // Bisect to a narrow interval now, within the work just checked; later
     // refinement takes certified Newton steps.
-    r.refine_to(64);
+    let mut narrow = r.clone();
+    narrow.refine_to(64);
+    if !narrow.is_rational() {
+        r = narrow;
+    } else if !r.is_rational() {
+        // The bisection hit a rational root exactly: keep it a variable
+        // (so that it stays in its family of conjugates, see
+        // `Field::collapse`), in a small interval around it.
+        let v = narrow.lo;
+        let mut w = BigRational::new(1.into(), BigInt::from(1u64 << 40));
+        for _ in 0..64 {
+            if let Ok(c) = RealRoot::new(&p, &v - &w, &v + &w)
+                && !c.is_rational()
+            {
+                r = c;
+                break;
+            }
+            w = w / BigRational::from_integer(2.into());
+        }
+    }
     Ok(r)
 }
 
