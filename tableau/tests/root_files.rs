@@ -83,6 +83,16 @@ fn families_up_to_4_stages_decided_or_refused() {
         for s in min_stages(fam)..=4 {
             for with_c in [true, false] {
                 check_family(fam, s, with_c);
+                // Small tables are decided outright, nothing refused.
+                let text = Method::new(fam, s).to_root_file_with("t", &[], None, with_c);
+                let an = alg(&text).analyse();
+                assert!(
+                    an.refusals.is_empty(),
+                    "{} {s}: {:?}",
+                    fam.name(),
+                    an.refusals
+                );
+                assert!(an.symplectic.is_some() && an.b_levels.last().is_some_and(|v| v.is_some()));
             }
         }
     }

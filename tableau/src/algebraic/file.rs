@@ -431,7 +431,7 @@ pub fn parse_root(text: &str) -> Result<RealRoot, String> {
                 r = c;
                 break;
             }
-            w = w / BigRational::from_integer(2.into());
+            w /= BigRational::from_integer(2.into());
         }
     }
     Ok(r)
