@@ -24,18 +24,19 @@
 //! | [`RADICAL_STABILITY_WORK`] | 2²⁷ | tables with radicals: stages⁵ × degree² (stages³ × degree² for explicit tables and quadratic fields) |
 //! | [`MAX_ENTRY_BITS`] | 32768 bits | an entry's value: the bits of its numerators, denominators and radicands; and the common denominator of all entries; a coefficient of a real algebraic entry |
 //! | [`MAX_ROOT_DEGREE`] | degree 64 | the polynomial of a `root(POLY, LO, HI)`, and every power and product while it is expanded (`(x^200)^200` is refused) |
-//! | [`MAX_ROOT_BITS`] | 8192 bits | POLY's coefficients and LO, HI together (huge bounds are clipped to Cauchy's root bound, so they cost no bisections) |
+//! | [`MAX_ROOT_BITS`] | 16384 bits | POLY's coefficients and LO, HI together (the interval is clipped to Cauchy's root bound, so huge bounds cost no bisections) |
 //! | [`MAX_ALG_TERMS`] | 16384 terms | a real algebraic entry (a polynomial in the roots), after reduction |
-//! | [`MAX_ALG_PRODUCT_WORK`] | 2³⁰ word products | one product or power step in a root-file entry or condition, estimated before it is done (`(c0 + … + c7)^64` is refused) |
-//! | [`MAX_ZERO_TEST_BITS`] | 2¹⁸ bits | the precision `(n − 1)·log₂ M` a zero test in several roots needs |
-//! | [`MAX_ZERO_TEST_WORK`] | 2³¹ word products | one zero test, sign, rounding or gcd of real algebraic numbers, estimated before it is done |
-//! | [`MAX_ANALYSIS_WORK`] | 2³³ word products | all the zero tests of one root-file table together; the tests past it are reported undecided |
+//! | [`MAX_ALG_PRODUCT_WORK`] | 2³² word products | one product or power step in a root-file entry or condition, estimated before it is done: at the limit about 0.75 s, 20 MB (`(√2 + √3 + … + √37)^8`, 2·10⁹ in 0.35 s); `(c0 + … + c7)^64` is refused |
+//! | [`MAX_ZERO_TEST_BITS`] | 2¹⁸ bits | the precision `(n − 1)·log₂ M` a zero test in several roots needs (six quintic roots, 218 815 bits: 0.64 s) |
+//! | [`MAX_ZERO_TEST_WORK`] | 2³² word products | one zero test, sign, rounding, gcd or root isolation, estimated before it is done: at the limit about 1.6 s (a zero test in six quintic roots, 1.7·10⁹ in 0.64 s; isolating a root of degree 64, 10⁹ in 0.44 s), under 10 MB |
+//! | [`MAX_ANALYSIS_WORK`] | 2³³ word products | parsing and analysing one root-file table together; the tests past it are reported undecided: at the limit about 3.6 s (36 such zero tests, 6.6·10⁹ in 2.8 s), under 10 MB |
 //!
 //! Word products are counted with Karatsuba's exponent for long operands
-//! ([`crate::algebraic::alg::mul_work`]). Measured (release build, this
-//! project's 2-core machine): every collocation table with s ≤ 8 of every
-//! family, and the Lobatto IIIA–IIIB pair, written with `root(...)`
-//! entries, `c` given or not, is analysed in at most 3.3 s and 8 MB
+//! ([`crate::algebraic::alg::mul_work`]), calibrated so that one unit is
+//! about 0.3–0.45 ns on this project's 2-core machine (release build).
+//! Measured there: every collocation table with s ≤ 8 of every family, and
+//! the Lobatto IIIA–IIIB pair, written with `root(...)` entries (`c` given
+//! or not) is decided, nothing refused, in at most 1.9 s and 8 MB
 //! (`cargo test -p tableau --release --test root_files -- --ignored`).
 
 pub use crate::number::MAX_INVERSE_DEGREE;

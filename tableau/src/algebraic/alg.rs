@@ -22,7 +22,22 @@
 //!   sign changes) makes one of the two happen.
 //!
 //! This decides zero completely, for any number of roots, within the budget
-//! [`MAX_ZERO_TEST_BITS`] on the precision the bound asks for.
+//! [`MAX_ZERO_TEST_BITS`] on the precision the bound asks for and
+//! [`MAX_ZERO_TEST_WORK`] on the work (estimated before it is done).
+//!
+//! Two exact shortcuts come first. Where the roots include every root of
+//! one polynomial (a *complete family of conjugates*, e.g. the nodes of a
+//! collocation table), sums over the family are replaced by their values
+//! through the power sums ([`Field::collapse`]): `Σᵢ bᵢcᵢᵏ` becomes a
+//! rational and a row sum `Σⱼ aᵢⱼ` a polynomial in `cᵢ`. Two distinct
+//! roots of one polynomial are reduced modulo its divided difference, which
+//! vanishes there, and an element zero on every pair of distinct roots
+//! reduces to the zero polynomial.
+//!
+//! Rationals are compared by cross multiplication ([`super::poly::qcmp`]),
+//! never by `num-rational`'s `Ord`, which recurses once per shared partial
+//! quotient of the continued fractions and overflowed the stack on numbers
+//! agreeing to 100 000 bits; long dyadic numbers are built without a gcd.
 
 use std::collections::BTreeMap;
 

@@ -21,13 +21,18 @@
 //!
 //! Entries of a `root` file are polynomials with rational coefficients in the
 //! roots (and in `sqrt`/`cbrt` of rationals, which become roots too);
-//! division is allowed by expressions in one root. Zero is decided exactly
-//! ([`super::alg`]): the symplecticity verdict names every nonzero `Wᵢⱼ`.
-//! Conditions that mix many roots (the sums in `B(p)`, `C(q)`, `D(r)`) are
-//! decided when within the budget [`super::alg::MAX_ZERO_TEST_BITS`] and
-//! reported as undecided otherwise; symmetry and the stability function are
-//! not computed for such files. A file without `generate` or `root(` is an
-//! ordinary table file.
+//! division is allowed by expressions in one root. A pair gives `a_hat`,
+//! `b_hat` (and optionally `c_hat`) as well. Zero is decided exactly
+//! ([`super::alg`]): the symplecticity verdict names every nonzero `Wᵢⱼ`
+//! (for a pair, every nonzero entry of `bᵢâᵢⱼ + b̂ⱼaⱼᵢ − bᵢb̂ⱼ`, and
+//! `b = b̂`). Row sums and `B(k)` (for `b`, and `b̂`) are decided too.
+//! Every test is within the budgets of [`crate::budget`]
+//! (`MAX_ZERO_TEST_BITS`, `MAX_ZERO_TEST_WORK`, `MAX_ALG_PRODUCT_WORK`,
+//! `MAX_ALG_TERMS`, and `MAX_ANALYSIS_WORK` for parsing and analysing a
+//! table together); one beyond them is reported as undecided, with the
+//! reason in [`AlgAnalysis::refusals`]. Symmetry and the stability function
+//! are not computed for such files. A file without `generate` or `root(`
+//! is an ordinary table file.
 
 #![allow(clippy::needless_range_loop)] // index-heavy table code
 
