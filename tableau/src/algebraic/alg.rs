@@ -458,7 +458,7 @@ impl Field {
             .saturating_mul(1 + vars.min(4) * dmax / 4)
     }
 
-    /// `a · b` within the budgets [`MAX_ALG_PRODUCT_WORK`] (estimated before
+    /// `a · b` within the budgets [`crate::budget::MAX_ALG_PRODUCT_WORK`] (estimated before
     /// it is done) and [`MAX_ALG_TERMS`] (of the result).
     pub fn try_mul(&self, a: &Alg, b: &Alg) -> Result<Alg, BeyondBudget> {
         let work = self.product_work(a, b);
