@@ -327,9 +327,13 @@ fn huge_bounds_and_powers_are_bounded() {
 fn huge_expansions_are_refused() {
     let m = Method::new(Family::Gauss, 8);
     let text = m.to_root_file("g8", &[], None);
+    let digits = "7".repeat(1000);
+    let big_power = format!("(c0 + {digits})^64");
     for entry in [
         "(c0 + c1 + c2 + c3 + c4 + c5 + c6 + c7)^64",
         "((c0 + c1 + c2 + c3 + c4 + c5 + c6 + c7)^8)^8",
+        "(c0 + c1 + c2 + c3 + c4 + c5 + c6 + c7)^6 * (c0 + c1 + c2 + c3 + c4 + c5 + c6 + c7)^6",
+        big_power.as_str(),
     ] {
         let start = text.find("a = [").unwrap();
         let end = text.find("\nb = [").unwrap();
@@ -456,4 +460,25 @@ proptest! {
         }
         prop_assert!(t0.elapsed() < hang_limit());
     }
+}
+
+/// Repeated squaring through `let` bindings is bounded the same way, and
+/// the refusal names the binding.
+#[test]
+fn repeated_squaring_in_lets_is_refused() {
+    let m = Method::new(Family::Gauss, 8);
+    let text = m.to_root_file("g8", &[], None);
+    let sum = "c0 + c1 + c2 + c3 + c4 + c5 + c6 + c7";
+    let lets = format!(
+        "x1 = \"({sum})^2\"\nx2 = \"x1*x1\"\nx3 = \"x2*x2\"\nx4 = \"x3*x3\"\nx5 = \"x4*x4\"\n"
+    );
+    let text = text.replacen("[let]\n", &format!("[let]\n{lets}"), 1);
+    let t0 = Instant::now();
+    let e = parse("g8.toml", &text).unwrap_err();
+    assert!(
+        e.field.as_deref().is_some_and(|f| f.starts_with("let.x")),
+        "{e}"
+    );
+    assert!(e.to_string().contains("tableau::budget::"), "{e}");
+    assert!(t0.elapsed() < hang_limit());
 }
