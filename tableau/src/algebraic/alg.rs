@@ -616,11 +616,30 @@ impl Field {
     }
 
     /// Root `k` refined to width at most `2^-bits` (cached).
+    ///
+    /// Certified Newton steps do nearly all of it; the bisections a
+    /// refinement may fall back on (Sturm counts, e.g. for roots closer
+    /// together than the interval) are limited to an eighth of
+    /// [`MAX_ZERO_TEST_WORK`] (at least 16, at most 256): past them the
+    /// interval stays wider and the test that needed it is refused.
     fn root_at(&self, k: usize, bits: u64) -> RealRoot {
         let mut cache = self.refined.borrow_mut();
         let r = cache.entry(k).or_insert_with(|| self.roots[k].clone());
         if r.wider_than(bits) {
-            r.refine_to(bits);
+            let d = r.poly.0.len() as u64;
+            let b = r.poly.0.iter().map(qbits).max().unwrap_or(0);
+            // ×64: a Sturm count evaluates in normalised rationals, a gcd
+            // per operation (measured: ~2 ms per count for a cubic with
+            // 1000-bit coefficients).
+            let count = d
+                .saturating_mul(d)
+                .saturating_mul(mul_work(
+                    words(2u64.saturating_mul(d).saturating_mul(b + 64)),
+                    words(bits + 64),
+                ))
+                .saturating_mul(64);
+            let allowance = (MAX_ZERO_TEST_WORK / 8 / count.max(1)).clamp(16, 256);
+            r.refine_within(bits, allowance);
         }
         r.clone()
     }

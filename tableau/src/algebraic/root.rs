@@ -251,10 +251,19 @@ impl RealRoot {
     /// polynomial certifies the root in the new, smaller interval (a failed
     /// step falls back to bisection).
     pub fn refine_to(&mut self, bits: u64) {
+        self.refine_within(bits, u64::MAX);
+    }
+
+    /// [`Self::refine_to`] with at most `bisections` bisections (each a
+    /// Sturm count; certified Newton steps are not limited, they halve the
+    /// number of unknown bits). Returns whether the width was reached; when
+    /// not, the interval is narrower than before and still holds the root.
+    pub fn refine_within(&mut self, bits: u64, bisections: u64) -> bool {
         use num_integer::Integer;
         if self.is_rational() || !self.wider_than(bits) {
-            return;
+            return true;
         }
+        let mut left = bisections;
         // Integer coefficients: D·p.
         let mut den = BigInt::one();
         for c in &self.poly.0 {
@@ -295,10 +304,14 @@ impl RealRoot {
         let mut failures: u32 = 0;
         while self.wider_than(bits) {
             if self.is_rational() {
-                return;
+                return true;
             }
             let cur = self.width_bits();
             if cur < 40 || failures > 3 {
+                if left == 0 {
+                    return false;
+                }
+                left -= 1;
                 self.bisect();
                 failures = failures.saturating_sub(1);
                 continue;
@@ -310,6 +323,10 @@ impl RealRoot {
                 .div_floor(&((l.denom() * h.denom()) << 1usize));
             let (v, dv) = eval(&x, k);
             if dv.is_zero() {
+                if left == 0 {
+                    return false;
+                }
+                left -= 1;
                 self.bisect();
                 continue;
             }
@@ -325,9 +342,14 @@ impl RealRoot {
                 self.hi = rb;
             } else {
                 failures += 1;
+                if left == 0 {
+                    return false;
+                }
+                left -= 1;
                 self.bisect();
             }
         }
+        true
     }
 
     /// The `f64` nearest to the root (ties to even), decided on the exact
