@@ -482,3 +482,24 @@ fn repeated_squaring_in_lets_is_refused() {
     assert!(e.to_string().contains("tableau::budget::"), "{e}");
     assert!(t0.elapsed() < hang_limit());
 }
+
+/// Two roots 10⁻³⁰⁰ apart: refining one needs ~1000 bisections before
+/// Newton steps take over; the bisections are limited, so the zero test is
+/// refused (naming the budget) in seconds instead of running long.
+#[test]
+fn clustered_roots_are_bounded() {
+    let text = "name = \"cl\"\na = [[\"(c*d - d*(1 + 1e-300))/2 + 1/2\"]]\nb = [\"1\"]\n[let]\nc = \"root((x - 1)*(x - 1 - 1e-300)*(x - 3), 1 + 1e-301, 2)\"\nd = \"root(x^2 - 2, 1, 2)\"\n";
+    let f = alg(text);
+    let t0 = Instant::now();
+    let an = f.analyse();
+    // The value is zero: never decided otherwise.
+    assert_ne!(an.w[0].zero, Some(false));
+    if an.w[0].zero.is_none() {
+        assert!(
+            an.refusals[0].contains("tableau::budget::"),
+            "{:?}",
+            an.refusals
+        );
+    }
+    assert!(t0.elapsed() < hang_limit());
+}
