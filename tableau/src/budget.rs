@@ -36,7 +36,7 @@
 //! about 0.3–0.45 ns on this project's 2-core machine (release build).
 //! Measured there: every collocation table with s ≤ 8 of every family, and
 //! the Lobatto IIIA–IIIB pair, written with `root(...)` entries (`c` given
-//! or not) is decided, nothing refused, in at most 1.9 s and 8 MB
+//! or not) is decided, nothing refused, in at most about 2 s and 8 MB
 //! (`cargo test -p tableau --release --test root_files -- --ignored`).
 
 pub use crate::number::MAX_INVERSE_DEGREE;
