@@ -22,7 +22,22 @@
 //! | [`crate::expr::MAX_DEPTH`] | 128 levels | the nesting of an entry |
 //! | [`STABILITY_WORK`] | 2³⁰ | rational tables: primes × (stages³ + stages² × words of an entry) + primes² × stages |
 //! | [`RADICAL_STABILITY_WORK`] | 2²⁷ | tables with radicals: stages⁵ × degree² (stages³ × degree² for explicit tables and quadratic fields) |
-//! | [`MAX_ENTRY_BITS`] | 32768 bits | an entry's value: the bits of its numerators, denominators and radicands; and the common denominator of all entries |
+//! | [`MAX_ENTRY_BITS`] | 32768 bits | an entry's value: the bits of its numerators, denominators and radicands; and the common denominator of all entries; a coefficient of a real algebraic entry |
+//! | [`MAX_ROOT_DEGREE`] | degree 64 | the polynomial of a `root(POLY, LO, HI)`, and every power and product while it is expanded (`(x^200)^200` is refused) |
+//! | [`MAX_ROOT_BITS`] | 16384 bits | POLY's coefficients and LO, HI together (the interval is clipped to Cauchy's root bound, so huge bounds cost no bisections) |
+//! | [`MAX_ALG_TERMS`] | 16384 terms | a real algebraic entry (a polynomial in the roots), after reduction |
+//! | [`MAX_ALG_PRODUCT_WORK`] | 2³² word products | one product or power step in a root-file entry or condition, estimated before it is done: at the limit about 0.75 s, 20 MB (`(√2 + √3 + … + √37)^8`, 2·10⁹ in 0.35 s); `(c0 + … + c7)^64` is refused |
+//! | [`MAX_ZERO_TEST_BITS`] | 2¹⁸ bits | the precision `(n − 1)·log₂ M` a zero test in several roots needs (six quintic roots, 218 815 bits: 0.64 s) |
+//! | [`MAX_ZERO_TEST_WORK`] | 2³² word products | one zero test, sign, rounding, gcd or root isolation, estimated before it is done: at the limit about 1.6 s (a zero test in six quintic roots, 1.7·10⁹ in 0.64 s; isolating a root of degree 64, 10⁹ in 0.44 s), under 10 MB |
+//! | [`MAX_ANALYSIS_WORK`] | 2³³ word products | parsing and analysing one root-file table together; the tests past it are reported undecided: at the limit about 3.6 s (36 such zero tests, 6.6·10⁹ in 2.8 s), under 10 MB |
+//!
+//! Word products are counted with Karatsuba's exponent for long operands
+//! ([`crate::algebraic::alg::mul_work`]), calibrated so that one unit is
+//! about 0.3–0.45 ns on this project's 2-core machine (release build).
+//! Measured there: every collocation table with s ≤ 8 of every family, and
+//! the Lobatto IIIA–IIIB pair, written with `root(...)` entries (`c` given
+//! or not) is decided, nothing refused, in at most about 2 s and 8 MB
+//! (`cargo test -p tableau --release --test root_files -- --ignored`).
 
 pub use crate::number::MAX_INVERSE_DEGREE;
 
@@ -70,3 +85,40 @@ pub const MAX_ENTRY_BITS: u64 = 32768;
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
 #[error("{0}")]
 pub struct BeyondBudget(pub String);
+
+/// The most bits of precision (`(n − 1)·log₂ M`, see
+/// [`crate::algebraic::alg`]) a zero test in several roots may need; above
+/// it the test is refused rather than run long.
+pub const MAX_ZERO_TEST_BITS: u64 = 1 << 18;
+
+/// The work of one zero test, sign or rounding of a real algebraic number,
+/// in 64-bit word products (estimated before it is done, with Karatsuba's
+/// exponent for long operands: refining the roots to the precision asked
+/// for, and the certified enclosure of every term). See
+/// [`crate::algebraic::alg::work_of_enclosure`].
+pub const MAX_ZERO_TEST_WORK: u64 = 1 << 32;
+
+/// The work of all the zero tests of one table with `root(...)` entries
+/// together (symplecticity, row sums, `B(k)`), in the units of
+/// [`MAX_ZERO_TEST_WORK`]; the tests past it are reported as undecided.
+pub const MAX_ANALYSIS_WORK: u64 = 1 << 33;
+
+/// The most terms (monomials in the roots) of one real algebraic number
+/// after reduction; e.g. `(c0 + … + c7)^64` in eight roots of degree 8 has
+/// up to 8⁸ ≈ 1.7·10⁷ terms and is refused.
+pub const MAX_ALG_TERMS: usize = 1 << 14;
+
+/// The work of one product or power of real algebraic numbers in an
+/// entry: term products × the word products of their coefficients
+/// (estimated before it is done).
+pub const MAX_ALG_PRODUCT_WORK: u64 = 1 << 32;
+
+/// The largest degree of the polynomial of a `root(POLY, LO, HI)` (after
+/// expanding it); the node polynomials of generated tables have degree at
+/// most 16.
+pub const MAX_ROOT_DEGREE: usize = 64;
+
+/// The most bits of a `root(POLY, LO, HI)`: the numerators and denominators
+/// of POLY's coefficients and of LO and HI together. Sturm sequences grow
+/// like degree² × these bits.
+pub const MAX_ROOT_BITS: u64 = 1 << 14;

@@ -22,7 +22,22 @@
 //!   sign changes) makes one of the two happen.
 //!
 //! This decides zero completely, for any number of roots, within the budget
-//! [`MAX_ZERO_TEST_BITS`] on the precision the bound asks for.
+//! [`MAX_ZERO_TEST_BITS`] on the precision the bound asks for and
+//! [`MAX_ZERO_TEST_WORK`] on the work (estimated before it is done).
+//!
+//! Two exact shortcuts come first. Where the roots include every root of
+//! one polynomial (a *complete family of conjugates*, e.g. the nodes of a
+//! collocation table), sums over the family are replaced by their values
+//! through the power sums ([`Field::collapse`]): `Σᵢ bᵢcᵢᵏ` becomes a
+//! rational and a row sum `Σⱼ aᵢⱼ` a polynomial in `cᵢ`. Two distinct
+//! roots of one polynomial are reduced modulo its divided difference, which
+//! vanishes there, and an element zero on every pair of distinct roots
+//! reduces to the zero polynomial.
+//!
+//! Rationals are compared by cross multiplication ([`super::poly::qcmp`]),
+//! never by `num-rational`'s `Ord`, which recurses once per shared partial
+//! quotient of the continued fractions and overflowed the stack on numbers
+//! agreeing to 100 000 bits; long dyadic numbers are built without a gcd.
 
 use std::collections::BTreeMap;
 
@@ -30,23 +45,35 @@ use num_bigint::BigInt;
 use num_rational::BigRational;
 use num_traits::{One, Signed, Zero};
 
-use super::poly::{Poly, count_roots};
-use super::root::{RealRoot, f64_rational, next_up, sign};
+use super::poly::{Poly, count_roots, qeq, qle};
+use super::root::{RealRoot, ceil_scaled, f64_rational, floor_scaled, next_up, sign};
 use crate::budget::BeyondBudget;
 use crate::number::rational_to_f64;
 
-/// The most bits of precision (`(n − 1)·log₂ M`, see the module docs) a
-/// zero test may need; above it the test is refused rather than run long.
-pub const MAX_ZERO_TEST_BITS: u64 = 1 << 18;
+pub use crate::budget::{MAX_ALG_TERMS, MAX_ANALYSIS_WORK, MAX_ZERO_TEST_BITS, MAX_ZERO_TEST_WORK};
 
 /// An exponent vector, trailing zeros trimmed.
 type Mono = Vec<u32>;
 
 /// A polynomial in the roots of a [`Field`]; see the [module docs](self).
-#[derive(Clone, Debug, PartialEq, Eq, Default)]
+#[derive(Clone, Debug, Default)]
 pub struct Alg {
     terms: BTreeMap<Mono, BigRational>,
 }
+
+/// Equal as polynomials (coefficients compared with [`qeq`]).
+impl PartialEq for Alg {
+    fn eq(&self, o: &Alg) -> bool {
+        self.terms.len() == o.terms.len()
+            && self
+                .terms
+                .iter()
+                .zip(&o.terms)
+                .all(|((ma, ca), (mb, cb))| ma == mb && qeq(ca, cb))
+    }
+}
+
+impl Eq for Alg {}
 
 /// The roots the numbers are built from; variable `k` is `roots[k]`.
 #[derive(Clone, Debug, Default)]
@@ -56,6 +83,11 @@ pub struct Field {
     pub names: Vec<String>,
     /// Refined copies of the roots (narrower intervals), kept between tests.
     refined: std::cell::RefCell<BTreeMap<usize, RealRoot>>,
+    /// Work spent on enclosures and refinements (see [`work_of_enclosure`]),
+    /// and the limit on it for the whole field (`None`: only the per-test
+    /// limit [`MAX_ZERO_TEST_WORK`] applies).
+    spent: std::cell::Cell<u64>,
+    work_limit: Option<u64>,
 }
 
 fn trim(mut m: Mono) -> Mono {
@@ -197,15 +229,117 @@ impl Alg {
     }
 }
 
+/// Words (64 bits) of a number of `bits` bits.
+fn words(bits: u64) -> u64 {
+    bits / 64 + 1
+}
+
+/// The estimated word products of multiplying an `x`-word by a `y`-word
+/// number: schoolbook below 32 words, Karatsuba's `n^1.585` above (what
+/// `num-bigint` does, within a small factor).
+pub fn mul_work(x: u64, y: u64) -> u64 {
+    let (lo, hi) = if x <= y { (x, y) } else { (y, x) };
+    if lo <= 32 {
+        return lo.saturating_mul(hi);
+    }
+    let k = (lo as f64).powf(1.585);
+    ((hi as f64 / lo as f64) * k).min(u64::MAX as f64 / 4.0) as u64
+}
+
+/// The bits of a rational (numerator and denominator).
+fn qbits(c: &BigRational) -> u64 {
+    c.numer().bits() + c.denom().bits()
+}
+
+/// The estimated work of [`Field`]'s certified enclosure of an element with
+/// `terms` terms of total degree at most `deg` and coefficients of at most
+/// `cbits` bits, in roots of degrees `root_degrees`, at precision `bits`:
+/// refining every root there (certified Newton steps: four evaluations of a
+/// degree-`d` polynomial at `bits`-bit points per step, the last step
+/// dominating a doubling sequence) and multiplying out every term in
+/// integers of up to `bits · deg` bits.
+pub fn work_of_enclosure(terms: u64, deg: u64, cbits: u64, root_degrees: &[u64], bits: u64) -> u64 {
+    let w = words(bits);
+    let mut work: u64 = 0;
+    for &d in root_degrees {
+        let eval = d.saturating_mul(mul_work(w.saturating_mul(d), w));
+        work = work.saturating_add(eval.saturating_mul(8));
+    }
+    let mut per_term: u64 = 0;
+    for t in 1..=deg.max(1) {
+        per_term = per_term.saturating_add(mul_work(w.saturating_mul(t), w).saturating_mul(4));
+    }
+    per_term = per_term.saturating_add(mul_work(w.saturating_mul(deg.max(1)), words(cbits)) * 2);
+    // Calibrated against measured times: the refinement's bisections and
+    // Sturm counts, and the allocation of the long products, cost about three
+    // times the products counted above.
+    work.saturating_add(per_term.saturating_mul(terms))
+        .saturating_mul(3)
+}
+
+/// The estimated work of isolating a root of `p`: its squarefree part and
+/// Sturm sequence, two remainder sequences (see [`Field`]'s gcd budget).
+pub fn root_work(p: &Poly) -> u64 {
+    let d = p.0.len() as u64;
+    let b = p.0.iter().map(qbits).max().unwrap_or(0);
+    Field::gcd_work(d, b).saturating_mul(2)
+}
+
+/// The estimated work of isolating the root of `p` in `(lo, hi]` and
+/// refining it to width `2^-64` by bisection ([`root_work`] plus one Sturm
+/// count per halving: the interval is first clipped to Cauchy's bound
+/// `2^cauchy`, and each count evaluates about `deg²` coefficients of up to
+/// `2·deg·bits` bits at points of up to `cauchy + 64` bits).
+pub fn isolation_work(p: &Poly, lo: &BigRational, hi: &BigRational) -> u64 {
+    let d = p.0.len() as u64;
+    let b = p.0.iter().map(qbits).max().unwrap_or(0);
+    let cauchy =
+        p.0.iter()
+            .map(|c| c.numer().bits() + c.denom().bits())
+            .max()
+            .unwrap_or(0)
+            + 2;
+    let point = words(cauchy + 64 + qbits(lo) + qbits(hi));
+    let coef = words(2u64.saturating_mul(d).saturating_mul(b + 64));
+    let halvings = cauchy + 64;
+    let count = d.saturating_mul(d).saturating_mul(mul_work(coef, point));
+    root_work(p).saturating_add(halvings.saturating_mul(count))
+}
+
+fn names(f: &Field, sup: &[usize]) -> String {
+    sup.iter()
+        .map(|&k| f.names.get(k).map_or("?", String::as_str))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
 impl Field {
-    /// Add a root; returns its variable.
+    /// A field whose enclosures together may cost at most `limit` (in the
+    /// units of [`MAX_ZERO_TEST_WORK`]); past it every test is refused.
+    pub fn with_work_limit(mut self, limit: u64) -> Field {
+        self.work_limit = Some(limit);
+        self.spent.set(0);
+        self
+    }
+
+    /// The field with a work limit: its own if it has one, else `limit`.
+    pub fn with_default_work_limit(mut self, limit: u64) -> Field {
+        if self.work_limit.is_none() {
+            self.work_limit = Some(limit);
+        }
+        self
+    }
+
+    /// The work spent so far on enclosures (see [`work_of_enclosure`]).
+    pub fn work_spent(&self) -> u64 {
+        self.spent.get()
+    }
+
+    /// Add a root; returns its variable. A root equal to one already there
+    /// (the same polynomial, and the two intervals share it: decided exactly
+    /// by a Sturm count on their intersection) is that variable.
     pub fn push(&mut self, root: RealRoot, name: impl Into<String>) -> Alg {
-        // The same root given twice is one variable.
-        if let Some(k) = self
-            .roots
-            .iter()
-            .position(|r| r.poly == root.poly && r.lo == root.lo && r.hi == root.hi)
-        {
+        if let Some(k) = self.roots.iter().position(|r| r.same_root(&root)) {
             return self.var(k);
         }
         self.roots.push(root);
@@ -225,7 +359,8 @@ impl Field {
         self.reduce(&a)
     }
 
-    /// Reduce modulo every `pₖ(xₖ)`.
+    /// Reduce modulo every `pₖ(xₖ)`: each power `xₖᵉ`, `e ≥ deg pₖ`, is
+    /// replaced by its remainder (computed once per exponent and variable).
     pub fn reduce(&self, a: &Alg) -> Alg {
         let mut cur = a.clone();
         for (k, root) in self.roots.iter().enumerate() {
@@ -238,29 +373,48 @@ impl Field {
                 &root.poly
             };
             let d = poly.degree().unwrap_or(0) as u32;
-            if !cur
+            let top = cur
                 .terms
                 .keys()
-                .any(|m| m.get(k).copied().unwrap_or(0) >= d)
-            {
+                .map(|m| m.get(k).copied().unwrap_or(0))
+                .max()
+                .unwrap_or(0);
+            if top < d || d == 0 {
                 continue;
             }
-            // xₖ^d = −Σ_{j<d} p_j xₖ^j (p monic), applied from the top power down.
+            // pw[e − d] = xᵉ mod p as d coefficients (p monic).
+            let du = d as usize;
+            let mut pw: Vec<Vec<BigRational>> = Vec::with_capacity((top - d + 1) as usize);
+            let first: Vec<BigRational> = poly.0.iter().take(du).map(|c| -c).collect();
+            pw.push(first);
+            for _ in d..top {
+                let prev = pw.last().expect("nonempty");
+                let t = prev[du - 1].clone();
+                let mut next = Vec::with_capacity(du);
+                for j in 0..du {
+                    let lower = if j == 0 {
+                        BigRational::zero()
+                    } else {
+                        prev[j - 1].clone()
+                    };
+                    next.push(lower - &t * &poly.0[j]);
+                }
+                pw.push(next);
+            }
             let mut out = Alg::zero();
-            let mut pending: Vec<(Mono, BigRational)> = cur.terms.into_iter().collect();
-            while let Some((m, c)) = pending.pop() {
+            for (m, c) in std::mem::take(&mut cur.terms) {
                 let e = m.get(k).copied().unwrap_or(0);
                 if e < d {
                     out.add_term(m, c);
                     continue;
                 }
-                for (j, pj) in poly.0.iter().enumerate().take(d as usize) {
-                    if pj.is_zero() {
+                for (j, r) in pw[(e - d) as usize].iter().enumerate() {
+                    if r.is_zero() {
                         continue;
                     }
                     let mut m2 = m.clone();
-                    m2[k] = e - d + j as u32;
-                    pending.push((m2, -(&c * pj)));
+                    m2[k] = j as u32;
+                    out.add_term(m2, &c * r);
                 }
             }
             cur = out;
@@ -282,6 +436,66 @@ impl Field {
         self.reduce(&r)
     }
 
+    /// The estimated work of `a · b`: term products × word products of the
+    /// coefficients, plus the reduction (each product term expands into at
+    /// most `deg pₖ` terms per variable).
+    fn product_work(&self, a: &Alg, b: &Alg) -> u64 {
+        let ba = a.terms.values().map(qbits).max().unwrap_or(0);
+        let bb = b.terms.values().map(qbits).max().unwrap_or(0);
+        let vars = a.support().len().max(b.support().len()) as u64;
+        let dmax = self
+            .roots
+            .iter()
+            .map(|r| r.poly.degree().unwrap_or(1) as u64)
+            .max()
+            .unwrap_or(1);
+        let pairs = (a.terms.len() as u64).saturating_mul(b.terms.len() as u64);
+        // Each term product also normalises a rational and inserts an
+        // exponent vector into a map: measured, about 2000 word products'
+        // worth of time.
+        pairs
+            .saturating_mul(mul_work(words(ba), words(bb)).saturating_add(2000))
+            .saturating_mul(1 + vars.min(4) * dmax / 4)
+    }
+
+    /// `a · b` within the budgets [`crate::budget::MAX_ALG_PRODUCT_WORK`] (estimated before
+    /// it is done) and [`MAX_ALG_TERMS`] (of the result).
+    pub fn try_mul(&self, a: &Alg, b: &Alg) -> Result<Alg, BeyondBudget> {
+        let work = self.product_work(a, b);
+        if work > crate::budget::MAX_ALG_PRODUCT_WORK {
+            return Err(BeyondBudget(format!(
+                "a product of numbers with {} and {} terms needs about {work} word products, beyond the budget of {} (tableau::budget::MAX_ALG_PRODUCT_WORK)",
+                a.terms.len(),
+                b.terms.len(),
+                crate::budget::MAX_ALG_PRODUCT_WORK
+            )));
+        }
+        self.charge(work)?;
+        let r = self.mul(a, b);
+        self.check_size(&r)?;
+        Ok(r)
+    }
+
+    /// Refuse an element with more than [`MAX_ALG_TERMS`] terms or a
+    /// coefficient over [`crate::budget::MAX_ENTRY_BITS`] bits.
+    pub fn check_size(&self, r: &Alg) -> Result<(), BeyondBudget> {
+        if r.terms.len() > MAX_ALG_TERMS {
+            return Err(BeyondBudget(format!(
+                "a number with {} terms in the roots, beyond the budget of {MAX_ALG_TERMS} (tableau::budget::MAX_ALG_TERMS)",
+                r.terms.len()
+            )));
+        }
+        if let Some(b) = r.terms.values().map(qbits).max()
+            && b > crate::budget::MAX_ENTRY_BITS
+        {
+            return Err(BeyondBudget(format!(
+                "a coefficient of {b} bits, beyond the budget of {} bits (tableau::budget::MAX_ENTRY_BITS)",
+                crate::budget::MAX_ENTRY_BITS
+            )));
+        }
+        Ok(())
+    }
+
     pub fn pow(&self, a: &Alg, k: u32) -> Alg {
         let mut r = Alg::int(1);
         let mut base = a.clone();
@@ -290,10 +504,72 @@ impl Field {
             if k & 1 == 1 {
                 r = self.mul(&r, &base);
             }
-            base = self.mul(&base, &base);
             k >>= 1;
+            if k > 0 {
+                base = self.mul(&base, &base);
+            }
         }
         r
+    }
+
+    /// `aᵏ` by repeated squaring, each product within the budgets of
+    /// [`Self::try_mul`].
+    pub fn try_pow(&self, a: &Alg, k: u32) -> Result<Alg, BeyondBudget> {
+        let mut r = Alg::int(1);
+        let mut base = a.clone();
+        let mut k = k;
+        while k > 0 {
+            if k & 1 == 1 {
+                r = self.try_mul(&r, &base)?;
+            }
+            k >>= 1;
+            if k > 0 {
+                base = self.try_mul(&base, &base)?;
+            }
+        }
+        Ok(r)
+    }
+
+    /// The estimated work of a gcd of univariate polynomials of degree at
+    /// most `d` with coefficients of at most `b` bits over Q (Euclid's
+    /// algorithm: about d² operations on numbers of up to 2·d·b bits).
+    pub(crate) fn gcd_work(d: u64, b: u64) -> u64 {
+        let w = words(2u64.saturating_mul(d + 1).saturating_mul(b + 64));
+        // ×4: measured against enclosures, rational remainder sequences
+        // (with their gcd normalisations) cost about four times the
+        // products counted.
+        (d + 1)
+            .saturating_mul(d + 1)
+            .saturating_mul(mul_work(w, w))
+            .saturating_mul(4)
+    }
+
+    fn check_gcd(&self, p: &Poly, k: usize) -> Result<(), BeyondBudget> {
+        let q = &self.roots[k].poly;
+        let d = p.0.len().max(q.0.len()) as u64;
+        let b = p.0.iter().chain(&q.0).map(qbits).max().unwrap_or(0);
+        let work = Self::gcd_work(d, b);
+        if work > MAX_ZERO_TEST_WORK {
+            return Err(BeyondBudget(format!(
+                "a gcd of polynomials of degree {d} with {b}-bit coefficients (in the root {}) needs about {work} word products, beyond the budget of {MAX_ZERO_TEST_WORK} (tableau::budget::MAX_ZERO_TEST_WORK)",
+                names(self, &[k])
+            )));
+        }
+        self.charge(work)
+    }
+
+    /// Count `work` against the field's limit (if it has one).
+    pub(crate) fn charge(&self, work: u64) -> Result<(), BeyondBudget> {
+        let spent = self.spent.get().saturating_add(work);
+        if let Some(limit) = self.work_limit
+            && spent > limit
+        {
+            return Err(BeyondBudget(format!(
+                "the exact tests of this table together need more than the budget of {limit} word products (tableau::budget::MAX_ANALYSIS_WORK)"
+            )));
+        }
+        self.spent.set(spent);
+        Ok(())
     }
 
     /// `1/a`. Division by an expression in at most one root is supported:
@@ -310,18 +586,16 @@ impl Field {
             return Ok(Alg::rational(r.recip()));
         }
         let sup = a.support();
-        if sup.len() > 1 {
+        if sup.len() != 1 {
             return Err(format!(
                 "division by an expression in {} roots ({}) is not supported: write the entry as a polynomial in the roots, or divide by an expression in one root",
                 sup.len(),
-                sup.iter()
-                    .map(|&k| self.names[k].as_str())
-                    .collect::<Vec<_>>()
-                    .join(", ")
+                names(self, &sup)
             ));
         }
         let k = sup[0];
-        let p = a.univariate(k).expect("one variable");
+        let p = a.univariate(k).ok_or("division: not univariate")?;
+        self.check_gcd(&p, k).map_err(|e| e.0)?;
         let root = &self.roots[k];
         let g = p.gcd(&root.poly);
         if g.degree().unwrap_or(0) > 0 {
@@ -330,24 +604,42 @@ impl Field {
             }
             let factor = root.poly.divrem(&g).0.monic();
             let new = RealRoot::new(&factor, root.lo.clone(), root.hi.clone())
-                .expect("the root stays in its interval");
+                .map_err(|_| "division: the root left its interval".to_string())?;
             self.roots[k] = new;
             self.refined.borrow_mut().remove(&k);
         }
         let inv = p
             .rem(&self.roots[k].poly)
             .inverse_mod(&self.roots[k].poly)
-            .expect("coprime after splitting");
+            .ok_or("division: the divisor is not invertible")?;
         Ok(Alg::from_univariate(&inv, k))
     }
 
     /// Root `k` refined to width at most `2^-bits` (cached).
+    ///
+    /// Certified Newton steps do nearly all of it; the bisections a
+    /// refinement may fall back on (Sturm counts, e.g. for roots closer
+    /// together than the interval) are limited to an eighth of
+    /// [`MAX_ZERO_TEST_WORK`] (at least 16, at most 256): past them the
+    /// interval stays wider and the test that needed it is refused.
     fn root_at(&self, k: usize, bits: u64) -> RealRoot {
         let mut cache = self.refined.borrow_mut();
         let r = cache.entry(k).or_insert_with(|| self.roots[k].clone());
-        let eps = BigRational::new(BigInt::one(), BigInt::one() << bits);
-        if r.width() > eps {
-            r.refine_to(bits);
+        if r.wider_than(bits) {
+            let d = r.poly.0.len() as u64;
+            let b = r.poly.0.iter().map(qbits).max().unwrap_or(0);
+            // ×64: a Sturm count evaluates in normalised rationals, a gcd
+            // per operation (measured: ~2 ms per count for a cubic with
+            // 1000-bit coefficients).
+            let count = d
+                .saturating_mul(d)
+                .saturating_mul(mul_work(
+                    words(2u64.saturating_mul(d).saturating_mul(b + 64)),
+                    words(bits + 64),
+                ))
+                .saturating_mul(64);
+            let allowance = (MAX_ZERO_TEST_WORK / 8 / count.max(1)).clamp(16, 256);
+            r.refine_within(bits, allowance);
         }
         r.clone()
     }
@@ -355,25 +647,62 @@ impl Field {
     /// A certified enclosure of the value, with the roots refined to
     /// `2^-bits`. The root intervals are widened outward to dyadic endpoints
     /// and the sum is taken in integers over one common denominator.
-    fn enclose(&self, a: &Alg, bits: u64) -> (BigRational, BigRational) {
-        let (lo, hi, d) = self.enclose_int(a, bits);
-        (BigRational::new(lo, d.clone()), BigRational::new(hi, d))
+    fn enclose(&self, a: &Alg, bits: u64) -> Result<(BigRational, BigRational), BeyondBudget> {
+        let (lo, hi, d) = self.enclose_int(a, bits)?;
+        // Not normalised (a gcd of such long numbers costs more than the
+        // enclosure): used only for comparisons by cross multiplication and
+        // for rounding, which take any positive denominator.
+        Ok((
+            BigRational::new_raw(lo, d.clone()),
+            BigRational::new_raw(hi, d),
+        ))
+    }
+
+    /// The estimated work of [`Self::enclose_int`], refused past
+    /// [`MAX_ZERO_TEST_WORK`] (and the field's own limit).
+    fn check_enclosure(&self, a: &Alg, bits: u64) -> Result<(), BeyondBudget> {
+        use num_integer::Integer;
+        let sup = a.support();
+        let mut den = BigInt::one();
+        let mut nbits = 0;
+        let mut deg = 0u64;
+        for (m, c) in &a.terms {
+            den = den.lcm(c.denom());
+            nbits = nbits.max(c.numer().bits());
+            deg = deg.max(m.iter().map(|&e| e as u64).sum());
+        }
+        // Roots already refined to this precision (cached) cost nothing.
+        let cache = self.refined.borrow();
+        let degs: Vec<u64> = sup
+            .iter()
+            .filter(|&&k| cache.get(&k).is_none_or(|r| r.wider_than(bits)))
+            .map(|&k| self.roots[k].poly.degree().unwrap_or(1) as u64)
+            .collect();
+        drop(cache);
+        let work = work_of_enclosure(a.terms.len() as u64, deg, nbits + den.bits(), &degs, bits);
+        if work > MAX_ZERO_TEST_WORK {
+            return Err(BeyondBudget(format!(
+                "an enclosure of an expression with {} terms in {} roots ({}) to {bits} bits needs about {work} word products, beyond the budget of {MAX_ZERO_TEST_WORK} (tableau::budget::MAX_ZERO_TEST_WORK)",
+                a.terms.len(),
+                sup.len(),
+                names(self, &sup)
+            )));
+        }
+        self.charge(work)
     }
 
     /// [`Self::enclose`] as `(lo, hi, den)`: the value lies in
     /// `[lo/den, hi/den]`, `den > 0`, nothing normalised.
-    fn enclose_int(&self, a: &Alg, bits: u64) -> (BigInt, BigInt, BigInt) {
+    fn enclose_int(&self, a: &Alg, bits: u64) -> Result<(BigInt, BigInt, BigInt), BeyondBudget> {
         use num_integer::Integer;
+        self.check_enclosure(a, bits)?;
         let sup = a.support();
         let prec = bits + 16;
-        let scale = BigRational::from_integer(BigInt::one() << prec);
         let ints: BTreeMap<usize, (BigInt, BigInt)> = sup
             .iter()
             .map(|&k| {
                 let r = self.root_at(k, bits);
-                let lo = (&r.lo * &scale).floor().to_integer();
-                let hi = (&r.hi * &scale).ceil().to_integer();
-                (k, (lo, hi))
+                (k, (floor_scaled(&r.lo, prec), ceil_scaled(&r.hi, prec)))
             })
             .collect();
         let mut den = BigInt::one();
@@ -389,11 +718,22 @@ impl Field {
             let (mut tl, mut th) = (BigInt::one(), BigInt::one());
             let mut deg = 0u64;
             for (k, &e) in m.iter().enumerate() {
+                let Some((l, h)) = ints.get(&k) else {
+                    continue;
+                };
                 for _ in 0..e {
-                    let (l, h) = &ints[&k];
                     let ps = [&tl * l, &tl * h, &th * l, &th * h];
-                    tl = ps.iter().min().expect("four").clone();
-                    th = ps.iter().max().expect("four").clone();
+                    let mut mn = &ps[0];
+                    let mut mx = &ps[0];
+                    for p in &ps[1..] {
+                        if p < mn {
+                            mn = p;
+                        }
+                        if p > mx {
+                            mx = p;
+                        }
+                    }
+                    (tl, th) = (mn.clone(), mx.clone());
                     deg += 1;
                 }
             }
@@ -404,19 +744,19 @@ impl Field {
             hi += h << shift;
         }
         let d = den * (BigInt::one() << (prec * maxdeg) as usize);
-        (lo, hi, d)
+        Ok((lo, hi, d))
     }
 
-    /// `(Den, need)`: `γ = Den·e(α)` is an algebraic integer, zero exactly
-    /// when `|γ| < 2^-need` (see the [module docs](self)).
-    fn zero_bound(&self, a: &Alg) -> (BigRational, u64) {
+    /// `(Den, need, bits of M)`: `γ = Den·e(α)` is an algebraic integer,
+    /// zero exactly when `|γ| < 2^-need` (see the [module docs](self)).
+    fn zero_bound(&self, a: &Alg) -> (BigInt, u64, u64) {
         use num_integer::Integer;
         let sup = a.support();
         let mut scale: BTreeMap<usize, (BigInt, BigInt)> = BTreeMap::new(); // L, M
         let mut n: u64 = 1;
         for &k in &sup {
             let p = &self.roots[k].poly;
-            let d = p.degree().unwrap_or(1);
+            let d = p.degree().unwrap_or(1).max(1);
             n = n.saturating_mul(d as u64);
             let mut l = BigInt::one();
             for c in &p.0 {
@@ -424,8 +764,7 @@ impl Field {
             }
             let mut m = BigInt::zero();
             for (j, c) in p.0.iter().enumerate().take(d) {
-                let v =
-                    (c * BigRational::from_integer(num_traits::pow(l.clone(), d - j))).to_integer();
+                let v = (c.numer() * num_traits::pow(l.clone(), d - j)) / c.denom();
                 let v = if v.is_negative() { -v } else { v };
                 if v > m {
                     m = v;
@@ -440,8 +779,9 @@ impl Field {
             let mut lp = BigInt::one();
             let mut mp = BigInt::one();
             for (k, &e) in m.iter().enumerate() {
-                if e > 0 {
-                    let (l, mk) = &scale[&k];
+                if e > 0
+                    && let Some((l, mk)) = scale.get(&k)
+                {
                     lp *= num_traits::pow(l.clone(), e as usize);
                     mp *= num_traits::pow(mk.clone(), e as usize);
                 }
@@ -450,50 +790,76 @@ impl Field {
             den = den.lcm(cp.denom());
             coeffs.push((cp, mp));
         }
-        let den_q = BigRational::from_integer(den);
-        let mut bound = BigRational::zero();
+        let mut bound = BigInt::zero();
         for (cp, mp) in coeffs {
-            bound += (&cp * &den_q).abs() * BigRational::from_integer(mp);
+            // |cp·Den| is an integer.
+            let v = (cp.numer() * (&den / cp.denom())).abs();
+            bound += v * mp;
         }
-        let bits = bound.ceil().to_integer().bits().max(1);
-        (den_q, (n - 1).saturating_mul(bits) + 1)
+        let bits = bound.bits().max(1);
+        (den, (n - 1).saturating_mul(bits).saturating_add(1), bits)
+    }
+
+    /// Zero test of a univariate `a` in root `k`: `gcd(a, pₖ)` has the root.
+    fn univariate_zero(&self, a: &Alg, k: usize) -> Result<bool, BeyondBudget> {
+        let p = a
+            .univariate(k)
+            .ok_or_else(|| BeyondBudget("internal: not univariate".into()))?;
+        let root = &self.roots[k];
+        if root.is_rational() {
+            return Ok(p.eval(&root.lo).is_zero());
+        }
+        self.check_gcd(&p, k)?;
+        let g = p.gcd(&root.poly);
+        Ok(g.degree().unwrap_or(0) > 0 && count_roots(&g.sturm(), &root.lo, &root.hi) == 1)
     }
 
     /// Decide exactly whether the value of `a` is zero (see the
-    /// [module docs](self)).
+    /// [module docs](self)), within [`MAX_ZERO_TEST_BITS`] and
+    /// [`MAX_ZERO_TEST_WORK`].
     pub fn is_zero(&self, a: &Alg) -> Result<bool, BeyondBudget> {
-        let a = self.reduce(a);
+        let a = self.collapse(&self.reduce(a));
         if let Some(r) = a.as_rational() {
             return Ok(r.is_zero());
         }
         let sup = a.support();
         if sup.len() == 1 {
-            let k = sup[0];
-            let p = a.univariate(k).expect("one variable");
-            return Ok(self.roots[k].sign_of(&p) == 0);
+            return self.univariate_zero(&a, sup[0]);
         }
+        let a = match sup[..] {
+            [x, y]
+                if !self.roots[x].is_rational()
+                    && !self.roots[y].is_rational()
+                    && self.roots[x].poly == self.roots[y].poly
+                    && !self.roots[x].same_root(&self.roots[y]) =>
+            {
+                let r = self.reduce_conjugate_pair(&a, x, y);
+                if r.is_zero_poly() {
+                    return Ok(true);
+                }
+                r
+            }
+            _ => a,
+        };
         for bits in [64, 128, 256] {
-            let (lo, hi) = self.enclose(&a, bits);
+            let (lo, hi, _) = self.enclose_int(&a, bits)?;
             if lo.is_positive() || hi.is_negative() {
                 return Ok(false);
             }
         }
-        let (den, need) = self.zero_bound(&a);
+        let (den, need, mbits) = self.zero_bound(&a);
         if need > MAX_ZERO_TEST_BITS {
             return Err(BeyondBudget(format!(
-                "deciding whether an expression in {} roots ({}) is zero needs {need} bits of precision, beyond the budget of {MAX_ZERO_TEST_BITS} (tableau::algebraic::alg::MAX_ZERO_TEST_BITS)",
+                "deciding whether an expression in {} roots ({}) is zero needs {need} bits of precision, beyond the budget of {MAX_ZERO_TEST_BITS} (tableau::budget::MAX_ZERO_TEST_BITS)",
                 sup.len(),
-                sup.iter()
-                    .map(|&k| self.names[k].as_str())
-                    .collect::<Vec<_>>()
-                    .join(", ")
+                names(self, &sup)
             )));
         }
         // |γ| = |Den·e(α)| < 2^-need, i.e. |x|·Den·2^need < d for x = lo, hi.
-        let dscale = den.to_integer() << (need as usize);
-        let mut bits = need + 128;
-        loop {
-            let (lo, hi, d) = self.enclose_int(&a, bits);
+        let dscale = den << (need as usize);
+        let mut bits = need + mbits + 64;
+        for _ in 0..3 {
+            let (lo, hi, d) = self.enclose_int(&a, bits)?;
             if lo.is_positive() || hi.is_negative() {
                 return Ok(false);
             }
@@ -502,47 +868,77 @@ impl Field {
             }
             bits = bits.saturating_mul(2);
         }
+        Err(BeyondBudget(format!(
+            "the enclosure of an expression in {} roots ({}) did not reach 2^-{need} at {bits} bits (tableau::budget::MAX_ZERO_TEST_WORK)",
+            sup.len(),
+            names(self, &sup)
+        )))
+    }
+
+    /// The precision at which an enclosure of the nonzero `a` must exclude
+    /// 0 (its zero bound plus the size of its conjugates and a margin).
+    fn separating_bits(&self, a: &Alg) -> Result<u64, BeyondBudget> {
+        let (_, need, mbits) = self.zero_bound(a);
+        if need > MAX_ZERO_TEST_BITS {
+            return Err(BeyondBudget(format!(
+                "separating a number in {} roots from zero needs {need} bits of precision, beyond the budget of {MAX_ZERO_TEST_BITS} (tableau::budget::MAX_ZERO_TEST_BITS)",
+                a.support().len()
+            )));
+        }
+        Ok((need + mbits + 64).max(512))
     }
 
     /// The exact sign of the value.
     pub fn sign(&self, a: &Alg) -> Result<i8, BeyondBudget> {
-        let a = self.reduce(a);
+        let a = self.collapse(&self.reduce(a));
         if let Some(r) = a.as_rational() {
             return Ok(sign(&r));
         }
-        let mut bits = 64u64;
-        let mut tested = false;
-        loop {
-            let (lo, hi) = self.enclose(&a, bits);
+        for bits in [64u64, 128, 256] {
+            let (lo, hi, _) = self.enclose_int(&a, bits)?;
             if lo.is_positive() {
                 return Ok(1);
             }
             if hi.is_negative() {
                 return Ok(-1);
             }
-            if bits >= 256 && !tested {
-                if self.is_zero(&a)? {
-                    return Ok(0);
-                }
-                tested = true;
-            }
-            bits *= 2;
         }
+        if self.is_zero(&a)? {
+            return Ok(0);
+        }
+        let mut bits = self.separating_bits(&a)?;
+        for _ in 0..3 {
+            let (lo, hi, _) = self.enclose_int(&a, bits)?;
+            if lo.is_positive() {
+                return Ok(1);
+            }
+            if hi.is_negative() {
+                return Ok(-1);
+            }
+            bits = bits.saturating_mul(2);
+        }
+        Err(BeyondBudget(format!(
+            "the sign of a nonzero number was not separated at {bits} bits (tableau::budget::MAX_ZERO_TEST_WORK)"
+        )))
     }
 
     /// The `f64` nearest to the value (ties to even), decided on certified
     /// enclosures; a value that is zero, or exactly halfway between two
-    /// doubles, is detected by an exact zero test.
+    /// doubles, is detected by an exact zero test. The precision is bounded:
+    /// once the value is known to differ from 0 and from the halfway point
+    /// in question, their zero bounds say at which precision the enclosure
+    /// must decide.
     pub fn to_f64(&self, a: &Alg) -> Result<f64, BeyondBudget> {
-        let a = self.reduce(a);
+        let a = self.collapse(&self.reduce(a));
         if let Some(r) = a.as_rational() {
             return Ok(rational_to_f64(&r));
         }
         let mut bits = 96u64;
         let mut zero_tested = false;
-        let mut tested: Option<BigRational> = None;
+        let mut tested: Vec<BigRational> = Vec::new();
+        let mut cap: u64 = 0;
         loop {
-            let (lo, hi) = self.enclose(&a, bits);
+            let (lo, hi) = self.enclose(&a, bits)?;
             let (fl, fh) = (rational_to_f64(&lo), rational_to_f64(&hi));
             if fl == fh {
                 return Ok(fl);
@@ -553,19 +949,28 @@ impl Field {
                         return Ok(0.0);
                     }
                     zero_tested = true;
+                    cap = cap.max(self.separating_bits(&a)?);
                 }
                 if fh == next_up(fl) && fl.is_finite() && fh.is_finite() {
                     let mid =
                         (f64_rational(fl) + f64_rational(fh)) / BigRational::from_integer(2.into());
-                    if lo <= mid && mid <= hi && tested.as_ref() != Some(&mid) {
-                        if self.is_zero(&a.sub(&Alg::rational(mid.clone())))? {
+                    if qle(&lo, &mid) && qle(&mid, &hi) && !tested.iter().any(|t| qeq(t, &mid)) {
+                        let diff = a.sub(&Alg::rational(mid.clone()));
+                        if self.is_zero(&diff)? {
                             return Ok(rational_to_f64(&mid));
                         }
-                        tested = Some(mid);
+                        cap = cap.max(self.separating_bits(&diff)?);
+                        tested.push(mid);
                     }
                 }
+                if cap > 0 && bits > cap.saturating_mul(4) || tested.len() > 4 {
+                    return Err(BeyondBudget(format!(
+                        "rounding a number in {} roots to f64 was not decided at {bits} bits (tableau::budget::MAX_ZERO_TEST_WORK)",
+                        a.support().len()
+                    )));
+                }
             }
-            bits *= 2;
+            bits = bits.saturating_mul(2);
         }
     }
 
@@ -579,6 +984,226 @@ impl Field {
                 Err(_) => "(beyond budget)".into(),
             },
         }
+    }
+
+    /// `a` reduced modulo the divided difference `Q(x, y) = (P(x) − P(y))/(x − y)`
+    /// in `y` (monic of degree `deg P − 1`), for two distinct roots `x`, `y`
+    /// of one polynomial `P`: `Q` vanishes there, so the value is unchanged,
+    /// and `{P(x), Q(x, y)}` is a Gröbner basis of the algebra of ordered
+    /// pairs of distinct roots (see [`super::pair`]), so an element that is
+    /// zero there reduces to the zero polynomial.
+    fn reduce_conjugate_pair(&self, a: &Alg, x: usize, y: usize) -> Alg {
+        let p = &self.roots[x].poly;
+        let d = p.degree().unwrap_or(0) as u32;
+        if d < 2 {
+            return a.clone();
+        }
+        // y^{d−1} ≡ −Σ_{k<d−1} q_k(x) y^k, q_k(x) = Σ_{m>k} p_m x^{m−1−k}.
+        let mut cur = a.clone();
+        for _ in 0..4 {
+            if !cur
+                .terms
+                .keys()
+                .any(|m| m.get(y).copied().unwrap_or(0) >= d - 1)
+            {
+                break;
+            }
+            let mut out = Alg::zero();
+            for (m, c) in std::mem::take(&mut cur.terms) {
+                let e = m.get(y).copied().unwrap_or(0);
+                if e < d - 1 {
+                    out.add_term(m, c);
+                    continue;
+                }
+                for k in 0..(d - 1) {
+                    for mm in (k + 1)..=d {
+                        let pm = p.coeff(mm as usize);
+                        if pm.is_zero() {
+                            continue;
+                        }
+                        let mut m2 = m.clone();
+                        let w = m2.len().max(x + 1).max(y + 1);
+                        m2.resize(w, 0);
+                        m2[y] = e - (d - 1) + k;
+                        m2[x] += mm - 1 - k;
+                        out.add_term(m2, -(&c * &pm));
+                    }
+                }
+            }
+            cur = self.reduce(&out);
+        }
+        cur
+    }
+
+    /// The complete families of conjugates: groups of variables that are
+    /// all the distinct real roots of one polynomial, as many as its degree
+    /// (every root real), with the power sums `pₘ = Σ xᵐ`, `m < degree`.
+    fn complete_groups(&self) -> Vec<(Vec<usize>, Vec<BigRational>)> {
+        let mut seen = vec![false; self.roots.len()];
+        let mut out = Vec::new();
+        for k in 0..self.roots.len() {
+            if seen[k] || self.roots[k].is_rational() {
+                continue;
+            }
+            let p = &self.roots[k].poly;
+            let group: Vec<usize> = (k..self.roots.len())
+                .filter(|&j| !self.roots[j].is_rational() && self.roots[j].poly == *p)
+                .collect();
+            for &j in &group {
+                seen[j] = true;
+            }
+            let d = p.degree().unwrap_or(0);
+            if d < 2 || group.len() != d {
+                continue;
+            }
+            let distinct = group.iter().enumerate().all(|(x, &i)| {
+                group[x + 1..]
+                    .iter()
+                    .all(|&j| !self.roots[i].same_root(&self.roots[j]))
+            });
+            if !distinct {
+                continue;
+            }
+            // Newton: p_m + Σ_{i=1}^{m−1} c_{d−i} p_{m−i} + m c_{d−m} = 0 (monic).
+            let mut ps: Vec<BigRational> = vec![BigRational::from_integer(BigInt::from(d))];
+            for m in 1..d {
+                let mut acc = BigRational::from_integer(BigInt::from(m)) * p.coeff(d - m);
+                for i in 1..m {
+                    acc += p.coeff(d - i) * &ps[m - i];
+                }
+                ps.push(-acc);
+            }
+            out.push((group, ps));
+        }
+        out
+    }
+
+    /// An element with the same value and, where it can, fewer roots: for a
+    /// complete family of conjugates `G` (all roots of one polynomial) and a
+    /// pivot `S` (no variable, or one variable of `G`), the terms that involve
+    /// exactly one variable `xⱼ` of `G \ S` are sums `Σⱼ Fⱼ(xⱼ)`; with `F`
+    /// the most frequent `Fⱼ`, `Σ_{j ∈ G∖S} F(xⱼ)` is replaced by its value
+    /// through the power sums, `Σₘ fₘ·(pₘ − Σ_{k∈S} xₖᵐ)`, and only the
+    /// `Fⱼ − F ≠ 0` stay. The result is kept when it involves fewer
+    /// variables of `G`. This turns `Σᵢ bᵢcᵢᵏ` over the nodes into a
+    /// rational and the row sums `Σⱼ aᵢⱼ` into a polynomial in `cᵢ`.
+    pub fn collapse(&self, a: &Alg) -> Alg {
+        let groups = self.complete_groups();
+        if groups.is_empty() {
+            return a.clone();
+        }
+        let mut cur = a.clone();
+        // Each accepted step removes a variable of some group: bounded.
+        let mut steps = self.roots.len() + 1;
+        'outer: while steps > 0 {
+            steps -= 1;
+            let sup = cur.support();
+            for (g, ps) in &groups {
+                let before = g.iter().filter(|k| sup.contains(k)).count();
+                if before == 0 {
+                    continue;
+                }
+                let pivots: Vec<Option<usize>> = std::iter::once(None)
+                    .chain(g.iter().filter(|k| sup.contains(k)).map(|&k| Some(k)))
+                    .collect();
+                for s in pivots {
+                    if let Some(next) = self.collapse_step(&cur, g, s, ps) {
+                        let ns = next.support();
+                        let after = g.iter().filter(|k| ns.contains(k)).count();
+                        if after < before {
+                            cur = next;
+                            continue 'outer;
+                        }
+                    }
+                }
+            }
+            break;
+        }
+        cur
+    }
+
+    fn collapse_step(
+        &self,
+        a: &Alg,
+        g: &[usize],
+        s: Option<usize>,
+        ps: &[BigRational],
+    ) -> Option<Alg> {
+        type F = BTreeMap<(u32, Mono), BigRational>;
+        let free: Vec<usize> = g.iter().copied().filter(|&k| Some(k) != s).collect();
+        let mut rest = Alg::zero();
+        let mut parts: BTreeMap<usize, F> = free.iter().map(|&j| (j, F::new())).collect();
+        for (m, c) in &a.terms {
+            let js: Vec<usize> = free
+                .iter()
+                .copied()
+                .filter(|&j| m.get(j).copied().unwrap_or(0) > 0)
+                .collect();
+            if js.len() != 1 {
+                rest.add_term(m.clone(), c.clone());
+                continue;
+            }
+            let j = js[0];
+            let mut mr = m.clone();
+            let e = mr[j];
+            mr[j] = 0;
+            let mr = trim(mr);
+            parts.get_mut(&j)?.insert((e, mr), c.clone());
+        }
+        let same = |x: &F, y: &F| {
+            x.len() == y.len()
+                && x.iter()
+                    .zip(y)
+                    .all(|((k1, v1), (k2, v2))| k1 == k2 && qeq(v1, v2))
+        };
+        // The most frequent part.
+        let mut best: Option<(&F, usize)> = None;
+        for (_, f) in parts.iter() {
+            let n = parts.values().filter(|o| same(o, f)).count();
+            if best.is_none_or(|(_, bn)| n > bn) {
+                best = Some((f, n));
+            }
+        }
+        let (f, _) = best?;
+        if f.is_empty() {
+            return None;
+        }
+        let f = f.clone();
+        let mut out = rest;
+        for ((e, mr), c) in &f {
+            let pe = ps.get(*e as usize)?;
+            out.add_term(mr.clone(), c * pe);
+            if let Some(k) = s {
+                let mut m2 = mr.clone();
+                if m2.len() <= k {
+                    m2.resize(k + 1, 0);
+                }
+                m2[k] += e;
+                out.add_term(m2, -c.clone());
+            }
+        }
+        for (&j, fj) in &parts {
+            if same(fj, &f) {
+                continue;
+            }
+            for ((e, mr), c) in fj {
+                let mut m2 = mr.clone();
+                if m2.len() <= j {
+                    m2.resize(j + 1, 0);
+                }
+                m2[j] += e;
+                out.add_term(m2, c.clone());
+            }
+            for ((e, mr), c) in &f {
+                let mut m2 = mr.clone();
+                if m2.len() <= j {
+                    m2.resize(j + 1, 0);
+                }
+                m2[j] += e;
+                out.add_term(m2, -c.clone());
+            }
+        }
+        Some(self.reduce(&out))
     }
 }
 

@@ -728,6 +728,35 @@ impl PairMethod {
         }
     }
 
+    /// The pair written out as a table file with `root(...)` entries: `a`,
+    /// `b` of Lobatto IIIA (on `q`), `a_hat`, `b_hat` of Lobatto IIIB (on
+    /// `p`), the nodes as roots as in [`Method::to_root_file`];
+    /// `perturb = Some((i, j, text))` appends ` + text` to `a_hat[i][j]`,
+    /// and `write_c` writes `c` and `c_hat` (both the nodes).
+    pub fn to_root_file(
+        &self,
+        name: &str,
+        claims: &[&str],
+        perturb: Option<(usize, usize, &str)>,
+        write_c: bool,
+    ) -> String {
+        let qt = self.q.to_root_file_with(name, claims, None, write_c);
+        let pt = self.p.to_root_file_with(name, claims, perturb, write_c);
+        // The IIIB body (a, b, c) renamed to a_hat, b_hat, c_hat.
+        let start = pt.find("\na = [").expect("a") + 1;
+        let end = pt.find("\n[let]").expect("let");
+        let body = pt[start..end]
+            .replacen("a = [", "a_hat = [", 1)
+            .replacen("\nb = [", "\nb_hat = [", 1)
+            .replacen("\nc = [", "\nc_hat = [", 1);
+        let at = qt.find("\n[let]").expect("let");
+        let mut out = qt[..at].to_string();
+        out.push('\n');
+        out.push_str(&body);
+        out.push_str(&qt[at..]);
+        out
+    }
+
     pub fn verdicts(&self) -> PairVerdicts {
         let ring = &self.q.ring;
         let (off, diag) = w_parts(ring, &self.q.b, &self.q.a, &self.q.d, &self.p.a, &self.p.d);
@@ -857,13 +886,38 @@ impl Method {
         claims: &[&str],
         perturb: Option<(usize, usize, &str)>,
     ) -> String {
+        self.to_root_file_with(name, claims, perturb, false)
+    }
+
+    /// [`Self::to_root_file`], with `c = ["c0", "c1", …]` written out when
+    /// `write_c` (without it, `c` is left to the row sums of `a`).
+    pub fn to_root_file_with(
+        &self,
+        name: &str,
+        claims: &[&str],
+        perturb: Option<(usize, usize, &str)>,
+        write_c: bool,
+    ) -> String {
         use num_integer::Integer;
         let mut den = BigInt::one();
         for c in &self.ring.p.0 {
             den = den.lcm(c.denom());
         }
         let ip = self.ring.p.scale(&BigRational::from_integer(den));
-        let (f, a, b, _) = self.alg_table();
+        // Every node a variable (rational nodes too, with an isolating
+        // interval), so that each entry is the same polynomial in its nodes.
+        let mut f = Field::default();
+        for (i, r) in self.nodes.iter().enumerate() {
+            let (lo, hi) = isolating_interval(&self.ring.p, r);
+            let root = RealRoot::new(&self.ring.p, lo, hi).expect("an isolating interval");
+            f.roots.push(root);
+            f.names.push(format!("c{i}"));
+        }
+        let s = self.s;
+        let a: Vec<Vec<Alg>> = (0..s)
+            .map(|i| (0..s).map(|j| f.reduce(&self.a_alg(i, j))).collect())
+            .collect();
+        let b: Vec<Alg> = (0..s).map(|i| f.reduce(&self.b_alg(i))).collect();
         let text = |x: &Alg| alg_text(&f, x);
         let mut out = format!("name = \"{name}\"\n");
         out.push_str(&format!(
@@ -873,11 +927,10 @@ impl Method {
         let cl: Vec<String> = claims.iter().map(|c| format!("\"{c}\"")).collect();
         out.push_str(&format!("claims = [{}]\n\n[let]\n", cl.join(", ")));
         for (i, r) in self.nodes.iter().enumerate() {
+            let (lo, hi) = isolating_interval(&self.ring.p, r);
             out.push_str(&format!(
-                "c{i} = \"root({}, {}, {})\"\n",
+                "c{i} = \"root({}, {lo}, {hi})\"\n",
                 ip.to_text("x"),
-                r.lo,
-                r.hi
             ));
         }
         out.push_str("\n[table]\n");
@@ -901,6 +954,10 @@ impl Method {
         let bs: Vec<String> = b.iter().map(|x| format!("  \"{}\"", text(x))).collect();
         body.push_str(&bs.join(",\n"));
         body.push_str("\n]\n");
+        if write_c {
+            let cs: Vec<String> = (0..self.s).map(|i| format!("\"c{i}\"")).collect();
+            body.push_str(&format!("c = [{}]\n", cs.join(", ")));
+        }
         // TOML: top-level keys must precede [let]; put a and b first.
         let header_end = out.find("\n[let]").expect("let section");
         let mut file = out[..header_end].to_string();
@@ -1000,6 +1057,25 @@ fn radical_nodes(p: &Poly, roots: &[RealRoot]) -> Option<Vec<Number>> {
 }
 
 /// An [`Alg`] as text in the grammar, variables named `c0, c1, …`.
+/// An interval `(lo, hi]` with `lo < hi` holding exactly the root `r` of
+/// `p`: the node's own interval, or for a rational node `r` (isolated as
+/// `[r, r]`) the interval `(r − 2⁻ᵗ, r + 2⁻ᵗ]` for the first `t` that
+/// isolates it, so that the file exercises the general root path.
+fn isolating_interval(p: &Poly, r: &RealRoot) -> (BigRational, BigRational) {
+    if !r.is_rational() {
+        return (r.lo.clone(), r.hi.clone());
+    }
+    let seq = p.sturm();
+    let mut w = BigRational::new(BigInt::one(), BigInt::from(2));
+    loop {
+        let (lo, hi) = (&r.lo - &w, &r.lo + &w);
+        if count_roots(&seq, &lo, &hi) == 1 {
+            return (lo, hi);
+        }
+        w /= q(2);
+    }
+}
+
 fn alg_text(f: &Field, x: &Alg) -> String {
     let x = f.reduce(x);
     let mut parts = Vec::new();

@@ -21,19 +21,25 @@
 //!
 //! Entries of a `root` file are polynomials with rational coefficients in the
 //! roots (and in `sqrt`/`cbrt` of rationals, which become roots too);
-//! division is allowed by expressions in one root. Zero is decided exactly
-//! ([`super::alg`]): the symplecticity verdict names every nonzero `Wᵢⱼ`.
-//! Conditions that mix many roots (the sums in `B(p)`, `C(q)`, `D(r)`) are
-//! decided when within the budget [`super::alg::MAX_ZERO_TEST_BITS`] and
-//! reported as undecided otherwise; symmetry and the stability function are
-//! not computed for such files. A file without `generate` or `root(` is an
-//! ordinary table file.
+//! division is allowed by expressions in one root. A pair gives `a_hat`,
+//! `b_hat` (and optionally `c_hat`) as well. Zero is decided exactly
+//! ([`super::alg`]): the symplecticity verdict names every nonzero `Wᵢⱼ`
+//! (for a pair, every nonzero entry of `bᵢâᵢⱼ + b̂ⱼaⱼᵢ − bᵢb̂ⱼ`, and
+//! `b = b̂`). Row sums and `B(k)` (for `b`, and `b̂`) are decided too.
+//! Every test is within the budgets of [`crate::budget`]
+//! (`MAX_ZERO_TEST_BITS`, `MAX_ZERO_TEST_WORK`, `MAX_ALG_PRODUCT_WORK`,
+//! `MAX_ALG_TERMS`, and `MAX_ANALYSIS_WORK` for parsing and analysing a
+//! table together); one beyond them is reported as undecided, with the
+//! reason in [`AlgAnalysis::refusals`]. Symmetry and the stability function
+//! are not computed for such files. A file without `generate` or `root(`
+//! is an ordinary table file.
 
 #![allow(clippy::needless_range_loop)] // index-heavy table code
 
 use std::collections::BTreeMap;
 use std::path::Path;
 
+use num_bigint::BigInt;
 use num_rational::BigRational;
 use num_traits::{Signed, ToPrimitive, Zero};
 
@@ -42,7 +48,7 @@ use super::family::Generator;
 use super::generated::{Generated, literature_claims};
 use super::poly::Poly;
 use super::root::RealRoot;
-use crate::budget::MAX_FILE_BYTES;
+use crate::budget::{BeyondBudget, MAX_FILE_BYTES, MAX_ROOT_BITS, MAX_ROOT_DEGREE};
 use crate::claims::{Claim, parse_claim};
 use crate::expr::{self, BinOp, Expr, ExprKind, Func};
 use crate::file::{FileError, TableFile, parse_table_file};
@@ -68,6 +74,11 @@ pub struct AlgFile {
     pub a: Vec<Vec<Alg>>,
     pub b: Vec<Alg>,
     pub c: Option<Vec<Alg>>,
+    /// A partitioned pair: `a_hat`, `b_hat` act on `p` (`a`, `b` on `q`),
+    /// `c_hat` optional. `a_hat` and `b_hat` are given together or not at all.
+    pub a_hat: Option<Vec<Vec<Alg>>>,
+    pub b_hat: Option<Vec<Alg>>,
+    pub c_hat: Option<Vec<Alg>>,
 }
 
 /// Read a table file of any kind (at most 1 MiB, UTF-8).
@@ -171,12 +182,16 @@ fn generated_file(file: &str, doc: &toml::Table) -> Result<Generated, FileError>
 
 fn alg_file(file: &str, doc: &toml::Table) -> Result<AlgFile, FileError> {
     for key in doc.keys() {
-        if !["name", "source", "claims", "let", "a", "b", "c"].contains(&key.as_str()) {
+        if ![
+            "name", "source", "claims", "let", "a", "b", "c", "a_hat", "b_hat", "c_hat",
+        ]
+        .contains(&key.as_str())
+        {
             return Err(ferr(
                 file,
                 Some(key),
                 format!(
-                    "unknown field `{key}` in a table with root(...) entries (the fields are name, source, claims, let, a, b, c)"
+                    "unknown field `{key}` in a table with root(...) entries (the fields are name, source, claims, let, a, b, c, a_hat, b_hat, c_hat)"
                 ),
             ));
         }
@@ -192,7 +207,8 @@ fn alg_file(file: &str, doc: &toml::Table) -> Result<AlgFile, FileError> {
     let claims = claims_of(file, doc)?.unwrap_or_default();
     let mut cx = AlgCx {
         file,
-        field: Field::default(),
+        // Parsing (roots, products) has the same total budget as analysis.
+        field: Field::default().with_work_limit(crate::budget::MAX_ANALYSIS_WORK),
         env: BTreeMap::new(),
     };
     if let Some(toml::Value::Table(lets)) = doc.get("let") {
@@ -213,6 +229,12 @@ fn alg_file(file: &str, doc: &toml::Table) -> Result<AlgFile, FileError> {
             };
             if text.trim_start().starts_with("root(") {
                 let r = parse_root(&text).map_err(|e| ferr(file, Some(&fieldname), e))?;
+                // Charged as for the widest interval the text allows
+                // (Cauchy's bound), since the one given is gone.
+                let wide = BigRational::from_integer(1.into());
+                cx.field
+                    .charge(super::alg::isolation_work(&r.poly, &wide, &wide))
+                    .map_err(|e| ferr(file, Some(&fieldname), e.0))?;
                 let x = cx.field.push(r, k.clone());
                 cx.env.insert(k.clone(), x);
             } else {
@@ -254,6 +276,19 @@ fn alg_file(file: &str, doc: &toml::Table) -> Result<AlgFile, FileError> {
         v => Some(cx.vector(v, "c")?),
     };
     let s = b.len();
+    if s == 0 {
+        return Err(ferr(file, Some("b"), "a table needs at least one stage"));
+    }
+    if s > crate::budget::MAX_STAGES {
+        return Err(ferr(
+            file,
+            Some("b"),
+            format!(
+                "{s} stages, beyond the limit of {} (tableau::budget::MAX_STAGES)",
+                crate::budget::MAX_STAGES
+            ),
+        ));
+    }
     if a.len() != s || a.iter().any(|r| r.len() != s) || c.as_ref().is_some_and(|c| c.len() != s) {
         return Err(ferr(
             file,
@@ -261,14 +296,62 @@ fn alg_file(file: &str, doc: &toml::Table) -> Result<AlgFile, FileError> {
             format!("a must be {s}×{s} and c (if given) of length {s}, as b has {s} entries"),
         ));
     }
+    let (a_hat, b_hat) = match (doc.get("a_hat"), doc.get("b_hat")) {
+        (None, None) => (None, None),
+        (Some(_), None) => {
+            return Err(ferr(
+                file,
+                Some("b_hat"),
+                "missing: a pair needs both a_hat and b_hat",
+            ));
+        }
+        (None, Some(_)) => {
+            return Err(ferr(
+                file,
+                Some("a_hat"),
+                "missing: a pair needs both a_hat and b_hat",
+            ));
+        }
+        (ah, bh) => (Some(cx.matrix(ah, "a_hat")?), Some(cx.vector(bh, "b_hat")?)),
+    };
+    let c_hat = match doc.get("c_hat") {
+        None => None,
+        Some(_) if a_hat.is_none() => {
+            return Err(ferr(
+                file,
+                Some("c_hat"),
+                "c_hat belongs to a pair: give a_hat and b_hat too",
+            ));
+        }
+        v => Some(cx.vector(v, "c_hat")?),
+    };
+    if let (Some(ah), Some(bh)) = (&a_hat, &b_hat)
+        && (bh.len() != s
+            || ah.len() != s
+            || ah.iter().any(|r| r.len() != s)
+            || c_hat.as_ref().is_some_and(|c| c.len() != s))
+    {
+        return Err(ferr(
+            file,
+            Some("a_hat"),
+            format!(
+                "a_hat must be {s}×{s}, b_hat and c_hat (if given) of length {s}, as b has {s} entries"
+            ),
+        ));
+    }
     Ok(AlgFile {
         name,
         source,
         claims,
+        // The field keeps the work spent parsing: parsing and analysis share
+        // the budget.
         field: cx.field,
         a,
         b,
         c,
+        a_hat,
+        b_hat,
+        c_hat,
     })
 }
 
@@ -311,19 +394,86 @@ pub fn parse_root(text: &str) -> Result<RealRoot, String> {
             .ok_or_else(|| format!("{what} must be rational, found {n}"))
     };
     let (lo, hi) = (bound(parts[1], "LO")?, bound(parts[2], "HI")?);
-    if lo >= hi {
+    let size = poly_bits(&p) + qbits(&lo) + qbits(&hi);
+    if size > MAX_ROOT_BITS {
+        return Err(format!(
+            "the polynomial and the bounds have {size} bits together, beyond the budget of {MAX_ROOT_BITS} (tableau::budget::MAX_ROOT_BITS)"
+        ));
+    }
+    if super::poly::qle(&hi, &lo) {
         return Err(format!("the interval ({lo}, {hi}] is empty"));
     }
-    RealRoot::new(&p, lo.clone(), hi.clone()).map_err(|n| {
+    let work = super::alg::isolation_work(&p, &lo, &hi);
+    if work > crate::budget::MAX_ZERO_TEST_WORK {
+        return Err(format!(
+            "isolating a root of a polynomial of degree {} with coefficients of up to {} bits needs about {work} word products, beyond the budget of {} (tableau::budget::MAX_ZERO_TEST_WORK)",
+            p.degree().unwrap_or(0),
+            p.0.iter().map(qbits).max().unwrap_or(0),
+            crate::budget::MAX_ZERO_TEST_WORK
+        ));
+    }
+    let mut r = RealRoot::new(&p, lo.clone(), hi.clone()).map_err(|n| {
         format!(
             "the polynomial has {n} distinct real roots in ({lo}, {hi}], not exactly one: give an isolating interval"
         )
-    })
+    })?;
+    // Bisect to a narrow interval now, within the work just checked; later
+    // refinement takes certified Newton steps.
+    let mut narrow = r.clone();
+    narrow.refine_to(64);
+    if !narrow.is_rational() {
+        r = narrow;
+    } else if !r.is_rational() {
+        // The bisection hit a rational root exactly: keep it a variable
+        // (so that it stays in its family of conjugates, see
+        // `Field::collapse`), in a small interval around it.
+        let v = narrow.lo;
+        let mut w = BigRational::new(1.into(), BigInt::from(1u64 << 40));
+        for _ in 0..64 {
+            if let Ok(c) = RealRoot::new(&p, &v - &w, &v + &w)
+                && !c.is_rational()
+            {
+                r = c;
+                break;
+            }
+            w /= BigRational::from_integer(2.into());
+        }
+    }
+    Ok(r)
 }
 
-/// A polynomial in `x` with rational coefficients, from an expression.
+fn qbits(c: &BigRational) -> u64 {
+    c.numer().bits() + c.denom().bits()
+}
+
+fn poly_bits(p: &Poly) -> u64 {
+    p.0.iter().map(qbits).sum()
+}
+
+/// Refuse a polynomial of `root(...)` beyond [`MAX_ROOT_DEGREE`] or
+/// [`MAX_ROOT_BITS`] (checked after every operation, so no intermediate
+/// grows past them either).
+fn check_root_poly(p: Poly) -> Result<Poly, String> {
+    if p.degree().unwrap_or(0) > MAX_ROOT_DEGREE {
+        return Err(format!(
+            "the polynomial has degree above {MAX_ROOT_DEGREE} (tableau::budget::MAX_ROOT_DEGREE)"
+        ));
+    }
+    let b = poly_bits(&p);
+    if b > MAX_ROOT_BITS {
+        return Err(format!(
+            "the polynomial's coefficients have {b} bits together, beyond the budget of {MAX_ROOT_BITS} (tableau::budget::MAX_ROOT_BITS)"
+        ));
+    }
+    Ok(p)
+}
+
+/// A polynomial in `x` with rational coefficients, from an expression:
+/// degree at most [`MAX_ROOT_DEGREE`] and coefficients of at most
+/// [`MAX_ROOT_BITS`] bits together, checked before every product and
+/// after every operation. Nesting is bounded by the grammar's depth limit.
 fn poly_of(e: &Expr) -> Result<Poly, String> {
-    Ok(match &e.kind {
+    let p = match &e.kind {
         ExprKind::Int(n) => Poly::constant(BigRational::from_integer(n.clone())),
         ExprKind::Decimal(r) => Poly::constant(r.clone()),
         ExprKind::Name(n) if n == "x" => Poly::x(),
@@ -335,13 +485,16 @@ fn poly_of(e: &Expr) -> Result<Poly, String> {
                 BinOp::Add => l.add(&r),
                 BinOp::Sub => l.sub(&r),
                 BinOp::Mul => {
-                    if l.0.len() + r.0.len() > 200 {
-                        return Err("degree above 200".into());
+                    if l.degree().unwrap_or(0) + r.degree().unwrap_or(0) > MAX_ROOT_DEGREE {
+                        return Err(format!(
+                            "the polynomial has degree above {MAX_ROOT_DEGREE} (tableau::budget::MAX_ROOT_DEGREE)"
+                        ));
                     }
                     l.mul(&r)
                 }
                 BinOp::Div => match r.degree() {
                     Some(0) => l.scale(&r.coeff(0).recip()),
+                    None => return Err("division by zero in the polynomial".into()),
                     _ => return Err("division by a non-constant in a polynomial".into()),
                 },
             }
@@ -355,16 +508,31 @@ fn poly_of(e: &Expr) -> Result<Poly, String> {
                     .coeff(0)
                     .to_integer()
                     .to_usize()
-                    .filter(|&k| k <= 200)
-                    .ok_or("exponent must be an integer in 0..=200")?,
+                    .filter(|&k| k <= MAX_ROOT_DEGREE)
+                    .ok_or(format!(
+                        "the exponent must be an integer in 0..={MAX_ROOT_DEGREE} (tableau::budget::MAX_ROOT_DEGREE)"
+                    ))?,
                 _ => return Err("exponent must be an integer".into()),
             };
-            b.pow(k)
+            let deg = b.degree().unwrap_or(0);
+            if deg.saturating_mul(k) > MAX_ROOT_DEGREE {
+                return Err(format!(
+                    "the polynomial has degree {deg}·{k} = {}, above {MAX_ROOT_DEGREE} (tableau::budget::MAX_ROOT_DEGREE)",
+                    deg.saturating_mul(k)
+                ));
+            }
+            // Each factor's size is checked, so no power grows unbounded.
+            let mut r = Poly::one();
+            for _ in 0..k {
+                r = check_root_poly(r.mul(&b))?;
+            }
+            r
         }
         ExprKind::Call { .. } => {
             return Err("sqrt/cbrt are not allowed in root(...)'s polynomial".into());
         }
-    })
+    };
+    check_root_poly(p)
 }
 
 struct AlgCx<'a> {
@@ -446,10 +614,10 @@ impl AlgCx<'_> {
                 match op {
                     BinOp::Add => l.add(&r),
                     BinOp::Sub => l.sub(&r),
-                    BinOp::Mul => self.field.mul(&l, &r),
+                    BinOp::Mul => self.field.try_mul(&l, &r).map_err(|e| err(e.0))?,
                     BinOp::Div => {
                         let inv = self.field.inverse(&r).map_err(&err)?;
-                        self.field.mul(&l, &inv)
+                        self.field.try_mul(&l, &inv).map_err(|e| err(e.0))?
                     }
                 }
             }
@@ -458,12 +626,18 @@ impl AlgCx<'_> {
                 let k = self
                     .eval(field, exp)?
                     .as_rational()
-                    .filter(|k| k.is_integer() && k.abs() <= BigRational::from_integer(64.into()))
+                    .filter(|k| {
+                        k.is_integer()
+                            && super::poly::qle(&k.abs(), &BigRational::from_integer(64.into()))
+                    })
                     .ok_or_else(|| err("the exponent must be an integer with |k| ≤ 64".into()))?
                     .to_integer()
                     .to_i64()
-                    .expect("small");
-                let p = self.field.pow(&b, k.unsigned_abs() as u32);
+                    .ok_or_else(|| err("the exponent must be an integer with |k| ≤ 64".into()))?;
+                let p = self
+                    .field
+                    .try_pow(&b, k.unsigned_abs() as u32)
+                    .map_err(|e| err(e.0))?;
                 if k < 0 {
                     self.field.inverse(&p).map_err(&err)?
                 } else {
@@ -479,7 +653,7 @@ impl AlgCx<'_> {
                     ))
                 })?;
                 let one = BigRational::from_integer(1.into());
-                let big = if r.abs() > one {
+                let big = if super::poly::qlt(&one, &r.abs()) {
                     r.abs() + &one
                 } else {
                     &one + &one
@@ -517,7 +691,8 @@ impl AlgCx<'_> {
     }
 }
 
-/// One `Wᵢⱼ` of a root-entry table.
+/// One `Wᵢⱼ` of a root-entry table (for a pair, one entry of the pair
+/// condition `bᵢâᵢⱼ + b̂ⱼaⱼᵢ − bᵢb̂ⱼ`).
 #[derive(Clone, Debug)]
 pub struct WEntryAlg {
     pub i: usize,
@@ -532,99 +707,290 @@ pub struct WEntryAlg {
 #[derive(Clone, Debug)]
 pub struct AlgAnalysis {
     pub stages: usize,
-    /// Every `Wᵢⱼ`, `i ≤ j`.
+    /// Every `Wᵢⱼ`, `i ≤ j` (for a pair: every entry of the pair
+    /// condition, all `i, j`).
     pub w: Vec<WEntryAlg>,
-    /// `Some(true)`: `W = 0`; `Some(false)`: some `Wᵢⱼ ≠ 0`; `None`: some
-    /// entries beyond budget and none nonzero.
+    /// `Some(true)`: symplectic for every Hamiltonian (`W = 0`; for a pair,
+    /// the pair condition and `b = b̂`); `Some(false)`: not; `None`: some
+    /// test beyond budget and none failed.
     pub symplectic: Option<bool>,
     /// Rows whose given `cᵢ` differs from the row sum (`None`: undecided).
     pub row_sums_ok: Option<bool>,
     /// `B(k)` for `k = 1, 2, …`: decided levels until the first failure or
     /// undecided one.
     pub b_levels: Vec<Option<bool>>,
+    /// Whether the table is a partitioned pair (`a_hat`, `b_hat` given).
+    pub pair: bool,
+    /// Symplectic for separable Hamiltonians: the pair condition alone (for
+    /// a Runge–Kutta table the same as [`Self::symplectic`]).
+    pub symplectic_separable: Option<bool>,
+    /// For a pair: `b = b̂` (`None`: undecided or not a pair).
+    pub same_weights: Option<bool>,
+    /// The first `i` with `bᵢ ≠ b̂ᵢ`, with both values, when `b ≠ b̂`.
+    pub weights_differ: Option<(usize, Option<f64>, Option<f64>)>,
+    /// For a pair: `c_hat` (or, when absent, nothing to check) against the
+    /// row sums of `a_hat`.
+    pub row_sums_hat_ok: Option<bool>,
+    /// For a pair: `B(k)` for `b_hat` (with `c_hat`, else the row sums of
+    /// `a_hat`).
+    pub b_hat_levels: Vec<Option<bool>>,
+    /// Why each undecided verdict is undecided: the budget, its limit and
+    /// its constant's path.
+    pub refusals: Vec<String>,
+    /// The estimated work of the analysis, in the units of
+    /// [`crate::budget::MAX_ANALYSIS_WORK`].
+    pub work: u64,
+}
+
+/// The row sums of `a`, collapsed to as few roots as the field allows
+/// ([`Field::collapse`]), or `c` as given.
+fn abscissae(f: &Field, a: &[Vec<Alg>], c: Option<&Vec<Alg>>) -> Vec<Alg> {
+    match c {
+        Some(c) => c.clone(),
+        None => a
+            .iter()
+            .map(|r| f.collapse(&r.iter().fold(Alg::zero(), |acc, x| acc.add(x))))
+            .collect(),
+    }
+}
+
+/// Whether the given `c` equals the row sums of `a` (`Some(true)` when `c`
+/// is absent).
+fn row_sums(
+    f: &Field,
+    a: &[Vec<Alg>],
+    c: Option<&Vec<Alg>>,
+    refusals: &mut Vec<String>,
+    what: &str,
+) -> Option<bool> {
+    let Some(c) = c else {
+        return Some(true);
+    };
+    let mut ok = Some(true);
+    for (i, row) in a.iter().enumerate() {
+        let sum = row.iter().fold(Alg::zero(), |acc, x| acc.add(x));
+        match f.is_zero(&sum.sub(&c[i])) {
+            Ok(true) => {}
+            Ok(false) => return Some(false),
+            Err(e) => {
+                refusals.push(format!("{what}[{i}] against the row sum: {e}"));
+                ok = None;
+            }
+        }
+    }
+    ok
+}
+
+/// `B(k)`, `k = 1 … kmax`, until the first level that fails or is beyond
+/// budget: `Σᵢ bᵢ cᵢ^{k−1} = 1/k`.
+fn quadrature_levels(
+    f: &Field,
+    b: &[Alg],
+    c: &[Alg],
+    kmax: usize,
+    refusals: &mut Vec<String>,
+    what: &str,
+) -> Vec<Option<bool>> {
+    let mut out = Vec::new();
+    // bᵢ cᵢ^{k−1}, updated by one product per level.
+    let mut terms: Vec<Alg> = b.to_vec();
+    for k in 1..=kmax {
+        if k > 1 {
+            let mut next = Vec::with_capacity(terms.len());
+            for (t, ci) in terms.iter().zip(c) {
+                match f.try_mul(t, ci) {
+                    Ok(x) => next.push(x),
+                    Err(e) => {
+                        refusals.push(format!("B({k}) for {what}: {e}"));
+                        out.push(None);
+                        return out;
+                    }
+                }
+            }
+            terms = next;
+        }
+        let mut sum = Alg::rational(-BigRational::from_integer((k as i64).into()).recip());
+        for t in &terms {
+            sum = sum.add(t);
+        }
+        let v = match f.is_zero(&sum) {
+            Ok(v) => Some(v),
+            Err(e) => {
+                refusals.push(format!("B({k}) for {what}: {e}"));
+                None
+            }
+        };
+        out.push(v);
+        if v != Some(true) {
+            break;
+        }
+    }
+    out
+}
+
+/// `x₀y₀ + x₁y₁ − x₂y₂`, each product within the budgets of
+/// [`Field::try_mul`].
+fn w_entry(f: &Field, x: [&Alg; 3], y: [&Alg; 3]) -> Result<Alg, BeyondBudget> {
+    Ok(f.try_mul(x[0], y[0])?
+        .add(&f.try_mul(x[1], y[1])?)
+        .sub(&f.try_mul(x[2], y[2])?))
+}
+
+/// Decide one entry, with its value when nonzero.
+fn entry(
+    f: &Field,
+    e: Result<Alg, BeyondBudget>,
+    i: usize,
+    j: usize,
+    refusals: &mut Vec<String>,
+) -> WEntryAlg {
+    let zero = match e.as_ref().map_err(Clone::clone).and_then(|e| f.is_zero(e)) {
+        Ok(z) => Some(z),
+        Err(err) => {
+            refusals.push(format!("W[{i}][{j}]: {err}"));
+            None
+        }
+    };
+    let value = match (&e, zero) {
+        (Ok(e), Some(false)) => f.to_f64(e).ok(),
+        _ => None,
+    };
+    WEntryAlg { i, j, zero, value }
+}
+
+fn all_zero(w: &[WEntryAlg]) -> Option<bool> {
+    if w.iter().any(|e| e.zero == Some(false)) {
+        Some(false)
+    } else if w.iter().all(|e| e.zero == Some(true)) {
+        Some(true)
+    } else {
+        None
+    }
 }
 
 impl AlgFile {
+    /// Decide symplecticity (every `Wᵢⱼ`, or every entry of the pair
+    /// condition and `b = b̂`), the row sums and `B(k)`, exactly; each test
+    /// within the budgets of [`super::alg`], all of them together within
+    /// [`crate::budget::MAX_ANALYSIS_WORK`]. A test beyond a budget is
+    /// undecided (`None`), and [`AlgAnalysis::refusals`] says why.
     pub fn analyse(&self) -> AlgAnalysis {
-        let f = &self.field;
+        let f = &self
+            .field
+            .clone()
+            .with_default_work_limit(crate::budget::MAX_ANALYSIS_WORK);
         let s = self.b.len();
+        let mut refusals = Vec::new();
         let mut w = Vec::new();
-        for i in 0..s {
-            for j in i..s {
-                let e = f
-                    .mul(&self.b[i], &self.a[i][j])
-                    .add(&f.mul(&self.b[j], &self.a[j][i]))
-                    .sub(&f.mul(&self.b[i], &self.b[j]));
-                let zero = f.is_zero(&e).ok();
-                let value = (zero == Some(false)).then(|| f.to_f64(&e).ok()).flatten();
-                w.push(WEntryAlg { i, j, zero, value });
-            }
-        }
-        let symplectic = if w.iter().any(|e| e.zero == Some(false)) {
-            Some(false)
-        } else if w.iter().all(|e| e.zero == Some(true)) {
-            Some(true)
-        } else {
-            None
+        let pair = match (&self.a_hat, &self.b_hat) {
+            (Some(ah), Some(bh)) => Some((ah, bh)),
+            _ => None,
         };
-        let row_sums_ok = match &self.c {
-            None => Some(true),
-            Some(c) => {
-                let mut ok = Some(true);
+        match pair {
+            None => {
                 for i in 0..s {
-                    let sum = self.a[i].iter().fold(Alg::zero(), |acc, x| acc.add(x));
-                    match f.is_zero(&sum.sub(&c[i])) {
-                        Ok(true) => {}
-                        Ok(false) => {
-                            ok = Some(false);
-                            break;
-                        }
-                        Err(_) => ok = None,
+                    for j in i..s {
+                        let e = w_entry(
+                            f,
+                            [&self.b[i], &self.b[j], &self.b[i]],
+                            [&self.a[i][j], &self.a[j][i], &self.b[j]],
+                        );
+                        w.push(entry(f, e, i, j, &mut refusals));
                     }
                 }
-                ok
             }
-        };
-        let c: Vec<Alg> = match &self.c {
-            Some(c) => c.clone(),
-            None => self
-                .a
-                .iter()
-                .map(|r| r.iter().fold(Alg::zero(), |acc, x| acc.add(x)))
-                .collect(),
-        };
-        let mut b_levels = Vec::new();
-        for k in 1..=2 * s + 1 {
-            let mut sum = Alg::rational(-BigRational::from_integer((k as i64).into()).recip());
-            for i in 0..s {
-                sum = sum.add(&f.mul(&self.b[i], &f.pow(&c[i], (k - 1) as u32)));
-            }
-            let v = f.is_zero(&sum).ok();
-            b_levels.push(v);
-            if v != Some(true) {
-                break;
+            Some((ah, bh)) => {
+                for i in 0..s {
+                    for j in 0..s {
+                        // bᵢâᵢⱼ + b̂ⱼaⱼᵢ − bᵢb̂ⱼ
+                        let e = w_entry(
+                            f,
+                            [&self.b[i], &bh[j], &self.b[i]],
+                            [&ah[i][j], &self.a[j][i], &bh[j]],
+                        );
+                        w.push(entry(f, e, i, j, &mut refusals));
+                    }
+                }
             }
         }
+        let conditions = all_zero(&w);
+        let (mut same_weights, mut weights_differ) = (None, None);
+        if let Some((_, bh)) = pair {
+            let mut same = Some(true);
+            for i in 0..s {
+                let d = self.b[i].sub(&bh[i]);
+                match f.is_zero(&d) {
+                    Ok(true) => {}
+                    Ok(false) => {
+                        same = Some(false);
+                        weights_differ =
+                            Some((i, f.to_f64(&self.b[i]).ok(), f.to_f64(&bh[i]).ok()));
+                        break;
+                    }
+                    Err(e) => {
+                        refusals.push(format!("b[{i}] = b_hat[{i}]: {e}"));
+                        same = None;
+                    }
+                }
+            }
+            same_weights = same;
+        }
+        let symplectic = match (pair.is_some(), conditions, same_weights) {
+            (false, c, _) => c,
+            (true, Some(false), _) | (true, _, Some(false)) => Some(false),
+            (true, Some(true), Some(true)) => Some(true),
+            _ => None,
+        };
+        let row_sums_ok = row_sums(f, &self.a, self.c.as_ref(), &mut refusals, "c");
+        let c = abscissae(f, &self.a, self.c.as_ref());
+        let b_levels = quadrature_levels(f, &self.b, &c, 2 * s + 1, &mut refusals, "b");
+        let (row_sums_hat_ok, b_hat_levels) = match pair {
+            Some((ah, bh)) => {
+                let ok = row_sums(f, ah, self.c_hat.as_ref(), &mut refusals, "c_hat");
+                let ch = abscissae(f, ah, self.c_hat.as_ref());
+                (
+                    ok,
+                    quadrature_levels(f, bh, &ch, 2 * s + 1, &mut refusals, "b_hat"),
+                )
+            }
+            None => (None, Vec::new()),
+        };
         AlgAnalysis {
             stages: s,
             w,
             symplectic,
             row_sums_ok,
             b_levels,
+            pair: pair.is_some(),
+            symplectic_separable: conditions,
+            same_weights,
+            weights_differ,
+            row_sums_hat_ok,
+            b_hat_levels,
+            refusals,
+            work: f.work_spent(),
         }
     }
 
     /// Check a claim against the analysis; symplecticity is decided
-    /// exactly and a refusal names the nonzero `Wᵢⱼ`.
+    /// exactly and a refusal names the nonzero `Wᵢⱼ`. As for ordinary
+    /// table files, `symplectic` on a pair means the pair condition
+    /// (symplectic for separable Hamiltonians; for every Hamiltonian when
+    /// also `b = b̂`).
     pub fn check_claim(&self, an: &AlgAnalysis, claim: &Claim) -> Result<(), String> {
+        let rule = if an.pair {
+            "Wᵢⱼ = bᵢâᵢⱼ + b̂ⱼaⱼᵢ − bᵢb̂ⱼ must vanish"
+        } else {
+            "W = BA + AᵀB − bbᵀ must vanish"
+        };
         match claim {
-            Claim::Symplectic => match an.symplectic {
+            Claim::Symplectic => match an.symplectic_separable {
                 Some(true) => Ok(()),
                 Some(false) => {
-                    let shown: Vec<String> = an
-                        .w
+                    let bad: Vec<&WEntryAlg> =
+                        an.w.iter().filter(|e| e.zero == Some(false)).collect();
+                    let shown: Vec<String> = bad
                         .iter()
-                        .filter(|e| e.zero == Some(false))
                         .take(6)
                         .map(|e| {
                             format!(
@@ -635,23 +1001,44 @@ impl AlgFile {
                             )
                         })
                         .collect();
+                    let more = if bad.len() > 6 {
+                        format!(" and {} more", bad.len() - 6)
+                    } else {
+                        String::new()
+                    };
                     Err(format!(
-                        "not symplectic: {} (W = BA + AᵀB − bbᵀ must vanish; decided exactly on the algebraic entries)",
+                        "not symplectic: {}{more} ({rule}; decided exactly on the algebraic entries)",
                         shown.join(", ")
                     ))
                 }
-                None => Err("symplecticity cannot be decided within the budget of exact zero tests (tableau::algebraic::alg::MAX_ZERO_TEST_BITS)".into()),
+                None => Err(format!(
+                    "symplecticity cannot be decided within the budgets of exact zero tests: {}",
+                    an.refusals
+                        .iter()
+                        .find(|r| r.starts_with("W["))
+                        .map_or("(no reason recorded)", String::as_str)
+                )),
             },
             Claim::Order { p, bound: None } => {
                 let holds = an.b_levels.iter().take_while(|v| **v == Some(true)).count();
                 if holds < *p && an.b_levels.get(holds) == Some(&Some(false)) {
-                    {
-                        return Err(format!(
-                            "order {p} claimed but B({}) fails (Σ bᵢcᵢ^{holds} ≠ 1/{}), so the order is at most {holds}",
-                            holds + 1,
-                            holds + 1
-                        ));
-                    }
+                    return Err(format!(
+                        "order {p} claimed but B({}) fails (Σ bᵢcᵢ^{holds} ≠ 1/{}), so the order is at most {holds}",
+                        holds + 1,
+                        holds + 1
+                    ));
+                }
+                let hh = an
+                    .b_hat_levels
+                    .iter()
+                    .take_while(|v| **v == Some(true))
+                    .count();
+                if an.pair && hh < *p && an.b_hat_levels.get(hh) == Some(&Some(false)) {
+                    return Err(format!(
+                        "order {p} claimed but B({}) fails for b_hat (Σ b̂ᵢĉᵢ^{hh} ≠ 1/{}), so the order is at most {hh}",
+                        hh + 1,
+                        hh + 1
+                    ));
                 }
                 Err(format!(
                     "order claims are not decided for tables with root(...) entries (B(k) holds exactly for k ≤ {holds}); use a generator (generate = \"gauss(s)\") for a proven order"

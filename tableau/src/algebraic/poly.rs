@@ -10,8 +10,49 @@ use num_rational::BigRational;
 use num_traits::{One, Signed, Zero};
 
 /// `Σ coeffs[k] xᵏ`, constant term first, no trailing zeros (zero is empty).
-#[derive(Clone, PartialEq, Eq, Hash, Default)]
+#[derive(Clone, Default)]
 pub struct Poly(pub Vec<BigRational>);
+
+/// Equality coefficient by coefficient with [`qeq`] (never the recursive
+/// comparison of `num-rational`).
+impl PartialEq for Poly {
+    fn eq(&self, o: &Poly) -> bool {
+        self.0.len() == o.0.len() && self.0.iter().zip(&o.0).all(|(a, b)| qeq(a, b))
+    }
+}
+
+impl Eq for Poly {}
+
+/// The order of two rationals, by one cross multiplication.
+///
+/// `num-rational`'s `Ord` (and so `<`, `>`, `min`, `max`, and `==` on
+/// values with different denominators) compares by continued fractions,
+/// recursing once per partial quotient the two numbers share: two rationals
+/// agreeing to 100 000 bits overflow the stack. Everything in
+/// [`crate::algebraic`] compares rationals through this function instead,
+/// whose depth does not depend on the input.
+pub fn qcmp(a: &BigRational, b: &BigRational) -> std::cmp::Ordering {
+    // Ratio keeps its denominator positive and the fraction reduced.
+    if a.denom() == b.denom() {
+        return a.numer().cmp(b.numer());
+    }
+    (a.numer() * b.denom()).cmp(&(b.numer() * a.denom()))
+}
+
+/// `a == b` for reduced rationals, without [`qcmp`]'s multiplications.
+pub fn qeq(a: &BigRational, b: &BigRational) -> bool {
+    a.numer() == b.numer() && a.denom() == b.denom()
+}
+
+/// `a < b`.
+pub fn qlt(a: &BigRational, b: &BigRational) -> bool {
+    qcmp(a, b).is_lt()
+}
+
+/// `a ≤ b`.
+pub fn qle(a: &BigRational, b: &BigRational) -> bool {
+    qcmp(a, b).is_le()
+}
 
 fn q(n: i64) -> BigRational {
     BigRational::from_integer(BigInt::from(n))
@@ -312,10 +353,10 @@ pub fn imul(
     let mut lo = ps[0].clone();
     let mut hi = ps[0].clone();
     for p in &ps[1..] {
-        if *p < lo {
+        if qlt(p, &lo) {
             lo = p.clone();
         }
-        if *p > hi {
+        if qlt(&hi, p) {
             hi = p.clone();
         }
     }

@@ -7,18 +7,50 @@ use num_bigint::BigInt;
 use num_rational::BigRational;
 use num_traits::{One, Signed, Zero};
 
-use super::poly::{Poly, count_roots};
+use super::poly::{Poly, count_roots, qeq, qle, qlt};
 use crate::number::rational_to_f64;
 
 /// One real root of a squarefree polynomial: `poly` has exactly one root in
 /// the half-open interval `(lo, hi]`, or the root is the rational `lo = hi`.
-#[derive(Clone, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug)]
 pub struct RealRoot {
     /// Monic and squarefree.
     pub poly: Poly,
     pub lo: BigRational,
     pub hi: BigRational,
     sturm: Vec<Poly>,
+}
+
+/// The same polynomial and the same interval (compared with
+/// [`super::poly::qeq`]).
+impl PartialEq for RealRoot {
+    fn eq(&self, o: &RealRoot) -> bool {
+        self.poly == o.poly && qeq(&self.lo, &o.lo) && qeq(&self.hi, &o.hi)
+    }
+}
+
+impl Eq for RealRoot {}
+
+/// `n / 2ᵏ`, reduced by stripping the common powers of two (no gcd: the
+/// binary gcd of `num-bigint` is quadratic with a large constant, and the
+/// refinement builds such numbers of hundreds of thousands of bits).
+pub fn dyadic(n: BigInt, k: u64) -> BigRational {
+    if n.is_zero() {
+        return BigRational::zero();
+    }
+    let t = n.trailing_zeros().unwrap_or(0).min(k);
+    BigRational::new_raw(n >> t as usize, BigInt::one() << (k - t) as usize)
+}
+
+/// `floor(x · 2ᵏ)` in integers, without normalising a rational.
+pub fn floor_scaled(x: &BigRational, k: u64) -> BigInt {
+    use num_integer::Integer;
+    (x.numer() << k as usize).div_floor(x.denom())
+}
+
+/// `ceil(x · 2ᵏ)` in integers.
+pub fn ceil_scaled(x: &BigRational, k: u64) -> BigInt {
+    -floor_scaled(&-x, k)
 }
 
 fn two() -> BigRational {
@@ -30,12 +62,12 @@ impl RealRoot {
     /// (`poly` is made squarefree and monic first). `Err` says how many there
     /// are.
     pub fn new(poly: &Poly, lo: BigRational, hi: BigRational) -> Result<RealRoot, usize> {
-        if poly.degree().unwrap_or(0) == 0 || lo > hi {
+        if poly.degree().unwrap_or(0) == 0 || qlt(&hi, &lo) {
             return Err(0);
         }
         let p = poly.squarefree();
         let sturm = p.sturm();
-        if lo == hi {
+        if qeq(&lo, &hi) {
             return if p.eval(&lo).is_zero() {
                 Ok(RealRoot {
                     poly: p,
@@ -46,6 +78,26 @@ impl RealRoot {
             } else {
                 Err(0)
             };
+        }
+        // Every root has |x| < 1 + max|cₖ| (Cauchy, p monic) ≤ 2^k: clip the
+        // interval there, so that huge bounds cost no bisections.
+        let cauchy =
+            p.0.iter()
+                .map(|c| c.abs().ceil().to_integer().bits())
+                .max()
+                .unwrap_or(0)
+                + 1;
+        let big = BigRational::from_integer(BigInt::one() << cauchy);
+        let (lo, hi) = (
+            if qlt(&lo, &-big.clone()) {
+                -big.clone()
+            } else {
+                lo
+            },
+            if qlt(&big, &hi) { big } else { hi },
+        );
+        if qle(&hi, &lo) {
+            return Err(0);
         }
         let n = count_roots(&sturm, &lo, &hi);
         if n != 1 {
@@ -114,12 +166,57 @@ impl RealRoot {
         out
     }
 
+    /// Whether `o` is the same number: the same polynomial, and the root
+    /// in both intervals (a Sturm count on their intersection; two roots of
+    /// one polynomial in intervals that share no root are distinct).
+    pub fn same_root(&self, o: &RealRoot) -> bool {
+        if self.poly != o.poly {
+            return false;
+        }
+        match (self.is_rational(), o.is_rational()) {
+            (true, true) => qeq(&self.lo, &o.lo),
+            (false, false) => {
+                let lo = if qlt(&self.lo, &o.lo) {
+                    &o.lo
+                } else {
+                    &self.lo
+                };
+                let hi = if qlt(&self.hi, &o.hi) {
+                    &self.hi
+                } else {
+                    &o.hi
+                };
+                qlt(lo, hi) && count_roots(&self.sturm, lo, hi) == 1
+            }
+            // A rational root r of the polynomial is the other's root when
+            // it lies in the other's interval (which holds one root).
+            (true, false) => qlt(&o.lo, &self.lo) && qle(&self.lo, &o.hi),
+            (false, true) => qlt(&self.lo, &o.lo) && qle(&o.lo, &self.hi),
+        }
+    }
+
     pub fn is_rational(&self) -> bool {
-        self.lo == self.hi
+        qeq(&self.lo, &self.hi)
     }
 
     pub fn width(&self) -> BigRational {
         &self.hi - &self.lo
+    }
+
+    /// Whether the interval is wider than `2^-bits`, in integers (no
+    /// normalised rational).
+    pub fn wider_than(&self, bits: u64) -> bool {
+        let (l, h) = (&self.lo, &self.hi);
+        let wn = h.numer() * l.denom() - l.numer() * h.denom();
+        (wn << bits as usize) > l.denom() * h.denom()
+    }
+
+    /// About `log₂(1/width)` (at most it, never more), in integers.
+    fn width_bits(&self) -> u64 {
+        let (l, h) = (&self.lo, &self.hi);
+        let wn = h.numer() * l.denom() - l.numer() * h.denom();
+        let wd = l.denom() * h.denom();
+        (wd.bits() as i64 - wn.bits() as i64 - 1).max(0) as u64
     }
 
     /// Split the interval at `m` (strictly inside), keeping the half that
@@ -154,11 +251,19 @@ impl RealRoot {
     /// polynomial certifies the root in the new, smaller interval (a failed
     /// step falls back to bisection).
     pub fn refine_to(&mut self, bits: u64) {
+        self.refine_within(bits, u64::MAX);
+    }
+
+    /// [`Self::refine_to`] with at most `bisections` bisections (each a
+    /// Sturm count; certified Newton steps are not limited, they halve the
+    /// number of unknown bits). Returns whether the width was reached; when
+    /// not, the interval is narrower than before and still holds the root.
+    pub fn refine_within(&mut self, bits: u64, bisections: u64) -> bool {
         use num_integer::Integer;
-        let eps = BigRational::new(BigInt::one(), BigInt::one() << bits);
-        if self.is_rational() || self.width() <= eps {
-            return;
+        if self.is_rational() || !self.wider_than(bits) {
+            return true;
         }
+        let mut left = bisections;
         // Integer coefficients: D·p.
         let mut den = BigInt::one();
         for c in &self.poly.0 {
@@ -197,44 +302,54 @@ impl RealRoot {
             }
         };
         let mut failures: u32 = 0;
-        while self.width() > eps {
+        while self.wider_than(bits) {
             if self.is_rational() {
-                return;
+                return true;
             }
-            let w = self.width();
-            let cur = (w.denom().bits() as i64 - w.numer().bits() as i64 - 1).max(0) as u64;
+            let cur = self.width_bits();
             if cur < 40 || failures > 3 {
+                if left == 0 {
+                    return false;
+                }
+                left -= 1;
                 self.bisect();
                 failures = failures.saturating_sub(1);
                 continue;
             }
             let k = bits.min(2 * cur - 8).max(cur + 1) + 2;
-            let scale = BigRational::from_integer(BigInt::one() << k);
-            let x = ((&self.lo + &self.hi) / two() * &scale)
-                .floor()
-                .to_integer();
+            // floor((lo + hi)/2 · 2^k) in integers.
+            let (l, h) = (&self.lo, &self.hi);
+            let x = ((l.numer() * h.denom() + h.numer() * l.denom()) << k as usize)
+                .div_floor(&((l.denom() * h.denom()) << 1usize));
             let (v, dv) = eval(&x, k);
             if dv.is_zero() {
+                if left == 0 {
+                    return false;
+                }
+                left -= 1;
                 self.bisect();
                 continue;
             }
             // p/p' in units of 2^-k is v/dv.
             let xn = &x - v.div_floor(&dv);
             let (a, b) = (&xn - BigInt::from(2), &xn + BigInt::from(2));
-            let (ra, rb) = (
-                BigRational::new(a.clone(), BigInt::one() << k),
-                BigRational::new(b.clone(), BigInt::one() << k),
-            );
-            let ok =
-                ra >= self.lo && rb <= self.hi && sgn(&eval(&a, k).0) * sgn(&eval(&b, k).0) < 0;
+            let (ra, rb) = (dyadic(a.clone(), k), dyadic(b.clone(), k));
+            let ok = qle(&self.lo, &ra)
+                && qle(&rb, &self.hi)
+                && sgn(&eval(&a, k).0) * sgn(&eval(&b, k).0) < 0;
             if ok {
                 self.lo = ra;
                 self.hi = rb;
             } else {
                 failures += 1;
+                if left == 0 {
+                    return false;
+                }
+                left -= 1;
                 self.bisect();
             }
         }
+        true
     }
 
     /// The `f64` nearest to the root (ties to even), decided on the exact
@@ -255,7 +370,7 @@ impl RealRoot {
             let next = next_up(fl);
             if fh == next && fl.is_finite() && fh.is_finite() {
                 let mid = (f64_rational(fl) + f64_rational(fh)) / two();
-                if mid > r.lo && mid < r.hi {
+                if qlt(&r.lo, &mid) && qlt(&mid, &r.hi) {
                     r.split_at(mid);
                     continue;
                 }
