@@ -1,0 +1,15 @@
+use integrator_core::butcher;
+
+butcher! {
+    /// Gauss–Legendre 2 via roots: symplecticity is decided exactly, order
+    /// and symmetry are not decided for root(...) tables.
+    pub Gauss2Roots {
+        let c0 = root(6*x^2 - 6*x + 1, 0, 1/2);
+        let c1 = root(6*x^2 - 6*x + 1, 1/2, 1);
+        claims: [symplectic, order = 4, symmetric],
+        a: [[1/4, c0 - 1/4], [c1 - 1/4, 1/4]],
+        b: [1/2, 1/2],
+    }
+}
+
+fn main() {}
