@@ -207,7 +207,13 @@ fn out_dir(args: &CompareArgs, default: &str) -> Result<PathBuf> {
         .out
         .clone()
         .unwrap_or_else(|| Path::new("out").join("compare").join(default));
-    std::fs::create_dir_all(&dir).with_context(|| format!("creating {}", dir.display()))?;
+    std::fs::create_dir_all(&dir).with_context(|| {
+        if args.out.is_some() {
+            format!("--out {}: cannot create the directory", dir.display())
+        } else {
+            format!("creating {}", dir.display())
+        }
+    })?;
     Ok(dir)
 }
 

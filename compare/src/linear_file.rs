@@ -121,7 +121,12 @@ fn toml_message(text: &str, e: &toml::de::Error) -> String {
 /// Read and check a linear problem file. Errors name the file and the field
 /// (`m`, `q0`, `t_end`, …) and say what is wrong.
 pub fn load(path: &Path) -> Result<LinearFile> {
-    let text = crate::interpreted::read_limited(path, MAX_FILE_BYTES).map_err(|w| err(path, w))?;
+    let text = crate::output::read_text(
+        path,
+        MAX_FILE_BYTES,
+        "a problem file of the largest size allowed (400 degrees of freedom) is about 4 MB",
+    )
+    .map_err(|w| err(path, w))?;
     let raw: Raw = toml::from_str(&text).map_err(|e| err(path, toml_message(&text, &e)))?;
     let n = raw.m.len();
     if n > MAX_DOF {

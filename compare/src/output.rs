@@ -225,6 +225,31 @@ pub fn not_bracketed(rows: &[Row], target: f64) -> Vec<String> {
         .collect()
 }
 
+/// A text file of at most `limit` bytes; `what` says what such a file
+/// holds, for the message when it is larger (`/dev/zero` is refused, not
+/// read until memory runs out).
+pub(crate) fn read_text(
+    path: &Path,
+    limit: u64,
+    what: &str,
+) -> std::result::Result<String, String> {
+    use std::io::Read;
+    let f = std::fs::File::open(path).map_err(|e| format!("cannot read the file: {e}"))?;
+    let mut bytes = Vec::new();
+    f.take(limit + 1)
+        .read_to_end(&mut bytes)
+        .map_err(|e| format!("cannot read the file: {e}"))?;
+    if bytes.len() as u64 > limit {
+        return Err(format!("the file is larger than {limit} bytes; {what}"));
+    }
+    String::from_utf8(bytes).map_err(|e| {
+        format!(
+            "not UTF-8 text (invalid byte at offset {})",
+            e.utf8_error().valid_up_to()
+        )
+    })
+}
+
 /// The records of a CSV text as RFC 4180 writes them: fields separated by
 /// commas, a field in double quotes may hold commas, doubled quotes and line
 /// breaks; CRLF or LF ends a record, empty lines are skipped. Each record
@@ -286,7 +311,12 @@ pub fn read_runs(path: &Path) -> Result<Vec<Row>> {
         path: path.to_path_buf(),
         why,
     };
-    let text = crate::interpreted::read_limited(path, 256 << 20).map_err(err)?;
+    let text = read_text(
+        path,
+        256 << 20,
+        "a runs.csv of 10⁶ rows is about 150 MB; at most 256 MiB is read",
+    )
+    .map_err(err)?;
     let records = csv_records(&text).map_err(err)?;
     let mut records = records.into_iter();
     let (_, header) = records.next().ok_or_else(|| err("empty file".into()))?;
@@ -647,7 +677,8 @@ mod tests {
     fn runs_that_cannot_be_are_refused_naming_line_and_column() {
         let good = row("rk4", 0.1, 1e-6, 1e-3, 10);
         let dir = std::env::temp_dir();
-        let cases: Vec<(Box<dyn Fn(&mut Row)>, &str)> = vec![
+        type Edit = Box<dyn Fn(&mut Row)>;
+        let cases: Vec<(Edit, &str)> = vec![
             (
                 Box::new(|r| r.time_s = -1e-3),
                 "line 3: column time_s is -1e-3",
