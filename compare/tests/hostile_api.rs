@@ -33,7 +33,7 @@ fn fixed(id: &str, sys: &Kepler) -> compare::Fixed<Kepler> {
 #[test]
 fn the_stability_search_refuses_unbounded_settings() {
     let sys = Kepler { e: 0.6 };
-    let setup = Setup::new(sys.clone(), 1.0).unwrap();
+    let setup = Setup::new(sys, 1.0).unwrap();
     let methods = vec![fixed("leapfrog", &sys)];
     let case = |h0: f64| Case {
         name: "kepler",
@@ -95,7 +95,7 @@ fn the_long_studies_refuse_absurd_settings() {
         assert!(["orbits", "e", "evals_per_orbit"].contains(&name), "{s:?}");
     }
     let sys = Kepler { e: 0.6 };
-    let setup = Setup::energy_only(sys.clone(), 1.0).unwrap();
+    let setup = Setup::energy_only(sys, 1.0).unwrap();
     let methods = vec![fixed("leapfrog", &sys)];
     for (h, steps) in [
         (f64::NAN, 100),
@@ -112,7 +112,7 @@ fn the_long_studies_refuse_absurd_settings() {
 #[test]
 fn a_sweep_of_hours_is_refused_with_its_limit() {
     let sys = Kepler { e: 0.6 };
-    let setup = Setup::new(sys.clone(), 100.0).unwrap();
+    let setup = Setup::new(sys, 100.0).unwrap();
     let methods: Vec<_> = ["leapfrog", "rk4", "forest-ruth", "gauss2"]
         .iter()
         .map(|id| Method::by_id(id, &sys).unwrap())
@@ -185,7 +185,7 @@ fn a_sweep_of_hours_is_refused_with_its_limit() {
         assert_eq!(name, field, "{why}");
     }
     for t in [0.0, -1.0, f64::NAN, f64::INFINITY] {
-        let (name, _) = setting(Setup::new(sys.clone(), t).unwrap_err());
+        let (name, _) = setting(Setup::new(sys, t).unwrap_err());
         assert_eq!(name, "t_end");
     }
 }
