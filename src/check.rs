@@ -36,9 +36,36 @@ pub struct ListArgs {
     json: bool,
 }
 
+/// The stack of the thread that reads and analyses a table: the exact
+/// arithmetic of `tableau::algebraic` recurses over expression trees and
+/// polynomials, and a table with `root(...)` entries of a few hundred terms
+/// (Radau IIA 5 written out with roots) overflows the main thread's 8 MiB.
+/// Only touched pages are committed.
+const ANALYSIS_STACK_BYTES: usize = 1 << 30;
+
 /// Exit 0 whenever the table parsed, whatever the verdicts; malformed input
 /// is an error (exit 2) from `main`.
 pub fn run(args: &CheckArgs) -> Result<ExitCode> {
+    std::thread::scope(|scope| {
+        let worker = std::thread::Builder::new()
+            .name("check".into())
+            .stack_size(ANALYSIS_STACK_BYTES)
+            .spawn_scoped(scope, || run_here(args))
+            .map_err(|e| anyhow::anyhow!("cannot start the analysis thread: {e}"))?;
+        worker.join().unwrap_or_else(|panic| {
+            let what = panic
+                .downcast_ref::<&str>()
+                .map(|s| s.to_string())
+                .or_else(|| panic.downcast_ref::<String>().cloned())
+                .unwrap_or_default();
+            Err(anyhow::anyhow!(
+                "internal error: the analysis panicked ({what}); please report it with the table"
+            ))
+        })
+    })
+}
+
+fn run_here(args: &CheckArgs) -> Result<ExitCode> {
     let (origin, tf) = match (&args.file, &args.builtin) {
         (Some(path), _) => match tableau::algebraic::file::load(path)? {
             tableau::algebraic::file::Loaded::Classic(tf) => (path.display().to_string(), *tf),
@@ -117,25 +144,29 @@ fn print_algebraic(
                     let one = |i: usize, j: usize| {
                         json!({"i": i, "j": j, "zero": e.zero, "value_f64": e.value})
                     };
-                    if e.i == e.j {
+                    if e.i == e.j || an.pair {
                         vec![one(e.i, e.j)]
                     } else {
                         vec![one(e.i, e.j), one(e.j, e.i)]
                     }
                 })
                 .collect();
-        let v = json!({
+        let mut v = json!({
             "name": f.name,
-            "kind": "rk",
+            "kind": if an.pair { "prk" } else { "rk" },
             "stages": an.stages,
             "entries": "algebraic",
             "roots": f.field.names,
             "row_sums_ok": an.row_sums_ok,
             "symplectic": an.symplectic,
+            "symplectic_separable": an.symplectic_separable,
             "w_nonzero": w,
             "b_levels": an.b_levels,
             "claims": claims.iter().map(|(c, v)| json!({"claim": c, "holds": v.is_ok(), "reason": v.as_ref().err()})).collect::<Vec<_>>(),
         });
+        if an.pair {
+            v["b_hat_levels"] = json!(an.b_hat_levels);
+        }
         println!("{}", serde_json::to_string_pretty(&v)?);
         return Ok(ExitCode::SUCCESS);
     }
@@ -151,7 +182,16 @@ fn print_algebraic(
         f.field.names.len(),
         f.field.names.join(", ")
     );
-    let _ = writeln!(s, "  form         Runge–Kutta table, {} stages", an.stages);
+    let _ = writeln!(
+        s,
+        "  form         {}, {} stages",
+        if an.pair {
+            "partitioned pair (a, b on q; a_hat, b_hat on p)"
+        } else {
+            "Runge–Kutta table"
+        },
+        an.stages
+    );
     let tri = |v: Option<bool>| match v {
         Some(true) => "yes",
         Some(false) => "no",
@@ -164,12 +204,16 @@ fn print_algebraic(
     );
     let _ = writeln!(
         s,
-        "  symplectic   {}: W = BA + AᵀB − bbᵀ{}",
+        "  symplectic   {}: {}",
         tri(an.symplectic),
-        if an.symplectic == Some(true) {
-            " = 0 exactly"
-        } else {
-            " (symmetric; entries i ≤ j below)"
+        match (an.pair, an.symplectic) {
+            (false, Some(true)) => "W = BA + AᵀB − bbᵀ = 0 exactly".to_string(),
+            (false, _) => "W = BA + AᵀB − bbᵀ (symmetric; entries i ≤ j below)".to_string(),
+            (true, _) => format!(
+                "Wᵢⱼ = bᵢâᵢⱼ + b̂ⱼaⱼᵢ − bᵢb̂ⱼ = 0 for all i, j: {}; b = b̂: {}",
+                tri(an.symplectic_separable),
+                tri(an.same_weights)
+            ),
         }
     );
     for e in an.w.iter().filter(|e| e.zero != Some(true)) {

@@ -13,7 +13,7 @@
 use std::path::{Path, PathBuf};
 
 use serde_json::Value;
-use tableau::algebraic::family::{Generator, Method};
+use tableau::algebraic::family::{Generator, Method, PairMethod};
 
 mod common;
 use common::symlab;
@@ -69,9 +69,16 @@ const FIXTURES: &[Fixture] = &[
         macro_file: "integrator-core/tests/root_tables/radau2a5_roots.rs",
         refusal: None,
     },
-    // The Lobatto IIIA–IIIB pair, once tableau's root files read
-    // `a_hat`/`b_hat` and `PairMethod` writes them (see `root_file` below):
-    // Fixture { stem: "lobatto3a3b4-roots", scheme: "Lobatto3a3b4Roots", generator: "lobatto3a3b(4)", claims: &["symplectic"], perturb: None, symplectic: true, macro_file: "integrator-core/tests/root_tables/lobatto3a3b4_roots.rs", refusal: None },
+    Fixture {
+        stem: "lobatto3a3b4-roots",
+        scheme: "Lobatto3a3b4Roots",
+        generator: "lobatto3a3b(4)",
+        claims: &["symplectic"],
+        perturb: None,
+        symplectic: true,
+        macro_file: "integrator-core/tests/root_tables/lobatto3a3b4_roots.rs",
+        refusal: None,
+    },
 ];
 
 fn root() -> PathBuf {
@@ -97,40 +104,11 @@ fn root_file(f: &Fixture) -> String {
         }
     );
     match Generator::parse(f.generator).unwrap() {
-        Generator::Rk(family, s) => {
-            widen_rational_nodes(&Method::new(family, s).to_root_file(&name, f.claims, f.perturb))
+        Generator::Rk(family, s) => Method::new(family, s).to_root_file(&name, f.claims, f.perturb),
+        Generator::Lobatto3A3B(s) => {
+            PairMethod::new(s).to_root_file(&name, f.claims, f.perturb, false)
         }
-        // One arm to add once tableau writes pairs as root files.
-        Generator::Lobatto3A3B(_) => panic!("tableau does not write pairs as root files yet"),
     }
-}
-
-/// `to_root_file` writes a rational node `r` (Radau IIA's `c = 1`) as
-/// `root(P, r, r)`, an empty interval the reader refuses (a tableau bug,
-/// reported). Widen it to `(h, r]` with `h` the previous node's `HI` (or
-/// −1 for the first node; the nodes lie in [0, 1]): every root of `P` is a node and the nodes'
-/// intervals are disjoint and increasing, so it holds no other root.
-fn widen_rational_nodes(text: &str) -> String {
-    let mut prev_hi: Option<String> = None;
-    let mut out = String::new();
-    for line in text.lines() {
-        let mut line = line.to_string();
-        if let Some(body) = line
-            .split_once(" = \"root(")
-            .map(|(_, b)| b.trim_end_matches(")\"").to_string())
-        {
-            let parts: Vec<&str> = body.rsplitn(3, ", ").collect();
-            let (hi, lo) = (parts[0].to_string(), parts[1]);
-            if lo == hi {
-                let new_lo = prev_hi.clone().unwrap_or_else(|| "-1".to_string());
-                line = line.replace(&format!(", {lo}, {hi})"), &format!(", {new_lo}, {hi})"));
-            }
-            prev_hi = Some(hi);
-        }
-        out.push_str(&line);
-        out.push('\n');
-    }
-    out
 }
 
 /// The strings of a TOML array written one per line by `to_root_file`.
@@ -150,11 +128,15 @@ fn macro_text(toml: &str, scheme: &str) -> String {
     let mut lets = Vec::new();
     let mut a: Vec<Vec<String>> = Vec::new();
     let mut b = Vec::new();
+    let mut a_hat: Vec<Vec<String>> = Vec::new();
+    let mut b_hat = Vec::new();
     #[derive(PartialEq)]
     enum Mode {
         Top,
         A,
         B,
+        AHat,
+        BHat,
         Let,
     }
     let mut mode = Mode::Top;
@@ -171,6 +153,8 @@ fn macro_text(toml: &str, scheme: &str) -> String {
             Mode::Top if t.starts_with("claims = ") => claims = strings_in(t),
             Mode::Top if t == "a = [" => mode = Mode::A,
             Mode::Top if t == "b = [" => mode = Mode::B,
+            Mode::Top if t == "a_hat = [" => mode = Mode::AHat,
+            Mode::Top if t == "b_hat = [" => mode = Mode::BHat,
             Mode::Top => {}
             Mode::A if t == "[" => a.push(Vec::new()),
             Mode::A if t == "]" => mode = Mode::Top,
@@ -178,6 +162,12 @@ fn macro_text(toml: &str, scheme: &str) -> String {
             Mode::A => {}
             Mode::B if t == "]" => mode = Mode::Top,
             Mode::B => b.extend(strings_in(t)),
+            Mode::AHat if t == "[" => a_hat.push(Vec::new()),
+            Mode::AHat if t == "]" => mode = Mode::Top,
+            Mode::AHat if t.starts_with('"') => a_hat.last_mut().unwrap().extend(strings_in(t)),
+            Mode::AHat => {}
+            Mode::BHat if t == "]" => mode = Mode::Top,
+            Mode::BHat => b_hat.extend(strings_in(t)),
         }
     }
     let mut out = format!("butcher! {{\n    /// {name}\n    pub {scheme} {{\n");
@@ -185,19 +175,31 @@ fn macro_text(toml: &str, scheme: &str) -> String {
         out.push_str(&format!("        let {k} = {v};\n"));
     }
     out.push_str(&format!("        claims: [{}],\n", claims.join(", ")));
-    out.push_str("        a: [\n");
-    for row in &a {
-        out.push_str("            [\n");
-        for e in row {
-            out.push_str(&format!("                {e},\n"));
+    let matrix = |out: &mut String, key: &str, m: &[Vec<String>]| {
+        out.push_str(&format!("        {key}: [\n"));
+        for row in m {
+            out.push_str("            [\n");
+            for e in row {
+                out.push_str(&format!("                {e},\n"));
+            }
+            out.push_str("            ],\n");
         }
-        out.push_str("            ],\n");
+        out.push_str("        ],\n");
+    };
+    let vector = |out: &mut String, key: &str, v: &[String]| {
+        out.push_str(&format!("        {key}: [\n"));
+        for e in v {
+            out.push_str(&format!("            {e},\n"));
+        }
+        out.push_str("        ],\n");
+    };
+    matrix(&mut out, "a", &a);
+    vector(&mut out, "b", &b);
+    if !a_hat.is_empty() {
+        matrix(&mut out, "a_hat", &a_hat);
+        vector(&mut out, "b_hat", &b_hat);
     }
-    out.push_str("        ],\n        b: [\n");
-    for e in &b {
-        out.push_str(&format!("            {e},\n"));
-    }
-    out.push_str("        ],\n    }\n}\n");
+    out.push_str("    }\n}\n");
     out
 }
 

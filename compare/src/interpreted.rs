@@ -81,21 +81,22 @@ pub struct RootCoefficients {
     /// `A`, `b` and `c` (the given `c`, else the exact row sums), each
     /// entry the correctly rounded double of its exact value.
     pub table: F64Table,
-    /// `aᵢⱼ = 0` for every `j ≥ i`, decided exactly.
+    /// For a pair: `q` (the table above) and `p` (`a_hat`, `b_hat`,
+    /// `c_hat` or the row sums of `a_hat`), rounded in the same way.
+    pub pair: Option<F64Pair>,
+    /// `aᵢⱼ = 0` for every `j ≥ i`, decided exactly (never for a pair).
     pub explicit: bool,
     /// The order proven for the table: the conditions decided for root
     /// tables are `B(k)` (and `c` = row sums), so this is at most 2 (order
-    /// 1: Σbᵢ = 1; order 2: also Σbᵢcᵢ = 1/2 with c the row sums).
+    /// 1: Σbᵢ = 1; order 2: also Σbᵢcᵢ = 1/2 with c the row sums; for a
+    /// pair at most 1).
     pub order: usize,
 }
 
-// TODO(partitioned root tables): when `AlgFile` gains `a_hat`/`b_hat`
-// (tableau's algebraic branch), round them here as `p` of an `F64Pair` and
-// step the pair as `Interpretable::Pair` (separable problems only, as other
-// pairs in the interpreters).
 /// The coefficients and the structure of a table with `root(...)` entries,
 /// exactly: every double is the correctly rounded exact entry, and the
-/// zero pattern of `A` is decided by exact zero tests.
+/// zero pattern of `A` is decided by exact zero tests. A pair (`a_hat`,
+/// `b_hat`) gives its `p` table as well.
 pub fn root_coefficients(
     f: &AlgFile,
     an: &AlgAnalysis,
@@ -108,130 +109,59 @@ pub fn root_coefficients(
             .to_f64(x)
             .map_err(|e| format!("{what}: cannot round to f64 within the budget ({e:?})"))
     };
-    let mut a = vec![vec![0.0; s]; s];
-    let mut explicit = true;
-    for i in 0..s {
-        for j in 0..s {
-            a[i][j] = round(&f.a[i][j], format!("a[{i}][{j}]"))?;
-            if j >= i && field.is_zero(&f.a[i][j]) != Ok(true) {
-                explicit = false;
+    let table = |a: &[Vec<Alg>],
+                 b: &[Alg],
+                 c: Option<&Vec<Alg>>,
+                 names: [&str; 3]|
+     -> std::result::Result<F64Table, String> {
+        let mut af = vec![vec![0.0; s]; s];
+        for i in 0..s {
+            for j in 0..s {
+                af[i][j] = round(&a[i][j], format!("{}[{i}][{j}]", names[0]))?;
             }
         }
-    }
-    let b = (0..s)
-        .map(|i| round(&f.b[i], format!("b[{i}]")))
-        .collect::<std::result::Result<Vec<f64>, String>>()?;
-    let c = (0..s)
-        .map(|i| match &f.c {
-            Some(c) => round(&c[i], format!("c[{i}]")),
-            None => {
-                let sum = f.a[i].iter().fold(Alg::zero(), |acc, x| acc.add(x));
-                round(&sum, format!("the row sum of a[{i}]"))
-            }
+        let bf = (0..s)
+            .map(|i| round(&b[i], format!("{}[{i}]", names[1])))
+            .collect::<std::result::Result<Vec<f64>, String>>()?;
+        let cf = (0..s)
+            .map(|i| match c {
+                Some(c) => round(&c[i], format!("{}[{i}]", names[2])),
+                None => {
+                    let sum = a[i].iter().fold(Alg::zero(), |acc, x| acc.add(x));
+                    round(&sum, format!("the row sum of {}[{i}]", names[0]))
+                }
+            })
+            .collect::<std::result::Result<Vec<f64>, String>>()?;
+        Ok(F64Table {
+            a: af,
+            b: bf,
+            c: cf,
         })
-        .collect::<std::result::Result<Vec<f64>, String>>()?;
+    };
+    let q = table(&f.a, &f.b, f.c.as_ref(), ["a", "b", "c"])?;
+    let p = match (&f.a_hat, &f.b_hat) {
+        (Some(ah), Some(bh)) => Some(table(
+            ah,
+            bh,
+            f.c_hat.as_ref(),
+            ["a_hat", "b_hat", "c_hat"],
+        )?),
+        _ => None,
+    };
+    let explicit =
+        p.is_none() && (0..s).all(|i| (i..s).all(|j| field.is_zero(&f.a[i][j]) == Ok(true)));
     let holds = an.b_levels.iter().take_while(|v| **v == Some(true)).count();
-    let order = if an.row_sums_ok == Some(true) {
+    let order = if an.row_sums_ok == Some(true) && p.is_none() {
         holds.min(2)
     } else {
         holds.min(1)
     };
     Ok(RootCoefficients {
-        table: F64Table { a, b, c },
+        pair: p.map(|p| F64Pair { q: q.clone(), p }),
+        table: q,
         explicit,
         order,
     })
-}
-
-/// The quadrature levels `B(k)` a table's claims need decided: `B(1)`,
-/// `B(2)` (for the order proven, at most 2) and, for an order claim `p`,
-/// up to `B(p + 1)`, so that the claim is refused with the same verdict as
-/// `symlab check` gives.
-pub fn levels_needed(claims: &[Claim], stages: usize) -> usize {
-    claims
-        .iter()
-        .filter_map(|c| match c {
-            Claim::Order { p, .. } => Some(p + 1),
-            _ => None,
-        })
-        .fold(2, usize::max)
-        .min(2 * stages + 1)
-}
-
-/// [`AlgFile::analyse`] with the quadrature conditions decided only up to
-/// `B(levels)`: the same exact zero tests (W, row sums, `B(k)`), in the same
-/// order, stopping where the claims need no more. (Deciding `B(k)` for large
-/// `k` over several roots is what makes the full analysis slow: over a minute
-/// for Gauss 4 written with roots in a debug build.)
-pub fn analyse_to(f: &AlgFile, levels: usize) -> AlgAnalysis {
-    use tableau::algebraic::alg::Alg;
-    use tableau::algebraic::file::WEntryAlg;
-    let field = &f.field;
-    let s = f.b.len();
-    let mut w = Vec::new();
-    for i in 0..s {
-        for j in i..s {
-            let e = field
-                .mul(&f.b[i], &f.a[i][j])
-                .add(&field.mul(&f.b[j], &f.a[j][i]))
-                .sub(&field.mul(&f.b[i], &f.b[j]));
-            let zero = field.is_zero(&e).ok();
-            let value = (zero == Some(false))
-                .then(|| field.to_f64(&e).ok())
-                .flatten();
-            w.push(WEntryAlg { i, j, zero, value });
-        }
-    }
-    let symplectic = if w.iter().any(|e| e.zero == Some(false)) {
-        Some(false)
-    } else if w.iter().all(|e| e.zero == Some(true)) {
-        Some(true)
-    } else {
-        None
-    };
-    let row_sum = |i: usize| f.a[i].iter().fold(Alg::zero(), |acc, x| acc.add(x));
-    let row_sums_ok = match &f.c {
-        None => Some(true),
-        Some(c) => {
-            let mut ok = Some(true);
-            for i in 0..s {
-                match field.is_zero(&row_sum(i).sub(&c[i])) {
-                    Ok(true) => {}
-                    Ok(false) => {
-                        ok = Some(false);
-                        break;
-                    }
-                    Err(_) => ok = None,
-                }
-            }
-            ok
-        }
-    };
-    let c: Vec<Alg> = match &f.c {
-        Some(c) => c.clone(),
-        None => (0..s).map(row_sum).collect(),
-    };
-    let mut b_levels = Vec::new();
-    for k in 1..=levels.min(2 * s + 1) {
-        // B(k): Σ bᵢcᵢ^(k−1) = 1/k, tested as k·Σ bᵢcᵢ^(k−1) − 1 = 0.
-        let mut sum = Alg::zero();
-        for i in 0..s {
-            sum = sum.add(&field.mul(&f.b[i], &field.pow(&c[i], (k - 1) as u32)));
-        }
-        let defect = field.mul(&Alg::int(k as i64), &sum).sub(&Alg::int(1));
-        let v = field.is_zero(&defect).ok();
-        b_levels.push(v);
-        if v != Some(true) {
-            break;
-        }
-    }
-    AlgAnalysis {
-        stages: s,
-        w,
-        symplectic,
-        row_sums_ok,
-        b_levels,
-    }
 }
 
 /// What the interpreters step: an ordinary table (rounded here as
@@ -275,6 +205,26 @@ pub(crate) fn read_limited(path: &Path, limit: u64) -> std::result::Result<Strin
 /// error naming the field; a claim that fails is an error naming the claim
 /// and the evidence (every failing claim is listed).
 pub fn verify(path: &Path) -> Result<VerifiedTable> {
+    // The exact arithmetic recurses over expression trees and polynomials;
+    // a table with root(...) entries of a few hundred terms (Radau IIA 5
+    // written out with roots) overflows an 8 MiB stack, so it runs on a
+    // thread of its own with a large one (only touched pages are committed).
+    std::thread::scope(|scope| {
+        let worker = std::thread::Builder::new()
+            .name("verify-table".into())
+            .stack_size(1 << 30)
+            .spawn_scoped(scope, || verify_here(path))
+            .map_err(|e| file_error(path, format!("cannot start the analysis thread: {e}")))?;
+        worker.join().unwrap_or_else(|_| {
+            Err(file_error(
+                path,
+                "internal error: the exact analysis panicked; please report it with the table",
+            ))
+        })
+    })
+}
+
+fn verify_here(path: &Path) -> Result<VerifiedTable> {
     let text = read_limited(path, MAX_FILE_BYTES).map_err(|why| file_error(path, why))?;
     let loaded =
         tableau::algebraic::file::parse(&path.display().to_string(), &text).map_err(|e| {
@@ -322,7 +272,7 @@ pub fn verify(path: &Path) -> Result<VerifiedTable> {
             VerifiedForm::Generated(g)
         }
         Loaded::Algebraic(file) => {
-            let analysis = analyse_to(&file, levels_needed(&file.claims, file.b.len()));
+            let analysis = file.analyse();
             let failed: Vec<String> = file
                 .claims
                 .iter()
@@ -406,16 +356,23 @@ impl<P: Problem> Method<P> {
                 coefficients: k,
                 ..
             } => {
-                let what = Interpretable::Rk {
-                    table: &k.table,
-                    explicit: k.explicit,
+                let what = match &k.pair {
+                    Some(pair) => Interpretable::Pair(pair),
+                    None => Interpretable::Rk {
+                        table: &k.table,
+                        explicit: k.explicit,
+                    },
                 };
                 let family = if k.explicit {
                     Family::ExplicitRk
                 } else {
                     Family::Implicit
                 };
-                (what, k.order, analysis.symplectic == Some(true), family)
+                let symplectic = crate::method::symplectic_for::<P>(
+                    analysis.symplectic == Some(true),
+                    analysis.symplectic_separable == Some(true),
+                );
+                (what, k.order, symplectic, family)
             }
         };
         let stepper = <P::Kind as Kind<P>>::interpreted(what, &t.id)?;

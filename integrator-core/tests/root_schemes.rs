@@ -10,6 +10,7 @@ use integrator_core::{Scheme, Step, butcher, energy, integrate_fixed};
 
 include!("root_tables/gauss4_roots.rs");
 include!("root_tables/radau2a5_roots.rs");
+include!("root_tables/lobatto3a3b4_roots.rs");
 
 butcher! {
     /// Gauss–Legendre 4 generated: the same table, rounded by tableau's
@@ -31,6 +32,10 @@ butcher! {
 fn the_verdicts_are_the_exact_ones() {
     assert_eq!((Gauss4Roots::SYMPLECTIC, true), (true, true));
     assert_eq!((Radau5Roots::SYMPLECTIC, false), (false, false));
+    assert_eq!((Lobatto3a3b4Roots::SYMPLECTIC, true), (true, true));
+    assert!(Lobatto3a3b4Roots::SYMPLECTIC_SEPARABLE && !Lobatto3a3b4Roots::SEPARABLE_ONLY);
+    assert_eq!(Lobatto3a3b4Roots::FORM, "prk");
+    assert_eq!(Lobatto3a3b4Roots::INFO.evaluations, 8);
     assert_eq!((Gauss4Roots::STAGES, Radau5Roots::STAGES), (4, 5));
     assert_eq!(Gauss4Roots::CLASS, "implicit");
     assert!(!Gauss4Roots::EXPLICIT && !Gauss4Roots::SYMMETRIC);
@@ -99,6 +104,15 @@ fn gauss4_via_roots_steps_kepler_through_the_stage_solver() {
 fn radau5_via_roots_steps_kepler() {
     let (err, _) = kepler_orbit_error(&Radau5Roots, 50);
     assert!(err < 1e-5, "Radau IIA 5 via roots: error {err:e}");
+}
+
+#[test]
+fn lobatto_pair_via_roots_steps_kepler() {
+    // Order 6: one orbit in 50 steps.
+    let (err, _) = kepler_orbit_error(&Lobatto3a3b4Roots, 50);
+    assert!(err < 1e-4, "Lobatto IIIA–IIIB 4 via roots: error {err:e}");
+    let (err2, _) = kepler_orbit_error(&Lobatto3a3b4Roots, 100);
+    assert!(err / err2 > 30.0, "{err:e} → {err2:e}");
 }
 
 #[test]

@@ -31,11 +31,9 @@ use crate::ast::{Entry, Input, Value};
 use crate::expand::rk_consts;
 use crate::step;
 
-/// The fields a table with `root(...)` entries takes.
-// TODO(partitioned root tables): add "a_hat", "b_hat" (and "c_hat") here and
-// in `render` once `tableau::algebraic::file::AlgFile` reads them, and round
-// the `p` table in `coefficients` as the `q` table is.
-const KEYS: &[&str] = &["claims", "a", "b", "c"];
+/// The fields a table with `root(...)` entries takes (`a_hat`, `b_hat`,
+/// `c_hat`: a partitioned pair, `a`, `b` acting on `q`).
+const KEYS: &[&str] = &["claims", "a", "b", "c", "a_hat", "b_hat", "c_hat"];
 
 /// A verified table with `root(...)` entries.
 pub struct RootTable {
@@ -43,6 +41,8 @@ pub struct RootTable {
     pub analysis: AlgAnalysis,
     pub claims: Vec<Claim>,
     pub coefficients: F64Table,
+    /// A pair's `p` table (`a_hat`, `b_hat`).
+    pub hat: Option<F64Table>,
     pub structure: Structure,
     /// The order its decided conditions prove (at most 2).
     pub order: usize,
@@ -154,7 +154,7 @@ fn check(input: &Input) -> Result<RootTable, Error> {
             errs.push(
                 f.span(),
                 format!(
-                    "a table with root(...) entries takes the fields {}, not `{k}` (roots are read for Runge–Kutta tables)",
+                    "a table with root(...) entries takes the fields {}, not `{k}` (roots are read for Runge–Kutta tables and pairs)",
                     KEYS.join(", ")
                 ),
             );
@@ -169,15 +169,15 @@ fn check(input: &Input) -> Result<RootTable, Error> {
         match (k.as_str(), &f.value) {
             ("claims", Value::Vector(items, _)) => claim_items.extend(items),
             ("claims", v) => errs.push(v.span(), "claims are a list: `claims: [symplectic]`"),
-            ("a", Value::Matrix(rows, _)) => {
-                let mut text = String::from("a = [");
+            ("a" | "a_hat", Value::Matrix(rows, _)) => {
+                let mut text = format!("{k} = [");
                 for (i, (row, row_span)) in rows.iter().enumerate() {
-                    spans.insert(format!("a[{i}]"), *row_span);
+                    spans.insert(format!("{k}[{i}]"), *row_span);
                     let cells: Vec<String> = row
                         .iter()
                         .enumerate()
                         .map(|(j, e)| {
-                            spans.insert(format!("a[{i}][{j}]"), e.span());
+                            spans.insert(format!("{k}[{i}][{j}]"), e.span());
                             quoted(&e.text)
                         })
                         .collect();
@@ -186,7 +186,9 @@ fn check(input: &Input) -> Result<RootTable, Error> {
                 text.push_str("]\n");
                 body.push_str(&text);
             }
-            ("a", v) => errs.push(v.span(), "`a` is a matrix: `a: [[…], […]]`"),
+            ("a" | "a_hat", v) => {
+                errs.push(v.span(), format!("`{k}` is a matrix: `{k}: [[…], […]]`"))
+            }
             (_, Value::Vector(items, _)) => {
                 let cells: Vec<String> = items
                     .iter()
@@ -300,7 +302,7 @@ fn check(input: &Input) -> Result<RootTable, Error> {
             Err(m) => errs.push(item.span(), m),
         }
     }
-    let (coefficients, structure) = match work.coefficients {
+    let (coefficients, hat, structure) = match work.coefficients {
         Ok(x) => x,
         Err(m) => {
             errs.push(input.name.span(), m);
@@ -316,7 +318,9 @@ fn check(input: &Input) -> Result<RootTable, Error> {
         .iter()
         .take_while(|v| **v == Some(true))
         .count();
-    let order = if analysis.row_sums_ok == Some(true) {
+    // Order 2 needs Σbᵢcᵢ = 1/2 with c the row sums; for a pair the
+    // coupling conditions are not decided, so at most 1.
+    let order = if analysis.row_sums_ok == Some(true) && hat.is_none() {
         holds.min(2)
     } else {
         holds.min(1)
@@ -326,6 +330,7 @@ fn check(input: &Input) -> Result<RootTable, Error> {
         analysis,
         claims,
         coefficients,
+        hat,
         structure,
         order,
     })
@@ -339,7 +344,7 @@ struct Work {
     /// Each claim as parsed, and its verdict.
     claims: Vec<Result<Claim, String>>,
     verdicts: Vec<Result<(), String>>,
-    coefficients: Result<(F64Table, Structure), String>,
+    coefficients: Result<(F64Table, Option<F64Table>, Structure), String>,
 }
 
 /// Read the rendered file, decide what its claims need, check them and
@@ -356,8 +361,7 @@ fn read_and_analyse(label: &str, text: &str, claim_texts: &[String]) -> Work {
             coefficients: Err(String::new()),
         };
     };
-    let wanted: Vec<Claim> = claims.iter().filter_map(|c| c.clone().ok()).collect();
-    let analysis = analyse_to(f, levels_needed(&wanted, f.b.len()));
+    let analysis = f.analyse();
     let verdicts = claims
         .iter()
         .map(|c| match c {
@@ -389,102 +393,9 @@ fn on_big_stack<T: Send + 'static>(f: impl FnOnce() -> T + Send + 'static) -> Op
         .ok()
 }
 
-/// (The same as `compare::interpreted::levels_needed`: a proc-macro crate
-/// cannot share code with a crate that depends on it.)
-/// The quadrature levels `B(k)` a table's claims need decided: `B(1)`,
-/// `B(2)` (for the order proven, at most 2) and, for an order claim `p`,
-/// up to `B(p + 1)`, so that the claim is refused with the same verdict as
-/// `symlab check` gives.
-fn levels_needed(claims: &[Claim], stages: usize) -> usize {
-    claims
-        .iter()
-        .filter_map(|c| match c {
-            Claim::Order { p, .. } => Some(p + 1),
-            _ => None,
-        })
-        .fold(2, usize::max)
-        .min(2 * stages + 1)
-}
-
-/// `AlgFile::analyse` with the quadrature conditions decided only up to
-/// `B(levels)`: the same exact zero tests (W, row sums, `B(k)`), in the same
-/// order, stopping where the claims need no more. (Deciding `B(k)` for large
-/// `k` over several roots is what makes the full analysis slow: over a minute
-/// for Gauss 4 written with roots in a debug build.)
-fn analyse_to(f: &AlgFile, levels: usize) -> AlgAnalysis {
-    use tableau::algebraic::alg::Alg;
-    use tableau::algebraic::file::WEntryAlg;
-    let field = &f.field;
-    let s = f.b.len();
-    let mut w = Vec::new();
-    for i in 0..s {
-        for j in i..s {
-            let e = field
-                .mul(&f.b[i], &f.a[i][j])
-                .add(&field.mul(&f.b[j], &f.a[j][i]))
-                .sub(&field.mul(&f.b[i], &f.b[j]));
-            let zero = field.is_zero(&e).ok();
-            let value = (zero == Some(false))
-                .then(|| field.to_f64(&e).ok())
-                .flatten();
-            w.push(WEntryAlg { i, j, zero, value });
-        }
-    }
-    let symplectic = if w.iter().any(|e| e.zero == Some(false)) {
-        Some(false)
-    } else if w.iter().all(|e| e.zero == Some(true)) {
-        Some(true)
-    } else {
-        None
-    };
-    let row_sum = |i: usize| f.a[i].iter().fold(Alg::zero(), |acc, x| acc.add(x));
-    let row_sums_ok = match &f.c {
-        None => Some(true),
-        Some(c) => {
-            let mut ok = Some(true);
-            for i in 0..s {
-                match field.is_zero(&row_sum(i).sub(&c[i])) {
-                    Ok(true) => {}
-                    Ok(false) => {
-                        ok = Some(false);
-                        break;
-                    }
-                    Err(_) => ok = None,
-                }
-            }
-            ok
-        }
-    };
-    let c: Vec<Alg> = match &f.c {
-        Some(c) => c.clone(),
-        None => (0..s).map(row_sum).collect(),
-    };
-    let mut b_levels = Vec::new();
-    for k in 1..=levels.min(2 * s + 1) {
-        // B(k): Σ bᵢcᵢ^(k−1) = 1/k, tested as k·Σ bᵢcᵢ^(k−1) − 1 = 0.
-        let mut sum = Alg::zero();
-        for i in 0..s {
-            sum = sum.add(&field.mul(&f.b[i], &field.pow(&c[i], (k - 1) as u32)));
-        }
-        let defect = field.mul(&Alg::int(k as i64), &sum).sub(&Alg::int(1));
-        let v = field.is_zero(&defect).ok();
-        b_levels.push(v);
-        if v != Some(true) {
-            break;
-        }
-    }
-    AlgAnalysis {
-        stages: s,
-        w,
-        symplectic,
-        row_sums_ok,
-        b_levels,
-    }
-}
-
 /// The correctly rounded coefficients and the exact zero pattern of `A`
 /// (an entry beyond the zero-test budget counts as nonzero).
-fn coefficients(f: &AlgFile) -> Result<(F64Table, Structure), String> {
+fn coefficients(f: &AlgFile) -> Result<(F64Table, Option<F64Table>, Structure), String> {
     let field = &f.field;
     let s = f.b.len();
     let zero = |x: &Alg| field.is_zero(x) == Ok(true);
@@ -493,24 +404,37 @@ fn coefficients(f: &AlgFile) -> Result<(F64Table, Structure), String> {
             .to_f64(x)
             .map_err(|e| format!("{what}: cannot be rounded to f64 within the budget ({e:?})"))
     };
-    let mut a = vec![vec![0.0; s]; s];
-    for i in 0..s {
-        for j in 0..s {
-            a[i][j] = round(&f.a[i][j], format!("a[{i}][{j}]"))?;
-        }
-    }
-    let b = (0..s)
-        .map(|i| round(&f.b[i], format!("b[{i}]")))
-        .collect::<Result<Vec<f64>, String>>()?;
-    let c = (0..s)
-        .map(|i| match &f.c {
-            Some(c) => round(&c[i], format!("c[{i}]")),
-            None => {
-                let sum = f.a[i].iter().fold(Alg::zero(), |acc, x| acc.add(x));
-                round(&sum, format!("the row sum of a[{i}]"))
+    let table = |a: &[Vec<Alg>], b: &[Alg], c: Option<&Vec<Alg>>, names: [&str; 3]| {
+        let mut af = vec![vec![0.0; s]; s];
+        for i in 0..s {
+            for j in 0..s {
+                af[i][j] = round(&a[i][j], format!("{}[{i}][{j}]", names[0]))?;
             }
+        }
+        let bf = (0..s)
+            .map(|i| round(&b[i], format!("{}[{i}]", names[1])))
+            .collect::<Result<Vec<f64>, String>>()?;
+        let cf = (0..s)
+            .map(|i| match c {
+                Some(c) => round(&c[i], format!("{}[{i}]", names[2])),
+                None => {
+                    let sum = a[i].iter().fold(Alg::zero(), |acc, x| acc.add(x));
+                    round(&sum, format!("the row sum of {}[{i}]", names[0]))
+                }
+            })
+            .collect::<Result<Vec<f64>, String>>()?;
+        Ok::<F64Table, String>(F64Table {
+            a: af,
+            b: bf,
+            c: cf,
         })
-        .collect::<Result<Vec<f64>, String>>()?;
+    };
+    let q = table(&f.a, &f.b, f.c.as_ref(), ["a", "b", "c"])?;
+    if let (Some(ah), Some(bh)) = (&f.a_hat, &f.b_hat) {
+        // A pair goes to the stage solver with all stages together.
+        let p = table(ah, bh, f.c_hat.as_ref(), ["a_hat", "b_hat", "c_hat"])?;
+        return Ok((q, Some(p), Structure::Full));
+    }
     let upper_zero = (0..s).all(|i| (i + 1..s).all(|j| zero(&f.a[i][j])));
     let structure = if !upper_zero {
         Structure::Full
@@ -521,7 +445,7 @@ fn coefficients(f: &AlgFile) -> Result<(F64Table, Structure), String> {
     } else {
         Structure::Dirk
     };
-    Ok((F64Table { a, b, c }, structure))
+    Ok((q, None, structure))
 }
 
 /// The scheme type: the items of the `Table` path (facts, coefficients,
@@ -533,11 +457,30 @@ pub fn expand(input: &Input, t: &RootTable) -> TokenStream {
     let stages = t.analysis.stages;
     let order = t.order;
     let symplectic = t.analysis.symplectic == Some(true);
+    let symplectic_separable = t.analysis.symplectic_separable == Some(true);
+    // A pair symplectic for separable Hamiltonians only (b ≠ b̂) steps only
+    // separable systems, as other such pairs do.
+    let separable_only = t.hat.is_some() && symplectic_separable && !symplectic;
+    let form = if t.hat.is_some() { "prk" } else { "rk" };
+    let evaluations = if t.hat.is_some() { 2 * stages } else { stages };
     let class = t.structure.class();
     let explicit = t.structure == Structure::Explicit;
     let title = name.to_string();
-    let coefficients = rk_consts(&t.coefficients, "");
+    let q_consts = rk_consts(&t.coefficients, "");
+    let p_consts = t.hat.as_ref().map(|p| rk_consts(p, "_HAT"));
+    let coefficients = quote!(#q_consts #p_consts);
     let step_code = match t.structure {
+        _ if t.hat.is_some() => step::implicit(
+            name,
+            stages,
+            "Full",
+            true,
+            if separable_only {
+                quote!(::integrator_core::Separable)
+            } else {
+                quote!(::integrator_core::Hamiltonian)
+            },
+        ),
         Structure::Explicit => step::explicit_rk(
             name,
             &t.coefficients.a,
@@ -576,16 +519,16 @@ pub fn expand(input: &Input, t: &RootTable) -> TokenStream {
         impl ::integrator_core::Scheme for #name {
             const INFO: ::integrator_core::Info = ::integrator_core::Info {
                 name: #title,
-                form: "rk",
+                form: #form,
                 stages: #stages,
                 order: #order,
                 symplectic: #symplectic,
-                symplectic_separable: #symplectic,
-                separable_only: false,
+                symplectic_separable: #symplectic_separable,
+                separable_only: #separable_only,
                 symmetric: false,
                 explicit: #explicit,
                 class: #class,
-                evaluations: #stages,
+                evaluations: #evaluations,
                 midpoint_weights: ::core::option::Option::None,
             };
         }
@@ -596,21 +539,22 @@ pub fn expand(input: &Input, t: &RootTable) -> TokenStream {
         impl #name {
             /// The table's name.
             pub const NAME: &'static str = #title;
-            /// `"rk"`.
-            pub const FORM: &'static str = "rk";
+            /// `"rk"`, or `"prk"` for a pair (`a_hat`, `b_hat`).
+            pub const FORM: &'static str = #form;
             /// Stages.
             pub const STAGES: usize = #stages;
             /// The order proven for a root(...) table: 1 when Σbᵢ = 1, 2 when
-            /// also Σbᵢcᵢ = 1/2 with c the row sums (decided exactly); higher
-            /// orders are not decided for such tables.
+            /// also Σbᵢcᵢ = 1/2 with c the row sums (decided exactly; for a
+            /// pair at most 1); higher orders are not decided for such tables.
             pub const ORDER: usize = #order;
-            /// Symplectic (W = 0), proven exactly.
+            /// Symplectic for every Hamiltonian (W = 0; for a pair, the pair
+            /// condition and b = b̂), proven exactly.
             pub const SYMPLECTIC: bool = #symplectic;
-            /// Symplectic for separable Hamiltonians (as `SYMPLECTIC` for a
-            /// Runge–Kutta table).
-            pub const SYMPLECTIC_SEPARABLE: bool = #symplectic;
-            /// Steps separable systems only: never, for a Runge–Kutta table.
-            pub const SEPARABLE_ONLY: bool = false;
+            /// Symplectic for separable Hamiltonians (for a pair, the pair
+            /// condition), proven exactly.
+            pub const SYMPLECTIC_SEPARABLE: bool = #symplectic_separable;
+            /// Steps separable systems only (a pair symplectic only for them).
+            pub const SEPARABLE_ONLY: bool = #separable_only;
             /// Not decided for root(...) tables, so not claimed.
             pub const SYMMETRIC: bool = false;
             /// Explicit, decided by exact zero tests.
