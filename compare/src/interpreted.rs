@@ -63,15 +63,18 @@ pub struct VerifiedTable {
 #[derive(Clone, Debug)]
 pub enum VerifiedForm {
     /// An ordinary table file (entries in rationals and radicals).
-    Classic { file: TableFile, analysis: Analysis },
+    Classic {
+        file: Box<TableFile>,
+        analysis: Box<Analysis>,
+    },
     /// `generate = "gauss(8)"`: verdicts, claims and certified coefficients.
     Generated(Box<Generated>),
     /// Entries with `root(...)`: the symplecticity verdict and `B(k)`,
     /// and the coefficients as correctly rounded doubles.
     Algebraic {
         file: Box<AlgFile>,
-        analysis: AlgAnalysis,
-        coefficients: RootCoefficients,
+        analysis: Box<AlgAnalysis>,
+        coefficients: Box<RootCoefficients>,
     },
 }
 
@@ -254,7 +257,10 @@ fn verify_here(path: &Path) -> Result<VerifiedTable> {
             if !failed.is_empty() {
                 return Err(refused(failed));
             }
-            VerifiedForm::Classic { file, analysis }
+            VerifiedForm::Classic {
+                file: Box::new(file),
+                analysis: Box::new(analysis),
+            }
         }
         Loaded::Generated(g) => {
             let failed: Vec<String> = g
@@ -289,8 +295,8 @@ fn verify_here(path: &Path) -> Result<VerifiedTable> {
                 root_coefficients(&file, &analysis).map_err(|e| file_error(path, e))?;
             VerifiedForm::Algebraic {
                 file,
-                analysis,
-                coefficients,
+                analysis: Box::new(analysis),
+                coefficients: Box::new(coefficients),
             }
         }
     };

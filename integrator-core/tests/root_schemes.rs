@@ -33,17 +33,17 @@ fn the_verdicts_are_the_exact_ones() {
     assert_eq!((Gauss4Roots::SYMPLECTIC, true), (true, true));
     assert_eq!((Radau5Roots::SYMPLECTIC, false), (false, false));
     assert_eq!((Lobatto3a3b4Roots::SYMPLECTIC, true), (true, true));
-    assert!(Lobatto3a3b4Roots::SYMPLECTIC_SEPARABLE && !Lobatto3a3b4Roots::SEPARABLE_ONLY);
+    const { assert!(Lobatto3a3b4Roots::SYMPLECTIC_SEPARABLE && !Lobatto3a3b4Roots::SEPARABLE_ONLY) };
     assert_eq!(Lobatto3a3b4Roots::FORM, "prk");
     assert_eq!(Lobatto3a3b4Roots::INFO.evaluations, 8);
     assert_eq!((Gauss4Roots::STAGES, Radau5Roots::STAGES), (4, 5));
     assert_eq!(Gauss4Roots::CLASS, "implicit");
-    assert!(!Gauss4Roots::EXPLICIT && !Gauss4Roots::SYMMETRIC);
+    const { assert!(!Gauss4Roots::EXPLICIT && !Gauss4Roots::SYMMETRIC) };
     // Order beyond 2 is not decided for root tables: ORDER is what is proven.
     assert_eq!((Gauss4Roots::ORDER, Radau5Roots::ORDER), (2, 2));
     assert_eq!(Gauss4Roots::INFO.order, 2);
     assert_eq!((ExplicitRoot::CLASS, ExplicitRoot::ORDER), ("explicit", 2));
-    assert!(ExplicitRoot::EXPLICIT);
+    const { assert!(ExplicitRoot::EXPLICIT) };
 }
 
 /// Correctly rounded entries are within half an ulp of the exact values;

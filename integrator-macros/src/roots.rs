@@ -280,8 +280,8 @@ fn check(input: &Input) -> Result<RootTable, Error> {
                 })
                 .copied()
                 .unwrap_or_else(|| input.name.span());
-            let what = if field.starts_with("let.") {
-                format!("`let {}`", &field[4..])
+            let what = if let Some(name) = field.strip_prefix("let.") {
+                format!("`let {name}`")
             } else if field.is_empty() {
                 "the table".to_string()
             } else {
