@@ -1,7 +1,15 @@
 #!/usr/bin/env python3
 """A hostile sweep of the `symlab` command line: hundreds of bad, huge and
 borderline inputs to `check`, `compare`, `paper` and `cloth`, each run with a
-time limit and a memory limit, sorted into classes.
+time limit and a memory limit, sorted into classes. Besides flags, scene and
+table files it covers the newer surfaces: every collocation family with
+s <= 8 written as root(...) files (c given or not, exact and perturbed;
+written by `cargo run --release -p tableau --example write_root_files`) and
+random mutations of them and of `generate = ...` files through `check`,
+`check --json` and `compare --table`; hostile `--problem-file`s; `logh:ID` and
+`adaptive:ID` methods on every built-in problem; the energy schemes and the
+midpoint family on every scene with both `--solver`s and hostile
+`--tolerance`s, and `cloth --stability` with them.
 
     python3 scripts/hostile_sweep.py [--bin target/release/symlab] [--timeout 20] [--mem-gb 4]
 
@@ -143,6 +151,86 @@ def scene_files(tmp, rng):
     return files
 
 
+def root_and_generated_files(tmp, rng):
+    """Every collocation family with s <= 8 as root(...) files (c given or
+    not, exact and perturbed by 1e-40; written by tableau's example
+    write_root_files), generate = files, and random mutations of both."""
+    d = os.path.join(tmp, "roots")
+    subprocess.run(["cargo", "run", "--release", "-q", "-p", "tableau", "--example",
+                    "write_root_files", "--", d], cwd=ROOT, check=True)
+    colloc = sorted(os.path.join(d, f) for f in os.listdir(d))
+    files = []
+
+    def put(name, text):
+        path = os.path.join(tmp, name)
+        with open(path, "w") as f:
+            f.write(text)
+        files.append(path)
+
+    for g in ["gauss(4)", "gauss(16)", "gauss(17)", "gauss(0)", "radau2a(-1)", "lobatto3a3b(8)",
+              "lobatto3c(1)", "nope(3)", "gauss(99999999999999999999)", "gauss(4", ""]:
+        put(f"gen-{len(files)}.toml", f'generate = "{g}"\n')
+    put("gen-claims.toml", 'generate = "gauss(3)"\nclaims = ["order = 7", "symplectic", "bogus"]\n')
+    put("gen-extra.toml", 'generate = "gauss(3)"\na = [["1"]]\n')
+    put("root-nested-pow.toml", 'name = "p"\nlet = { r = "root(((x^2)^100)^100 - 2, 0, 2)" }\na = [["r"]]\nb = ["1"]\n')
+    put("root-huge-bounds.toml", 'name = "p"\nlet = { r = "root(x^2 - 2, -10^999, 10^999)" }\na = [["r"]]\nb = ["1"]\n')
+    put("root-close.toml", 'name = "p"\nlet = { r = "root(x^2 - 2, 1, 2)", s = "root(x^2 - 2 - 1/10^300, 1, 2)" }\na = [["r - s"]]\nb = ["1"]\n')
+    put("root-ten.toml", 'name = "p"\nlet = { ' + ", ".join(f'r{k} = "root(x^2 - {p}, 0, {p})"' for k, p in enumerate([2, 3, 5, 7, 11, 13, 17, 19, 23, 29])) +
+        ' }\na = [["' + " + ".join(f"r{k}" for k in range(10)) + '"]]\nb = ["1"]\n')
+    put("root-expand.toml", 'name = "p"\nlet = { ' + ", ".join(f'r{k} = "root(x^3 - {k + 2}, 0, 3)"' for k in range(6)) +
+        ' }\na = [["(' + " + ".join(f"r{k}" for k in range(6)) + ')^64"]]\nb = ["1"]\n')
+    junk = ["10^999", "1/10^999", "x^64", "(x^64)^64", "0", "-1", "1/0", "c0^64", "(c0+c1)^64",
+            "root(x^2 - 2, 0, 2)", "sqrt(2)", "9" * 900, ")", "c9", "x"]
+    sources = [f for f in colloc if "perturbed" not in f]
+    for k in range(80):
+        text = open(rng.choice(sources)).read()
+        quoted = list(re.finditer(r'"([^"\n]*)"', text))
+        r = rng.random()
+        if quoted and r < 0.6:
+            m = rng.choice(quoted)
+            text = text[:m.start(1)] + rng.choice(junk) + text[m.end(1):]
+        elif quoted and r < 0.8:
+            m = rng.choice(quoted)
+            inner = m.group(1)
+            if inner:
+                i = rng.randrange(len(inner))
+                inner = inner[:i] + rng.choice(["^64", "*10^999", "", "(", "-", "9" * 50]) + inner[i + 1:]
+            text = text[:m.start(1)] + inner + text[m.end(1):]
+        else:
+            lines = text.splitlines()
+            if lines:
+                del lines[rng.randrange(len(lines))]
+            text = "\n".join(lines)
+        put(f"rootmut{k}.toml", text)
+    return colloc, files
+
+
+def problem_files(tmp, rng):
+    """Hostile linear problem files for compare --problem-file."""
+    base = {"m": "[[2.0, 0.0], [0.0, 1.0]]", "g": "[[0.0, 0.5], [-0.5, 0.0]]",
+            "k": "[[3.0, -1.0], [-1.0, 2.0]]", "f": "[0.1, 0.0]", "q0": "[1.0, 0.0]",
+            "p0": "[0.0, 0.0]", "t_end": "10.0", "h_min": "1e-3", "h_max": "0.5"}
+    values = ["0", "-1", "1e308", "-1e308", "1e-300", "nan", "inf", '"x"', "[]", "[[]]", "[1.0]",
+              "[[1.0, 2.0], [3.0]]", "[[1e308, 0.0], [0.0, 1e308]]", "[[0.0, 0.0], [0.0, 0.0]]",
+              "[[-1.0, 0.0], [0.0, 1.0]]", "[[1.0, 2.0], [3.0, 4.0]]", "true", "1e-320"]
+    files = []
+    for k in range(70):
+        fields = dict(base)
+        r = rng.random()
+        key = rng.choice(sorted(base))
+        if r < 0.8:
+            fields[key] = rng.choice(values)
+        else:
+            del fields[key]
+        if rng.random() < 0.15:
+            fields["h_min"], fields["h_max"] = "0.5", "1e-3"
+        path = os.path.join(tmp, f"problem{k}.toml")
+        with open(path, "w") as f:
+            f.write("".join(f"{a} = {b}\n" for a, b in fields.items()))
+        files.append(path)
+    return files
+
+
 def cases(tmp, rng):
     out = defaultdict(list)
     tables = table_files(tmp, rng)
@@ -192,6 +280,36 @@ def cases(tmp, rng):
         out["cloth"].append(["cloth", os.path.join(ROOT, "scenes", "paper.toml"), "--stability", "--tolerance", v, "--methods", "leapfrog", "--duration", "0.05", "--out", o])
     out["cloth"].append(["cloth", os.path.join(ROOT, "scenes", "paper.toml"), "--method", "nope"] + short)
     out["cloth"].append(["cloth", "/dev/zero"] + short)
+
+    # The newer surfaces.
+    colloc, rootmuts = root_and_generated_files(tmp, rng)
+    for t in colloc + rootmuts:
+        out["check"].append(["check", t])
+    for t in rng.sample(colloc, 30) + rootmuts:
+        out["check"].append(["check", "--json", t])
+    for t in rng.sample(colloc, 30) + rng.sample(rootmuts, 40):
+        out["compare"].append(["compare", "--problem", rng.choice(["kepler", "oscillator"]), "--table", t] + q)
+    for pf in problem_files(tmp, rng):
+        out["compare"].append(["compare", "--problem-file", pf] + q)
+    problems = ["oscillator", "pendulum", "kepler", "kepler-hard", "henon-heiles", "fpu", "outer-solar", "gyroscopic"]
+    for p in problems:
+        for m in ["logh:kahan-li8", "adaptive:kahan-li8", "logh:leapfrog", "adaptive:rk4", "logh:nope", "adaptive:"]:
+            out["compare"].append(["compare", "--problem", p, "--methods", m] + q)
+            flag = rng.choice(["--t-end", "--h-min", "--h-max", "--points"])
+            v = rng.choice(EXTREME_FLOATS if flag != "--points" else EXTREME_INTS)
+            out["compare"].append(["compare", "--problem", p, "--methods", m, flag, v] + q)
+    scenes_dir = os.path.join(ROOT, "scenes")
+    for sc in sorted(f for f in os.listdir(scenes_dir) if f.endswith(".toml") and "128" not in f):
+        for m in ["avf", "discrete-gradient", "midpoint", "gauss2"]:
+            for solver in ["newton", "local-global"]:
+                args = ["cloth", os.path.join(scenes_dir, sc), "--method", m, "--solver", solver, "--grid", "6x6"] + short
+                out["cloth"].append(args)
+        for v in ["0", "1e-300", "1e-16", "2", "nan", "-1", "inf"]:
+            out["cloth"].append(["cloth", os.path.join(scenes_dir, sc), "--method", "avf", "--grid", "6x6", "--tolerance", v] + short)
+        out["cloth"].append(["cloth", os.path.join(scenes_dir, sc), "--stability", "--methods", "avf,midpoint",
+                             "--solver", rng.choice(["newton", "local-global"]), "--grid", "5x5", "--duration", "0.05", "--out", o])
+    for s in scene_files(tmp, rng)[:30]:
+        out["cloth"].append(["cloth", s, "--method", rng.choice(["avf", "discrete-gradient", "midpoint"]), "--grid", "6x6"] + short)
     return out
 
 
