@@ -34,13 +34,20 @@ fn main() {
     };
     for family in Family::ALL {
         // One-stage Radau IA and the Lobatto families need two stages.
-        let first = if matches!(family, Family::Gauss | Family::Radau2A) { 1 } else { 2 };
+        let first = if matches!(family, Family::Gauss | Family::Radau2A) {
+            1
+        } else {
+            2
+        };
         for s in first..=8 {
             let m = Method::new(family, s);
             for with_c in [true, false] {
                 let c = if with_c { "c" } else { "noc" };
                 let name = format!("{}{s}-roots-{c}", family.name());
-                put(format!("{name}.toml"), m.to_root_file_with(&name, &claims, None, with_c));
+                put(
+                    format!("{name}.toml"),
+                    m.to_root_file_with(&name, &claims, None, with_c),
+                );
                 if s >= 2 {
                     put(
                         format!("{name}-perturbed.toml"),
@@ -55,7 +62,10 @@ fn main() {
         for with_c in [true, false] {
             let c = if with_c { "c" } else { "noc" };
             let name = format!("lobatto3a3b{s}-roots-{c}");
-            put(format!("{name}.toml"), m.to_root_file(&name, &claims, None, with_c));
+            put(
+                format!("{name}.toml"),
+                m.to_root_file(&name, &claims, None, with_c),
+            );
             put(
                 format!("{name}-perturbed.toml"),
                 m.to_root_file(&name, &claims, perturbation, with_c),
