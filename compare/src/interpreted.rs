@@ -208,14 +208,14 @@ pub(crate) fn read_limited(path: &Path, limit: u64) -> std::result::Result<Strin
 /// error naming the field; a claim that fails is an error naming the claim
 /// and the evidence (every failing claim is listed).
 pub fn verify(path: &Path) -> Result<VerifiedTable> {
-    // The exact arithmetic recurses over expression trees and polynomials;
-    // a table with root(...) entries of a few hundred terms (Radau IIA 5
-    // written out with roots) overflows an 8 MiB stack, so it runs on a
-    // thread of its own with a large one (only touched pages are committed).
+    // On a thread of its own, so that a panic of the analysis is an error
+    // naming the file rather than a crash; its recursion is bounded by the
+    // nesting of an entry (tableau::expr::MAX_DEPTH), and 16 MiB of stack is
+    // margin (every collocation root file with s <= 8 runs on 2 MiB).
     std::thread::scope(|scope| {
         let worker = std::thread::Builder::new()
             .name("verify-table".into())
-            .stack_size(1 << 30)
+            .stack_size(16 << 20)
             .spawn_scoped(scope, || verify_here(path))
             .map_err(|e| file_error(path, format!("cannot start the analysis thread: {e}")))?;
         worker.join().unwrap_or_else(|_| {
