@@ -59,7 +59,7 @@ def run(binary, args, timeout, mem_bytes, cwd):
         # summary (a message quoting the non-finite state that stopped a
         # run, "z[0] = -inf", is not one).
         lines = [l for l in out.splitlines()
-                 if not re.search(r"diverged|stopped|blew up|blown up|not finite", l)]
+                 if not re.search(r"diverged|stopped|blew up|blown up|not finite|no NaN", l)]
         if any(re.search(r"(^|[\s(,])(NaN|nan|-?inf)([\s),]|$)", l) for l in lines):
             return "silent", out, err
         return "ok", out, err

@@ -222,10 +222,10 @@ fn print_algebraic(
             Some(false) => {
                 let _ = writeln!(
                     s,
-                    "                 W[{}][{}] ≠ 0 (≈ {})",
+                    "                 W[{}][{}] ≠ 0 ({})",
                     e.i,
                     e.j,
-                    e.value.map_or("?".into(), |v| format!("{v:e}"))
+                    e.approx()
                 );
             }
             _ => {

@@ -187,3 +187,24 @@ fn root_syntax_errors_name_the_problem() {
     );
     assert!(parse_root("root(3, 0, 1)").unwrap_err().contains("degree"));
 }
+
+/// A nonzero Wᵢⱼ beyond the largest double is refused as nonzero and named
+/// as beyond the range of f64, never printed as "inf".
+#[test]
+fn a_w_entry_beyond_f64_is_named_as_such() {
+    use tableau::algebraic::file::{Loaded, parse};
+    use tableau::claims::Claim;
+    let text = "name = \"big\"\nlet = { r = \"root(x^2 - 2, 0, 2)\", t = \"10^64\" }\n\
+                a = [[\"r*t^6\", \"0\"], [\"0\", \"1/3\"]]\nb = [\"1/2\", \"1/2\"]\n";
+    let Ok(Loaded::Algebraic(f)) = parse("big.toml", text) else {
+        panic!("a root file")
+    };
+    let an = f.analyse();
+    assert_eq!(an.symplectic, Some(false));
+    let message = f.check_claim(&an, &Claim::Symplectic).unwrap_err();
+    assert!(
+        message.contains("W[0][0] ≠ 0 (> 1.8e308 beyond the range of f64)"),
+        "{message}"
+    );
+    assert!(!message.contains("inf"), "{message}");
+}

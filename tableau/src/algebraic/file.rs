@@ -699,8 +699,27 @@ pub struct WEntryAlg {
     pub j: usize,
     /// `None`: beyond the zero-test budget.
     pub zero: Option<bool>,
-    /// The correctly rounded value, for nonzero entries.
+    /// The correctly rounded value, for nonzero entries (±∞ when the exact
+    /// value is beyond the largest double).
     pub value: Option<f64>,
+}
+
+impl WEntryAlg {
+    /// The value for messages: `≈ 2.5e-3`, `beyond ±1.8e308` where the exact
+    /// value overflows a double (an entry with `10^999` in it), `value beyond
+    /// the budget` where it could not be rounded.
+    pub fn approx(&self) -> String {
+        match self.value {
+            Some(v) if v.is_infinite() => {
+                format!(
+                    "{}1.8e308 beyond the range of f64",
+                    if v > 0.0 { "> " } else { "< -" }
+                )
+            }
+            Some(v) => format!("≈ {v:e}"),
+            None => "value beyond the budget".into(),
+        }
+    }
 }
 
 /// The verdicts on a root-entry table.
@@ -992,14 +1011,7 @@ impl AlgFile {
                     let shown: Vec<String> = bad
                         .iter()
                         .take(6)
-                        .map(|e| {
-                            format!(
-                                "W[{}][{}] ≠ 0 (≈ {})",
-                                e.i,
-                                e.j,
-                                e.value.map_or("?".into(), |v| format!("{v:e}"))
-                            )
-                        })
+                        .map(|e| format!("W[{}][{}] ≠ 0 ({})", e.i, e.j, e.approx()))
                         .collect();
                     let more = if bad.len() > 6 {
                         format!(" and {} more", bad.len() - 6)
