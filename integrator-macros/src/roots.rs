@@ -379,10 +379,13 @@ fn read_and_analyse(label: &str, text: &str, claim_texts: &[String]) -> Work {
     }
 }
 
-/// Run `f` on a thread with a large stack: the exact arithmetic recurses
-/// over the expression trees and, in the unoptimised build a proc macro
-/// gets, overflows the compiler's stack on tables of a few hundred terms.
-/// `None` if it panicked.
+/// Run `f` on a thread of its own, so that a panic of the analysis is a
+/// compile error rather than a crash of rustc (`None` if it panicked). The
+/// large stack dates from before `tableau` compared rationals without
+/// recursion, when the unoptimised analysis a proc macro runs overflowed
+/// rustc's stack on root tables of a few hundred terms; the recursion left
+/// is bounded by an entry's nesting (`tableau::expr::MAX_DEPTH`), so the
+/// stack is margin now (only touched pages are committed).
 fn on_big_stack<T: Send + 'static>(f: impl FnOnce() -> T + Send + 'static) -> Option<T> {
     std::thread::Builder::new()
         .name("butcher-roots".into())
