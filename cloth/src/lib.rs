@@ -157,8 +157,10 @@ pub mod methods;
 pub mod minimise;
 mod model;
 mod output;
+pub mod render;
 pub mod scene;
 mod sim;
+pub mod study;
 
 pub use methods::{MethodError, STEPPABLE};
 pub use model::{ClothModel, Energy, Family, STABILITY_WORK, Stability};

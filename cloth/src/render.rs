@@ -1,0 +1,1 @@
+//! The rasteriser of cloth frames (work in progress).

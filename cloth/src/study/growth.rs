@@ -1,0 +1,1 @@
+//! The growth of the energy error over a run (work in progress).

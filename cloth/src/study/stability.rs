@@ -1,0 +1,1 @@
+//! The largest stable step of a method on a scene (work in progress).
