@@ -14,6 +14,7 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
+use integrator_core::search::{StepCounts, largest_passing};
 use rayon::prelude::*;
 
 use crate::error::{CompareError, Result, write as write_file};
@@ -159,8 +160,9 @@ fn short(reason: &str) -> String {
         .to_string()
 }
 
-/// Bisection for one method. `tolerance`: stop when `h_hi/h_lo ≤ 1 + tolerance`.
-/// Bounded as [`run_case`] says.
+/// The search for one method ([`integrator_core::search::largest_passing`]
+/// over step counts). `tolerance`: stop when `h_hi/h_lo ≤ 1 + tolerance`
+/// (or the counts are adjacent). Bounded as [`run_case`] says.
 pub fn search<P: Problem>(
     case: &Case<P>,
     f: &Fixed<P>,
@@ -170,72 +172,23 @@ pub fn search<P: Problem>(
     check(case, tolerance, floor)?;
     let t = case.setup.t_end;
     let steps = |h: f64| ((t / h).ceil() as u64).max(1);
-    let mut probes = 0;
-    let mut test = |n: u64| {
-        probes += 1;
-        probe(&case.setup, f, n)
+    // In step counts over T (step T/n), so every probe is a whole number of
+    // steps: one step at most, `T/floor` at least.
+    let ladder = StepCounts {
+        max: steps(floor * t),
+        tolerance,
     };
-    // Brackets in step counts: `lo_n` stable (more steps), `hi_n` unstable.
-    let mut lo: Option<u64> = None;
-    let mut hi: Option<(u64, Beyond)> = None;
-    let n0 = steps(case.h0);
-    match test(n0) {
-        Ok(()) => {
-            lo = Some(n0);
-            let mut n = n0;
-            while n > 1 {
-                n = n.div_ceil(2);
-                match test(n) {
-                    Ok(()) => lo = Some(n),
-                    Err(b) => {
-                        hi = Some((n, b));
-                        break;
-                    }
-                }
-            }
-        }
-        Err(b) => {
-            hi = Some((n0, b));
-            let n_max = steps(floor * t);
-            let mut n = n0;
-            while n < n_max {
-                n = (2 * n).min(n_max);
-                match test(n) {
-                    Ok(()) => {
-                        lo = Some(n);
-                        break;
-                    }
-                    Err(b) => hi = Some((n, b)),
-                }
-            }
-        }
-    }
-    if let (Some(mut l), Some((mut u, mut why))) = (lo, hi.clone()) {
-        // l > u in steps; bisect geometrically in h (i.e. in n).
-        while (l as f64) / (u as f64) > 1.0 + tolerance && l > u + 1 {
-            let mid = ((l as f64) * (u as f64)).sqrt().round() as u64;
-            let mid = mid.clamp(u + 1, l - 1);
-            match test(mid) {
-                Ok(()) => l = mid,
-                Err(b) => {
-                    u = mid;
-                    why = b;
-                }
-            }
-        }
-        lo = Some(l);
-        hi = Some((u, why));
-    }
+    let found = largest_passing(&ladder, steps(case.h0), |n| probe(&case.setup, f, n));
     Ok(HardRow {
         problem: case.name.into(),
         method: f.id.clone(),
         order: f.order,
         symplectic: f.symplectic,
         t_end: t,
-        h_stable: lo.map(|n| t / n as f64),
-        h_unstable: hi.map(|(n, b)| (t / n as f64, b)),
+        h_stable: found.passed.map(|(n, ())| t / n as f64),
+        h_unstable: found.failed.map(|(n, b)| (t / n as f64, b)),
         omega_max: case.omega_max,
-        probes,
+        probes: found.probes,
     })
 }
 

@@ -47,6 +47,7 @@ pub mod linear;
 pub mod minimise;
 pub mod problems;
 pub mod scheme;
+pub mod search;
 mod system;
 pub mod time_transform;
 
