@@ -797,7 +797,10 @@ fn simulate(
     }
     eprintln!("error: {failure}");
     let growth = energy_growth(&col.stats, e_ref);
-    eprintln!("  energy up to the last good frame: {}", growth.describe());
+    eprintln!(
+        "  energy up to the last good frame: {}",
+        growth::describe(&growth)
+    );
     if growth.exponential() {
         eprintln!(
             "  the energy was growing exponentially before the run stopped (see energy.svg): the method is unstable at this step, whatever the solver"
@@ -817,9 +820,9 @@ fn simulate(
 }
 
 /// The fitted growth of the relative energy error over `frames`.
-fn energy_growth(frames: &[FrameStats], e_ref: f64) -> growth::Growth {
+fn energy_growth(frames: &[FrameStats], e_ref: f64) -> cloth::study::growth::Growth {
     let times: Vec<f64> = frames.iter().map(|f| f.time).collect();
-    growth::fit(&times, &energy::relative_errors(frames, e_ref))
+    cloth::study::growth::fit(&times, &energy::relative_errors(frames, e_ref))
 }
 
 /// Find the step at which a run blew up, by replaying the frame from the
@@ -1053,7 +1056,7 @@ impl Summary<'_> {
         let _ = writeln!(
             s,
             "  growth       {}",
-            energy_growth(&r.frames, self.e_ref).describe()
+            growth::describe(&energy_growth(&r.frames, self.e_ref))
         );
         let (strain, frame) = r.frames.iter().fold((0.0f64, 0usize), |(m, k), f| {
             if f.max_strain > m {
