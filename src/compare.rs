@@ -24,6 +24,7 @@ use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
 use compare::builtin::{self, Builtin};
+use compare::format;
 use compare::{Method, Problem, Setup, SweepSettings};
 
 /// The columns of `runs.csv`, for `--help`.
@@ -177,18 +178,12 @@ impl CompareArgs {
     }
 }
 
-/// A number for a message: plain where that is short, else scientific.
-fn num(x: f64) -> String {
-    if x == 0.0 || (1e-4..1e7).contains(&x.abs()) || !x.is_finite() {
-        format!("{x}")
-    } else {
-        format!("{x:e}")
-    }
-}
-
 fn positive(name: &str, x: f64) -> Result<f64> {
     if !(x.is_finite() && x > 0.0) {
-        bail!("--{name} must be a finite number > 0, got {}", num(x));
+        bail!(
+            "--{name} must be a finite number > 0, got {}",
+            format::plain(x)
+        );
     }
     // A subnormal time or step has lost its precision (5e-324 is the only
     // number between 0 and 1e-323): no run means anything there.
@@ -196,7 +191,7 @@ fn positive(name: &str, x: f64) -> Result<f64> {
         bail!(
             "--{name} must be at least {:e} (the smallest normal f64), got {}",
             f64::MIN_POSITIVE,
-            num(x)
+            format::plain(x)
         );
     }
     Ok(x)
@@ -360,7 +355,11 @@ fn plan_from(args: &CompareArgs, defaults: compare::Defaults, origin: &Origin) -
             }
         }
     };
-    let (lo, hi, t) = (num(h_min), num(h_max), num(t_end));
+    let (lo, hi, t) = (
+        format::plain(h_min),
+        format::plain(h_max),
+        format::plain(t_end),
+    );
     let end = who_t
         .clone()
         .unwrap_or_else(|| "the default end time".into());
@@ -525,7 +524,7 @@ fn sweep_problem<P: Problem>(
     println!(
         "{}: T = {}, {} methods, {} step sizes from h = {:.3e} to {:.3e} ({}–{} steps), {} timed run(s) each",
         setup.description,
-        num(plan.t_end),
+        format::plain(plan.t_end),
         methods.len(),
         steps.len(),
         plan.t_end / steps[0] as f64,

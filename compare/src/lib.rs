@@ -24,6 +24,9 @@
 //!   reversible adaptive) against DOP853 over 100 and 1000 Kepler orbits at
 //!   e = 0.6 and 0.9.
 //!
+//! The reports print numbers through [`format`], one set of formatters
+//! with one marker ([`format::MISSING`]) for a value that is not there.
+//!
 //! ```no_run
 //! use compare::{Method, SweepSettings, Problem, Setup, work_precision};
 //! use integrator_core::butcher;
@@ -63,6 +66,7 @@ pub mod adaptive;
 pub mod builtin;
 pub mod counting;
 mod error;
+pub mod format;
 pub mod guard;
 pub mod hard;
 pub mod interpreted;

@@ -24,6 +24,7 @@ use integrator_core::linear::LinearHamiltonian;
 use serde::Deserialize;
 
 use crate::error::{CompareError, Result};
+use crate::format;
 use crate::problem::{Defaults, Problem, Setup};
 
 /// The largest problem file read.
@@ -81,15 +82,6 @@ fn err(path: &Path, why: impl Into<String>) -> CompareError {
     CompareError::ProblemFile {
         path: path.to_path_buf(),
         why: why.into(),
-    }
-}
-
-/// A number for a message: plain where that is short, else scientific.
-fn num(x: f64) -> String {
-    if x == 0.0 || (1e-4..1e7).contains(&x.abs()) || !x.is_finite() {
-        format!("{x}")
-    } else {
-        format!("{x:e}")
     }
 }
 
@@ -180,7 +172,10 @@ pub fn load(path: &Path) -> Result<LinearFile> {
         {
             return Err(err(
                 path,
-                format!("field {field} must be a finite number > 0, got {}", num(x)),
+                format!(
+                    "field {field} must be a finite number > 0, got {}",
+                    format::plain(x)
+                ),
             ));
         }
     }
@@ -207,8 +202,8 @@ pub fn load(path: &Path) -> Result<LinearFile> {
             path,
             format!(
                 "field h_min ({}) must not exceed field h_max ({})",
-                num(h_min),
-                num(h_max)
+                format::plain(h_min),
+                format::plain(h_max)
             ),
         ));
     }
@@ -217,8 +212,8 @@ pub fn load(path: &Path) -> Result<LinearFile> {
             path,
             format!(
                 "field h_max ({}) exceeds field t_end ({})",
-                num(h_max),
-                num(t_end)
+                format::plain(h_max),
+                format::plain(t_end)
             ),
         ));
     }
@@ -227,8 +222,8 @@ pub fn load(path: &Path) -> Result<LinearFile> {
             path,
             format!(
                 "field h_min ({}) over field t_end ({}) is {:.1e} steps per run; at most 1e8",
-                num(h_min),
-                num(t_end),
+                format::plain(h_min),
+                format::plain(t_end),
                 t_end / h_min,
             ),
         ));
@@ -274,7 +269,7 @@ impl LinearFile {
                 }
                 CompareError::Problem { why, .. } => format!(
                     "the exact flow of fields m, g, k, f from q0, p0 to t_end = {}: {why}",
-                    num(t_end)
+                    format::plain(t_end)
                 ),
                 CompareError::Setting { name, why } => format!("{name}: {why}"),
                 other => other.to_string(),

@@ -8,6 +8,7 @@ use std::path::Path;
 use rayon::prelude::*;
 
 use crate::error::{CompareError, Result, write as write_file};
+use crate::format;
 use crate::method::{Fixed, Method};
 use crate::output::{csv_field, loglog_slope};
 use crate::plot::{self, Plot, Series};
@@ -291,7 +292,7 @@ pub fn summary(runs: &[LongRun]) -> String {
             } else {
                 "plain"
             },
-            r.exponent.map_or("—".into(), |e| format!("{e:.2}")),
+            format::opt(r.exponent, |e| format::fixed(e, 2)),
             last,
             r.status.label()
         );

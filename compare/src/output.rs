@@ -6,6 +6,7 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 use crate::error::{CompareError, Result, write};
+use crate::format;
 use crate::plot::{self, Plot, Series};
 use crate::problem::Family;
 use crate::sweep::{COLUMNS, Row};
@@ -492,18 +493,6 @@ pub fn plots(dir: &Path, rows: &[Row], title: &str, evals_label: &str) -> Result
     Ok(written)
 }
 
-fn fmt_opt(x: Option<f64>, prec: usize) -> String {
-    x.map_or("—".into(), |v| format!("{v:.prec$}"))
-}
-
-fn fmt_e(x: f64) -> String {
-    if x.is_finite() {
-        format!("{x:.2e}")
-    } else {
-        "—".into()
-    }
-}
-
 /// What the summary says about one method.
 pub struct MethodStats {
     pub method: String,
@@ -572,11 +561,10 @@ pub fn summary(rows: &[Row], target: f64) -> String {
             st.order,
             if st.symplectic { "yes" } else { "no" },
             format!("{}/{}", st.ok, st.runs),
-            fmt_opt(st.slope, 2),
-            fmt_e(st.min_error),
-            fmt_e(st.best_energy_error),
-            st.time_to_target
-                .map_or_else(|| "—".into(), |t| format!("{t:.3e} s")),
+            format::opt(st.slope, |x| format::fixed(x, 2)),
+            format::sci(st.min_error, 2),
+            format::sci(st.best_energy_error, 2),
+            format::opt(st.time_to_target, |t| format!("{} s", format::sci(t, 3))),
         );
     }
     s

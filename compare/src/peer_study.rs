@@ -16,9 +16,10 @@ use integrator_core::problems::Kepler;
 
 use crate::builtin;
 use crate::error::{CompareError, Result, write};
+use crate::format::{self, MISSING};
 use crate::method::Method;
 use crate::output::{self, Reach, reach};
-use crate::report::{self, Duel, PEER, duel, fmt_err, fmt_ms, time_cell};
+use crate::report::{self, Duel, PEER, duel, time_cell};
 use crate::sweep::{self, Row};
 
 /// The methods of the study (`--methods` replaces them).
@@ -320,7 +321,7 @@ fn orbits_words(l: &LegRows) -> String {
 }
 
 fn energy_cell(r: Option<&Reach>) -> String {
-    r.map_or("—".into(), |r| fmt_err(r.energy_error))
+    format::opt(r.map(|r| r.energy_error), format::err)
 }
 
 /// The verdict: for each run length and target, our fastest method against
@@ -341,7 +342,7 @@ fn verdict_table(results: &[LegRows], targets: &[f64]) -> String {
                         "| {} | {} | {t:.0e} | {} | {} | {} | {} | {} | {} | {} |",
                         l.e,
                         orbits(&l.leg),
-                        d.ours.as_ref().map_or("—", |o| o.method.as_str()),
+                        d.ours.as_ref().map_or(MISSING, |o| o.method.as_str()),
                         time_cell(d.ours.as_ref()),
                         energy_cell(d.ours.as_ref()),
                         time_cell(d.peer.as_ref()),
@@ -353,7 +354,7 @@ fn verdict_table(results: &[LegRows], targets: &[f64]) -> String {
                 None => {
                     let _ = writeln!(
                         s,
-                        "| {} | {} | {t:.0e} | — | not reached | — | not reached | — | — | neither |",
+                        "| {} | {} | {t:.0e} | {MISSING} | not reached | {MISSING} | not reached | {MISSING} | {MISSING} | neither |",
                         l.e,
                         orbits(&l.leg)
                     );
@@ -504,9 +505,9 @@ fn markdown(
                     let at = if r.method == PEER {
                         format!("rtol {:.0e}", r.tol)
                     } else {
-                        format!("{} steps", report::fmt_count(r.steps as f64))
+                        format!("{} steps", format::count(r.steps as f64))
                     };
-                    format!("{} at {at}", fmt_err(r.error))
+                    format!("{} at {at}", format::err(r.error))
                 });
             let de = reach(&l.rows, energy_target)
                 .into_iter()
@@ -524,7 +525,7 @@ fn markdown(
             let _ = writeln!(
                 s,
                 "DOP853 at its tightest tolerance ({tol:.0e}): {} ms.\n",
-                fmt_ms(t)
+                format::ms(t)
             );
         }
         let failed: Vec<&Row> = l.rows.iter().filter(|r| !r.ok()).collect();

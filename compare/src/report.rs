@@ -4,64 +4,12 @@
 
 use std::fmt::Write as _;
 
+use crate::format::{self, MISSING};
 use crate::output::{Reach, ladder, not_bracketed, reach, stats};
 use crate::sweep::Row;
 
 /// The method id of the peer.
 pub const PEER: &str = "dop853";
-
-/// Wall time in milliseconds, three significant digits.
-pub fn fmt_ms(seconds: f64) -> String {
-    let x = seconds * 1e3;
-    if !x.is_finite() {
-        "—".into()
-    } else if x >= 100.0 {
-        format!("{x:.0}")
-    } else if x >= 10.0 {
-        format!("{x:.1}")
-    } else if x >= 1.0 {
-        format!("{x:.2}")
-    } else if x >= 0.1 {
-        format!("{x:.3}")
-    } else if x >= 0.01 {
-        format!("{x:.4}")
-    } else if x >= 0.001 {
-        format!("{x:.5}")
-    } else {
-        format!("{x:.2e}")
-    }
-}
-
-/// An error, two significant digits (`1.8e-3`); `—` when not finite.
-pub fn fmt_err(x: f64) -> String {
-    if x.is_finite() {
-        format!("{x:.1e}")
-    } else {
-        "—".into()
-    }
-}
-
-/// A count: `10⁶` for a power of ten from 100 up, else the integer.
-pub fn fmt_count(n: f64) -> String {
-    const SUP: [char; 10] = ['⁰', '¹', '²', '³', '⁴', '⁵', '⁶', '⁷', '⁸', '⁹'];
-    let k = n.round() as u64;
-    let mut p = 100u64;
-    let mut e = 2;
-    while p < k && p <= u64::MAX / 10 {
-        p *= 10;
-        e += 1;
-    }
-    if k == p {
-        let digits: String = e
-            .to_string()
-            .bytes()
-            .map(|d| SUP[(d - b'0') as usize])
-            .collect();
-        format!("10{digits}")
-    } else {
-        k.to_string()
-    }
-}
 
 fn yes_no(b: bool) -> &'static str {
     if b { "yes" } else { "no" }
@@ -70,12 +18,12 @@ fn yes_no(b: bool) -> &'static str {
 /// Where on its sweep a run lies: its step count, or the peer's tolerance.
 fn at(r: &Row) -> String {
     if r.tol.is_nan() {
-        format!("{} steps", fmt_count(r.steps as f64))
+        format!("{} steps", format::count(r.steps as f64))
     } else {
         format!(
             "rtol = atol = {:.0e} ({} steps)",
             r.tol,
-            fmt_count(r.steps as f64)
+            format::count(r.steps as f64)
         )
     }
 }
@@ -107,9 +55,9 @@ pub fn miss_reason(rows: &[Row], method: &str, target: f64) -> String {
     if cheapest.error <= target {
         return format!(
             "below the target already at its cheapest run (error {} at {}, {} ms): at most that time{failures}",
-            fmt_err(cheapest.error),
+            format::err(cheapest.error),
             at(cheapest),
-            fmt_ms(cheapest.time_s)
+            format::ms(cheapest.time_s)
         );
     }
     let best = runs
@@ -118,7 +66,7 @@ pub fn miss_reason(rows: &[Row], method: &str, target: f64) -> String {
         .expect("at least one run");
     format!(
         "smallest error {} at {}{failures}",
-        fmt_err(best.error),
+        format::err(best.error),
         at(best)
     )
 }
@@ -150,10 +98,10 @@ pub fn summary_table(rows: &[Row], target: f64) -> String {
             yes_no(st.symplectic),
             st.ok,
             st.runs,
-            st.slope.map_or("—".into(), |x| format!("{x:.2}")),
-            fmt_err(st.min_error),
-            fmt_err(st.best_energy_error),
-            st.time_to_target.map_or("—".into(), fmt_ms),
+            format::opt(st.slope, |x| format::fixed(x, 2)),
+            format::err(st.min_error),
+            format::err(st.best_energy_error),
+            format::opt(st.time_to_target, format::ms),
         );
     }
     s
@@ -175,7 +123,7 @@ pub fn time_table(rows: &[Row], target: f64) -> String {
             i + 1,
             method_label(rows, &r.method),
             yes_no(r.symplectic),
-            fmt_ms(r.time_s),
+            format::ms(r.time_s),
             r.steps,
             r.evals
         );
@@ -289,35 +237,22 @@ fn peer_best(rows: &[Row]) -> String {
         .into_iter()
         .min_by(|a, b| a.error.total_cmp(&b.error))
         .map_or("runs all failed".into(), |r| {
-            format!("smallest error is {}, at {}", fmt_err(r.error), at(r))
+            format!("smallest error is {}, at {}", format::err(r.error), at(r))
         })
 }
 
 /// A time cell: `≤ t` for an upper bound, `not reached` for none.
 pub fn time_cell(r: Option<&Reach>) -> String {
     match r {
-        Some(r) if r.upper_bound => format!("≤ {}", fmt_ms(r.time_s)),
-        Some(r) => fmt_ms(r.time_s),
+        Some(r) if r.upper_bound => format!("≤ {}", format::ms(r.time_s)),
+        Some(r) => format::ms(r.time_s),
         None => "not reached".into(),
-    }
-}
-
-/// A ratio, two significant digits.
-pub fn fmt_ratio(x: f64) -> String {
-    if x >= 10.0 {
-        format!("{x:.0}")
-    } else if x >= 1.0 {
-        format!("{x:.1}")
-    } else if x >= 0.1 {
-        format!("{x:.2}")
-    } else {
-        format!("{x:.3}")
     }
 }
 
 /// The ratio cell of a duel.
 pub fn ratio_cell(d: &Duel) -> String {
-    d.ratio().map_or("—".into(), fmt_ratio)
+    format::opt(d.ratio(), format::ratio)
 }
 
 /// One sentence per outcome: at which targets ours is faster (and at
@@ -345,10 +280,10 @@ pub fn verdict(duels: &[Duel], rows: &[Row]) -> String {
         }
         let lo = r.iter().copied().fold(f64::INFINITY, f64::min);
         let hi = r.iter().copied().fold(0.0, f64::max);
-        if fmt_ratio(lo) == fmt_ratio(hi) {
-            format!(", {}× faster", fmt_ratio(lo))
+        if format::ratio(lo) == format::ratio(hi) {
+            format!(", {}× faster", format::ratio(lo))
         } else {
-            format!(", {}–{}× faster", fmt_ratio(lo), fmt_ratio(hi))
+            format!(", {}–{}× faster", format::ratio(lo), format::ratio(hi))
         }
     };
     let say = |ds: Vec<&Duel>, text: &str, invert: Option<bool>| -> String {
@@ -429,8 +364,8 @@ pub fn peer_section(rows: &[Row]) -> Option<String> {
             s,
             "| {:.0e} | {} | {} | {} | {} | {} | {} |",
             d.target,
-            d.ours.as_ref().map_or("—", |o| o.method.as_str()),
-            d.ours.as_ref().map_or("—", |o| yes_no(o.symplectic)),
+            d.ours.as_ref().map_or(MISSING, |o| o.method.as_str()),
+            d.ours.as_ref().map_or(MISSING, |o| yes_no(o.symplectic)),
             time_cell(d.ours.as_ref()),
             time_cell(d.peer.as_ref()),
             ratio_cell(d),
@@ -541,18 +476,6 @@ mod tests {
             status: "ok".into(),
             interpreted: false,
         }
-    }
-
-    #[test]
-    fn counts_and_times_read_well() {
-        assert_eq!(fmt_count(1e6), "10⁶");
-        assert_eq!(fmt_count(100.0), "10²");
-        assert_eq!(fmt_count(4642.0), "4642");
-        assert_eq!(fmt_count(10.0), "10");
-        assert_eq!(fmt_ms(2.887e-4), "0.289");
-        assert_eq!(fmt_ms(0.0123), "12.3");
-        assert_eq!(fmt_ms(1.45e-5), "0.0145");
-        assert_eq!(fmt_err(1.8e-3), "1.8e-3");
     }
 
     #[test]

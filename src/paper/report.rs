@@ -3,6 +3,7 @@
 
 use std::fmt::Write as _;
 
+use compare::format::{self, MISSING};
 use integrator_core::library::{GaussLegendre2, ImplicitMidpoint, PaperDirk2};
 
 use super::oscillator::{
@@ -101,26 +102,14 @@ impl Findings {
 }
 
 /// `v[i]`, or NaN for a run that stopped before step `i` (printed as
-/// "n/a"; the report lists the runs that stopped and why).
+/// [`MISSING`]; the report lists the runs that stopped and why).
 fn at(v: &[f64], i: usize) -> f64 {
     v.get(i).copied().unwrap_or(f64::NAN)
 }
 
-fn e(x: f64) -> String {
-    if x.is_finite() {
-        format!("{x:.2e}")
-    } else {
-        "n/a".into()
-    }
-}
-
-/// A signed number, or "n/a".
-fn signed(x: f64, digits: usize) -> String {
-    if x.is_finite() {
-        format!("{x:+.digits$e}")
-    } else {
-        "n/a".into()
-    }
+/// An error or a size as the report prints it: three significant digits.
+fn sci2(x: f64) -> String {
+    format::sci(x, 2)
 }
 
 /// The measured table, Markdown: one row per (h, method).
@@ -142,10 +131,10 @@ pub fn markdown_table(exp: &Experiment) -> String {
             },
             info.order,
             if info.symplectic { "yes" } else { "no" },
-            e(m.max_err_q),
-            e(m.max_err_p),
-            e(m.max_rel_energy_error),
-            e(m.final_err_q.abs()),
+            sci2(m.max_err_q),
+            sci2(m.max_err_p),
+            sci2(m.max_rel_energy_error),
+            sci2(m.final_err_q.abs()),
             m.final_phase_error,
         );
     }
@@ -165,9 +154,9 @@ pub fn text_table(exp: &Experiment) -> String {
             "{:>6}  {:<18} {:>10} {:>10} {:>12} {:>+10.2e}{}",
             h_name(r.h),
             r.method.label(),
-            e(m.max_err_q),
-            e(m.max_err_p),
-            e(m.max_rel_energy_error),
+            sci2(m.max_err_q),
+            sci2(m.max_err_p),
+            sci2(m.max_rel_energy_error),
             m.final_phase_error,
             r.failure
                 .as_ref()
@@ -177,33 +166,21 @@ pub fn text_table(exp: &Experiment) -> String {
     s
 }
 
-/// `a/b` as "×N", or "—" when `b` is 0.
-fn ratio(a: f64, b: f64) -> String {
-    let r = a / b;
-    if b == 0.0 || !r.is_finite() {
-        "—".into()
-    } else if (0.01..1000.0).contains(&r.abs()) {
-        format!("×{r:.3}")
-    } else {
-        format!("×{r:.2e}")
-    }
-}
-
-/// `ratio` of `f(h₂)/f(h₁)` for consecutive step sizes, as "×N from h = a to h = b".
+/// `format::times` of `f(h₂)/f(h₁)` for consecutive step sizes, as "×N from h = a to h = b".
 fn growth_with_h(sorted: &[f64], f: impl Fn(f64) -> f64) -> String {
     let parts: Vec<String> = sorted
         .windows(2)
         .map(|p| {
             format!(
                 "{} from h = {} to h = {}",
-                ratio(f(p[1]), f(p[0])),
+                format::times(f(p[1]), f(p[0])),
                 p[0],
                 p[1]
             )
         })
         .collect();
     if parts.is_empty() {
-        "—".into()
+        MISSING.into()
     } else {
         parts.join(", ")
     }
@@ -275,7 +252,7 @@ pub fn markdown(exp: &Experiment, cloth: &str, files: &[String]) -> String {
         "- Errors are numerical minus analytic (the paper's definition for its figure 4), with the analytic \
          solution q(t) = q₀ cos kt + (p₀/k) sin kt, p(t) = p₀ cos kt − kq₀ sin kt. The paper's printed form \
          √(q₀² + p₀²/k²)·cos(kt − arctg(p₀/(kq₀))) differs from it by at most {} over the run at h = {h_max}.",
-        e(f.closed_form_deviation)
+        sci2(f.closed_form_deviation)
     );
     let _ = writeln!(
         w,
@@ -367,7 +344,7 @@ pub fn markdown(exp: &Experiment, cloth: &str, files: &[String]) -> String {
         let _ = writeln!(
             w,
             "Runs that stopped before step {n} (their rows are over the steps they took; \
-             figures that need a later step read n/a):\n"
+             figures that need a later step read {MISSING}):\n"
         );
         for r in stopped {
             let _ = writeln!(
@@ -388,7 +365,7 @@ pub fn markdown(exp: &Experiment, cloth: &str, files: &[String]) -> String {
         .map(|&h| {
             format!(
                 "{} at h = {h}",
-                e(max_rel_energy(exp, Method::ExplicitEuler, h))
+                sci2(max_rel_energy(exp, Method::ExplicitEuler, h))
             )
         })
         .collect();
@@ -403,18 +380,18 @@ pub fn markdown(exp: &Experiment, cloth: &str, files: &[String]) -> String {
          R(z) = 1 + z, |R(ih)|² = 1 + h²k².",
         euler_by_h.join(", "),
         growth_with_h(&sorted, |h| max_rel_energy(exp, Method::ExplicitEuler, h)),
-        e(f.euler_early),
+        sci2(f.euler_early),
         n / 10,
-        e(f.euler_final),
-        ratio(f.euler_final, f.euler_early),
-        ratio(n as f64, (n / 10) as f64),
-        e(rel_diff(f.euler_final, f.euler_predicted)),
-        e(f.euler_predicted),
+        sci2(f.euler_final),
+        format::times(f.euler_final, f.euler_early),
+        format::times(n as f64, (n / 10) as f64),
+        sci2(rel_diff(f.euler_final, f.euler_predicted)),
+        sci2(f.euler_predicted),
     );
     let heun_by_h: Vec<String> = c
         .step_sizes
         .iter()
-        .map(|&h| format!("{} at h = {h}", e(max_rel_energy(exp, Method::Heun, h))))
+        .map(|&h| format!("{} at h = {h}", sci2(max_rel_energy(exp, Method::Heun, h))))
         .collect();
     let _ = writeln!(
         w,
@@ -424,12 +401,12 @@ pub fn markdown(exp: &Experiment, cloth: &str, files: &[String]) -> String {
          {} (the h⁴ of the prediction).",
         heun_by_h.join(", "),
         f.heun_decreases,
-        e(f.heun_early),
+        sci2(f.heun_early),
         n / 10,
-        e(f.heun_final),
-        ratio(f.heun_final, f.heun_early),
-        e(rel_diff(f.heun_final, f.heun_predicted)),
-        e(f.heun_predicted),
+        sci2(f.heun_final),
+        format::times(f.heun_final, f.heun_early),
+        sci2(rel_diff(f.heun_final, f.heun_predicted)),
+        sci2(f.heun_predicted),
         growth_with_h(&sorted, |h| max_rel_energy(exp, Method::Heun, h)),
     );
     let round_off: Vec<String> = [
@@ -444,7 +421,7 @@ pub fn markdown(exp: &Experiment, cloth: &str, files: &[String]) -> String {
             .iter()
             .map(|&h| max_rel_energy(exp, m, h))
             .fold(0.0, f64::max);
-        format!("{} {}", m.label(), e(worst))
+        format!("{} {}", m.label(), sci2(worst))
     })
     .collect();
     let _ = writeln!(
@@ -461,7 +438,7 @@ pub fn markdown(exp: &Experiment, cloth: &str, files: &[String]) -> String {
         .map(|&h| {
             format!(
                 "{} at h = {h}",
-                e(max_rel_energy(exp, Method::SymplecticEuler, h))
+                sci2(max_rel_energy(exp, Method::SymplecticEuler, h))
             )
         })
         .collect();
@@ -474,11 +451,11 @@ pub fn markdown(exp: &Experiment, cloth: &str, files: &[String]) -> String {
          is bounded by the orbit.\n",
         se_by_h.join(", "),
         growth_with_h(&sorted, |h| max_rel_energy(exp, Method::SymplecticEuler, h)),
-        e(se.energy_error_first_half),
-        e(se.energy_error_second_half),
-        ratio(se.energy_error_second_half, se.energy_error_first_half),
+        sci2(se.energy_error_first_half),
+        sci2(se.energy_error_second_half),
+        format::times(se.energy_error_second_half, se.energy_error_first_half),
         se.energy_sign_changes,
-        e(f.symplectic_euler_modified_drift),
+        sci2(f.symplectic_euler_modified_drift),
     );
 
     let _ = writeln!(
@@ -499,14 +476,14 @@ pub fn markdown(exp: &Experiment, cloth: &str, files: &[String]) -> String {
             w,
             "| {} | {} | {} | {} | {} | {} |",
             r.method.label(),
-            e(m.final_err_q.abs()),
-            e(m.max_err_q),
-            signed(at(&phase, n / 2), 3),
-            signed(at(&phase, n), 3),
+            sci2(m.final_err_q.abs()),
+            sci2(m.max_err_q),
+            format::signed_sci(at(&phase, n / 2), 3),
+            format::signed_sci(at(&phase, n), 3),
             if r.failure.is_some() {
-                "n/a".to_string()
+                MISSING.to_string()
             } else {
-                signed(m.final_amplitude_error, 2)
+                format::signed_sci(m.final_amplitude_error, 2)
             }
         );
     }
@@ -524,7 +501,7 @@ pub fn markdown(exp: &Experiment, cloth: &str, files: &[String]) -> String {
          after {} steps, {linear}.",
         f.midpoint_phase_predicted,
         f.midpoint_phase_final,
-        ratio(f.midpoint_phase_final, f.midpoint_phase_half),
+        format::times(f.midpoint_phase_final, f.midpoint_phase_half),
         n / 2,
     );
     if f.symplectic_euler_phase_predicted.is_finite() {
@@ -601,7 +578,7 @@ pub fn markdown(exp: &Experiment, cloth: &str, files: &[String]) -> String {
             w,
             "- **Figure 2, \"the amplitudes keep constant\"** (the DIRK2 at h = 0.05): its largest amplitude error \
              |r/r₀ − 1| over the run is {}{}.",
-            e(amp),
+            sci2(amp),
             if amp <= 1e-13 {
                 ", constant to round-off: agreed"
             } else {
@@ -618,25 +595,25 @@ pub fn markdown(exp: &Experiment, cloth: &str, files: &[String]) -> String {
          distortion of its orbit (an ellipse, not the circle) is a part. The DIRK2 (final {}) and Gauss–Legendre 2 \
          (final {}) are closer, but not exact either.",
         mid.final_phase_error,
-        e(mid.final_err_q.abs()),
+        sci2(mid.final_err_q.abs()),
         100.0 * mid.final_err_q.abs() / amplitude,
         amplitude,
-        e(se.final_err_q.abs()),
-        e(se.max_err_q),
+        sci2(se.final_err_q.abs()),
+        sci2(se.max_err_q),
         100.0 * se.max_err_q / amplitude,
-        e(dirk.final_err_q.abs()),
-        e(gl2.final_err_q.abs()),
+        sci2(dirk.final_err_q.abs()),
+        sci2(gl2.final_err_q.abs()),
     );
     // Which symplectic methods end further from the analytic position than Heun?
     let worse_than_heun: Vec<String> = exp
         .at(h_max)
         .filter(|r| r.method.info().symplectic && r.max_err_q() > heun.max_err_q)
-        .map(|r| format!("{} ({})", r.method.label(), e(r.max_err_q())))
+        .map(|r| format!("{} ({})", r.method.label(), sci2(r.max_err_q())))
         .collect();
     let better_than_heun: Vec<String> = exp
         .at(h_max)
         .filter(|r| r.method.info().symplectic && r.max_err_q() <= heun.max_err_q)
-        .map(|r| format!("{} ({})", r.method.label(), e(r.max_err_q())))
+        .map(|r| format!("{} ({})", r.method.label(), sci2(r.max_err_q())))
         .collect();
     let heun_energy_drift = heun.final_energy_error.abs() / c.energy0();
     let bounded_at_h_max = exp
@@ -666,11 +643,11 @@ pub fn markdown(exp: &Experiment, cloth: &str, files: &[String]) -> String {
             } else {
                 "only in part".to_string()
             },
-            e(euler.final_err_q.abs()),
-            ratio(1.0 + euler.final_amplitude_error, 1.0),
-            e(heun.max_err_q),
+            sci2(euler.final_err_q.abs()),
+            format::times(1.0 + euler.final_amplitude_error, 1.0),
+            sci2(heun.max_err_q),
             better_than_heun.join(", "),
-            e(heun_energy_drift),
+            sci2(heun_energy_drift),
         );
     } else {
         let _ = writeln!(
@@ -680,16 +657,16 @@ pub fn markdown(exp: &Experiment, cloth: &str, files: &[String]) -> String {
              amplitude has grown {}). Heun's largest position error over the run at h = {h_max}, {}, is smaller \
              than that of {} and larger than that of {}; what sets Heun apart is its energy drift ({} of H₀ at the \
              end, growing at every step), not its position after {n} steps.",
-            e(euler.final_err_q.abs()),
-            ratio(1.0 + euler.final_amplitude_error, 1.0),
-            e(heun.max_err_q),
+            sci2(euler.final_err_q.abs()),
+            format::times(1.0 + euler.final_amplitude_error, 1.0),
+            sci2(heun.max_err_q),
             worse_than_heun.join(", "),
             if better_than_heun.is_empty() {
                 "none".to_string()
             } else {
                 better_than_heun.join(", ")
             },
-            e(heun_energy_drift),
+            sci2(heun_energy_drift),
         );
     }
     let vs_heun = |x: f64, heun: f64| {
@@ -700,7 +677,7 @@ pub fn markdown(exp: &Experiment, cloth: &str, files: &[String]) -> String {
         } else {
             "larger"
         };
-        format!("{} of Heun's, {verdict}", ratio(x, heun))
+        format!("{} of Heun's, {verdict}", format::times(x, heun))
     };
     let energy_vs_heun: Vec<String> = exp
         .at(h_max)
@@ -709,7 +686,7 @@ pub fn markdown(exp: &Experiment, cloth: &str, files: &[String]) -> String {
             format!(
                 "{} {} ({})",
                 r.method.label(),
-                e(r.max_energy_error() / r.energy0),
+                sci2(r.max_energy_error() / r.energy0),
                 vs_heun(r.max_energy_error(), heun.max_energy_error)
             )
         })
@@ -721,7 +698,7 @@ pub fn markdown(exp: &Experiment, cloth: &str, files: &[String]) -> String {
             format!(
                 "{} {} ({})",
                 r.method.label(),
-                e(r.max_err_q()),
+                sci2(r.max_err_q()),
                 vs_heun(r.max_err_q(), heun.max_err_q)
             )
         })
@@ -731,9 +708,9 @@ pub fn markdown(exp: &Experiment, cloth: &str, files: &[String]) -> String {
         "- **\"Errors from symplectic schemes are far smaller than Heun's\"** (the paper's figure 4 compares only \
          its DIRK2, the midpoint rule and Heun). At h = {h_max}, largest |ΔH|/H₀: Heun {}; {}. Largest |Δq|: \
          Heun {}; {}.",
-        e(heun.max_rel_energy_error),
+        sci2(heun.max_rel_energy_error),
         energy_vs_heun.join("; "),
-        e(heun.max_err_q),
+        sci2(heun.max_err_q),
         q_vs_heun.join("; "),
     );
     if se.max_energy_error > heun.max_energy_error {
@@ -763,9 +740,9 @@ pub fn markdown(exp: &Experiment, cloth: &str, files: &[String]) -> String {
             let dirk = run(exp, Method::PaperDirk2, h).max_err_q();
             format!(
                 "h = {h}: midpoint {}, DIRK2 {}, Gauss–Legendre 2 {}",
-                e(mid),
-                e(dirk),
-                e(gl)
+                sci2(mid),
+                sci2(dirk),
+                sci2(gl)
             )
         })
         .collect();
@@ -783,7 +760,7 @@ pub fn markdown(exp: &Experiment, cloth: &str, files: &[String]) -> String {
         PaperDirk2::ORDER,
         GaussLegendre2::ORDER,
         order_ratios.join("; "),
-        ratio(dirk.max_err_q, mid.max_err_q),
+        format::times(dirk.max_err_q, mid.max_err_q),
     );
     let ranked = |key: &dyn Fn(&Trajectory) -> f64| {
         let mut v: Vec<(f64, Method)> = exp.at(h_min).map(|r| (key(r), r.method)).collect();
@@ -793,7 +770,7 @@ pub fn markdown(exp: &Experiment, cloth: &str, files: &[String]) -> String {
     };
     let show = |v: &[(f64, Method)]| {
         v.iter()
-            .map(|(x, m)| format!("{} ({})", m.label(), e(*x)))
+            .map(|(x, m)| format!("{} ({})", m.label(), sci2(*x)))
             .collect::<Vec<_>>()
             .join(", then ")
     };
@@ -878,7 +855,7 @@ pub fn markdown(exp: &Experiment, cloth: &str, files: &[String]) -> String {
         "- The closed form's arctg(p₀/(kq₀)) is the phase only for q₀ > 0 (for q₀ < 0 it is off by π); this \
          run's q₀ = {} gives a largest difference of {} from the exact flow.\n",
         c.q0,
-        e(f.closed_form_deviation)
+        sci2(f.closed_form_deviation)
     );
 
     // ---------------------------------------------------------------- cloth
