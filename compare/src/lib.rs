@@ -24,6 +24,10 @@
 //!   reversible adaptive) against DOP853 over 100 and 1000 Kepler orbits at
 //!   e = 0.6 and 0.9.
 //!
+//! [`paper_oscillator`] is the oscillator experiment of the paper's
+//! section 5 (six schemes against the closed form), which `symlab paper`
+//! reports on.
+//!
 //! The reports print numbers through [`format`], one set of formatters
 //! with one marker ([`format::MISSING`]) for a value that is not there.
 //!
@@ -76,6 +80,7 @@ pub mod long;
 pub mod long_variable;
 mod method;
 pub mod output;
+pub mod paper_oscillator;
 pub mod peer;
 pub mod peer_study;
 pub mod plot;

@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 
 use anyhow::Result;
 
-use super::oscillator::{ENERGY_CEILING, ENERGY_FLOOR, Experiment, h_name};
+use compare::paper_oscillator::{ENERGY_CEILING, ENERGY_FLOOR, Experiment, h_name};
 use compare::plot::{self, Plot, Series};
 
 /// The file names of the three plots at step size `h`.

@@ -1,16 +1,19 @@
 //! `symlab paper`: the experiments of Tan et al.'s section 5, reproduced.
 //!
 //! 1. The oscillator `H = ½(p² + k²q²)` (their figures 2–4): six schemes at
-//!    three step sizes against the analytic solution ([`oscillator`]), a
-//!    CSV table of errors, a CSV of every step, and plots ([`figures`]).
+//!    three step sizes against the analytic solution
+//!    ([`compare::paper_oscillator`] runs them and writes the CSV of errors
+//!    and the CSV of every step), and plots ([`figures`]).
 //! 2. The cloth comparison of their figure 5 (explicit Euler against
 //!    symplectic Euler on the undamped scene at 16.7 ms frames, with
 //!    Störmer–Verlet, implicit Euler and Gauss–Legendre 2): [`cloth`].
 //! 3. `report.md`: claims, measurements, differences ([`report`]).
+//!
+//! This module parses and checks the flags (its messages name them), calls
+//! the library, and writes and prints what it returns.
 
 pub mod cloth;
 pub mod figures;
-pub mod oscillator;
 pub mod report;
 
 use std::path::{Path, PathBuf};
@@ -18,7 +21,9 @@ use std::process::ExitCode;
 
 use anyhow::{Context, Result, bail};
 
-use oscillator::{Config, Experiment, errors_csv, h_name, oscillator_experiment, series_csv};
+use compare::paper_oscillator::{
+    Config, Experiment, Invalid, MAX_STEPS, MIN_STEPS, errors_csv, experiment, h_name, series_csv,
+};
 
 #[derive(clap::Args, Debug)]
 pub struct PaperArgs {
@@ -48,14 +53,51 @@ pub struct PaperArgs {
 }
 
 impl PaperArgs {
-    pub fn config(&self) -> Config {
-        Config {
+    /// The oscillator's set-up, checked: a set-up the experiment cannot
+    /// measure is refused naming the flags at fault.
+    pub fn config(&self) -> Result<Config> {
+        checked(Config {
             k: self.k,
             q0: self.q0,
             p0: self.p0,
             steps: self.steps,
             step_sizes: self.step_sizes.clone(),
+        })
+    }
+}
+
+/// `config`, or why it is refused, naming the flags.
+fn checked(config: Config) -> Result<Config> {
+    match config.check() {
+        Ok(()) => Ok(config),
+        Err(why) => bail!("{}", flag_message(&why)),
+    }
+}
+
+/// Why the oscillator's set-up is refused, naming the flags.
+fn flag_message(why: &Invalid) -> String {
+    match why {
+        Invalid::K(k) => format!("--k must be a finite positive number (got {k})"),
+        Invalid::StartNotFinite { q0, p0 } => {
+            format!("--q0 and --p0 must be finite (got q0 = {q0}, p0 = {p0})")
         }
+        Invalid::AtRest => "--q0 and --p0 are both 0: the oscillator would rest at its equilibrium with zero energy".into(),
+        Invalid::TooFewSteps(n) => format!(
+            "--steps must be at least {MIN_STEPS} (got {n}): the claims compare the run's halves and its first {MIN_STEPS} steps"
+        ),
+        Invalid::TooManySteps(n) => format!(
+            "--steps must be at most {MAX_STEPS} (got {n}): every step is plotted and written"
+        ),
+        Invalid::Energy { k, q0, p0, energy0 } => format!(
+            "--k {k:e}, --q0 {q0:e}, --p0 {p0:e}: the energy H(q0, p0) = {energy0:e} is not a normal positive f64, \
+             so relative energy errors |H − H0|/H0 would be meaningless; choose values whose \
+             energy lies between 1e-300 and 1e300"
+        ),
+        Invalid::NoStepSizes => "--h needs at least one step size".into(),
+        Invalid::StepSize(h) => {
+            format!("--h: every step size must be a finite positive number (got {h})")
+        }
+        Invalid::RepeatedStepSize(h) => format!("--h: step size {h} is given twice"),
     }
 }
 
@@ -88,8 +130,7 @@ pub fn write_oscillator(exp: &Experiment, dir: &Path) -> Result<()> {
 
 /// `symlab paper`.
 pub fn run(args: &PaperArgs) -> Result<ExitCode> {
-    let config = args.config();
-    config.validate()?;
+    let config = args.config()?;
     if args.cloth_frames > ::cloth::MAX_FRAMES {
         bail!(
             "--cloth-frames must be at most {} (got {}): every frame's statistics stay in memory, and each of the comparison's runs simulates them all",
@@ -101,7 +142,7 @@ pub fn run(args: &PaperArgs) -> Result<ExitCode> {
     std::fs::create_dir_all(dir)
         .with_context(|| format!("--out {}: cannot create the directory", dir.display()))?;
 
-    let exp = oscillator_experiment(&config)?;
+    let exp = experiment(&config)?;
     write_oscillator(&exp, dir)?;
     let cloth = cloth::section(dir, args.cloth_frames)?;
 
@@ -128,4 +169,48 @@ pub fn run(args: &PaperArgs) -> Result<ExitCode> {
     }
     println!("Read {} first.", dir.join("report.md").display());
     Ok(ExitCode::SUCCESS)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn bad_set_ups_are_refused_with_the_argument_named() {
+        let bad = [
+            Config {
+                k: -1.0,
+                ..Config::default()
+            },
+            Config {
+                k: f64::NAN,
+                ..Config::default()
+            },
+            Config {
+                q0: 0.0,
+                p0: 0.0,
+                ..Config::default()
+            },
+            Config {
+                steps: 3,
+                ..Config::default()
+            },
+            Config {
+                step_sizes: vec![],
+                ..Config::default()
+            },
+            Config {
+                step_sizes: vec![0.1, 0.0],
+                ..Config::default()
+            },
+            Config {
+                step_sizes: vec![0.1, 0.1],
+                ..Config::default()
+            },
+        ];
+        for c in bad {
+            let e = checked(c).unwrap_err().to_string();
+            assert!(e.starts_with("--"), "{e}");
+        }
+    }
 }
