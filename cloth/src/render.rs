@@ -288,11 +288,33 @@ pub struct Simplified {
     pub budget_per_pixel: usize,
 }
 
+/// The sentence a caption or a note shows.
+impl std::fmt::Display for Simplified {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{} of {} triangles not drawn: the picture's budget of {} pixel tests per pixel ran out",
+            self.not_drawn, self.triangles, self.budget_per_pixel
+        )
+    }
+}
+
 /// A rasterised frame: the image, and whether it had to be simplified.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Picture {
     pub image: Image,
     pub simplified: Option<Simplified>,
+}
+
+impl Picture {
+    /// `caption` with, in parentheses, what a simplified picture left out:
+    /// the line to print on it.
+    pub fn caption(&self, caption: &str) -> String {
+        match &self.simplified {
+            Some(s) => format!("{caption} ({s})"),
+            None => caption.to_string(),
+        }
+    }
 }
 
 /// The cloth at `positions` (all particles, by id) on `stage`, seen by

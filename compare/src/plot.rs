@@ -212,6 +212,35 @@ where
     Ok(())
 }
 
+/// An RGB bitmap (`width × height`, rows top to bottom, three bytes a
+/// pixel) written as a PNG file with `caption` in its top-left corner: how
+/// `symlab cloth` and `symlab paper` write the pictures that
+/// `cloth::render` draws (the cloth crate has no image library).
+pub fn captioned_png(
+    path: &Path,
+    (width, height): (u32, u32),
+    rgb: Vec<u8>,
+    caption: &str,
+) -> Result<()> {
+    register_font();
+    let err = |why: String| CompareError::Plot {
+        path: path.to_path_buf(),
+        why,
+    };
+    let root = BitMapBackend::new(path, (width, height)).into_drawing_area();
+    let bitmap = BitMapElement::with_owned_buffer((0, 0), (width, height), rgb)
+        .ok_or_else(|| err("image buffer of the wrong size".into()))?;
+    root.draw(&bitmap).map_err(|e| err(format!("{e:?}")))?;
+    root.draw(&Text::new(
+        caption.to_string(),
+        (10, 10),
+        ("sans-serif", 16).into_font().color(&BLACK),
+    ))
+    .map_err(|e| err(format!("{e:?}")))?;
+    root.present()
+        .map_err(|e| err(format!("cannot write the PNG: {e:?}")))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -1,13 +1,12 @@
-//! PNG files of cloth frames: [`cloth::render`] draws the picture, this
-//! writes it with a caption through plotters' bitmap backend (plotters is
-//! the binary's dependency, not the cloth crate's).
+//! PNG files of cloth frames: [`cloth::render`] draws the picture,
+//! [`compare::plot::captioned_png`] writes it with its caption (the cloth
+//! crate has no image library).
 
 use std::path::Path;
 
-use anyhow::{Context, Result, anyhow};
+use anyhow::{Context, Result};
 use cloth::Vec3;
-use cloth::render::{Image, Simplified, rasterise};
-use plotters::prelude::*;
+use cloth::render::rasterise;
 
 pub use cloth::render::{Camera, Stage};
 
@@ -33,41 +32,12 @@ pub fn render_png_noted(
     caption: &str,
 ) -> Result<Option<String>> {
     let picture = rasterise(stage, camera, positions);
-    let note = picture.simplified.as_ref().map(simplified_note);
-    let caption = match &note {
-        Some(n) => format!("{caption} ({n})"),
-        None => caption.to_string(),
-    };
-    write_png(path, picture.image, &caption)?;
+    let caption = picture.caption(caption);
+    let note = picture.simplified.as_ref().map(ToString::to_string);
+    let image = picture.image;
+    compare::plot::captioned_png(path, (image.width, image.height), image.rgb, &caption)
+        .with_context(|| format!("{}: cannot write the PNG", path.display()))?;
     Ok(note)
-}
-
-/// What a simplified picture left out, in words.
-pub fn simplified_note(s: &Simplified) -> String {
-    format!(
-        "{} of {} triangles not drawn: the picture's budget of {} pixel tests per pixel ran out",
-        s.not_drawn, s.triangles, s.budget_per_pixel
-    )
-}
-
-/// `image` as a PNG file, `caption` in its top-left corner.
-fn write_png(path: &Path, image: Image, caption: &str) -> Result<()> {
-    compare::plot::register_font();
-    let size = (image.width, image.height);
-    let root = BitMapBackend::new(path, size).into_drawing_area();
-    let bitmap = BitMapElement::with_owned_buffer((0, 0), size, image.rgb)
-        .ok_or_else(|| anyhow!("{}: image buffer of the wrong size", path.display()))?;
-    root.draw(&bitmap)
-        .map_err(|e| anyhow!("{}: {e:?}", path.display()))?;
-    root.draw(&Text::new(
-        caption.to_string(),
-        (10, 10),
-        ("sans-serif", 16).into_font().color(&BLACK),
-    ))
-    .map_err(|e| anyhow!("{}: {e:?}", path.display()))?;
-    root.present()
-        .map_err(|e| anyhow!("{e:?}"))
-        .with_context(|| format!("{}: cannot write the PNG", path.display()))
 }
 
 #[cfg(test)]
