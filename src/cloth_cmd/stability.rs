@@ -1,22 +1,12 @@
 //! `symlab cloth SCENE --stability`: the largest stable step of each
-//! method on a scene, found by bisection on `h`, beside the linear
-//! estimates `2/ω_max` and `2/ω_bound`.
+//! method on a scene ([`cloth::study::stability`] searches), beside the
+//! linear estimates `2/ω_max` and `2/ω_bound`, as a table on the terminal
+//! and `stability.csv`.
 //!
-//! A trial runs the scene for a fixed simulated time at one step size, with
-//! frames at about 60 Hz (whole steps per frame); it is **stable** when it
-//! finishes — no NaN or infinity, every Newton solve converged — and the
-//! relative energy error `|H − H₀|/E_ref` stays within the tolerance at
-//! every frame (a trial is cut short as soon as it does not). The search
-//! starts at `2/ω_max`, doubles or halves until it brackets the threshold,
-//! then bisects (in log h) until the bracket is within 1 %; it gives up
-//! below a floor (too many steps for a trial) or above a cap (a few steps
-//! over the whole run). Stability need not be monotone in `h` (resonances):
-//! this finds a threshold, the largest one only if there is one. Methods
-//! run in parallel (rayon), one per thread; the time to simulate the
-//! duration at the step found is then measured again alone, one method
-//! after the other.
+//! Methods are searched in parallel (rayon), one per thread; the time to
+//! simulate the duration at the step found is then measured again alone,
+//! one method after the other.
 
-use compare::output::csv_field;
 use std::fmt::Write as _;
 use std::fs;
 use std::path::Path;
@@ -24,261 +14,51 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 use anyhow::{Context, Result, anyhow};
-use cloth::implicit as cloth_implicit;
-use cloth::{RunError, RunOptions, STEPPABLE, Scene, Simulation};
+use cloth::study::energy::reference_energy;
+use cloth::study::stability::{
+    Found, Outcome, Scales, StabilitySettings, Status, search, seconds_per_simulated_second,
+};
+use cloth::{Method, MinimiseSettings, Scene, Simulation};
+use compare::format::{self, MISSING};
+use compare::output::csv_field;
 use rayon::prelude::*;
 
-use super::energy;
+pub use cloth::study::stability::default_methods;
 
-/// The default methods: the explicit symplectic ones, explicit Euler, RK4,
-/// and the implicit Gauss–Legendre 2, midpoint and implicit Euler.
-pub fn default_methods() -> Vec<String> {
-    let mut out: Vec<String> = STEPPABLE
-        .iter()
-        .filter(|id| {
-            integrator_core::library::info(id)
-                .is_some_and(|i| i.symplectic || i.symplectic_separable)
-        })
-        .map(|s| s.to_string())
-        .collect();
-    out.extend(["euler", "rk4", "gauss2", "midpoint", "implicit-euler"].map(String::from));
-    out
-}
-
-/// Largest number of steps a trial may take (explicit, implicit).
-const MAX_STEPS: [f64; 2] = [400_000.0, 20_000.0];
-/// The search stops expanding at `duration / MIN_STEPS`.
-const MIN_STEPS: f64 = 8.0;
-/// Bisect until `hi/lo` is at most this.
-const RESOLUTION: f64 = 1.01;
-
-/// How one trial ended.
-#[derive(Clone, Debug)]
-enum Outcome {
-    Stable { max_error: f64 },
-    Energy { error: f64, time: f64 },
-    Blowup { step: usize, time: f64 },
-    Newton { step: usize, time: f64 },
-    Other(String),
-}
-
-impl Outcome {
-    fn stable(&self) -> bool {
-        matches!(self, Outcome::Stable { .. })
-    }
-    fn describe(&self) -> String {
-        match self {
-            Outcome::Stable { max_error } => format!("stable (error {max_error:.2e})"),
-            Outcome::Energy { error, time } if error.is_finite() => {
-                format!("energy error {error:.2e} at t = {time:.3} s")
-            }
-            Outcome::Energy { time, .. } => {
-                format!("energy error not finite (overflow) at t = {time:.3} s")
-            }
-            Outcome::Blowup { step, time } => format!("blew up at step {step} (t = {time:.3} s)"),
-            Outcome::Newton { step, time } => {
-                format!("Newton failed at step {step} (t = {time:.3} s)")
-            }
-            Outcome::Other(m) => m.clone(),
+/// How a trial ended, in words.
+fn describe(outcome: &Outcome) -> String {
+    match outcome {
+        Outcome::Stable { max_error } => format!("stable (error {max_error:.2e})"),
+        Outcome::Energy { error, time } if error.is_finite() => {
+            format!("energy error {error:.2e} at t = {time:.3} s")
         }
-    }
-}
-
-/// Run options with step exactly `h`, about 60 frames per simulated second
-/// (a frame no longer than the duration), covering at least `duration`.
-/// The steps of a frame are bounded by the steps of the whole trial, so a
-/// tiny duration cannot ask for 1/(60·h) steps (a hang at `--duration
-/// 1e-300`).
-fn options(h: f64, duration: f64) -> RunOptions {
-    let per_frame = (1.0 / 60.0 / h).round().min((duration / h).ceil());
-    let substeps = (per_frame.min(MAX_STEPS[0]) as usize).max(1);
-    let frame = substeps as f64 * h;
-    RunOptions {
-        frames: ((duration / frame).ceil() as usize).max(1),
-        substeps,
-        frame_rate: 1.0 / frame,
-    }
-}
-
-#[derive(Debug)]
-struct EnergyExceeded;
-impl std::fmt::Display for EnergyExceeded {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str("energy error above the tolerance")
-    }
-}
-impl std::error::Error for EnergyExceeded {}
-
-/// One trial: the outcome and the stepping time.
-fn trial(
-    scene: &Scene,
-    method: &str,
-    h: f64,
-    duration: f64,
-    (tol, e_ref): (f64, f64),
-    settings: cloth::minimise::Settings,
-) -> (Outcome, f64) {
-    let mut sim = match Simulation::new(scene) {
-        Ok(s) => s,
-        Err(e) => return (Outcome::Other(e.to_string()), 0.0),
-    };
-    let opts = options(h, duration);
-    let mut h0 = None;
-    let mut worst: f64 = 0.0;
-    let mut over = (0.0, 0.0);
-    let result = cloth::minimise::run_any(&mut sim, method, &opts, settings, |frame| {
-        let e = frame.stats.energy.total();
-        let e0 = *h0.get_or_insert(e);
-        let rel = ((e - e0) / e_ref).abs();
-        if rel.is_nan() || rel > tol {
-            over = (rel, frame.stats.time);
-            return Err(Box::new(EnergyExceeded));
+        Outcome::Energy { time, .. } => {
+            format!("energy error not finite (overflow) at t = {time:.3} s")
         }
-        worst = worst.max(rel);
-        Ok(())
-    });
-    match result {
-        Ok((report, _)) => (
-            Outcome::Stable { max_error: worst },
-            report.stepping_seconds,
-        ),
-        Err(RunError::Callback { .. }) => (
-            Outcome::Energy {
-                error: over.0,
-                time: over.1,
-            },
-            0.0,
-        ),
-        Err(RunError::Diverged { step, time, .. }) => (Outcome::Blowup { step, time }, 0.0),
-        Err(RunError::Solve { step, time, .. } | RunError::Minimise { step, time, .. }) => {
-            (Outcome::Newton { step, time }, 0.0)
+        Outcome::Blowup { step, time } => format!("blew up at step {step} (t = {time:.3} s)"),
+        Outcome::Newton { step, time } => {
+            format!("Newton failed at step {step} (t = {time:.3} s)")
         }
-        Err(e) => (Outcome::Other(e.to_string()), 0.0),
+        Outcome::Other(m) => m.clone(),
     }
 }
 
-/// What the search found for one method.
-#[derive(Clone, Debug)]
-struct Found {
-    method: String,
-    /// The largest step found stable, if any.
-    h: Option<f64>,
-    /// Why the next larger step failed (or why none was found).
-    limit: String,
-    /// `"bracketed"`, `"at the cap"` or `"below the floor"`.
-    status: &'static str,
-    max_error: f64,
-    trials: usize,
-    /// Stepping time per simulated second at `h`, measured alone (s).
-    seconds: Option<f64>,
+/// Why the next larger step failed (or why none was found).
+fn limit(f: &Found) -> String {
+    let beyond = f.beyond.as_ref().map_or(String::new(), describe);
+    match f.status {
+        Status::Bracketed => beyond,
+        Status::AtCap => format!("stable up to the cap {:.3e} s", f.cap),
+        Status::BelowFloor => format!("unstable down to the floor {:.3e} s: {beyond}", f.floor),
+    }
 }
 
-fn search(
-    scene: &Scene,
-    method: &str,
-    h_lin: f64,
-    duration: f64,
-    (tol, e_ref): (f64, f64),
-    settings: cloth::minimise::Settings,
-) -> Found {
-    let implicit = cloth_implicit::is_implicit(method) || cloth::minimise::is_minimisation(method);
-    let floor = duration / MAX_STEPS[implicit as usize];
-    let cap = duration / MIN_STEPS;
-    let mut trials = 0;
-    let mut test = |h: f64| {
-        trials += 1;
-        trial(scene, method, h, duration, (tol, e_ref), settings).0
-    };
-    let start = h_lin.clamp(floor, cap);
-    let first = test(start);
-    let (mut lo, mut hi, mut lo_out, mut hi_out);
-    if first.stable() {
-        lo = start;
-        lo_out = first;
-        loop {
-            let h = (lo * 2.0).min(cap);
-            if h <= lo {
-                return finish(
-                    method,
-                    Some(lo),
-                    "at the cap",
-                    format!("stable up to the cap {cap:.3e} s"),
-                    &lo_out,
-                    trials,
-                );
-            }
-            let o = test(h);
-            if o.stable() {
-                lo = h;
-                lo_out = o;
-            } else {
-                hi = h;
-                hi_out = o;
-                break;
-            }
-        }
-    } else {
-        hi = start;
-        hi_out = first;
-        loop {
-            let h = (hi / 2.0).max(floor);
-            if h >= hi {
-                let limit = format!(
-                    "unstable down to the floor {floor:.3e} s: {}",
-                    hi_out.describe()
-                );
-                return finish(method, None, "below the floor", limit, &hi_out, trials);
-            }
-            let o = test(h);
-            if o.stable() {
-                lo = h;
-                lo_out = o;
-                break;
-            }
-            hi = h;
-            hi_out = o;
-        }
-    }
-    while hi / lo > RESOLUTION {
-        let h = (lo * hi).sqrt();
-        let o = test(h);
-        if o.stable() {
-            lo = h;
-            lo_out = o;
-        } else {
-            hi = h;
-            hi_out = o;
-        }
-    }
-    finish(
-        method,
-        Some(lo),
-        "bracketed",
-        hi_out.describe(),
-        &lo_out,
-        trials,
-    )
-}
-
-fn finish(
-    method: &str,
-    h: Option<f64>,
-    status: &'static str,
-    limit: String,
-    at: &Outcome,
-    trials: usize,
-) -> Found {
-    Found {
-        method: method.to_string(),
-        h,
-        limit,
-        status,
-        max_error: match at {
-            Outcome::Stable { max_error } => *max_error,
-            _ => f64::NAN,
-        },
-        trials,
-        seconds: None,
+/// The status as `stability.csv` writes it.
+fn status(s: Status) -> &'static str {
+    match s {
+        Status::Bracketed => "bracketed",
+        Status::AtCap => "at the cap",
+        Status::BelowFloor => "below the floor",
     }
 }
 
@@ -289,33 +69,44 @@ pub fn run(
     tol: f64,
     duration: f64,
     dir: &Path,
-    settings: cloth::minimise::Settings,
+    settings: MinimiseSettings,
 ) -> Result<ExitCode> {
     let sim = Simulation::new(scene).map_err(|e| match e {
         cloth::SceneError::Field { field, message, .. } => anyhow!("{file}: {field}: {message}"),
         other => anyhow!("{other}"),
     })?;
-    let e_ref =
-        energy::reference_energy_checked(scene, &sim).map_err(|e| anyhow!("{file}: {e}"))?;
+    let e_ref = reference_energy(scene, &sim).map_err(|e| anyhow!("{file}: {e}"))?;
     let stab = sim.model.stability();
     let h_lin = stab.h_max;
     let h_bound = 2.0 / stab.omega_bound;
+    let study = StabilitySettings {
+        duration,
+        tolerance: tol,
+        minimise: settings,
+        ..StabilitySettings::default()
+    };
+    study.check().map_err(|e| anyhow!("--stability: {e}"))?;
+    let methods = methods
+        .iter()
+        .map(|m| Method::parse(m).map_err(|e| anyhow!("--methods {m}: {e}")))
+        .collect::<Result<Vec<_>>>()?;
+    let scales = Scales {
+        e_ref,
+        h_linear: h_lin,
+    };
     let clock = Instant::now();
-    let mut found: Vec<Found> = methods
+    let found: Vec<Found> = methods
         .par_iter()
-        .map(|m| search(scene, m, h_lin, duration, (tol, e_ref), settings))
+        .map(|m| search(scene, m, &scales, &study))
         .collect();
     let search_seconds = clock.elapsed().as_secs_f64();
     // Time each method alone at its step.
-    for f in &mut found {
-        if let Some(h) = f.h {
-            let (o, secs) = trial(scene, &f.method, h, duration, (tol, e_ref), settings);
-            if o.stable() {
-                let opts = options(h, duration);
-                f.seconds = Some(secs / (opts.frames as f64 * opts.substeps as f64 * h));
-            }
-        }
-    }
+    let seconds: Vec<Option<f64>> = found
+        .iter()
+        .map(|f| {
+            f.h.and_then(|h| seconds_per_simulated_second(scene, &f.method, h, e_ref, &study))
+        })
+        .collect();
     let (nx, ny) = sim.model.grid();
     let mut out = String::new();
     let _ = writeln!(
@@ -352,68 +143,52 @@ pub fn run(
     let mut csv = String::from(
         "method,explicit,symplectic,order,h_stable,h_over_linear,substeps_per_60hz_frame,status,max_relative_error,trials,wall_seconds_per_simulated_second,h_linear,h_bound,tolerance,duration,name,limit\n",
     );
-    for f in &found {
-        let info = integrator_core::library::info(&f.method);
-        let (explicit, symp, order, name) = match (info, cloth::minimise::energy_scheme(&f.method))
-        {
-            (Some(i), _) => (
-                i.explicit,
-                i.symplectic || i.symplectic_separable,
-                i.order,
-                i.name,
-            ),
-            (None, Some((name, order))) => (false, false, order, name),
-            (None, None) => (true, false, 0, ""),
-        };
+    for (f, secs) in found.iter().zip(&seconds) {
+        let m = &f.method;
         let kind = format!(
             "{}{}",
-            if explicit { "E" } else { "I" },
-            if symp { "S" } else { "" }
+            if m.explicit() { "E" } else { "I" },
+            if m.symplectic() { "S" } else { "" }
         );
         let h_text = match (f.h, f.status) {
-            (Some(h), "at the cap") => format!("≥{h:.3e}"),
+            (Some(h), Status::AtCap) => format!("≥{h:.3e}"),
             (Some(h), _) => format!("{h:.3e}"),
-            (None, _) => "—".to_string(),
+            (None, _) => MISSING.to_string(),
         };
-        let ratio =
-            f.h.filter(|_| h_lin.is_finite())
-                .map_or(String::from("—"), |h| format!("{:.3}", h / h_lin));
-        let substeps = f.h.map_or(String::from("—"), |h| {
-            format!("{}", (1.0 / 60.0 / h).ceil() as usize)
-        });
-        let err = if f.max_error.is_finite() {
-            format!("{:.2e}", f.max_error)
-        } else {
-            "—".into()
-        };
-        let secs = f.seconds.map_or(String::from("—"), |s| format!("{s:.4}"));
+        let over_linear = f.h.filter(|_| h_lin.is_finite()).map(|h| h / h_lin);
+        let substeps = f.h.map(|h| (1.0 / 60.0 / h).ceil() as usize);
+        let limit = limit(f);
         let _ = writeln!(
             out,
             "{:<22} {:>5} {:>4} {:>11} {:>8} {:>8} {:>10} {:>12}  {}",
-            f.method, kind, order, h_text, ratio, substeps, err, secs, f.limit
+            m.id(),
+            kind,
+            m.order(),
+            h_text,
+            format::opt(over_linear, |r| format::fixed(r, 3)),
+            substeps.map_or(MISSING.to_string(), |n| n.to_string()),
+            format::sci(f.max_error, 2),
+            format::opt(*secs, |s| format::fixed(s, 4)),
+            limit
         );
         let _ = writeln!(
             csv,
             "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
-            csv_field(&f.method),
-            explicit,
-            symp,
-            order,
+            csv_field(m.id()),
+            m.explicit(),
+            m.symplectic(),
+            m.order(),
             f.h.map_or(String::new(), |h| format!("{h:e}")),
-            f.h.filter(|_| h_lin.is_finite())
-                .map_or(String::new(), |h| format!("{}", h / h_lin)),
-            f.h.map_or(String::new(), |h| format!(
-                "{}",
-                (1.0 / 60.0 / h).ceil() as usize
-            )),
-            f.status,
+            over_linear.map_or(String::new(), |r| format!("{r}")),
+            substeps.map_or(String::new(), |n| format!("{n}")),
+            status(f.status),
             if f.max_error.is_finite() {
                 format!("{:e}", f.max_error)
             } else {
                 String::new()
             },
             f.trials,
-            f.seconds.map_or(String::new(), |s| format!("{s}")),
+            secs.map_or(String::new(), |s| format!("{s}")),
             // Empty, not "inf", where there is no linear estimate.
             Some(h_lin)
                 .filter(|h| h.is_finite())
@@ -423,8 +198,8 @@ pub fn run(
                 .map_or(String::new(), |h| format!("{h:e}")),
             tol,
             duration,
-            csv_field(name),
-            csv_field(&f.limit),
+            csv_field(m.name()),
+            csv_field(&limit),
         );
     }
     let _ = writeln!(out);
