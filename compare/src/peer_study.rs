@@ -288,16 +288,20 @@ impl PeerStudy {
         output::write_csv_with(&dir.join("peer.csv"), &all, &["t_end"], |i| {
             vec![format!("{:e}", t_ends[i])]
         })?;
+        write(&dir.join("peer.md"), self.markdown())
+    }
+
+    /// `peer.md`.
+    pub fn markdown(&self) -> String {
         let s = &self.settings;
-        let md = markdown(
+        markdown(
             &self.legs,
             &s.methods,
             &s.targets,
             s.energy_target,
             &s.tolerances,
             s.repeats,
-        );
-        write(&dir.join("peer.md"), md)
+        )
     }
 
     /// The verdict: for each run length and target, our fastest method
@@ -365,7 +369,27 @@ fn verdict_table(results: &[LegRows], targets: &[f64]) -> String {
     s
 }
 
-/// `peer.md`.
+/// Each value once, in the order of first appearance.
+fn distinct(v: Vec<String>) -> Vec<String> {
+    let mut out: Vec<String> = Vec::new();
+    for x in v {
+        if !out.contains(&x) {
+            out.push(x);
+        }
+    }
+    out
+}
+
+/// `a, b and c`.
+fn and(v: &[String]) -> String {
+    match v.split_last() {
+        Some((last, rest)) if !rest.is_empty() => format!("{} and {last}", rest.join(", ")),
+        _ => v.join(""),
+    }
+}
+
+/// `peer.md`: the set-up, the verdict, then one section per eccentricity
+/// and run length.
 fn markdown(
     results: &[LegRows],
     ids: &[String],
@@ -375,21 +399,19 @@ fn markdown(
     repeats: usize,
 ) -> String {
     let mut s = String::new();
-    let distinct = |v: Vec<String>| {
-        let mut out: Vec<String> = Vec::new();
-        for x in v {
-            if !out.contains(&x) {
-                out.push(x);
-            }
-        }
-        out
-    };
+    set_up(&mut s, results, ids, tols, repeats);
+    verdict_section(&mut s, results, targets);
+    for l in results {
+        leg_section(&mut s, l, targets, energy_target);
+    }
+    s
+}
+
+/// The title and the set-up: problem, methods, step counts, tolerances,
+/// timing and round-off.
+fn set_up(s: &mut String, results: &[LegRows], ids: &[String], tols: &[f64], repeats: usize) {
     let lengths = distinct(results.iter().map(|l| orbits(&l.leg)).collect());
     let es = distinct(results.iter().map(|l| l.e.to_string()).collect());
-    let and = |v: &[String]| match v.split_last() {
-        Some((last, rest)) if !rest.is_empty() => format!("{} and {last}", rest.join(", ")),
-        _ => v.join(""),
-    };
     let _ = writeln!(
         s,
         "# Kepler e = {}: our strongest schemes against DOP853 over {} orbits\n",
@@ -449,7 +471,10 @@ fn markdown(
         s,
         "- Data: peer.csv (the columns of runs.csv, then t_end).\n"
     );
+}
 
+/// "Verdict": the table of duels, then one paragraph per run length.
+fn verdict_section(s: &mut String, results: &[LegRows], targets: &[f64]) {
     let _ = writeln!(s, "## Verdict\n");
     let _ = writeln!(
         s,
@@ -470,82 +495,192 @@ fn markdown(
         }
         let _ = writeln!(s);
     }
+}
 
-    for l in results {
+/// One eccentricity and run length: the time of every method to each
+/// target, DOP853's tightest run, and the runs that failed.
+fn leg_section(s: &mut String, l: &LegRows, targets: &[f64], energy_target: f64) {
+    let _ = writeln!(
+        s,
+        "## {} (T = {:.2}): time to each target\n",
+        orbits_words(l),
+        l.t_end
+    );
+    time_table(s, l, targets, energy_target);
+    let _ = writeln!(s);
+    peer_tightest(s, l);
+    failed_runs(s, l);
+}
+
+/// The smallest error of `method`'s runs, and where on its sweep.
+fn smallest_error(rows: &[Row], method: &str) -> String {
+    output::ladder(rows, method)
+        .into_iter()
+        .min_by(|a, b| a.error.total_cmp(&b.error))
+        .map_or("no successful run".into(), |r| {
+            let at = if r.method == PEER {
+                format!("rtol {:.0e}", r.tol)
+            } else {
+                format!("{} steps", format::count(r.steps as f64))
+            };
+            format!("{} at {at}", format::err(r.error))
+        })
+}
+
+/// One row per method: its time to each target, its smallest error and
+/// its energy error at the energy target.
+fn time_table(s: &mut String, l: &LegRows, targets: &[f64], energy_target: f64) {
+    let _ = write!(s, "| method | symplectic |");
+    for t in targets {
+        let _ = write!(s, " {t:.0e} (ms) |");
+    }
+    let _ = writeln!(
+        s,
+        " smallest error | max energy error at {energy_target:.0e} |"
+    );
+    let _ = write!(s, "|---|---|");
+    for _ in targets {
+        let _ = write!(s, "---:|");
+    }
+    let _ = writeln!(s, "---|---:|");
+    let reaches: Vec<Vec<Reach>> = targets.iter().map(|&t| reach(&l.rows, t)).collect();
+    for st in output::stats(&l.rows, targets[0]) {
+        let m = st.method.as_str();
+        let _ = write!(s, "| {m} | {} |", if st.symplectic { "yes" } else { "no" });
+        for r in &reaches {
+            let _ = write!(s, " {} |", time_cell(r.iter().find(|x| x.method == m)));
+        }
+        let de = reach(&l.rows, energy_target)
+            .into_iter()
+            .find(|x| x.method == m);
         let _ = writeln!(
             s,
-            "## {} (T = {:.2}): time to each target\n",
-            orbits_words(l),
-            l.t_end
+            " {} | {} |",
+            smallest_error(&l.rows, m),
+            energy_cell(de.as_ref())
         );
-        let _ = write!(s, "| method | symplectic |");
-        for t in targets {
-            let _ = write!(s, " {t:.0e} (ms) |");
-        }
+    }
+}
+
+/// The time of DOP853's run at its tightest tolerance that succeeded.
+fn peer_tightest(s: &mut String, l: &LegRows) {
+    let timings: Vec<(f64, f64)> = l
+        .rows
+        .iter()
+        .filter(|r| r.method == PEER && r.ok())
+        .map(|r| (r.tol, r.time_s))
+        .collect();
+    if let Some(&(tol, t)) = timings.last() {
         let _ = writeln!(
             s,
-            " smallest error | max energy error at {energy_target:.0e} |"
+            "DOP853 at its tightest tolerance ({tol:.0e}): {} ms.\n",
+            format::ms(t)
         );
-        let _ = write!(s, "|---|---|");
-        for _ in targets {
-            let _ = write!(s, "---:|");
-        }
-        let _ = writeln!(s, "---|---:|");
-        let reaches: Vec<Vec<Reach>> = targets.iter().map(|&t| reach(&l.rows, t)).collect();
-        for st in output::stats(&l.rows, targets[0]) {
-            let m = st.method.as_str();
-            let _ = write!(s, "| {m} | {} |", if st.symplectic { "yes" } else { "no" });
-            for r in &reaches {
-                let _ = write!(s, " {} |", time_cell(r.iter().find(|x| x.method == m)));
-            }
-            let smallest = output::ladder(&l.rows, m)
-                .into_iter()
-                .min_by(|a, b| a.error.total_cmp(&b.error))
-                .map_or("no successful run".into(), |r| {
-                    let at = if r.method == PEER {
-                        format!("rtol {:.0e}", r.tol)
-                    } else {
-                        format!("{} steps", format::count(r.steps as f64))
-                    };
-                    format!("{} at {at}", format::err(r.error))
-                });
-            let de = reach(&l.rows, energy_target)
-                .into_iter()
-                .find(|x| x.method == m);
-            let _ = writeln!(s, " {smallest} | {} |", energy_cell(de.as_ref()));
-        }
-        let _ = writeln!(s);
-        let timings: Vec<(f64, f64)> = l
-            .rows
-            .iter()
-            .filter(|r| r.method == PEER && r.ok())
-            .map(|r| (r.tol, r.time_s))
-            .collect();
-        if let Some(&(tol, t)) = timings.last() {
-            let _ = writeln!(
-                s,
-                "DOP853 at its tightest tolerance ({tol:.0e}): {} ms.\n",
-                format::ms(t)
-            );
-        }
-        let failed: Vec<&Row> = l.rows.iter().filter(|r| !r.ok()).collect();
-        if !failed.is_empty() {
-            let _ = writeln!(s, "Failed runs:\n");
-            for r in failed {
-                let _ = writeln!(
-                    s,
-                    "- {} at {}: {}",
-                    r.method,
-                    if r.method == PEER {
-                        format!("rtol = atol = {:.0e}", r.tol)
-                    } else {
-                        format!("{} steps", r.steps)
-                    },
-                    r.status
-                );
-            }
-            let _ = writeln!(s);
+    }
+}
+
+/// The runs that failed, with where and why.
+fn failed_runs(s: &mut String, l: &LegRows) {
+    let failed: Vec<&Row> = l.rows.iter().filter(|r| !r.ok()).collect();
+    if failed.is_empty() {
+        return;
+    }
+    let _ = writeln!(s, "Failed runs:\n");
+    for r in failed {
+        let _ = writeln!(
+            s,
+            "- {} at {}: {}",
+            r.method,
+            if r.method == PEER {
+                format!("rtol = atol = {:.0e}", r.tol)
+            } else {
+                format!("{} steps", r.steps)
+            },
+            r.status
+        );
+    }
+    let _ = writeln!(s);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::problem::Family;
+
+    fn row(method: &str, steps: u64, error: f64, time_s: f64, status: &str) -> Row {
+        Row {
+            problem: "kepler".into(),
+            method: method.into(),
+            family: Family::Splitting,
+            order: 8,
+            symplectic: method != PEER,
+            h: 1.0 / steps as f64,
+            tol: if method == PEER { 1e-9 } else { f64::NAN },
+            steps,
+            error,
+            energy_error: error / 10.0,
+            time_s,
+            evals: steps,
+            newton_iterations: 0,
+            fixed_point_iterations: 0,
+            factorizations: 0,
+            status: status.into(),
+            interpreted: false,
         }
     }
-    s
+
+    /// A study of two run lengths, with a failed run, a method that never
+    /// reaches a target and the peer: the report has every section.
+    fn study() -> PeerStudy {
+        let mut settings = PeerStudySettings::quick();
+        settings.methods = vec!["kahan-li8".into(), "logh:kahan-li8".into(), PEER.into()];
+        let rows = |scale: f64| {
+            vec![
+                row("kahan-li8", 20, 1e-4 * scale, 1e-4, "ok"),
+                row("kahan-li8", 200, 1e-9 * scale, 1e-3, "ok"),
+                row("kahan-li8", 2000, 1e-13 * scale, 1e-2, "ok"),
+                row("logh:kahan-li8", 20, 1e-3, 2e-4, "ok"),
+                row(
+                    "logh:kahan-li8",
+                    200,
+                    f64::NAN,
+                    f64::NAN,
+                    "diverged at step 17",
+                ),
+                row(PEER, 30, 1e-5 * scale, 3e-4, "ok"),
+                row(PEER, 300, 1e-7 * scale, 3e-3, "ok"),
+            ]
+        };
+        let legs = QUICK_LEGS
+            .iter()
+            .zip([1.0, 10.0])
+            .map(|(&leg, scale)| LegRows {
+                e: 0.6,
+                leg,
+                t_end: 2.0 * PI * leg.orbits,
+                rows: rows(scale),
+            })
+            .collect();
+        PeerStudy { settings, legs }
+    }
+
+    #[test]
+    fn the_report_has_every_section() {
+        let s = study();
+        let md = s.markdown();
+        if let Ok(path) = std::env::var("PEER_MD_DUMP") {
+            std::fs::write(path, &md).unwrap();
+        }
+        for section in [
+            "# Kepler e = 0.6: our strongest schemes against DOP853 over 1 and 10 orbits",
+            "## Verdict",
+            "## e = 0.6, 1 orbit (T = 6.28): time to each target",
+            "## e = 0.6, 10 orbits (T = 62.83): time to each target",
+            "Failed runs:",
+            "- logh:kahan-li8 at 200 steps: diverged at step 17",
+            "DOP853 at its tightest tolerance (1e-9)",
+        ] {
+            assert!(md.contains(section), "{section}\n{md}");
+        }
+    }
 }
