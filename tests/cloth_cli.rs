@@ -128,8 +128,8 @@ fn bad_scenes_and_arguments_exit_2_naming_the_file_and_field() {
             vec!["--method", "verlet", "stormer-verlet", "gauss2"],
         ),
         (
-            vec!["--method", "lobatto3a-2"],
-            vec!["--method", "lobatto3a-2", "does not step cloth"],
+            vec!["--method", "lobatto3a-22"],
+            vec!["--method", "lobatto3a-22", "unknown method", "lobatto3a-2"],
         ),
         (vec!["--dt", "-1"], vec!["--dt", "positive"]),
         (
@@ -767,5 +767,96 @@ fn the_energy_growth_is_fitted_and_reported_not_hidden() {
             && stdout.contains("bounded"),
         "{stdout}"
     );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A 4 × 4 sheet pinned along its top edge under gravity, no colliders (so
+/// that the energy schemes take it), at 1200 steps per second: small enough
+/// for every solver, well within every explicit scheme's stability limit.
+const SMALL_SHEET: &str = r#"
+name = "small"
+gravity = [0.0, -9.81, 0.0]
+
+[cloth]
+width = 0.3
+height = 0.3
+nx = 4
+ny = 4
+plane = "vertical"
+
+[material]
+density = 0.1
+stretch = 10.0
+shear = 2.0
+
+[pins]
+edges = ["top"]
+
+[simulation]
+substeps = 20
+frames = 2
+method = "leapfrog"
+"#;
+
+/// Every method id that `symlab list` lists, and the energy schemes, runs a
+/// few frames of a small scene through the one loop, and the summary names
+/// its kind (explicit or implicit, and for an implicit one how it is
+/// solved) and its order, the facts taken from the library independently
+/// of the cloth crate.
+#[test]
+fn every_listed_method_and_energy_scheme_runs_and_the_summary_names_kind_and_order() {
+    let dir = temp_dir("every-method");
+    let scene = dir.join("small.toml");
+    std::fs::write(&scene, SMALL_SHEET).unwrap();
+    let (code, list, stderr) = symlab(&["list", "--json"]);
+    assert_eq!(code, 0, "{stderr}");
+    let rows: Vec<serde_json::Value> = serde_json::from_str(&list).unwrap();
+    let mut ids: Vec<String> = rows
+        .iter()
+        .map(|r| r["id"].as_str().unwrap().to_string())
+        .collect();
+    assert!(ids.len() >= 50, "{} ids", ids.len());
+    ids.extend(["avf", "discrete-gradient"].map(String::from));
+    let out = dir.join("out");
+    let mut failures = Vec::new();
+    for id in &ids {
+        let (kind, order, how) = match integrator_core::library::info(id) {
+            Some(i) if i.explicit => ("explicit", i.order, None),
+            Some(i) if i.midpoint_weights.is_some() => {
+                ("implicit", i.order, Some("(energy minimisation)"))
+            }
+            Some(i) => ("implicit", i.order, Some("(sparse stage solver)")),
+            None if id == "avf" => ("implicit", 2, Some("(energy minimisation)")),
+            None => ("implicit", 2, Some("(discrete gradient (Newton))")),
+        };
+        let (code, stdout, stderr) = symlab(&[
+            "cloth",
+            scene.to_str().unwrap(),
+            "--method",
+            id,
+            "--out",
+            out.to_str().unwrap(),
+            "--render",
+            "none",
+            "--obj-every",
+            "0",
+        ]);
+        let line = stdout
+            .lines()
+            .find(|l| l.trim_start().starts_with("method"))
+            .unwrap_or("")
+            .to_string();
+        let facts = format!("— {kind}, order {order}, ");
+        if code != 0 || !line.contains(&facts) || how.is_some_and(|h| !line.ends_with(h)) {
+            failures.push(format!("{id}: exit {code}, method line {line:?}, {stderr}"));
+        }
+        if code == 0 {
+            assert!(
+                stdout.contains("steps        40 over 2 frames"),
+                "{id}: {stdout}"
+            );
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -1,16 +1,18 @@
 //! Measurement probe: `cargo run --release -p cloth --example minimise_probe -- SCENE METHOD SOLVER FRAMES [SUBSTEPS] [TOL]`
 //! prints per-frame energy drift, max strain, and the solver counters.
-use cloth::minimise::{self, Settings, Solver};
-use cloth::{RunOptions, Scene, Simulation};
+use cloth::step::minimise::Stats;
+use cloth::{
+    Method, MinimiseSettings, RunOptions, RunSettings, Scene, Simulation, Solver, SolverStats,
+};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let a: Vec<String> = std::env::args().collect();
     let scene = Scene::load(&a[1])?;
-    let method = &a[2];
+    let method = Method::parse(&a[2])?;
     let solver = Solver::parse(&a[3]).ok_or("solver")?;
     let frames: usize = a[4].parse()?;
     let substeps: usize = a.get(5).map(|s| s.parse()).transpose()?.unwrap_or(1);
-    let mut settings = Settings::new(solver);
+    let mut settings = MinimiseSettings::new(solver);
     if let Some(t) = a.get(6) {
         settings.tolerance = t.parse()?;
     }
@@ -30,7 +32,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let scale = sim.model.particle_mass() * sim.model.free_count() as f64 * 9.81;
     let every = (frames / 20).max(1);
     let mut worst: f64 = 0.0;
-    let result = minimise::run_any(&mut sim, method, &opts, settings, |f| {
+    let run = RunSettings::new(opts).with_minimise(settings);
+    let result = sim.run(&method, &run, |f| {
         worst = worst.max(((f.stats.energy.total() - e0) / scale).abs());
         if f.stats.frame % every == 0 {
             println!(
@@ -45,10 +48,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         }
         Ok(())
     });
-    let (report, stats) = result?;
-    let s = match stats {
-        minimise::SolverStats::Minimise(s, _) => s,
-        _ => minimise::Stats::default(),
+    let report = result?;
+    let s = match report.solver {
+        SolverStats::Minimise(s, _) => s,
+        _ => Stats::default(),
     };
     println!("max |dE|/(M g 1 m) = {worst:.3e}");
     println!(

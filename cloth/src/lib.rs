@@ -2,8 +2,14 @@
 //! experiments of Tan et al. (section 5 of the paper): scenes, the model and
 //! its force Jacobian, runs with any scheme that steps it, and frame output.
 //!
+//! One way to run a scene: parse a [`Method`], give [`RunSettings`], and
+//! [`Simulation::run`] it. Every method that `symlab list` lists and that
+//! steps cloth goes through the same loop — explicit schemes, the implicit
+//! tables through the sparse stage solver, the midpoint family and the
+//! energy-conserving schemes as minimisations:
+//!
 //! ```
-//! use cloth::{Scene, Simulation, RunOptions};
+//! use cloth::{Method, RunSettings, Scene, Simulation};
 //!
 //! let scene = Scene::from_toml(r#"
 //!     [cloth]
@@ -19,11 +25,17 @@
 //!     [simulation]
 //!     substeps = 20
 //!     frames = 3
-//!     method = "stormer-verlet"
+//!     method = "gauss2"
 //! "#, "inline.toml")?;
+//! let method = Method::parse(&scene.simulation.method)?;
+//! assert_eq!((method.kind(), method.order()), ("implicit", 4));
 //! let mut sim = Simulation::new(&scene)?;
-//! let report = sim.run_named(&scene.simulation.method, &RunOptions::from_scene(&scene), |_frame| Ok(()))?;
+//! let report = sim.run(&method, &RunSettings::from_scene(&scene), |_frame| Ok(()))?;
 //! assert_eq!(report.frames.len(), 4); // the initial state and 3 frames
+//! // The same scene with an explicit scheme: the same call.
+//! let mut sim = Simulation::new(&scene)?;
+//! let report = sim.run(&Method::parse("stormer-verlet")?, &RunSettings::from_scene(&scene), |_| Ok(()))?;
+//! assert_eq!(report.steps, 60);
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 //!
@@ -100,7 +112,7 @@
 //! frame_rate = 60.0              # optional, Hz
 //! substeps = 100                 # steps per frame
 //! frames = 300
-//! method = "symplectic-euler-a"  # methods::STEPPABLE (explicit) or implicit::IMPLICIT
+//! method = "symplectic-euler-a"  # any id of Method::all() (symlab list, avf, discrete-gradient)
 //! ```
 //!
 //! Unknown keys, missing fields, non-positive sizes or density, negative
@@ -113,34 +125,39 @@
 //! [`MAX_PARTICLES`] particles, [`MAX_FRAMES`] frames, [`MAX_STEPS`] steps
 //! in a run, a step `1/(frame_rate·substeps)` that is not a positive normal
 //! number. Implicit methods take at most
-//! [`implicit::MAX_FREE_PARTICLES`] free particles.
+//! [`step::stage::MAX_FREE_PARTICLES`] free particles.
 //!
 //! # For a command-line front end
 //!
 //! * [`Scene::load`] → [`Scene`] (its fields are public: override
-//!   `simulation.method`, `substeps`, `frames` as needed).
-//! * [`Simulation::new`] → model and initial state; [`Simulation::run_named`]
-//!   (a method id, [`RunOptions`], a frame callback) or [`Simulation::run`]
-//!   (any `S: Step<ClothModel> + Scheme`; a table that `butcher!` found to be
-//!   a composition of midpoint steps, `Info::midpoint_weights`, a user's
-//!   included, steps through [`minimise`]); [`run_scene`] does all three.
+//!   `simulation.method`, `substeps`, `frames` as needed; [`scene::regrid`]
+//!   changes the resolution).
+//! * [`Method::parse`] → [`Method`]: the one registry of what steps cloth,
+//!   with each method's facts (kind, [`Mechanism`], order, symplectic,
+//!   [`Conserves`]); [`Method::all`] lists them.
+//! * [`Simulation::new`] → model and initial state; [`Simulation::run`]
+//!   (a [`Method`], [`RunSettings`], a frame callback) or
+//!   [`Simulation::run_scheme`] (any `S: Step<ClothModel> + Scheme`; a
+//!   table that `butcher!` found to be a composition of midpoint steps,
+//!   `Info::midpoint_weights`, a user's included, steps as minimisations);
+//!   [`run_scene`] does all three.
+//! * [`RunSettings`]: frames, substeps, frame rate ([`RunOptions`]), the
+//!   solvers ([`SolverSettings`]: [`MinimiseSettings`], [`StageSettings`])
+//!   and an optional [`EnergyGuard`] (`E_ref` from
+//!   [`study::energy::reference_energy`]); a guarded run that passes its
+//!   limit stops with [`RunError::Blowup`], a [`Blowup`] that says where.
 //! * The callback gets a [`Frame`]: statistics, the model and the state;
 //!   [`Frame::positions`] and [`ClothModel::triangles`] feed [`write_obj`].
-//!   [`RunReport::frames`] feeds [`write_stats_csv`].
-//! * [`methods::with_scheme`] dispatches a name to a scheme type;
-//!   [`methods::STEPPABLE`] lists the names; implicit ones ([`implicit::IMPLICIT`])
-//!   run through [`implicit::run_method`], which takes either kind.
+//!   [`RunReport::frames`] feeds [`write_energy_csv`]; [`RunReport::solver`]
+//!   says what the solver did.
 //! * [`ClothModel::stability`] estimates `ω_max` and `2/ω_max` at the initial
 //!   state (power iteration on `M⁻¹K`, plus a Gershgorin upper bound).
-//! * [`minimise::run_any`] runs any of them with the midpoint family
-//!   (`midpoint`, `paper-dirk2`, `paper-dirk4`: their `butcher!` facts say
-//!   so) solved as energy minimisation ([`minimise`]: Newton or
-//!   local/global), and the energy-conserving comparison schemes, the
-//!   average vector field ([`minimise::AVERAGE_VECTOR_FIELD`], also a
-//!   minimisation) and Gonzalez's discrete gradient
-//!   ([`minimise::DISCRETE_GRADIENT`]); this is what `symlab cloth` and
-//!   [`run_scene`] use. [`implicit::run_method`] keeps the sparse stage
-//!   solver for every implicit scheme.
+//!
+//! # Layout
+//!
+//! Imports run one way: [`method`] → [`scene`] → model → [`step`] (one
+//! [`step::ClothStepper`] per mechanism, no frame loop) → run (the one
+//! loop, the guard, the blow-up replay) → [`study`] → output.
 //!
 //! # For an implicit solver
 //!
@@ -152,28 +169,31 @@
 //! without allocating, so a CSC matrix can be built once and refreshed in
 //! place. The Jacobian of `z' = [M⁻¹p; F(q)]` is `[[0, M⁻¹], [∂F/∂q, 0]]`.
 
-pub mod implicit;
-pub mod methods;
-pub mod minimise;
+pub mod method;
 mod model;
 mod output;
 pub mod render;
+mod run;
 pub mod scene;
-mod sim;
+pub mod step;
 pub mod study;
 
-pub use methods::{MethodError, STEPPABLE};
+pub use method::{
+    AVERAGE_VECTOR_FIELD, Conserves, DISCRETE_GRADIENT, Mechanism, Method, MethodError, Minimised,
+};
 pub use model::{ClothModel, Energy, Family, STABILITY_WORK, Stability};
 pub use output::{
-    OutputError, STATS_CSV_HEADER, write_obj, write_obj_to, write_stats_csv, write_stats_csv_to,
+    ENERGY_CSV_HEADER, OutputError, write_energy_csv, write_energy_csv_to, write_obj, write_obj_to,
+};
+pub use run::{
+    Blowup, CallbackError, EnergyGuard, Frame, FrameStats, Located, RunError, RunOptions,
+    RunReport, RunSettings, Simulation, SolverSettings, run_scene,
 };
 pub use scene::{
     ClothSpec, Collider, MAX_FRAMES, MAX_PARTICLES, MAX_STEPS, Material, Plane, Scene, SceneError,
     SimulationSpec,
 };
-pub use sim::{
-    CallbackError, Frame, FrameStats, RunError, RunOptions, RunReport, Simulation, run_scene,
-};
+pub use step::{MinimiseSettings, Solver, SolverStats, StageSettings};
 
 /// Nalgebra's 3-vector of `f64`, as used for positions and momenta.
 pub type Vec3 = nalgebra::Vector3<f64>;

@@ -202,28 +202,6 @@ fn grid_springs(
     }
 }
 
-fn families_present(scene: &Scene) -> [bool; 3] {
-    let m = &scene.material;
-    [m.stretch.is_some(), m.shear.is_some(), m.bend.is_some()]
-}
-
-/// The number of springs a scene's grid has (free or not).
-pub fn count_springs(scene: &Scene) -> usize {
-    let (nx, ny) = (scene.cloth.nx, scene.cloth.ny);
-    let [st, sh, be] = families_present(scene);
-    let mut n = 0;
-    if st {
-        n += (nx - 1) * ny + nx * (ny - 1);
-    }
-    if sh {
-        n += 2 * (nx - 1) * (ny - 1);
-    }
-    if be {
-        n += nx.saturating_sub(2) * ny + nx * ny.saturating_sub(2);
-    }
-    n
-}
-
 /// The energy of a state, by term. Terms that do not depend on the free
 /// particles (springs between two pinned particles, the weight of pinned
 /// particles) are left out.
@@ -441,7 +419,7 @@ impl ClothModel {
             Family::Shear => m.shear,
             Family::Bend => m.bend,
         };
-        let mut ff = Vec::with_capacity(count_springs(scene));
+        let mut ff = Vec::with_capacity(scene.spring_count());
         let mut fp = Vec::new();
         let mut pp_strain: f64 = 0.0;
         let mut family_counts = [0usize; 3];
@@ -452,7 +430,7 @@ impl ClothModel {
             ny,
             dx,
             dy,
-            families_present(scene),
+            scene.spring_families(),
             |a, b, family, rest| {
                 let k = stiffness(family).unwrap_or(0.0);
                 family_counts[family as usize] += 1;
@@ -883,7 +861,7 @@ impl ClothModel {
     /// of the block onto the PSD cone; a sphere collider's tangential term
     /// (negative curvature of `V`) is dropped, the normal term kept; plane
     /// colliders and gravity need nothing. The Hessian of the minimisation
-    /// solvers ([`crate::minimise`]). Allocates nothing.
+    /// solvers ([`crate::step::minimise`]). Allocates nothing.
     pub fn force_jacobian_values_projected(&self, q: &[f64], values: &mut [f64]) {
         self.jacobian_into(q, values, true, true);
     }

@@ -1,4 +1,5 @@
-//! Frame output: Wavefront OBJ meshes and per-frame CSV tables.
+//! Frame output: Wavefront OBJ meshes and the one per-frame table,
+//! `energy.csv`.
 
 use std::fs::File;
 use std::io::{self, BufWriter, Write};
@@ -6,7 +7,8 @@ use std::path::{Path, PathBuf};
 
 use nalgebra::Vector3;
 
-use crate::sim::FrameStats;
+use crate::run::FrameStats;
+use crate::study::energy::relative_errors;
 
 /// An output file that could not be written.
 #[derive(Debug, thiserror::Error)]
@@ -64,25 +66,35 @@ pub fn write_obj(
     to_file(path.as_ref(), |out| write_obj_to(out, positions, triangles))
 }
 
-/// The header of [`write_stats_csv`].
-pub const STATS_CSV_HEADER: &str = "frame,step,time,kinetic,springs,gravity,colliders,total,momentum_x,momentum_y,momentum_z,max_strain";
+/// The header of `energy.csv` ([`write_energy_csv`]): the energy split,
+/// the relative energy error `(H − H₀)/E_ref`, the potential's terms, the
+/// momentum and the largest strain.
+pub const ENERGY_CSV_HEADER: &str = "frame,step,time,kinetic,potential,total,relative_energy_error,springs,gravity,colliders,momentum_x,momentum_y,momentum_z,max_strain";
 
-/// Write per-frame statistics as CSV (header [`STATS_CSV_HEADER`]).
-pub fn write_stats_csv_to(out: &mut impl Write, frames: &[FrameStats]) -> io::Result<()> {
-    writeln!(out, "{STATS_CSV_HEADER}")?;
-    for f in frames {
+/// Write per-frame statistics as `energy.csv` (header
+/// [`ENERGY_CSV_HEADER`]), relative errors against `e_ref`
+/// ([`reference_energy`](crate::study::energy::reference_energy)).
+pub fn write_energy_csv_to(
+    out: &mut impl Write,
+    frames: &[FrameStats],
+    e_ref: f64,
+) -> io::Result<()> {
+    writeln!(out, "{ENERGY_CSV_HEADER}")?;
+    for (f, rel) in frames.iter().zip(relative_errors(frames, e_ref)) {
         let e = &f.energy;
         writeln!(
             out,
-            "{},{},{},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e}",
+            "{},{},{},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e}",
             f.frame,
             f.step,
             f.time,
             e.kinetic,
+            e.potential(),
+            e.total(),
+            rel,
             e.springs,
             e.gravity,
             e.colliders,
-            e.total(),
             f.momentum.x,
             f.momentum.y,
             f.momentum.z,
@@ -92,7 +104,11 @@ pub fn write_stats_csv_to(out: &mut impl Write, frames: &[FrameStats]) -> io::Re
     Ok(())
 }
 
-/// Write per-frame statistics to a CSV file; errors name the file.
-pub fn write_stats_csv(path: impl AsRef<Path>, frames: &[FrameStats]) -> Result<(), OutputError> {
-    to_file(path.as_ref(), |out| write_stats_csv_to(out, frames))
+/// [`write_energy_csv_to`] a file; errors name the file.
+pub fn write_energy_csv(
+    path: impl AsRef<Path>,
+    frames: &[FrameStats],
+    e_ref: f64,
+) -> Result<(), OutputError> {
+    to_file(path.as_ref(), |out| write_energy_csv_to(out, frames, e_ref))
 }

@@ -7,9 +7,12 @@
 
 use std::path::PathBuf;
 
+mod common;
+use common::{run_id, run_stage};
+
+use cloth::step::stage::MAX_FREE_PARTICLES;
 use cloth::{
     MAX_FRAMES, MAX_PARTICLES, MAX_STEPS, RunError, RunOptions, Scene, SceneError, Simulation,
-    implicit,
 };
 use proptest::prelude::*;
 
@@ -195,9 +198,9 @@ fn runs_that_would_not_end_are_refused_before_they_start() {
         for method in ["leapfrog", "gauss2"] {
             let mut sim = Simulation::new(&scene).unwrap();
             let clock = std::time::Instant::now();
-            match implicit::run_method(&mut sim, method, &opts, |_| Ok(())) {
+            match run_id(&mut sim, method, &opts, |_| Ok(())) {
                 Err(RunError::Options(m)) => assert!(m.starts_with(what), "{m}"),
-                other => panic!("{method} {opts:?}: {:?}", other.map(|r| r.0.steps)),
+                other => panic!("{method} {opts:?}: {:?}", other.map(|r| r.steps)),
             }
             assert!(clock.elapsed().as_secs_f64() < 1.0);
             assert_eq!(sim.steps, 0);
@@ -234,7 +237,7 @@ fn an_explicit_run_never_builds_the_sparse_jacobian() {
         frame_rate: 60.0,
     };
     let mut sim = Simulation::new(&scene).unwrap();
-    sim.run_named("leapfrog", &opts, |_| Ok(())).unwrap();
+    run_id(&mut sim, "leapfrog", &opts, |_| Ok(())).unwrap();
     let st = sim.model.stability();
     assert!(st.omega_max > 0.0 && st.omega_max <= st.omega_bound * (1.0 + 1e-12));
     assert!(
@@ -242,10 +245,11 @@ fn an_explicit_run_never_builds_the_sparse_jacobian() {
         "an explicit run built the Jacobian"
     );
     let mut sim = Simulation::new(&scene).unwrap();
-    implicit::run_method(
+    run_stage(
         &mut sim,
         "midpoint",
         &RunOptions { frames: 1, ..opts },
+        None,
         |_| Ok(()),
     )
     .unwrap();
@@ -296,11 +300,11 @@ fn implicit_methods_refuse_grids_too_large_for_the_sparse_lu() {
         substeps: 1,
         frame_rate: 60.0,
     };
-    match implicit::run_method(&mut sim, "gauss2", &opts, |_| Ok(())) {
+    match run_id(&mut sim, "gauss2", &opts, |_| Ok(())) {
         Err(RunError::Options(m)) => {
-            assert!(m.contains(&implicit::MAX_FREE_PARTICLES.to_string()), "{m}")
+            assert!(m.contains(&MAX_FREE_PARTICLES.to_string()), "{m}")
         }
-        other => panic!("{:?}", other.map(|r| r.0.steps)),
+        other => panic!("{:?}", other.map(|r| r.steps)),
     }
     assert!(!sim.model.jacobian_built());
 }
@@ -414,7 +418,7 @@ proptest! {
                     // A few steps with the scene's method, whatever comes of them.
                     let opts = RunOptions { frames: 1, substeps: 2, ..RunOptions::from_scene(&scene) };
                     if sim.model.free_count() <= 2000 {
-                        let _ = implicit::run_method(&mut sim, &scene.simulation.method, &opts, |_| Ok(()));
+                        let _ = run_id(&mut sim, &scene.simulation.method, &opts, |_| Ok(()));
                     }
                 }
             },

@@ -1,12 +1,30 @@
-//! The midpoint family as energy minimisation (`cloth::minimise`): the
+//! The midpoint family as energy minimisation (`cloth::step::minimise`): the
 //! steps equal the generic stage solver's to round-off, momentum is kept by
 //! every solver, an iteration cap is an error naming the step and time, bad
 //! settings are refused, the discrete gradient and the average vector field
 //! keep energy, and a user's table of midpoint shape takes this path.
 
-use cloth::implicit;
-use cloth::minimise::{self, MinimiseError, Settings, Solver};
-use cloth::{RunError, RunOptions, Scene, Simulation};
+mod common;
+use common::{minimise_stats, run_minimise, run_stage};
+
+use cloth::step::minimise::{MinimiseError, MinimiseStepper, Minimiser};
+use cloth::{
+    AVERAGE_VECTOR_FIELD, DISCRETE_GRADIENT, Method, MinimiseSettings as Settings, RunError,
+    RunOptions, RunSettings, Scene, Simulation, Solver,
+};
+
+/// The composition weights of a method of the midpoint family.
+fn weights_of(id: &str) -> Option<Vec<f64>> {
+    Method::parse(id)
+        .ok()
+        .and_then(|m| m.midpoint_weights())
+        .map(<[f64]>::to_vec)
+}
+
+/// Whether `id` is solved by minimisation (or the discrete gradient).
+fn is_minimisation(id: &str) -> bool {
+    Method::parse(id).is_ok_and(|m| m.minimises())
+}
 
 /// 6 × 5 particles, all three families, pinned at two corners, gravity,
 /// starting stretched by 5 %, and a sphere collider it falls onto.
@@ -94,25 +112,25 @@ fn state_difference(a: &[f64], b: &[f64]) -> f64 {
 
 #[test]
 fn composition_is_read_off_the_table() {
-    assert_eq!(minimise::weights_of("midpoint"), Some(vec![1.0]));
-    assert_eq!(minimise::weights_of("paper-dirk2"), Some(vec![0.5, 0.5]));
-    let w = minimise::weights_of("paper-dirk4").unwrap();
+    assert_eq!(weights_of("midpoint"), Some(vec![1.0]));
+    assert_eq!(weights_of("paper-dirk2"), Some(vec![0.5, 0.5]));
+    let w = weights_of("paper-dirk4").unwrap();
     let x = 1.0 / (2.0 - 2f64.cbrt());
     assert_eq!(w.len(), 3);
     assert!((w[0] - x).abs() < 1e-15 && (w[1] - (1.0 - 2.0 * x)).abs() < 1e-14);
     // Not compositions of midpoint steps.
     for id in ["gauss2", "gauss3", "implicit-euler", "radau2a-3"] {
-        assert_eq!(minimise::weights_of(id), None, "{id}");
-        assert!(!minimise::is_minimisation(id));
+        assert_eq!(weights_of(id), None, "{id}");
+        assert!(!is_minimisation(id));
     }
-    assert!(minimise::is_minimisation(minimise::DISCRETE_GRADIENT));
+    assert!(is_minimisation(DISCRETE_GRADIENT));
 }
 
 /// At a small step where both converge, the minimisation step is the
 /// generic stage solver's implicit midpoint (and paper-dirk2) step, with
 /// and without colliders, to round-off after 120 steps. The stage solver
 /// is iterated to round-off here (stagnation limit 1e-13, no plateau
-/// rule): with the cloth's defaults ([`implicit::cloth_settings`], which
+/// rule): with the cloth's defaults ([`cloth::step::stage::cloth_settings`], which
 /// accept a stagnation at 1e-9 of the stage values) it stops short on the
 /// collider scene, 8.3e-10 from both (measured).
 ///
@@ -139,7 +157,7 @@ fn equals_the_stage_solver_to_roundoff() {
             let model = a.model.clone();
             let mut f = vec![0.0; n];
             let mut s_max: f64 = 0.0;
-            let run = minimise::run(&mut a, id, &o, tight, |frame| {
+            let run = run_minimise(&mut a, id, &o, tight, |frame| {
                 s_max = s_max.max(model.force_and_scale(&frame.state[..n], &mut f));
                 Ok(())
             })
@@ -147,9 +165,9 @@ fn equals_the_stage_solver_to_roundoff() {
             let stage = integrator_core::implicit::Settings {
                 stagnation_limit: 1e-13,
                 plateau_limit: 0.0,
-                ..implicit::cloth_settings()
+                ..cloth::step::stage::cloth_settings()
             };
-            implicit::run_implicit_with(&mut b, id, &o, stage, |_| Ok(())).unwrap();
+            run_stage(&mut b, id, &o, Some(stage), |_| Ok(())).unwrap();
             let d = state_difference(&a.state, &b.state);
             let p_max = a.state[n..].iter().fold(0.0f64, |m, v| m.max(v.abs()));
             let r = f64::EPSILON * 120.0 * o.step_size() * s_max / p_max;
@@ -163,10 +181,10 @@ fn equals_the_stage_solver_to_roundoff() {
                 "{id}: states differ by {d:e} = {} R after 120 steps",
                 d / r
             );
-            assert_eq!(run.solver.steps, 120);
-            assert_eq!(run.solver.floor_accepts, 0);
-            assert_eq!(run.solver.symbolic_factorizations, 1);
-            assert_eq!(run.report.method, implicit::info(id).unwrap().name);
+            assert_eq!(minimise_stats(&run).steps, 120);
+            assert_eq!(minimise_stats(&run).floor_accepts, 0);
+            assert_eq!(minimise_stats(&run).symbolic_factorizations, 1);
+            assert_eq!(run.method, Method::parse(id).unwrap().name());
         }
     }
 }
@@ -178,8 +196,8 @@ fn local_global_agrees_with_newton() {
     let o = opts(3, 4); // h = 1/240 s
     let mut a = Simulation::new(&sc).unwrap();
     let mut b = Simulation::new(&sc).unwrap();
-    let n = minimise::run(&mut a, "midpoint", &o, Settings::default(), |_| Ok(())).unwrap();
-    let l = minimise::run(
+    let n = run_minimise(&mut a, "midpoint", &o, Settings::default(), |_| Ok(())).unwrap();
+    let l = run_minimise(
         &mut b,
         "midpoint",
         &o,
@@ -193,8 +211,8 @@ fn local_global_agrees_with_newton() {
     assert!(d < 1e-8, "newton and local-global differ by {d:e}");
     // One factorisation per step size for local/global; Newton at most one
     // per iteration (it keeps a factor while it contracts).
-    assert_eq!(l.solver.factorizations, 1);
-    assert!(n.solver.factorizations <= n.solver.iterations);
+    assert_eq!(minimise_stats(&l).factorizations, 1);
+    assert!(minimise_stats(&n).factorizations <= minimise_stats(&n).iterations);
 }
 
 /// With gravity off, a released stretched sheet keeps its total momentum
@@ -216,15 +234,15 @@ fn momentum_is_conserved_by_every_solver() {
         ("midpoint", Solver::LocalGlobal, o),
         ("paper-dirk2", Solver::Newton, o),
         ("paper-dirk4", Solver::Newton, o),
-        (minimise::DISCRETE_GRADIENT, Solver::Newton, opts(30, 4)),
-        (minimise::AVERAGE_VECTOR_FIELD, Solver::Newton, o),
+        (DISCRETE_GRADIENT, Solver::Newton, opts(30, 4)),
+        (AVERAGE_VECTOR_FIELD, Solver::Newton, o),
     ] {
         let mut sim = Simulation::new(&sc).unwrap();
-        let run = minimise::run(&mut sim, id, &o, Settings::new(solver), |_| Ok(())).unwrap();
+        let run = run_minimise(&mut sim, id, &o, Settings::new(solver), |_| Ok(())).unwrap();
         // Momentum scale: the sheet's mass times the speed its spring energy would give.
-        let e = run.report.frames[0].energy.total();
+        let e = run.frames[0].energy.total();
         let p_scale = (2.0 * e * m_total).sqrt();
-        for f in &run.report.frames {
+        for f in &run.frames {
             let p = f.momentum.norm();
             assert!(
                 p < 1e-11 * p_scale,
@@ -242,17 +260,12 @@ fn discrete_gradient_keeps_energy() {
     let sc = scene(STRETCHED);
     let o = opts(60, 4); // h = 1/240 s (at 1/60 s its Newton iteration fails: README)
     let mut sim = Simulation::new(&sc).unwrap();
-    let run = minimise::run(
-        &mut sim,
-        minimise::DISCRETE_GRADIENT,
-        &o,
-        Settings::default(),
-        |_| Ok(()),
-    )
+    let run = run_minimise(&mut sim, DISCRETE_GRADIENT, &o, Settings::default(), |_| {
+        Ok(())
+    })
     .unwrap();
-    let e0 = run.report.frames[0].energy.total();
+    let e0 = run.frames[0].energy.total();
     let worst = run
-        .report
         .frames
         .iter()
         .map(|f| ((f.energy.total() - e0) / e0).abs())
@@ -274,7 +287,7 @@ fn iteration_cap_is_an_error() {
         max_iterations: 1,
         ..Settings::default()
     };
-    let err = minimise::run(&mut sim, "midpoint", &opts(3, 1), settings, |_| Ok(())).unwrap_err();
+    let err = run_minimise(&mut sim, "midpoint", &opts(3, 1), settings, |_| Ok(())).unwrap_err();
     match &err {
         RunError::Minimise {
             step, time, source, ..
@@ -306,12 +319,12 @@ fn bad_settings_are_refused() {
             tolerance: t,
             ..Settings::default()
         };
-        let err = minimise::run(&mut sim, "midpoint", &opts(1, 1), s, |_| Ok(())).unwrap_err();
+        let err = run_minimise(&mut sim, "midpoint", &opts(1, 1), s, |_| Ok(())).unwrap_err();
         assert!(err.to_string().contains("tolerance"), "{err}");
     }
     // Local/global has no colliders; the discrete gradient neither.
     let mut sim = Simulation::new(&sc).unwrap();
-    let err = minimise::run(
+    let err = run_minimise(
         &mut sim,
         "midpoint",
         &opts(1, 1),
@@ -320,10 +333,14 @@ fn bad_settings_are_refused() {
     )
     .unwrap_err();
     assert!(err.to_string().contains("colliders"), "{err}");
-    let err = minimise::run(&mut sim, "gauss2", &opts(1, 1), Settings::default(), |_| {
-        Ok(())
-    })
-    .unwrap_err();
+    // The minimisation stepper refuses a method that is not a minimisation.
+    let err = MinimiseStepper::new(
+        &Method::parse("gauss2").unwrap(),
+        &sim.model,
+        Settings::default(),
+    )
+    .err()
+    .unwrap();
     assert!(err.to_string().contains("gauss2"), "{err}");
     assert_eq!(Solver::parse("bogus"), None);
 }
@@ -335,24 +352,23 @@ fn bad_settings_are_refused() {
 fn average_vector_field_keeps_energy_at_one_step_per_frame() {
     let sc = scene(STRETCHED);
     let mut sim = Simulation::new(&sc).unwrap();
-    let run = minimise::run(
+    let run = run_minimise(
         &mut sim,
-        minimise::AVERAGE_VECTOR_FIELD,
+        AVERAGE_VECTOR_FIELD,
         &opts(60, 1),
         Settings::default(),
         |_| Ok(()),
     )
     .unwrap();
-    let e0 = run.report.frames[0].energy.total();
+    let e0 = run.frames[0].energy.total();
     let worst = run
-        .report
         .frames
         .iter()
         .map(|f| ((f.energy.total() - e0) / e0).abs())
         .fold(0.0, f64::max);
     println!(
         "avf at 1/60 s: relative energy error {worst:e}, {:.1} iterations per step",
-        run.solver.iterations_per_step()
+        minimise_stats(&run).iterations_per_step()
     );
     // Measured 6.2e-9 (11 Newton iterations per step). The energy is exact
     // up to the solves' residual, ‖∇Ψ‖ ≤ 1e-12 of the force scale, which is
@@ -361,7 +377,7 @@ fn average_vector_field_keeps_energy_at_one_step_per_frame() {
     assert!(worst < 1e-7, "avf: relative energy error {worst:e}");
     // The midpoint rule at the same step does not keep it.
     let mut sim = Simulation::new(&sc).unwrap();
-    let mid = minimise::run(
+    let mid = run_minimise(
         &mut sim,
         "midpoint",
         &opts(60, 1),
@@ -370,7 +386,6 @@ fn average_vector_field_keeps_energy_at_one_step_per_frame() {
     );
     if let Ok(mid) = mid {
         let moved = mid
-            .report
             .frames
             .iter()
             .map(|f| ((f.energy.total() - e0) / e0).abs())
@@ -383,9 +398,9 @@ fn average_vector_field_keeps_energy_at_one_step_per_frame() {
 #[test]
 fn average_vector_field_refuses_what_it_cannot_solve() {
     let mut sim = Simulation::new(&scene(SMALL)).unwrap();
-    let err = minimise::run(
+    let err = run_minimise(
         &mut sim,
-        minimise::AVERAGE_VECTOR_FIELD,
+        AVERAGE_VECTOR_FIELD,
         &opts(1, 1),
         Settings::default(),
         |_| Ok(()),
@@ -393,9 +408,9 @@ fn average_vector_field_refuses_what_it_cannot_solve() {
     .unwrap_err();
     assert!(err.to_string().contains("colliders"), "{err}");
     let mut sim = Simulation::new(&scene(STRETCHED)).unwrap();
-    let err = minimise::run(
+    let err = run_minimise(
         &mut sim,
-        minimise::AVERAGE_VECTOR_FIELD,
+        AVERAGE_VECTOR_FIELD,
         &opts(1, 1),
         Settings::new(Solver::LocalGlobal),
         |_| Ok(()),
@@ -423,10 +438,12 @@ fn a_users_midpoint_shaped_table_takes_the_minimisation_path() {
     let sc = scene(STRETCHED);
     let o = opts(10, 1);
     let mut a = Simulation::new(&sc).unwrap();
-    let report = a.run(&QuarterHalfQuarter, &o, |_| Ok(())).unwrap();
+    let report = a
+        .run_scheme(&QuarterHalfQuarter, &RunSettings::new(o), |_| Ok(()))
+        .unwrap();
     assert_eq!(report.steps, 10);
     let mut b = Simulation::new(&sc).unwrap();
-    let mut m = minimise::Minimiser::new(&b.model, Settings::default()).unwrap();
+    let mut m = Minimiser::new(&b.model, Settings::default()).unwrap();
     let h = o.step_size();
     for _ in 0..10 {
         m.step(&b.model, &[0.25, 0.5, 0.25], h, &mut b.state)
@@ -438,11 +455,11 @@ fn a_users_midpoint_shaped_table_takes_the_minimisation_path() {
 
 /// A scene file naming a scheme of the midpoint family or an
 /// energy-conserving one runs it through the minimisation solver
-/// (`run_scene` goes through `minimise::run_any`): the same bits as
-/// `minimise::run` with the default settings.
+/// (`run_scene` goes through `Simulation::run`): the same bits as a run
+/// with the default minimisation settings.
 #[test]
 fn scene_files_run_the_minimisation_schemes() {
-    for method in ["midpoint", "paper-dirk2", minimise::AVERAGE_VECTOR_FIELD] {
+    for method in ["midpoint", "paper-dirk2", AVERAGE_VECTOR_FIELD] {
         let text = STRETCHED.replace(
             "method = \"midpoint\"",
             &format!("method = \"{method}\"\nframes = 5"),
@@ -452,7 +469,7 @@ fn scene_files_run_the_minimisation_schemes() {
         let (sim, report) = cloth::run_scene(&sc, |_| Ok(())).unwrap();
         assert_eq!(report.steps, 5, "{method}");
         let mut direct = Simulation::new(&sc).unwrap();
-        minimise::run(
+        run_minimise(
             &mut direct,
             method,
             &opts(5, 1),

@@ -4,8 +4,12 @@
 
 use std::collections::BTreeSet;
 
-use cloth::methods::{self, MethodError, SchemeVisitor};
-use cloth::{ClothModel, RunError, RunOptions, STEPPABLE, Scene, Simulation};
+mod common;
+use common::run_id;
+
+use cloth::MethodError;
+use cloth::step::dispatch::{SchemeVisitor, with_explicit_scheme};
+use cloth::{ClothModel, Method, RunError, RunOptions, Scene, Simulation};
 use integrator_core::library::REGISTRY;
 use integrator_core::{Scheme, Step};
 
@@ -16,7 +20,8 @@ fn steppable_methods_are_exactly_the_explicit_library_schemes() {
         .filter(|(_, i)| i.explicit)
         .map(|(id, _)| *id)
         .collect();
-    let steppable: BTreeSet<&str> = STEPPABLE.iter().copied().collect();
+    let explicit_ids = Method::ids(|m| m.explicit());
+    let steppable: BTreeSet<&str> = explicit_ids.iter().copied().collect();
     assert_eq!(steppable, explicit);
     struct Name;
     impl SchemeVisitor for Name {
@@ -25,8 +30,8 @@ fn steppable_methods_are_exactly_the_explicit_library_schemes() {
             S::INFO.name
         }
     }
-    for id in STEPPABLE {
-        let name = methods::with_scheme(id, Name).unwrap();
+    for id in &explicit_ids {
+        let name = with_explicit_scheme(id, Name).unwrap();
         assert_eq!(
             name,
             integrator_core::library::info(id).unwrap().name,
@@ -34,15 +39,15 @@ fn steppable_methods_are_exactly_the_explicit_library_schemes() {
         );
     }
     for (id, info) in REGISTRY.iter().filter(|(_, i)| !i.explicit) {
-        let err = methods::with_scheme(id, Name).unwrap_err();
-        let expected = if cloth::implicit::is_implicit(id) {
+        let err = with_explicit_scheme(id, Name).unwrap_err();
+        let expected = if Method::parse(id).is_ok() {
             MethodError::Implicit(id.to_string())
         } else {
             MethodError::NotSteppable(id.to_string())
         };
         assert_eq!(err, expected, "{}", info.name);
     }
-    let err = methods::with_scheme("verlet", Name).unwrap_err();
+    let err = with_explicit_scheme("verlet", Name).unwrap_err();
     assert_eq!(err, MethodError::Unknown("verlet".into()));
     let msg = err.to_string();
     assert!(
@@ -117,10 +122,10 @@ fn frames_come_in_order_with_their_statistics() {
             .all(|f| (f.energy.total() - e0).abs() < 0.05 * scale)
     );
     let mut csv = Vec::new();
-    cloth::write_stats_csv_to(&mut csv, &report.frames).unwrap();
+    cloth::write_energy_csv_to(&mut csv, &report.frames, 1.0).unwrap();
     let csv = String::from_utf8(csv).unwrap();
     assert_eq!(csv.lines().count(), 6);
-    assert!(csv.starts_with(cloth::STATS_CSV_HEADER));
+    assert!(csv.starts_with(cloth::ENERGY_CSV_HEADER));
 }
 
 #[test]
@@ -128,15 +133,28 @@ fn a_run_continues_where_it_stopped() {
     let scene = Scene::from_toml(HANGING, "hanging.toml").unwrap();
     let opts = RunOptions::from_scene(&scene);
     let mut once = Simulation::new(&scene).unwrap();
-    once.run_named("leapfrog", &RunOptions { frames: 4, ..opts }, |_| Ok(()))
-        .unwrap();
+    run_id(
+        &mut once,
+        "leapfrog",
+        &RunOptions { frames: 4, ..opts },
+        |_| Ok(()),
+    )
+    .unwrap();
     let mut twice = Simulation::new(&scene).unwrap();
-    twice
-        .run_named("leapfrog", &RunOptions { frames: 2, ..opts }, |_| Ok(()))
-        .unwrap();
-    let r = twice
-        .run_named("leapfrog", &RunOptions { frames: 2, ..opts }, |_| Ok(()))
-        .unwrap();
+    run_id(
+        &mut twice,
+        "leapfrog",
+        &RunOptions { frames: 2, ..opts },
+        |_| Ok(()),
+    )
+    .unwrap();
+    let r = run_id(
+        &mut twice,
+        "leapfrog",
+        &RunOptions { frames: 2, ..opts },
+        |_| Ok(()),
+    )
+    .unwrap();
     assert_eq!(r.frames[0].frame, 2);
     assert_eq!(r.frames[2].frame, 4);
     assert_eq!(twice.steps, once.steps);
@@ -163,9 +181,7 @@ fn a_blow_up_names_method_step_and_time() {
         substeps: 1,
         frame_rate: 60.0,
     };
-    let err = sim
-        .run_named("stormer-verlet", &opts, |_| Ok(()))
-        .unwrap_err();
+    let err = run_id(&mut sim, "stormer-verlet", &opts, |_| Ok(())).unwrap_err();
     let RunError::Diverged {
         method,
         step,
@@ -196,15 +212,14 @@ fn a_blow_up_names_method_step_and_time() {
 fn a_failing_callback_stops_the_run() {
     let scene = Scene::from_toml(HANGING, "hanging.toml").unwrap();
     let mut sim = Simulation::new(&scene).unwrap();
-    let err = sim
-        .run_named("rk4", &RunOptions::from_scene(&scene), |f| {
-            if f.stats.frame == 2 {
-                Err("disk full".into())
-            } else {
-                Ok(())
-            }
-        })
-        .unwrap_err();
+    let err = run_id(&mut sim, "rk4", &RunOptions::from_scene(&scene), |f| {
+        if f.stats.frame == 2 {
+            Err("disk full".into())
+        } else {
+            Ok(())
+        }
+    })
+    .unwrap_err();
     assert!(matches!(err, RunError::Callback { frame: 2, .. }));
     assert!(err.to_string().starts_with("frame 2 (t = "), "{err}");
     assert_eq!(sim.frame, 2);
@@ -219,10 +234,16 @@ fn bad_options_and_methods_are_errors() {
         ..RunOptions::from_scene(&scene)
     };
     assert!(matches!(
-        sim.run_named("rk4", &opts, |_| Ok(())),
+        run_id(&mut sim, "rk4", &opts, |_| Ok(())),
         Err(RunError::Options(_))
     ));
-    let opts = RunOptions::from_scene(&scene);
-    let err = sim.run_named("gauss2", &opts, |_| Ok(())).unwrap_err();
+    // The explicit dispatch refuses an implicit method (it runs through
+    // its own solver: `Simulation::run`).
+    struct Name;
+    impl SchemeVisitor for Name {
+        type Output = ();
+        fn visit<S: integrator_core::Step<ClothModel> + integrator_core::Scheme>(self, _: S) {}
+    }
+    let err = with_explicit_scheme("gauss2", Name).unwrap_err();
     assert!(err.to_string().contains("implicit"), "{err}");
 }

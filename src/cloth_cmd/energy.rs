@@ -1,113 +1,12 @@
-//! Energy bookkeeping of a cloth run: the reference energy that relative
-//! errors are measured against, `energy.csv`, and the energy plot.
+//! The energy plot of a cloth run (the numbers are the cloth crate's:
+//! `cloth::study::energy`).
 
-use std::fs::File;
-use std::io::{BufWriter, Write};
 use std::path::Path;
 
-use anyhow::{Context, Result, anyhow, bail};
-use cloth::{FrameStats, Scene, Simulation};
+use anyhow::{Context, Result, anyhow};
+use cloth::FrameStats;
+use cloth::study::energy::relative_errors;
 use plotters::prelude::*;
-
-/// The header of `energy.csv`: the energy split, the relative energy error,
-/// then everything `cloth::write_stats_csv` writes.
-pub const ENERGY_CSV_HEADER: &str = "frame,step,time,kinetic,potential,total,relative_energy_error,springs,gravity,colliders,momentum_x,momentum_y,momentum_z,max_strain";
-
-/// The strain of the elastic floor of [`reference_energy`]: 0.01 %.
-pub const ELASTIC_FLOOR_STRAIN: f64 = 1e-4;
-
-/// The energy that relative energy errors are divided by:
-/// `E_ref = max(|H₀|, M·|g|·ℓ, E_ε)`, with `H₀` the initial energy, `M` the
-/// mass of the free particles, `ℓ` the larger side of the cloth — the
-/// energy of the cloth falling by its own size, which is what a hanging
-/// sheet trades between kinetic and potential energy (the paper scene
-/// starts at `H₀ = 0`) — and `E_ε = ½·Σ k·L·ε²`, `ε` = 0.01 %
-/// ([`ELASTIC_FLOOR_STRAIN`]), the elastic energy of every spring with a
-/// free end stretched by 0.01 %. The floor `E_ε` is what keeps a scene
-/// with nothing to release (no gravity, starting at rest, `H₀` a round-off
-/// 1e-31 J) from dividing round-off by round-off and "blowing up" at step
-/// 3; on the shipped scenes it is far below the other two terms (3e-5 J on
-/// the paper scene against `M·|g|·ℓ` = 0.13 J, still 2.5e-3 J at 2048 ×
-/// 2048), so it changes nothing there.
-/// For `symlab paper`, which reads it as a number: 1 J when the scene has
-/// no energy scale at all, the value of [`reference_energy_checked`]
-/// otherwise.
-pub fn reference_energy(scene: &Scene, sim: &Simulation) -> f64 {
-    reference_energy_checked(scene, sim).unwrap_or(1.0)
-}
-
-/// [`reference_energy`], or an error naming what makes it unusable: zero
-/// (nothing in the scene can exchange energy: no gravity, no spring with a
-/// free end, nothing stored at the start) or not finite (the scales
-/// overflow).
-pub fn reference_energy_checked(scene: &Scene, sim: &Simulation) -> Result<f64> {
-    let h0 = sim.stats().energy.total().abs();
-    let m = sim.model.particle_mass() * sim.model.free_count() as f64;
-    // |g| without overflowing the squares (gravity = [0, -1e200, 0]).
-    let g = sim.model.gravity().iter().fold(0.0f64, |a, x| a.hypot(*x));
-    let size = scene.cloth.width.max(scene.cloth.height) * scene.cloth.prestretch;
-    let fall = m * g * size;
-    let elastic = sim.model.elastic_energy_scale(ELASTIC_FLOOR_STRAIN);
-    let e = h0.max(fall).max(elastic);
-    if !e.is_finite() || e.is_nan() {
-        let field = if !h0.is_finite() {
-            "cloth"
-        } else if !fall.is_finite() {
-            "gravity"
-        } else {
-            "material"
-        };
-        bail!(
-            "{field}: the reference energy E_ref = max(|H₀|, M·|g|·ℓ, ½·Σk·L·ε²) = max({h0:e}, {fall:e}, {elastic:e}) J is not finite"
-        );
-    }
-    if e <= 0.0 {
-        bail!(
-            "gravity: the scene has no energy scale (no gravity, no spring with a free end, no energy at the start): E_ref = 0, so relative energy errors cannot be measured"
-        );
-    }
-    Ok(e)
-}
-
-/// `(H − H₀)/E_ref` of each frame.
-pub fn relative_errors(frames: &[FrameStats], e_ref: f64) -> Vec<f64> {
-    let h0 = frames.first().map_or(0.0, |f| f.energy.total());
-    frames
-        .iter()
-        .map(|f| (f.energy.total() - h0) / e_ref)
-        .collect()
-}
-
-/// Write `energy.csv` (header [`ENERGY_CSV_HEADER`]).
-pub fn write_csv(path: &Path, frames: &[FrameStats], e_ref: f64) -> Result<()> {
-    let write = || -> std::io::Result<()> {
-        let mut out = BufWriter::new(File::create(path)?);
-        writeln!(out, "{ENERGY_CSV_HEADER}")?;
-        for (f, rel) in frames.iter().zip(relative_errors(frames, e_ref)) {
-            let e = &f.energy;
-            writeln!(
-                out,
-                "{},{},{},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e}",
-                f.frame,
-                f.step,
-                f.time,
-                e.kinetic,
-                e.potential(),
-                e.total(),
-                rel,
-                e.springs,
-                e.gravity,
-                e.colliders,
-                f.momentum.x,
-                f.momentum.y,
-                f.momentum.z,
-                f.max_strain
-            )?;
-        }
-        out.flush()
-    };
-    write().with_context(|| format!("{}: cannot write", path.display()))
-}
 
 /// Two panels: kinetic, potential and total energy against time, and the
 /// relative energy error `|H − H₀|/E_ref` on a log axis. SVG or PNG by the

@@ -3,7 +3,7 @@
 //! 50.75) at 60 Hz frames, explicit Euler against symplectic Euler, with
 //! Störmer–Verlet, implicit Euler and Gauss–Legendre 2 for contrast, and
 //! the midpoint family (`midpoint`, `paper-dirk2`, `paper-dirk4`) solved as
-//! energy minimisation (`cloth::minimise`) at one step per frame.
+//! energy minimisation (`cloth::step::minimise`) at one step per frame.
 //!
 //! Two settings of the step:
 //!
@@ -26,11 +26,22 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 use anyhow::{Context, Result, anyhow};
-use cloth::implicit as cloth_implicit;
-use cloth::minimise;
-use cloth::{FrameStats, RunError, RunOptions, Scene, Simulation, Vec3};
+use cloth::study::energy::{reference_energy_or_unit, relative_errors};
+use cloth::{
+    AVERAGE_VECTOR_FIELD, EnergyGuard, FrameStats, Mechanism, Method, RunError, RunOptions,
+    RunSettings, Scene, Simulation, SolverStats, Vec3,
+};
 
-use crate::cloth_cmd::{BLOWUP, energy, render};
+use crate::cloth_cmd::render;
+
+/// A run has blown up once `|H − H₀|/E_ref` passes this: the energy
+/// guard's default limit.
+const BLOWUP: f64 = EnergyGuard::DEFAULT_LIMIT;
+
+/// The method of a plan's id (the plan names library methods only).
+fn method_of(id: &str) -> Result<Method> {
+    Method::parse(id).map_err(|e| anyhow!("{id}: {e}"))
+}
 use compare::plot::{self, Plot, Series};
 
 /// The paper scene, as shipped (compiled in, so `symlab paper` does not
@@ -90,7 +101,7 @@ pub const SHOW_STRAIN: f64 = 1.0;
 /// the last state with finite energy and strain at most [`SHOW_STRAIN`].
 fn replay_blowup(
     scene: &Scene,
-    id: &str,
+    method: &Method,
     opts: &RunOptions,
     until: usize,
     e_ref: f64,
@@ -103,7 +114,7 @@ fn replay_blowup(
         frame_rate: opts.frame_rate * opts.substeps as f64,
     };
     let mut shown = None;
-    let _ = cloth_implicit::run_method(&mut sim, id, &replay, |frame| {
+    let _ = sim.run(method, &RunSettings::new(replay), |frame| {
         let rel = ((frame.stats.energy.total() - h0) / e_ref).abs();
         let strain = frame.stats.max_strain;
         if !rel.is_finite() || strain.is_nan() || strain > SHOW_STRAIN {
@@ -118,13 +129,13 @@ fn replay_blowup(
 impl ClothRun {
     /// The largest `|H − H₀|/E_ref` over the recorded frames.
     pub fn max_error(&self, e_ref: f64) -> f64 {
-        energy::relative_errors(&self.frames, e_ref)
+        relative_errors(&self.frames, e_ref)
             .into_iter()
             .fold(0.0, |m, e| m.max(e.abs()))
     }
     /// `(H − H₀)/E_ref` at the last recorded frame.
     pub fn final_error(&self, e_ref: f64) -> f64 {
-        energy::relative_errors(&self.frames, e_ref)
+        relative_errors(&self.frames, e_ref)
             .last()
             .copied()
             .unwrap_or(0.0)
@@ -182,43 +193,39 @@ fn run_one(
         substeps,
         frame_rate: scene.simulation.frame_rate,
     };
-    let h0 = sim.stats().energy.total();
+    let method = method_of(id)?;
     let mut recorded: Vec<FrameStats> = Vec::new();
     let mut last_positions = sim.model.positions(&sim.state[..sim.state.len() / 2]);
-    let mut blown: Option<(FrameStats, f64)> = None;
-    let settings = minimise::Settings::default();
-    let result = minimise::run_any(&mut sim, id, &opts, settings, |frame| {
-        let rel = ((frame.stats.energy.total() - h0) / e_ref).abs();
-        if rel.is_nan() || rel > BLOWUP {
-            blown = Some((frame.stats, rel));
-            return Err("blow-up".into());
-        }
+    // The guard places a blow-up at its frame: the report says between
+    // which steps (at one step per frame, the step itself).
+    let settings = RunSettings::new(opts).with_guard(EnergyGuard::new(e_ref).without_replay());
+    let result = sim.run(&method, &settings, |frame| {
         recorded.push(frame.stats);
         last_positions = frame.positions();
         Ok(())
     });
-    let name = integrator_core::library::info(id).map_or(id.to_string(), |i| i.name.to_string());
+    let name = method.name().to_string();
+    let mut blown_at = None;
     let (stopped, stepping_seconds, newton_per_step) = match result {
-        Ok((report, solver)) => (
+        Ok(report) => (
             None,
             report.stepping_seconds,
-            match solver {
-                minimise::SolverStats::Stage(s) => {
-                    Some(s.newton_iterations as f64 / s.steps.max(1) as f64)
-                }
-                minimise::SolverStats::Minimise(s, _) => Some(s.iterations_per_step()),
-                minimise::SolverStats::None => None,
+            match report.solver {
+                SolverStats::Stage(s) => Some(s.newton_iterations as f64 / s.steps.max(1) as f64),
+                SolverStats::Minimise(s, _) => Some(s.iterations_per_step()),
+                SolverStats::None => None,
             },
         ),
-        Err(RunError::Callback { .. }) if blown.is_some() => {
-            let (at, rel) = blown.expect("checked");
+        Err(RunError::Blowup(b)) => {
+            let rel = b.relative_error;
+            blown_at = Some(b.step);
             let good = recorded.last().map_or(0, |f| f.step);
             let where_ = if substeps == 1 {
-                format!("at step {} (t = {:.4} s)", at.step, at.time)
+                format!("at step {} (t = {:.4} s)", b.step, b.time)
             } else {
                 format!(
                     "between steps {good} and {} (frame {}, t = {:.4} s)",
-                    at.step, at.frame, at.time
+                    b.step, b.frame, b.time
                 )
             };
             let what = if rel.is_finite() {
@@ -256,9 +263,9 @@ fn run_one(
         Err(other) => return Err(anyhow!("{id}: {other}")),
     };
     let h = opts.step_size();
-    let blowing_up = match (&stopped, blown) {
-        (Some(_), Some((at, _))) if is_explicit(id) => {
-            replay_blowup(scene, id, &opts, at.step, e_ref)
+    let blowing_up = match (&stopped, blown_at) {
+        (Some(_), Some(step)) if method.explicit() => {
+            replay_blowup(scene, &method, &opts, step, e_ref)
         }
         _ => None,
     };
@@ -293,17 +300,11 @@ fn grid_limit(scene: &Scene, n: usize) -> Result<GridLimit> {
     })
 }
 
-/// Whether `id` is an explicit scheme: neither implicit nor one of the
-/// minimisation schemes (which include the non-table `avf`).
-fn is_explicit(id: &str) -> bool {
-    !cloth_implicit::is_implicit(id) && !minimise::is_minimisation(id)
-}
-
 /// Run the comparison: `frames` frames of each setting.
 pub fn experiment(frames: usize) -> Result<ClothExperiment> {
     let scene = paper_scene()?;
     let sim = Simulation::new(&scene).map_err(|e| anyhow!("{e}"))?;
-    let e_ref = energy::reference_energy(&scene, &sim);
+    let e_ref = reference_energy_or_unit(&scene, &sim);
     let stab = sim.model.stability();
     let explicit_substeps = scene.simulation.substeps;
     let plan: [(&'static str, usize); 14] = [
@@ -312,12 +313,12 @@ pub fn experiment(frames: usize) -> Result<ClothExperiment> {
         ("stormer-verlet", 1),
         ("implicit-euler", 1),
         ("gauss2", 1),
-        // The midpoint family as energy minimisation (cloth::minimise).
+        // The midpoint family as energy minimisation (cloth::step::minimise).
         ("midpoint", 1),
         ("paper-dirk2", 1),
         ("paper-dirk4", 1),
         // Energy-conserving (not symplectic), the same minimisation machinery.
-        (minimise::AVERAGE_VECTOR_FIELD, 1),
+        (AVERAGE_VECTOR_FIELD, 1),
         ("euler", explicit_substeps),
         ("symplectic-euler-a", explicit_substeps),
         ("stormer-verlet", explicit_substeps),
@@ -326,7 +327,7 @@ pub fn experiment(frames: usize) -> Result<ClothExperiment> {
     ];
     let mut runs = Vec::with_capacity(plan.len());
     for (id, k) in plan {
-        let n = if cloth_implicit::is_implicit(id) && k > 1 {
+        let n = if !method_of(id)?.explicit() && k > 1 {
             frames.min(IMPLICIT_FRAMES)
         } else {
             frames
@@ -390,7 +391,7 @@ pub fn write_files(exp: &ClothExperiment, dir: &Path) -> Result<Vec<String>> {
         .runs
         .iter()
         .map(|r| {
-            let rel = energy::relative_errors(&r.frames, exp.e_ref);
+            let rel = relative_errors(&r.frames, exp.e_ref);
             Series {
                 name: r.label(),
                 points: r
@@ -565,7 +566,7 @@ pub fn markdown(exp: &ClothExperiment, files: &[String]) -> String {
     let one_step_explicit: Vec<&ClothRun> = exp
         .runs
         .iter()
-        .filter(|r| r.substeps == 1 && is_explicit(r.id))
+        .filter(|r| r.substeps == 1 && method_of(r.id).is_ok_and(|m| m.explicit()))
         .collect();
     let all_blew = one_step_explicit.iter().all(|r| r.stopped.is_some());
     let longest = one_step_explicit
@@ -640,16 +641,15 @@ pub fn markdown(exp: &ClothExperiment, files: &[String]) -> String {
         .runs
         .iter()
         .filter(|r| {
-            r.substeps == 1 && cloth_implicit::is_implicit(r.id) && !minimise::is_minimisation(r.id)
+            r.substeps == 1
+                && method_of(r.id).is_ok_and(|m| m.mechanism() == Mechanism::StageSolver)
         })
         .collect();
     let mins: Vec<String> = exp
         .runs
         .iter()
         .filter(|r| {
-            r.substeps == 1
-                && minimise::is_minimisation(r.id)
-                && r.id != minimise::AVERAGE_VECTOR_FIELD
+            r.substeps == 1 && method_of(r.id).is_ok_and(|m| m.midpoint_weights().is_some())
         })
         .map(|r| match &r.stopped {
             Some(why) => format!("{} {why}", r.name),
@@ -663,7 +663,7 @@ pub fn markdown(exp: &ClothExperiment, files: &[String]) -> String {
     if !mins.is_empty() {
         let _ = writeln!(
             w,
-            "- The midpoint family as energy minimisation (`cloth::minimise`: Newton with the exact or PSD-projected Hessian and \
+            "- The midpoint family as energy minimisation (`cloth::step::minimise`: Newton with the exact or PSD-projected Hessian and \
              a line search on the objective, solved to ‖∇Φ‖ ≤ 1e-12 of the force scale) at one step per frame: {}. \
              A robust solve does not make the method stable: the midpoint rule conserves energy only for quadratic \
              potentials, and on these stiff springs at h·ω_max ≈ {:.0} its energy is not bounded (Simo and Tarnow 1992).",
@@ -674,7 +674,7 @@ pub fn markdown(exp: &ClothExperiment, files: &[String]) -> String {
     if let Some(r) = exp
         .runs
         .iter()
-        .find(|r| r.substeps == 1 && r.id == minimise::AVERAGE_VECTOR_FIELD)
+        .find(|r| r.substeps == 1 && r.id == AVERAGE_VECTOR_FIELD)
     {
         let outcome = match &r.stopped {
             Some(why) => why.clone(),

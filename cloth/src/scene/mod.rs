@@ -11,7 +11,11 @@ use std::path::Path;
 
 use toml::{Table, Value};
 
-use crate::methods;
+mod regrid;
+
+pub use regrid::{GridError, parse_grid, regrid};
+
+use crate::method::Method;
 
 /// Why a scene could not be loaded. Every variant names the file; field
 /// errors also name the field, as a dotted path (`cloth.nx`,
@@ -148,8 +152,8 @@ pub struct SimulationSpec {
     pub substeps: usize,
     /// Frames to simulate after the initial one.
     pub frames: usize,
-    /// A scheme id accepted by [`methods::check`]: explicit
-    /// ([`methods::STEPPABLE`]) or implicit ([`crate::implicit::IMPLICIT`]).
+    /// A method id that [`Method::parse`] accepts (every method of
+    /// [`Method::all`]).
     pub method: String,
 }
 
@@ -276,6 +280,29 @@ pub fn run_length_problem(
 }
 
 impl Scene {
+    /// Which spring families the material has: stretch, shear, bend.
+    pub fn spring_families(&self) -> [bool; 3] {
+        let m = &self.material;
+        [m.stretch.is_some(), m.shear.is_some(), m.bend.is_some()]
+    }
+
+    /// The number of springs the grid has (free or not).
+    pub fn spring_count(&self) -> usize {
+        let (nx, ny) = (self.cloth.nx, self.cloth.ny);
+        let [st, sh, be] = self.spring_families();
+        let mut n = 0;
+        if st {
+            n += (nx - 1) * ny + nx * (ny - 1);
+        }
+        if sh {
+            n += 2 * (nx - 1) * (ny - 1);
+        }
+        if be {
+            n += nx.saturating_sub(2) * ny + nx * ny.saturating_sub(2);
+        }
+        n
+    }
+
     /// Read and check a scene file.
     pub fn load(path: impl AsRef<Path>) -> Result<Scene, SceneError> {
         let path = path.as_ref();
@@ -513,8 +540,8 @@ impl Scene {
         if let Some((what, message)) = run_length_problem(s.frames, s.substeps, s.frame_rate) {
             return Err(r.err(&format!("simulation.{what}"), message));
         }
-        methods::check(&s.method).map_err(|e| r.err("simulation.method", e))?;
-        if crate::model::count_springs(self) == 0 {
+        Method::parse(&s.method).map_err(|e| r.err("simulation.method", e))?;
+        if self.spring_count() == 0 {
             return Err(r.err(
                 "material",
                 format!(
@@ -1191,7 +1218,7 @@ impl Reader<'_> {
         let substeps = self.count(t, p, "substeps", 1)?;
         let frames = self.count(t, p, "frames", 0)?;
         let method = self.string_value(self.req(t, p, "method")?, "simulation.method")?;
-        methods::check(method).map_err(|e| self.err("simulation.method", e))?;
+        Method::parse(method).map_err(|e| self.err("simulation.method", e))?;
         Ok(SimulationSpec {
             frame_rate,
             substeps,

@@ -1,0 +1,802 @@
+//! Running a scene: the one frame loop. Every method steps through it —
+//! an explicit scheme, the stage solver, a minimisation, the discrete
+//! gradient ([`crate::step`]) — with the same substeps per frame, the same
+//! callback per frame, the same statistics, one non-finite check after
+//! every step, and one optional energy guard after every frame that, when
+//! the energy error passes its limit, replays the frame one step at a time
+//! to find the step ([`Blowup`]).
+//!
+//! ```
+//! use cloth::{EnergyGuard, Method, RunError, RunOptions, RunSettings, Scene, Simulation};
+//!
+//! let scene = Scene::from_toml(r#"
+//!     gravity = [0.0, -9.81, 0.0]
+//!     [cloth]
+//!     width = 1.0
+//!     height = 1.0
+//!     nx = 5
+//!     ny = 5
+//!     [material]
+//!     density = 0.1
+//!     stretch = 50.0
+//!     [pins]
+//!     edges = ["top"]
+//!     [simulation]
+//!     substeps = 1
+//!     frames = 40
+//!     method = "euler"
+//! "#, "inline.toml")?;
+//! let mut sim = Simulation::new(&scene)?;
+//! // Explicit Euler far beyond its stability limit, guarded: the run stops
+//! // once |H − H₀|/E_ref passes 100, and the replay names the step.
+//! let settings = RunSettings::from_scene(&scene).with_guard(EnergyGuard::new(1.0));
+//! match sim.run(&Method::parse("euler")?, &settings, |_| Ok(())) {
+//!     Err(RunError::Blowup(b)) => {
+//!         assert!(b.relative_error > 100.0 || b.relative_error.is_nan());
+//!         assert_eq!(sim.frame, b.last_good.frame); // left at the last good frame
+//!     }
+//!     other => panic!("expected a blow-up, got {other:?}"),
+//! }
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+
+use std::time::Instant;
+
+use integrator_core::{Scheme, SolveError, Step};
+use nalgebra::Vector3;
+
+use crate::method::{Mechanism, Method, MethodError};
+use crate::model::{ClothModel, Energy};
+use crate::scene::{Scene, SceneError};
+use crate::step::dispatch::{SchemeVisitor, TableVisitor, with_scheme, with_table};
+use crate::step::minimise::MinimiseError;
+use crate::step::{
+    ClothStepper, MinimiseSettings, MinimiseStepper, Refused, SchemeStepper, SolverStats,
+    StageSettings, StageStepper, StepError,
+};
+
+/// What a frame callback may fail with; it stops the run.
+pub type CallbackError = Box<dyn std::error::Error + Send + Sync>;
+
+/// Frames, substeps and frame rate of a run (from the scene, or overridden).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RunOptions {
+    /// Frames after the initial one.
+    pub frames: usize,
+    /// Steps per frame.
+    pub substeps: usize,
+    /// Frames per second (Hz).
+    pub frame_rate: f64,
+}
+
+impl RunOptions {
+    pub fn from_scene(scene: &Scene) -> RunOptions {
+        RunOptions {
+            frames: scene.simulation.frames,
+            substeps: scene.simulation.substeps,
+            frame_rate: scene.simulation.frame_rate,
+        }
+    }
+    /// The step size `1/(frame_rate·substeps)` (s).
+    pub fn step_size(&self) -> f64 {
+        1.0 / (self.frame_rate * self.substeps as f64)
+    }
+
+    /// Whether these options make a run that can mean something and ends:
+    /// at least one step per frame, at most [`MAX_FRAMES`](crate::MAX_FRAMES)
+    /// frames and [`MAX_STEPS`](crate::MAX_STEPS) steps in all, and a step
+    /// that is a positive normal number (see
+    /// [`run_length_problem`](crate::scene::run_length_problem)). Every run
+    /// checks this before it builds anything.
+    pub fn check(&self) -> Result<(), RunError> {
+        match crate::scene::run_length_problem(self.frames, self.substeps, self.frame_rate) {
+            None => Ok(()),
+            Some((what, message)) => Err(RunError::Options(format!("{what}: {message}"))),
+        }
+    }
+}
+
+/// What is known about the state at a frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FrameStats {
+    /// 0 for the initial state.
+    pub frame: usize,
+    /// Steps taken so far.
+    pub step: usize,
+    /// Simulated time (s).
+    pub time: f64,
+    pub energy: Energy,
+    /// Total momentum of the free particles (kg·m/s).
+    pub momentum: Vector3<f64>,
+    /// The largest `|ℓ − L|/L` over all springs.
+    pub max_strain: f64,
+}
+
+/// A frame as the callback sees it.
+pub struct Frame<'a> {
+    pub stats: FrameStats,
+    pub model: &'a ClothModel,
+    /// The state `z = [q; p]` of the free particles.
+    pub state: &'a [f64],
+}
+
+impl Frame<'_> {
+    /// Positions of the free particles (the first half of the state).
+    pub fn q(&self) -> &[f64] {
+        &self.state[..self.state.len() / 2]
+    }
+    /// Momenta of the free particles.
+    pub fn p(&self) -> &[f64] {
+        &self.state[self.state.len() / 2..]
+    }
+    /// Positions of all particles, by particle id `j·nx + i` (pinned included).
+    pub fn positions(&self) -> Vec<Vector3<f64>> {
+        self.model.positions(self.q())
+    }
+}
+
+/// The solvers' settings of a run, with the defaults a scene gets.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SolverSettings {
+    /// The minimisation solver's (the midpoint family, `avf`,
+    /// `discrete-gradient`): Newton at `1e-12` by default.
+    pub minimise: MinimiseSettings,
+    /// The sparse stage solver's: [`crate::step::stage::cloth_settings`] by
+    /// default.
+    pub stage: StageSettings,
+}
+
+impl Default for SolverSettings {
+    fn default() -> Self {
+        SolverSettings {
+            minimise: MinimiseSettings::default(),
+            stage: crate::step::stage::cloth_settings(),
+        }
+    }
+}
+
+/// Everything a run is asked to do besides the method: its length, the
+/// solvers' settings and an optional energy guard.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RunSettings {
+    pub options: RunOptions,
+    pub solvers: SolverSettings,
+    /// Stop once `|H − H₀|/E_ref` passes a limit (none by default).
+    pub guard: Option<EnergyGuard>,
+}
+
+impl RunSettings {
+    /// `options` with the default solvers and no guard.
+    pub fn new(options: RunOptions) -> RunSettings {
+        RunSettings {
+            options,
+            solvers: SolverSettings::default(),
+            guard: None,
+        }
+    }
+    /// The scene's frames, substeps and frame rate, with the defaults.
+    pub fn from_scene(scene: &Scene) -> RunSettings {
+        RunSettings::new(RunOptions::from_scene(scene))
+    }
+    pub fn with_guard(mut self, guard: EnergyGuard) -> RunSettings {
+        self.guard = Some(guard);
+        self
+    }
+    pub fn with_minimise(mut self, minimise: MinimiseSettings) -> RunSettings {
+        self.solvers.minimise = minimise;
+        self
+    }
+    pub fn with_stage(mut self, stage: StageSettings) -> RunSettings {
+        self.solvers.stage = stage;
+        self
+    }
+}
+
+impl From<RunOptions> for RunSettings {
+    fn from(options: RunOptions) -> RunSettings {
+        RunSettings::new(options)
+    }
+}
+
+/// A run has blown up once `|H − H₀|/E_ref` exceeds the limit or is not a
+/// number (`H₀` the energy at the start of the run). The default limit,
+/// [`EnergyGuard::DEFAULT_LIMIT`] = 100: the cloth holds a hundred times
+/// the energy of its own fall (with `E_ref` from
+/// [`study::energy::reference_energy`](crate::study::energy::reference_energy)).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct EnergyGuard {
+    /// The energy scale `E_ref` (J).
+    pub e_ref: f64,
+    /// The largest `|H − H₀|/E_ref` a good frame may show.
+    pub limit: f64,
+    /// Replay the frame that passed the limit one step at a time to find
+    /// the step ([`Located::Step`]); off, the blow-up is placed at the
+    /// frame ([`Located::Frame`]), which costs nothing more.
+    pub locate: bool,
+}
+
+impl EnergyGuard {
+    /// The default limit of `|H − H₀|/E_ref`.
+    pub const DEFAULT_LIMIT: f64 = 100.0;
+
+    /// The default limit, replaying to find the step.
+    pub fn new(e_ref: f64) -> EnergyGuard {
+        EnergyGuard {
+            e_ref,
+            limit: EnergyGuard::DEFAULT_LIMIT,
+            locate: true,
+        }
+    }
+    pub fn with_limit(self, limit: f64) -> EnergyGuard {
+        EnergyGuard { limit, ..self }
+    }
+    pub fn without_replay(self) -> EnergyGuard {
+        EnergyGuard {
+            locate: false,
+            ..self
+        }
+    }
+    /// `|H − H₀|/E_ref`.
+    pub fn relative_error(&self, energy: f64, h0: f64) -> f64 {
+        ((energy - h0) / self.e_ref).abs()
+    }
+    /// Past the limit, or not a number (the energy is ∞ − ∞).
+    pub fn exceeded(&self, relative_error: f64) -> bool {
+        relative_error.is_nan() || relative_error > self.limit
+    }
+}
+
+/// How the step of a [`Blowup`] was found.
+#[derive(Debug)]
+pub enum Located {
+    /// Replaying the frame one step at a time: `step` is the first step
+    /// past the limit.
+    Step,
+    /// Not replayed ([`EnergyGuard::locate`] off), or the replay stayed
+    /// within the limit: `step` is the end of the frame that passed it.
+    Frame,
+    /// The replay stopped first, with this error (a non-finite state or a
+    /// failed solve): it says where.
+    Stopped(Box<RunError>),
+}
+
+/// Where and how a guarded run passed its energy limit. The simulation is
+/// left at `last_good`.
+#[derive(Debug)]
+pub struct Blowup {
+    /// The scheme's name.
+    pub method: &'static str,
+    /// The step found ([`Located`] says how) and its time (s).
+    pub step: usize,
+    pub time: f64,
+    /// The frame that passed the limit.
+    pub frame: usize,
+    /// `|H − H₀|/E_ref` at `step` (NaN once the energy is not finite).
+    pub relative_error: f64,
+    pub limit: f64,
+    /// The last frame within the limit.
+    pub last_good: FrameStats,
+    pub located: Located,
+}
+
+/// A relative energy error for a message: NaN (the energy is ∞ − ∞) said
+/// in words.
+fn show_relative(rel: f64) -> String {
+    if rel.is_nan() {
+        "not a number (the energy is no longer finite)".to_string()
+    } else {
+        format!("{rel:.3e}")
+    }
+}
+
+impl std::fmt::Display for Blowup {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let (method, rel, limit) = (self.method, show_relative(self.relative_error), self.limit);
+        match &self.located {
+            Located::Step => write!(
+                f,
+                "{method}: the cloth blew up at step {} (t = {} s, frame {}): |H − H₀|/E_ref = {rel} (limit {limit})",
+                self.step, self.time, self.frame
+            ),
+            Located::Frame => write!(
+                f,
+                "{method}: the cloth blew up between step {} and step {} (t = {} s to {} s): |H − H₀|/E_ref = {rel} at frame {} (limit {limit})",
+                self.last_good.step, self.step, self.last_good.time, self.time, self.frame
+            ),
+            Located::Stopped(err) => write!(f, "{err}"),
+        }
+    }
+}
+
+/// The outcome of a run.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RunReport {
+    /// The scheme's name.
+    pub method: &'static str,
+    /// Step size (s).
+    pub h: f64,
+    pub steps: usize,
+    /// One entry per frame, the initial state first.
+    pub frames: Vec<FrameStats>,
+    /// Wall-clock time of the stepping alone, callbacks excluded (s).
+    pub stepping_seconds: f64,
+    /// What the solver did ([`SolverStats::None`] for an explicit run).
+    pub solver: SolverStats,
+}
+
+/// Why a run stopped.
+#[derive(Debug, thiserror::Error)]
+pub enum RunError {
+    #[error(transparent)]
+    Scene(#[from] SceneError),
+    #[error(transparent)]
+    Method(#[from] MethodError),
+    #[error("invalid run options: {0}")]
+    Options(String),
+    #[error(
+        "{method}: the cloth blew up at step {step} (t = {time} s, frame {frame}): state component {index} = {value}{particle}",
+        particle = particle.map(|(i, j)| format!(" (particle ({i}, {j}))")).unwrap_or_default()
+    )]
+    Diverged {
+        method: &'static str,
+        step: usize,
+        time: f64,
+        frame: usize,
+        index: usize,
+        value: f64,
+        particle: Option<(usize, usize)>,
+    },
+    #[error("{method}: step {step} (t = {time} s) failed: {source}")]
+    Solve {
+        method: &'static str,
+        step: usize,
+        time: f64,
+        #[source]
+        source: SolveError,
+    },
+    #[error("{method}: step {step} (t = {time} s) failed: {source}")]
+    Minimise {
+        method: &'static str,
+        step: usize,
+        time: f64,
+        #[source]
+        source: MinimiseError,
+    },
+    /// The energy guard stopped the run ([`RunSettings::guard`]).
+    #[error("{0}")]
+    Blowup(Box<Blowup>),
+    #[error("frame {frame} (t = {time} s): {source}")]
+    Callback {
+        frame: usize,
+        time: f64,
+        #[source]
+        source: CallbackError,
+    },
+}
+
+impl From<Refused> for RunError {
+    fn from(r: Refused) -> RunError {
+        RunError::Options(r.0)
+    }
+}
+
+impl RunError {
+    /// Whether the cloth itself failed (a non-finite state, a failed
+    /// solve, the energy guard), as opposed to bad input or a callback.
+    pub fn is_blowup(&self) -> bool {
+        matches!(
+            self,
+            RunError::Diverged { .. }
+                | RunError::Solve { .. }
+                | RunError::Minimise { .. }
+                | RunError::Blowup(_)
+        )
+    }
+}
+
+/// The frame callback as the loop holds it: one dynamic call per frame.
+type OnFrame<'f> = dyn FnMut(&Frame<'_>) -> Result<(), CallbackError> + 'f;
+
+/// A cloth model with its current state.
+#[derive(Clone, Debug)]
+pub struct Simulation {
+    pub model: ClothModel,
+    /// `z = [q; p]` of the free particles.
+    pub state: Vec<f64>,
+    pub time: f64,
+    /// Steps taken so far.
+    pub steps: usize,
+    /// Frames completed so far (the initial state is frame 0).
+    pub frame: usize,
+}
+
+impl Simulation {
+    /// The scene's model at its initial state.
+    pub fn new(scene: &Scene) -> Result<Simulation, SceneError> {
+        let model = ClothModel::new(scene)?;
+        let state = model.initial_state();
+        Ok(Simulation {
+            model,
+            state,
+            time: 0.0,
+            steps: 0,
+            frame: 0,
+        })
+    }
+
+    /// The statistics of the current state.
+    pub fn stats(&self) -> FrameStats {
+        let n = self.model.free_count() * 3;
+        FrameStats {
+            frame: self.frame,
+            step: self.steps,
+            time: self.time,
+            energy: self.model.energy(&self.state),
+            momentum: self.model.momentum(&self.state[n..]),
+            max_strain: self.model.max_strain(&self.state[..n]),
+        }
+    }
+
+    /// Run `settings.options.frames` frames of `substeps` steps of
+    /// `method`, each through its mechanism, calling `on_frame` with the
+    /// current frame first (when the simulation is fresh, the initial
+    /// state) and after every frame. Checks for non-finite values after
+    /// every step and stops at the first with [`RunError::Diverged`]; a
+    /// failed solve stops with [`RunError::Solve`] or
+    /// [`RunError::Minimise`]; the guard, if any, with
+    /// [`RunError::Blowup`]. Each names the step, time and method, and the
+    /// state is then left as it was at the end of the last good frame.
+    pub fn run<F>(
+        &mut self,
+        method: &Method,
+        settings: &RunSettings,
+        mut on_frame: F,
+    ) -> Result<RunReport, RunError>
+    where
+        F: FnMut(&Frame<'_>) -> Result<(), CallbackError>,
+    {
+        settings.options.check()?;
+        let on_frame: &mut OnFrame<'_> = &mut on_frame;
+        let name = method.name();
+        match method.mechanism() {
+            Mechanism::Explicit => {
+                struct Explicit<'a, 'f> {
+                    sim: &'a mut Simulation,
+                    settings: &'a RunSettings,
+                    on_frame: &'a mut OnFrame<'f>,
+                }
+                impl SchemeVisitor for Explicit<'_, '_> {
+                    type Output = Result<RunReport, RunError>;
+                    fn visit<S: Step<ClothModel> + Scheme>(self, scheme: S) -> Self::Output {
+                        // Only explicit schemes come here; the branch keeps
+                        // the implicit tables' own steps out of the binary.
+                        if S::INFO.explicit {
+                            self.sim.drive(
+                                S::INFO.name,
+                                &|sim: &Simulation| Ok(SchemeStepper::new(scheme, &sim.model)),
+                                self.settings,
+                                self.on_frame,
+                            )
+                        } else {
+                            Err(MethodError::Implicit(S::INFO.name.to_string()).into())
+                        }
+                    }
+                }
+                with_scheme(
+                    method,
+                    Explicit {
+                        sim: self,
+                        settings,
+                        on_frame,
+                    },
+                )
+                .expect("every explicit method is a library scheme")
+            }
+            Mechanism::StageSolver => {
+                struct Stage<'a, 'f> {
+                    sim: &'a mut Simulation,
+                    settings: &'a RunSettings,
+                    on_frame: &'a mut OnFrame<'f>,
+                }
+                impl TableVisitor for Stage<'_, '_> {
+                    type Output = Result<RunReport, RunError>;
+                    fn visit<const S: usize>(
+                        self,
+                        table: &integrator_core::implicit::ImplicitTable<S>,
+                        info: &'static integrator_core::Info,
+                    ) -> Self::Output {
+                        let stage = self.settings.solvers.stage;
+                        self.sim.drive(
+                            info.name,
+                            &|sim: &Simulation| {
+                                Ok(StageStepper::new(
+                                    table, &sim.model, &sim.state, sim.time, stage,
+                                )?)
+                            },
+                            self.settings,
+                            self.on_frame,
+                        )
+                    }
+                }
+                with_table(
+                    method,
+                    Stage {
+                        sim: self,
+                        settings,
+                        on_frame,
+                    },
+                )
+                .ok_or_else(|| MethodError::NotSteppable(method.id().to_string()))?
+            }
+            Mechanism::Minimisation(_) | Mechanism::DiscreteGradient => {
+                let minimise = settings.solvers.minimise;
+                self.drive(
+                    name,
+                    &|sim: &Simulation| Ok(MinimiseStepper::new(method, &sim.model, minimise)?),
+                    settings,
+                    on_frame,
+                )
+            }
+        }
+    }
+
+    /// [`run`](Self::run) with any scheme type that steps cloth: a user's
+    /// `butcher!` scheme, stepped with its own code; a table that
+    /// `butcher!` proved to be a composition of midpoint steps
+    /// ([`Info::midpoint_weights`](integrator_core::Info::midpoint_weights))
+    /// steps as successive minimisations instead, which descend at any step
+    /// size, in the same loop.
+    pub fn run_scheme<S, F>(
+        &mut self,
+        scheme: &S,
+        settings: &RunSettings,
+        mut on_frame: F,
+    ) -> Result<RunReport, RunError>
+    where
+        S: Step<ClothModel> + Scheme,
+        F: FnMut(&Frame<'_>) -> Result<(), CallbackError>,
+    {
+        settings.options.check()?;
+        let on_frame: &mut OnFrame<'_> = &mut on_frame;
+        if let Some(weights) = S::INFO.midpoint_weights {
+            let minimise = settings.solvers.minimise;
+            return self.drive(
+                S::INFO.name,
+                &|sim: &Simulation| {
+                    Ok(MinimiseStepper::composition(weights, &sim.model, minimise)?)
+                },
+                settings,
+                on_frame,
+            );
+        }
+        let scheme = *scheme;
+        self.drive(
+            S::INFO.name,
+            &|sim: &Simulation| Ok(SchemeStepper::new(scheme, &sim.model)),
+            settings,
+            on_frame,
+        )
+    }
+
+    /// The one frame loop. `make` builds the stepper at the current state
+    /// (again for a replay).
+    fn drive<St: ClothStepper>(
+        &mut self,
+        method: &'static str,
+        make: &dyn Fn(&Simulation) -> Result<St, RunError>,
+        settings: &RunSettings,
+        on_frame: &mut OnFrame<'_>,
+    ) -> Result<RunReport, RunError> {
+        let opts = settings.options;
+        let h = opts.step_size();
+        let mut stepper = make(self)?;
+        let mut frames = Vec::with_capacity(opts.frames.min(1 << 16) + 1);
+        let first = self.stats();
+        let h0 = first.energy.total();
+        self.emit(first, &mut frames, on_frame)?;
+        let mut saved = self.state.clone();
+        let clock = Clock {
+            t0: self.time,
+            step0: self.steps,
+            h,
+        };
+        let mut stepping = 0.0;
+        for _ in 0..opts.frames {
+            saved.copy_from_slice(&self.state);
+            let started = Instant::now();
+            self.advance(&mut stepper, opts.substeps, clock, method, &saved)?;
+            stepping += started.elapsed().as_secs_f64();
+            self.frame += 1;
+            self.time = clock.time(self.steps);
+            let stats = self.stats();
+            if let Some(guard) = &settings.guard {
+                let rel = guard.relative_error(stats.energy.total(), h0);
+                if guard.exceeded(rel) {
+                    let last_good = *frames.last().expect("the initial frame");
+                    return Err(self.blowup(
+                        method,
+                        make,
+                        guard,
+                        clock,
+                        &saved,
+                        last_good,
+                        stats,
+                        rel,
+                        h0,
+                        opts.substeps,
+                    ));
+                }
+            }
+            self.emit(stats, &mut frames, on_frame)?;
+        }
+        Ok(RunReport {
+            method,
+            h,
+            steps: self.steps - clock.step0,
+            frames,
+            stepping_seconds: stepping,
+            solver: stepper.stats(),
+        })
+    }
+
+    /// Record a frame and hand it to the callback.
+    fn emit(
+        &self,
+        stats: FrameStats,
+        frames: &mut Vec<FrameStats>,
+        on_frame: &mut OnFrame<'_>,
+    ) -> Result<(), RunError> {
+        frames.push(stats);
+        on_frame(&Frame {
+            stats,
+            model: &self.model,
+            state: &self.state,
+        })
+        .map_err(|source| RunError::Callback {
+            frame: stats.frame,
+            time: stats.time,
+            source,
+        })
+    }
+
+    /// `n` steps (a frame, or one step of a replay) with the non-finite
+    /// check after each; on an error the state, steps and time go back to
+    /// `saved`, the state at the start.
+    fn advance<St: ClothStepper>(
+        &mut self,
+        stepper: &mut St,
+        n: usize,
+        clock: Clock,
+        method: &'static str,
+        saved: &[f64],
+    ) -> Result<(), RunError> {
+        let start = self.steps;
+        stepper.enter(&self.model, clock.time(start), &mut self.state);
+        for _ in 0..n {
+            let t = clock.time(self.steps);
+            let failed = match stepper.step(&self.model, t, clock.h, &mut self.state) {
+                Err(StepError::Solve(source)) => Some(RunError::Solve {
+                    method,
+                    step: self.steps + 1,
+                    time: t,
+                    source,
+                }),
+                Err(StepError::Minimise(source)) => Some(RunError::Minimise {
+                    method,
+                    step: self.steps + 1,
+                    time: t,
+                    source,
+                }),
+                Ok(()) => {
+                    self.steps += 1;
+                    self.state
+                        .iter()
+                        .position(|x| !x.is_finite())
+                        .map(|index| RunError::Diverged {
+                            method,
+                            step: self.steps,
+                            time: clock.time(self.steps),
+                            frame: self.frame + 1,
+                            index,
+                            value: self.state[index],
+                            particle: self.model.particle_of_component(index),
+                        })
+                }
+            };
+            if let Some(err) = failed {
+                self.state.copy_from_slice(saved);
+                self.steps = start;
+                return Err(err);
+            }
+        }
+        stepper.leave(&self.model, clock.time(self.steps), &mut self.state);
+        Ok(())
+    }
+
+    /// The guard passed its limit at `bad`: find the step (replaying the
+    /// frame from `saved` one step at a time if the guard says so), and
+    /// leave the simulation at the last good frame.
+    #[allow(clippy::too_many_arguments)]
+    fn blowup<St: ClothStepper>(
+        &mut self,
+        method: &'static str,
+        make: &dyn Fn(&Simulation) -> Result<St, RunError>,
+        guard: &EnergyGuard,
+        clock: Clock,
+        saved: &[f64],
+        last_good: FrameStats,
+        bad: FrameStats,
+        rel: f64,
+        h0: f64,
+        substeps: usize,
+    ) -> RunError {
+        self.state.copy_from_slice(saved);
+        self.steps = last_good.step;
+        self.time = last_good.time;
+        self.frame = last_good.frame;
+        let mut blowup = Blowup {
+            method,
+            step: bad.step,
+            time: bad.time,
+            frame: bad.frame,
+            relative_error: rel,
+            limit: guard.limit,
+            last_good,
+            located: Located::Frame,
+        };
+        if guard.locate {
+            match make(self) {
+                Err(err) => blowup.located = Located::Stopped(Box::new(err)),
+                Ok(mut stepper) => {
+                    let mut before = saved.to_vec();
+                    for _ in 0..substeps {
+                        before.copy_from_slice(&self.state);
+                        if let Err(err) = self.advance(&mut stepper, 1, clock, method, &before) {
+                            blowup.located = Located::Stopped(Box::new(err));
+                            break;
+                        }
+                        let energy = self.model.energy(&self.state).total();
+                        let rel = guard.relative_error(energy, h0);
+                        if guard.exceeded(rel) {
+                            blowup.step = self.steps;
+                            blowup.time = clock.time(self.steps);
+                            blowup.relative_error = rel;
+                            blowup.located = Located::Step;
+                            break;
+                        }
+                    }
+                }
+            }
+            self.state.copy_from_slice(saved);
+            self.steps = last_good.step;
+        }
+        RunError::Blowup(Box::new(blowup))
+    }
+}
+
+/// The times of a run's steps: step `k` starts at `t0 + (k − step0)·h`.
+#[derive(Clone, Copy, Debug)]
+struct Clock {
+    t0: f64,
+    step0: usize,
+    h: f64,
+}
+
+impl Clock {
+    fn time(&self, step: usize) -> f64 {
+        self.t0 + (step - self.step0) as f64 * self.h
+    }
+}
+
+/// Load nothing, build everything: run `scene` with its own method and
+/// settings ([`RunSettings::from_scene`]: the default solvers, no guard),
+/// calling `on_frame` for the initial state and every frame.
+pub fn run_scene<F>(scene: &Scene, on_frame: F) -> Result<(Simulation, RunReport), RunError>
+where
+    F: FnMut(&Frame<'_>) -> Result<(), CallbackError>,
+{
+    let method = Method::parse(&scene.simulation.method)?;
+    let mut sim = Simulation::new(scene)?;
+    let report = sim.run(&method, &RunSettings::from_scene(scene), on_frame)?;
+    Ok((sim, report))
+}

@@ -1,0 +1,69 @@
+//! One stepper per mechanism behind one trait, [`ClothStepper`]: explicit
+//! schemes ([`explicit`]), the sparse stage solver ([`stage`]), the
+//! minimisations ([`minimise`]: the midpoint family and the average vector
+//! field) and the discrete gradient ([`discrete_gradient`]). No frame loop
+//! here: [`Simulation`](crate::Simulation) owns the one loop, its
+//! non-finite check and its energy guard, and calls a stepper.
+
+pub mod discrete_gradient;
+pub mod dispatch;
+pub mod explicit;
+pub mod minimise;
+pub mod stage;
+
+use integrator_core::SolveError;
+
+use crate::model::ClothModel;
+
+pub use dispatch::{SchemeVisitor, TableVisitor, with_explicit_scheme, with_scheme, with_table};
+pub use explicit::SchemeStepper;
+pub use minimise::{MinimiseSettings, MinimiseStepper, Minimiser, Solver};
+pub use stage::{StageSettings, StageStepper};
+
+/// Why a step failed (the run loop adds the step, time and method).
+#[derive(Debug, thiserror::Error)]
+pub enum StepError {
+    /// A stage solve (the stage solver, or a scheme's own implicit step).
+    #[error(transparent)]
+    Solve(#[from] SolveError),
+    /// A minimisation or the discrete gradient's Newton iteration.
+    #[error(transparent)]
+    Minimise(#[from] minimise::MinimiseError),
+}
+
+/// What the solver of a run did.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum SolverStats {
+    /// An explicit run.
+    None,
+    /// The sparse stage solver ([`stage`]).
+    Stage(integrator_core::implicit::Stats),
+    /// A minimisation or discrete-gradient run, with its settings.
+    Minimise(minimise::Stats, MinimiseSettings),
+}
+
+/// One mechanism of stepping a cloth model. The run loop calls, per frame,
+/// `enter`, `step` once per substep, then `leave`; between `leave` and the
+/// next `enter` the state is only read. `enter` and `leave` let a stepper
+/// work in coordinates of its own (the stage solver's shifted state) for a
+/// whole frame; `step` works in them. Implementations are generic over
+/// their scheme where they have one, so the loop is monomorphised and a
+/// step costs no dynamic call.
+pub trait ClothStepper {
+    /// At the start of a frame at time `t`: move `z` into the stepper's
+    /// coordinates (nothing for most).
+    fn enter(&mut self, _model: &ClothModel, _t: f64, _z: &mut [f64]) {}
+    /// One step from `t` to `t + h` in place. On error `z` may be anything:
+    /// the loop restores the frame's start.
+    fn step(&mut self, model: &ClothModel, t: f64, h: f64, z: &mut [f64]) -> Result<(), StepError>;
+    /// At the end of a frame at time `t`: move `z` back to `[q; p]`.
+    fn leave(&mut self, _model: &ClothModel, _t: f64, _z: &mut [f64]) {}
+    /// What the solver did so far.
+    fn stats(&self) -> SolverStats;
+}
+
+/// A run refused before it started: the settings, the scene or the size do
+/// not suit the mechanism. The message names the field or flag.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("{0}")]
+pub struct Refused(pub String);
