@@ -23,8 +23,9 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
-use compare::builtin::{self, Builtin};
+use compare::builtin::Builtin;
 use compare::format;
+use compare::plan::{self, HardSearch, OnSetup, SweepDefaults};
 use compare::{Method, Problem, Setup, SweepSettings};
 
 /// The columns of `runs.csv`, for `--help`.
@@ -344,7 +345,7 @@ fn plan_from(args: &CompareArgs, defaults: compare::Defaults, origin: &Origin) -
         None if origin.h_min.is_some() => defaults.h_min,
         None => {
             let h = if args.quick {
-                t_def / 10_000.0
+                plan::quick_h_min(defaults)
             } else {
                 defaults.h_min
             };
@@ -400,19 +401,16 @@ fn plan_from(args: &CompareArgs, defaults: compare::Defaults, origin: &Origin) -
             }
         );
     }
-    let points = args.points.unwrap_or(if args.quick { 4 } else { 10 });
+    let given = SweepDefaults::of(args.quick);
+    let points = args.points.unwrap_or(given.points);
     if !(1..=200).contains(&points) {
         bail!("--points must be between 1 and 200, got {points}");
     }
-    let repeats = args.repeats.unwrap_or(if args.quick { 1 } else { 3 });
+    let repeats = args.repeats.unwrap_or(given.repeats);
     if repeats > 100 {
         bail!("--repeats must be at most 100, got {repeats}");
     }
-    let tolerances = args.points.unwrap_or(if args.quick {
-        4
-    } else {
-        compare::sweep::PEER_TOLERANCES
-    });
+    let tolerances = args.points.unwrap_or(given.tolerances);
     let settings = SweepSettings {
         h_min,
         h_max,
@@ -426,48 +424,17 @@ fn plan_from(args: &CompareArgs, defaults: compare::Defaults, origin: &Origin) -
     Ok(Plan { t_end, settings })
 }
 
-fn quick_methods(problem: Builtin) -> Vec<String> {
-    let ids: &[&str] = match problem {
-        Builtin::Gyroscopic => &["rk4", "gauss2", "gauss2-propagator"],
-        Builtin::Kepler | Builtin::KeplerHard if cfg!(feature = "peer") => {
-            &["leapfrog", "forest-ruth", "rk4", "gauss2", "dop853"]
-        }
-        Builtin::OuterSolar if cfg!(feature = "peer") => {
-            &["stormer-verlet", "kahan-li8", "logh:kahan-li8", "dop853"]
-        }
-        _ => &["leapfrog", "forest-ruth", "rk4", "gauss2"],
-    };
-    ids.iter().map(|s| s.to_string()).collect()
-}
-
-/// Every method that applies; the peer only on Kepler and the outer solar
-/// system (the problems it is compared on), unless asked for by `--methods`.
-fn default_methods<P: Problem>(setup: &Setup<P>, kepler: bool) -> Vec<String> {
-    setup
-        .method_ids()
-        .into_iter()
-        .filter(|m| kepler || m != "dop853")
-        .collect()
-}
-
 fn resolve<P: Problem>(
     args: &CompareArgs,
     setup: &Setup<P>,
     builtin: Option<Builtin>,
 ) -> Result<Vec<Method<P>>> {
-    let kepler = matches!(
-        builtin,
-        Some(Builtin::Kepler | Builtin::KeplerHard | Builtin::OuterSolar)
-    );
     let ids = match method_ids(args)? {
         Some(ids) => ids,
         // With table files and no --methods: the tables beside a few
         // references (the quick set), not the whole library.
-        None if args.quick || !args.table.is_empty() => match builtin {
-            Some(b) => quick_methods(b),
-            None => vec!["rk4".into(), "gauss2".into()],
-        },
-        None => default_methods(setup, kepler),
+        None if args.quick || !args.table.is_empty() => plan::table_references(builtin),
+        None => plan::default_methods(setup, builtin),
     };
     let mut methods: Vec<Method<P>> = ids
         .iter()
@@ -492,24 +459,24 @@ fn work_precision(args: &CompareArgs, problem: Builtin) -> Result<()> {
         bail!("--steps belongs to --long");
     }
     let plan = plan(args, problem.defaults())?;
-    let t = plan.t_end;
-    let b = Some(problem);
-    match problem {
-        Builtin::Oscillator => sweep_problem(args, &plan, builtin::oscillator(t, true)?, b),
-        Builtin::Pendulum => sweep_problem(args, &plan, builtin::pendulum(t, true)?, b),
-        Builtin::Kepler | Builtin::KeplerHard => sweep_problem(
-            args,
-            &plan,
-            builtin::kepler(problem == Builtin::KeplerHard, t, true)?,
-            b,
-        ),
-        Builtin::HenonHeiles => sweep_problem(args, &plan, builtin::henon_heiles(t, true)?, b),
-        Builtin::Fpu => sweep_problem(args, &plan, builtin::fpu(t, true)?, b),
-        Builtin::OuterSolar => sweep_problem(args, &plan, builtin::outer_solar(t, true)?, b),
-        Builtin::Gyroscopic => {
-            sweep_problem(args, &plan, builtin::gyroscopic(10, 1, 10.0, t, true)?, b)
+    /// The sweep of one built-in problem, whatever its type.
+    struct Sweep<'a> {
+        args: &'a CompareArgs,
+        plan: &'a Plan,
+        problem: Builtin,
+    }
+    impl OnSetup for Sweep<'_> {
+        type Output = Result<()>;
+        fn run<P: Problem>(self, setup: Setup<P>) -> Result<()> {
+            sweep_problem(self.args, self.plan, setup, Some(self.problem))
         }
     }
+    let sweep = Sweep {
+        args,
+        plan: &plan,
+        problem,
+    };
+    plan::with_setup(problem, plan.t_end, true, sweep)?
 }
 
 fn sweep_problem<P: Problem>(
@@ -653,30 +620,34 @@ fn long_runs(args: &CompareArgs) -> Result<()> {
     if let Some(name) = sweep_flag(args) {
         bail!("--{name} belongs to the work-precision sweep, not to --long (use --steps)");
     }
-    let n = args
-        .steps
-        .unwrap_or(if args.quick { 10_000 } else { 1_000_000 });
-    if !(1000..=10_000_000).contains(&n) {
-        bail!("--steps must be between 1000 and 10^7, got {n}");
+    let settings = plan::long_settings(args.steps, args.quick);
+    let n = settings.steps;
+    if !plan::LONG_STEPS.contains(&n) {
+        bail!(
+            "--steps must be between {} and 10^7, got {n}",
+            plan::LONG_STEPS.start()
+        );
     }
-    let settings = compare::long::LongSettings { h: 0.01, steps: n };
     let t = n as f64 * settings.h;
-    fn go<P: Problem>(
-        setup: Setup<P>,
-        settings: compare::long::LongSettings,
-    ) -> compare::Result<Vec<compare::long::LongRun>> {
-        let methods = compare::long::pair_methods(&setup.sys)?;
-        compare::long::run(&setup, &methods, settings)
-    }
-    let runs = match problem {
-        Builtin::Kepler => go(builtin::kepler(false, t, false)?, settings)?,
-        Builtin::Oscillator => go(builtin::oscillator(t, false)?, settings)?,
-        Builtin::HenonHeiles => go(builtin::henon_heiles(t, false)?, settings)?,
-        other => bail!(
+    if !matches!(
+        problem,
+        Builtin::Kepler | Builtin::Oscillator | Builtin::HenonHeiles
+    ) {
+        bail!(
             "--long runs on kepler, kepler-hard, oscillator or henon-heiles, not on {}",
-            other.name()
-        ),
-    };
+            problem.name()
+        );
+    }
+    /// The symplectic/non-symplectic pairs on one problem, whatever its type.
+    struct Pairs(compare::long::LongSettings);
+    impl OnSetup for Pairs {
+        type Output = compare::Result<Vec<compare::long::LongRun>>;
+        fn run<P: Problem>(self, setup: Setup<P>) -> Self::Output {
+            let methods = compare::long::pair_methods(&setup.sys)?;
+            compare::long::run(&setup, &methods, self.0)
+        }
+    }
+    let runs = plan::with_setup(problem, t, false, Pairs(settings))??;
     let dir = out_dir(args, problem.name())?;
     compare::long::write(&dir, &runs)?;
     println!(
@@ -700,17 +671,7 @@ fn hard_methods<P: Problem>(
 ) -> Result<Vec<compare::Fixed<P>>> {
     let ids = match method_ids(args)? {
         Some(ids) => ids,
-        None if args.quick => match problem {
-            Builtin::Gyroscopic => {
-                vec!["rk4".into(), "gauss2".into(), "gauss2-propagator".into()]
-            }
-            _ => vec!["leapfrog".into(), "rk4".into(), "gauss2".into()],
-        },
-        None => setup
-            .method_ids()
-            .into_iter()
-            .filter(|m| m != "dop853")
-            .collect(),
+        None => plan::hard_methods(setup, problem, args.quick),
     };
     let mut out = Vec::new();
     for id in ids {
@@ -741,11 +702,7 @@ fn hard_cases(args: &CompareArgs) -> Result<()> {
         );
     }
     let wanted = |p: Builtin| args.problem.is_none_or(|q| q == p);
-    let (tolerance, floor) = if args.quick {
-        (0.05, 1e-4)
-    } else {
-        (0.01, 1e-6)
-    };
+    let HardSearch { tolerance, floor } = HardSearch::of(args.quick);
     let mut rows = Vec::new();
     let mut notes = vec![];
     fn one<P: Problem>(

@@ -83,6 +83,7 @@ pub mod output;
 pub mod paper_oscillator;
 pub mod peer;
 pub mod peer_study;
+pub mod plan;
 pub mod plot;
 mod problem;
 pub mod report;

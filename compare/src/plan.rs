@@ -1,0 +1,186 @@
+//! What a comparison runs when its caller does not say: which system a
+//! built-in problem is, the default and quick method lists, the settings of
+//! a quick sweep, the hard cases' search and the long runs' step counts.
+//! These are the choices `symlab compare` makes for the flags it is not
+//! given; they live here so that a Rust caller gets the same comparison.
+
+use std::ops::RangeInclusive;
+
+use crate::builtin::{self, Builtin};
+use crate::error::Result;
+use crate::long::LongSettings;
+use crate::problem::{Defaults, Problem, Setup};
+use crate::sweep::PEER_TOLERANCES;
+
+/// A computation over a problem of any type, for [`with_setup`]: a
+/// built-in problem's setup is a different type for each problem, so the
+/// caller's work is a generic method rather than a closure.
+pub trait OnSetup {
+    type Output;
+    fn run<P: Problem>(self, setup: Setup<P>) -> Self::Output;
+}
+
+/// The built-in `problem` over `[0, t_end]` (with its reference solution
+/// where `with_reference`), handed to `f`. The one place that says which
+/// system each [`Builtin`] is; the gyroscopic problem is
+/// `linear::gyroscopic(10, 1, 10.0)` (10 degrees of freedom, seed 1,
+/// frequency spread 10).
+pub fn with_setup<F: OnSetup>(
+    problem: Builtin,
+    t_end: f64,
+    with_reference: bool,
+    f: F,
+) -> Result<F::Output> {
+    let r = with_reference;
+    Ok(match problem {
+        Builtin::Oscillator => f.run(builtin::oscillator(t_end, r)?),
+        Builtin::Pendulum => f.run(builtin::pendulum(t_end, r)?),
+        Builtin::Kepler | Builtin::KeplerHard => {
+            f.run(builtin::kepler(problem == Builtin::KeplerHard, t_end, r)?)
+        }
+        Builtin::HenonHeiles => f.run(builtin::henon_heiles(t_end, r)?),
+        Builtin::Fpu => f.run(builtin::fpu(t_end, r)?),
+        Builtin::OuterSolar => f.run(builtin::outer_solar(t_end, r)?),
+        Builtin::Gyroscopic => f.run(builtin::gyroscopic(10, 1, 10.0, t_end, r)?),
+    })
+}
+
+/// The problems on which DOP853 is compared by default: Kepler and the
+/// outer solar system (elsewhere it runs when asked for).
+pub fn peer_by_default(problem: Option<Builtin>) -> bool {
+    matches!(
+        problem,
+        Some(Builtin::Kepler | Builtin::KeplerHard | Builtin::OuterSolar)
+    )
+}
+
+/// The methods of a quick run on `problem`: a few references (with the
+/// peer where it is compared and built).
+pub fn quick_methods(problem: Builtin) -> Vec<String> {
+    let ids: &[&str] = match problem {
+        Builtin::Gyroscopic => &["rk4", "gauss2", "gauss2-propagator"],
+        Builtin::Kepler | Builtin::KeplerHard if cfg!(feature = "peer") => {
+            &["leapfrog", "forest-ruth", "rk4", "gauss2", "dop853"]
+        }
+        Builtin::OuterSolar if cfg!(feature = "peer") => {
+            &["stormer-verlet", "kahan-li8", "logh:kahan-li8", "dop853"]
+        }
+        _ => &["leapfrog", "forest-ruth", "rk4", "gauss2"],
+    };
+    ids.iter().map(|s| s.to_string()).collect()
+}
+
+/// The references run beside table files when no method is named: the
+/// quick set of a built-in problem, RK4 and Gauss–Legendre 2 on a problem
+/// file — a table is compared with a few known methods, not the library.
+pub fn table_references(problem: Option<Builtin>) -> Vec<String> {
+    match problem {
+        Some(b) => quick_methods(b),
+        None => vec!["rk4".into(), "gauss2".into()],
+    }
+}
+
+/// Every method that applies to `setup`; the peer only where
+/// [`peer_by_default`].
+pub fn default_methods<P: Problem>(setup: &Setup<P>, problem: Option<Builtin>) -> Vec<String> {
+    let peer = peer_by_default(problem);
+    setup
+        .method_ids()
+        .into_iter()
+        .filter(|m| peer || m != "dop853")
+        .collect()
+}
+
+/// The methods of the hard cases: every fixed-step method that applies
+/// (DOP853 has no step size to search), or a few references when `quick`.
+pub fn hard_methods<P: Problem>(setup: &Setup<P>, problem: Builtin, quick: bool) -> Vec<String> {
+    if quick {
+        let ids: &[&str] = match problem {
+            Builtin::Gyroscopic => &["rk4", "gauss2", "gauss2-propagator"],
+            _ => &["leapfrog", "rk4", "gauss2"],
+        };
+        return ids.iter().map(|s| s.to_string()).collect();
+    }
+    setup
+        .method_ids()
+        .into_iter()
+        .filter(|m| m != "dop853")
+        .collect()
+}
+
+/// The sweep settings a caller does not give: step sizes (and DOP853
+/// tolerances) and timed repeats, for a full run or a quick one.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SweepDefaults {
+    /// Step sizes of the sweep.
+    pub points: usize,
+    /// Tolerances of DOP853.
+    pub tolerances: usize,
+    /// Timed runs per point.
+    pub repeats: usize,
+}
+
+impl SweepDefaults {
+    /// Ten step sizes, one DOP853 tolerance per decade, three repeats.
+    pub const FULL: SweepDefaults = SweepDefaults {
+        points: 10,
+        tolerances: PEER_TOLERANCES,
+        repeats: 3,
+    };
+    /// A smoke run of a few seconds: four points, one repeat.
+    pub const QUICK: SweepDefaults = SweepDefaults {
+        points: 4,
+        tolerances: 4,
+        repeats: 1,
+    };
+
+    pub fn of(quick: bool) -> SweepDefaults {
+        if quick { Self::QUICK } else { Self::FULL }
+    }
+}
+
+/// The smallest step of a quick sweep: 10⁴ steps over the problem's own
+/// end time, so that a quick run takes seconds on every problem.
+pub fn quick_h_min(defaults: Defaults) -> f64 {
+    defaults.t_end / 10_000.0
+}
+
+/// The largest-stable-step search of the hard cases: the relative width
+/// of the bracket at which the bisection stops, and the smallest step it
+/// tries.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct HardSearch {
+    pub tolerance: f64,
+    pub floor: f64,
+}
+
+impl HardSearch {
+    /// To 1 % of the step, down to 10⁻⁶.
+    pub const FULL: HardSearch = HardSearch {
+        tolerance: 0.01,
+        floor: 1e-6,
+    };
+    /// To 5 %, down to 10⁻⁴.
+    pub const QUICK: HardSearch = HardSearch {
+        tolerance: 0.05,
+        floor: 1e-4,
+    };
+
+    pub fn of(quick: bool) -> HardSearch {
+        if quick { Self::QUICK } else { Self::FULL }
+    }
+}
+
+/// The step counts a long run may be asked for: from 10³ (the growth fit
+/// needs a few decades of windows) to 10⁷ (minutes per method).
+pub const LONG_STEPS: RangeInclusive<u64> = 1000..=10_000_000;
+
+/// The long runs' step: `h = 0.01` on every problem they cover.
+pub const LONG_H: f64 = 0.01;
+
+/// The long runs' settings: `steps` steps, by default 10⁶ (10⁴ when
+/// `quick`), of [`LONG_H`].
+pub fn long_settings(steps: Option<u64>, quick: bool) -> LongSettings {
+    let steps = steps.unwrap_or(if quick { 10_000 } else { 1_000_000 });
+    LongSettings { h: LONG_H, steps }
+}
