@@ -40,7 +40,7 @@ use tableau::rounding::{F64Pair, F64Rounded, F64Table, round_table};
 use crate::error::{CompareError, Result};
 use crate::method::{Fixed, Method};
 use crate::problem::{Family, Kind, Problem};
-use crate::stepper::{Lib, Stepper};
+use crate::stepper::{StepStepper, Stepper};
 
 /// The largest table file read (a table of a hundred stages is far below).
 pub const MAX_FILE_BYTES: u64 = 1 << 20;
@@ -435,7 +435,7 @@ fn implicit_of<P: Problem, const S: usize>(
             row::<S>(&q.c),
         ),
     };
-    Box::new(Lib(Implicit(table)))
+    Box::new(StepStepper(Implicit(table)))
 }
 
 /// The stage solver for `q` (and `p` for a pair), instantiated for the
@@ -496,12 +496,10 @@ pub(crate) fn rk<P: Problem>(what: Interpretable<'_>, id: &str) -> Result<Box<dy
 /// the others by the stage solver.
 fn f64_rk<P: Problem>(t: &F64Table, explicit: bool, id: &str) -> Result<Box<dyn Stepper<P>>> {
     if explicit {
-        Ok(Box::new(Lib(RkInterpreter::new(
-            t.a.clone(),
-            t.b.clone(),
-            t.c.clone(),
-        )
-        .map_err(|e| analysis_error(id, e))?)))
+        Ok(Box::new(StepStepper(
+            RkInterpreter::new(t.a.clone(), t.b.clone(), t.c.clone())
+                .map_err(|e| analysis_error(id, e))?,
+        )))
     } else {
         implicit_stepper::<P>(t, None, id)
     }
@@ -519,7 +517,7 @@ where
     };
     match table {
         Table::Rk(_) => rk(what, id),
-        Table::Splitting(_) | Table::Composition(_) => Ok(Box::new(Lib(
+        Table::Splitting(_) | Table::Composition(_) => Ok(Box::new(StepStepper(
             SplittingInterpreter::from_table(table).map_err(|e| analysis_error(id, e))?,
         ))),
         Table::Prk(_) => {

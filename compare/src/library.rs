@@ -7,7 +7,7 @@ use integrator_core::library::*;
 
 use crate::counting::AsSeparable;
 use crate::problem::Problem;
-use crate::stepper::{Lib, Small, Stepper};
+use crate::stepper::{FixedSizeStepper, StepStepper, Stepper};
 
 /// Declares the library by id from integrator-core's one list
 /// ([`integrator_core::for_each_scheme!`]): which schemes step any
@@ -18,10 +18,10 @@ use crate::stepper::{Lib, Small, Stepper};
 /// id lists and the constructors, among them the time-transformed variants
 /// of the explicit separable schemes (`logh:ID`);
 /// `tests::library_lists_cover_the_registry` checks the lists against
-/// `REGISTRY`. Explicit schemes are [`Small`] steppers (fixed-size state
+/// `REGISTRY`. Explicit schemes are [`FixedSizeStepper`] steppers (fixed-size state
 /// for small problems in timed runs: integrator-core's `tests/registry.rs`
 /// proves that every scheme of the explicit groups has that path),
-/// implicit ones [`Lib`].
+/// implicit ones [`StepStepper`].
 macro_rules! library {
     (
         explicit_rk: [$($eid:literal => $ety:ident),* $(,)?],
@@ -56,10 +56,10 @@ macro_rules! library {
             P: Problem<Kind = AsSeparable> + Separable,
         {
             Some(match id {
-                $($eid => Box::new(Small($ety)),)*
-                $($rid => Box::new(Lib($rty)),)*
-                $($sid => Box::new(Small($sty)),)*
-                $($iid => Box::new(Lib($ity)),)*
+                $($eid => Box::new(FixedSizeStepper($ety)),)*
+                $($rid => Box::new(StepStepper($rty)),)*
+                $($sid => Box::new(FixedSizeStepper($sty)),)*
+                $($iid => Box::new(StepStepper($ity)),)*
                 _ => return None,
             })
         }
@@ -67,8 +67,8 @@ macro_rules! library {
         /// A Runge–Kutta table on any problem, `None` for any other id.
         pub fn rk_stepper<P: Problem>(id: &str) -> Option<Box<dyn Stepper<P>>> {
             Some(match id {
-                $($eid => Box::new(Small($ety)),)*
-                $($rid => Box::new(Lib($rty)),)*
+                $($eid => Box::new(FixedSizeStepper($ety)),)*
+                $($rid => Box::new(StepStepper($rty)),)*
                 _ => return None,
             })
         }
