@@ -28,7 +28,8 @@ use tableau::claims::{Claim, parse_claim};
 use tableau::rounding::F64Table;
 
 use crate::ast::{Entry, Input, Value};
-use crate::expand::rk_consts;
+use crate::emit::{Facts, emit, rk_consts};
+use crate::errors::Errors;
 use crate::step;
 
 /// The fields a table with `root(...)` entries takes (`a_hat`, `b_hat`,
@@ -96,19 +97,6 @@ fn is_root(e: &Entry) -> bool {
         }
     }
     false
-}
-
-#[derive(Default)]
-struct Errors(Option<Error>);
-
-impl Errors {
-    fn push(&mut self, span: Span, msg: impl std::fmt::Display) {
-        let e = Error::new(span, msg);
-        match &mut self.0 {
-            Some(all) => all.combine(e),
-            None => self.0 = Some(e),
-        }
-    }
 }
 
 /// A TOML basic string.
@@ -245,7 +233,7 @@ fn check(input: &Input) -> Result<RootTable, Error> {
         }
         let _ = writeln!(lets, "{} = {}", quoted(&name), quoted(&let_text(&l.value)));
     }
-    if let Some(e) = errs.0.take() {
+    if let Some(e) = errs.take() {
         return Err(e);
     }
     let text = format!("name = {}\n{body}{lets}", quoted(&input.name.to_string()));
@@ -306,12 +294,10 @@ fn check(input: &Input) -> Result<RootTable, Error> {
         Ok(x) => x,
         Err(m) => {
             errs.push(input.name.span(), m);
-            return Err(errs.0.expect("just pushed"));
+            return Err(errs.take().expect("just pushed"));
         }
     };
-    if let Some(e) = errs.0 {
-        return Err(e);
-    }
+    errs.finish()?;
     let analysis = work.analysis.expect("analysed when the file was read");
     let holds = analysis
         .b_levels
@@ -454,11 +440,8 @@ fn coefficients(f: &AlgFile) -> Result<(F64Table, Option<F64Table>, Structure), 
 /// The scheme type: the items of the `Table` path (facts, coefficients,
 /// step code), with the verdicts decided for root tables.
 pub fn expand(input: &Input, t: &RootTable) -> TokenStream {
-    let Input {
-        attrs, vis, name, ..
-    } = input;
+    let name = &input.name;
     let stages = t.analysis.stages;
-    let order = t.order;
     let symplectic = t.analysis.symplectic == Some(true);
     let symplectic_separable = t.analysis.symplectic_separable == Some(true);
     // A pair symplectic for separable Hamiltonians only (b ≠ b̂) steps only
@@ -468,7 +451,6 @@ pub fn expand(input: &Input, t: &RootTable) -> TokenStream {
     let evaluations = if t.hat.is_some() { 2 * stages } else { stages };
     let class = t.structure.class();
     let explicit = t.structure == Structure::Explicit;
-    let title = name.to_string();
     let q_consts = rk_consts(&t.coefficients, "");
     let p_consts = t.hat.as_ref().map(|p| rk_consts(p, "_HAT"));
     let coefficients = quote!(#q_consts #p_consts);
@@ -507,64 +489,29 @@ pub fn expand(input: &Input, t: &RootTable) -> TokenStream {
         facts.push("no claims".into());
     }
     let summary = format!(
-        "*{title}* — entries in {} real algebraic root(s) ({}), verified exactly at compile time: {}. Symplecticity is decided exactly; order beyond 2, symmetry and the stability function are not decided for root(...) tables.",
+        "*{name}* — entries in {} real algebraic root(s) ({}), verified exactly at compile time: {}. Symplecticity is decided exactly; order beyond 2, symmetry and the stability function are not decided for root(...) tables.",
         t.file.field.names.len(),
         t.file.field.names.join(", "),
         facts.join(", ")
     );
-    quote! {
-        #(#attrs)*
-        #[doc = ""]
-        #[doc = #summary]
-        #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-        #vis struct #name;
-
-        impl ::integrator_core::Scheme for #name {
-            const INFO: ::integrator_core::Info = ::integrator_core::Info {
-                name: #title,
-                form: #form,
-                stages: #stages,
-                order: #order,
-                symplectic: #symplectic,
-                symplectic_separable: #symplectic_separable,
-                separable_only: #separable_only,
-                symmetric: false,
-                explicit: #explicit,
-                class: #class,
-                evaluations: #evaluations,
-                midpoint_weights: ::core::option::Option::None,
-            };
-        }
-
-        #step_code
-
-        #[allow(clippy::approx_constant, clippy::excessive_precision)]
-        impl #name {
-            /// The table's name.
-            pub const NAME: &'static str = #title;
-            /// `"rk"`, or `"prk"` for a pair (`a_hat`, `b_hat`).
-            pub const FORM: &'static str = #form;
-            /// Stages.
-            pub const STAGES: usize = #stages;
-            /// The order proven for a root(...) table: 1 when Σbᵢ = 1, 2 when
-            /// also Σbᵢcᵢ = 1/2 with c the row sums (decided exactly; for a
-            /// pair at most 1); higher orders are not decided for such tables.
-            pub const ORDER: usize = #order;
-            /// Symplectic for every Hamiltonian (W = 0; for a pair, the pair
-            /// condition and b = b̂), proven exactly.
-            pub const SYMPLECTIC: bool = #symplectic;
-            /// Symplectic for separable Hamiltonians (for a pair, the pair
-            /// condition), proven exactly.
-            pub const SYMPLECTIC_SEPARABLE: bool = #symplectic_separable;
-            /// Steps separable systems only (a pair symplectic only for them).
-            pub const SEPARABLE_ONLY: bool = #separable_only;
-            /// Not decided for root(...) tables, so not claimed.
-            pub const SYMMETRIC: bool = false;
-            /// Explicit, decided by exact zero tests.
-            pub const EXPLICIT: bool = #explicit;
-            /// `"explicit"`, `"sdirk"`, `"dirk"` or `"implicit"`, decided exactly.
-            pub const CLASS: &'static str = #class;
-            #coefficients
-        }
-    }
+    let facts = Facts {
+        name: name.to_string(),
+        form,
+        stages,
+        order: t.order,
+        order_doc: "The order proven for a root(...) table: 1 when Σbᵢ = 1, 2 when \
+            also Σbᵢcᵢ = 1/2 with c the row sums (decided exactly; for a pair at most 1); \
+            higher orders are not decided for such tables.",
+        symplectic,
+        symplectic_separable,
+        separable_only,
+        // Not decided for root(...) tables, so not claimed.
+        symmetric: false,
+        explicit,
+        class,
+        evaluations,
+        midpoint_weights: None,
+        summary,
+    };
+    emit(input, &facts, coefficients, step_code)
 }
