@@ -76,9 +76,9 @@ pub fn round_root_table(f: &AlgFile, an: &AlgAnalysis) -> Result<RootF64, String
         )?),
         _ => None,
     };
-    let class = if hat.is_some() {
-        Class::Implicit
-    } else if !(0..s).all(|i| (i + 1..s).all(|j| zero(&f.a[i][j]))) {
+    // A pair is not tested: it steps with all stages together.
+    let lower_triangular = || (0..s).all(|i| (i + 1..s).all(|j| zero(&f.a[i][j])));
+    let class = if hat.is_some() || !lower_triangular() {
         Class::Implicit
     } else if (0..s).all(|i| zero(&f.a[i][i])) {
         Class::Explicit
