@@ -171,96 +171,75 @@ fn print_algebraic(
         println!("{}", serde_json::to_string_pretty(&v)?);
         return Ok(ExitCode::SUCCESS);
     }
-    use std::fmt::Write;
-    let mut s = String::new();
-    let _ = writeln!(s, "{}  ({origin})", f.name);
+    let mut r = Report::new(&f.name, origin);
     if let Some(src) = &f.source {
-        let _ = writeln!(s, "  source       {src}");
+        r.row("source", src);
     }
-    let _ = writeln!(
-        s,
-        "  entries      real algebraic: polynomials in {} root(s) ({}), zero decided exactly",
-        f.field.names.len(),
-        f.field.names.join(", ")
+    r.row(
+        "entries",
+        format!(
+            "real algebraic: polynomials in {} root(s) ({}), zero decided exactly",
+            f.field.names.len(),
+            f.field.names.join(", ")
+        ),
     );
-    let _ = writeln!(
-        s,
-        "  form         {}, {} stages",
-        if an.pair {
-            "partitioned pair (a, b on q; a_hat, b_hat on p)"
-        } else {
-            "Runge–Kutta table"
-        },
-        an.stages
+    r.row(
+        "form",
+        format!(
+            "{}, {} stages",
+            if an.pair {
+                "partitioned pair (a, b on q; a_hat, b_hat on p)"
+            } else {
+                "Runge–Kutta table"
+            },
+            an.stages
+        ),
     );
     let tri = |v: Option<bool>| match v {
         Some(true) => "yes",
         Some(false) => "no",
         None => "undecided (beyond budget)",
     };
-    let _ = writeln!(
-        s,
-        "  c            equals the row sums of A: {}",
-        tri(an.row_sums_ok)
+    r.row(
+        "c",
+        format!("equals the row sums of A: {}", tri(an.row_sums_ok)),
     );
-    let _ = writeln!(
-        s,
-        "  symplectic   {}: {}",
-        tri(an.symplectic),
-        match (an.pair, an.symplectic) {
-            (false, Some(true)) => "W = BA + AᵀB − bbᵀ = 0 exactly".to_string(),
-            (false, _) => "W = BA + AᵀB − bbᵀ (symmetric; entries i ≤ j below)".to_string(),
-            (true, _) => format!(
-                "Wᵢⱼ = bᵢâᵢⱼ + b̂ⱼaⱼᵢ − bᵢb̂ⱼ = 0 for all i, j: {}; b = b̂: {}",
-                tri(an.symplectic_separable),
-                tri(an.same_weights)
-            ),
-        }
+    r.row(
+        "symplectic",
+        format!(
+            "{}: {}",
+            tri(an.symplectic),
+            match (an.pair, an.symplectic) {
+                (false, Some(true)) => "W = BA + AᵀB − bbᵀ = 0 exactly".to_string(),
+                (false, _) => "W = BA + AᵀB − bbᵀ (symmetric; entries i ≤ j below)".to_string(),
+                (true, _) => format!(
+                    "Wᵢⱼ = bᵢâᵢⱼ + b̂ⱼaⱼᵢ − bᵢb̂ⱼ = 0 for all i, j: {}; b = b̂: {}",
+                    tri(an.symplectic_separable),
+                    tri(an.same_weights)
+                ),
+            }
+        ),
     );
     for e in an.w.iter().filter(|e| e.zero != Some(true)) {
         match e.zero {
-            Some(false) => {
-                let _ = writeln!(
-                    s,
-                    "                 W[{}][{}] ≠ 0 ({})",
-                    e.i,
-                    e.j,
-                    e.approx()
-                );
-            }
-            _ => {
-                let _ = writeln!(
-                    s,
-                    "                 W[{}][{}] undecided (beyond budget)",
-                    e.i, e.j
-                );
-            }
+            Some(false) => r.more(format!("  W[{}][{}] ≠ 0 ({})", e.i, e.j, e.approx())),
+            _ => r.more(format!("  W[{}][{}] undecided (beyond budget)", e.i, e.j)),
         }
     }
     let holds = an.b_levels.iter().take_while(|v| **v == Some(true)).count();
-    let _ = writeln!(
-        s,
-        "  quadrature   B({holds}) holds exactly{}",
-        match an.b_levels.last() {
-            Some(Some(false)) => format!(", B({}) fails", holds + 1),
-            Some(None) => format!(", B({}) beyond budget", holds + 1),
-            _ => String::new(),
-        }
-    );
-    if !claims.is_empty() {
-        let _ = writeln!(s, "  claims");
-        for (c, v) in &claims {
-            match v {
-                Ok(()) => {
-                    let _ = writeln!(s, "    ✓ {c}");
-                }
-                Err(e) => {
-                    let _ = writeln!(s, "    ✗ {c}: {e}");
-                }
+    r.row(
+        "quadrature",
+        format!(
+            "B({holds}) holds exactly{}",
+            match an.b_levels.last() {
+                Some(Some(false)) => format!(", B({}) fails", holds + 1),
+                Some(None) => format!(", B({}) beyond budget", holds + 1),
+                _ => String::new(),
             }
-        }
-    }
-    print!("{s}");
+        ),
+    );
+    r.claims = claims;
+    print!("{}", r.render());
     Ok(ExitCode::SUCCESS)
 }
 
@@ -311,20 +290,21 @@ pub fn generated_json(g: &tableau::algebraic::generated::Generated) -> Value {
     })
 }
 
+/// The readable report of a generated table.
 pub fn generated_readable(origin: &str, g: &tableau::algebraic::generated::Generated) -> String {
-    use std::fmt::Write;
-    let mut s = String::new();
-    let _ = writeln!(s, "{}  ({origin})", g.name);
-    let _ = writeln!(s, "  source       {}", g.source);
-    let _ = writeln!(
-        s,
-        "  generator    {}: nodes are the roots of P(x) = {}",
-        g.generator.expression(),
-        g.node_polynomial.to_text("x")
+    let mut r = Report::new(&g.name, origin);
+    r.row("source", g.source);
+    r.row(
+        "generator",
+        format!(
+            "{}: nodes are the roots of P(x) = {}",
+            g.generator.expression(),
+            g.node_polynomial.to_text("x")
+        ),
     );
-    let _ = writeln!(
-        s,
-        "  exact        every entry is an element of Q[x]/(P) (per stage) or Q[x, y]/(P(x), (P(x) − P(y))/(x − y)) (per pair of stages): products of fields, so each identity below is decided exactly for all stages at once"
+    r.row(
+        "exact",
+        "every entry is an element of Q[x]/(P) (per stage) or Q[x, y]/(P(x), (P(x) − P(y))/(x − y)) (per pair of stages): products of fields, so each identity below is decided exactly for all stages at once",
     );
     let form = if g.kind == "rk" {
         "Runge–Kutta table"
@@ -332,15 +312,14 @@ pub fn generated_readable(origin: &str, g: &tableau::algebraic::generated::Gener
         "partitioned pair (Lobatto IIIA on q, IIIB on p)"
     };
     let class = if g.stages == 1 { "sdirk" } else { "implicit" };
-    let _ = writeln!(s, "  form         {form}, {} stages, {class}", g.stages);
-    let _ = writeln!(
-        s,
-        "  c            {}",
+    r.row("form", format!("{form}, {} stages, {class}", g.stages));
+    r.row(
+        "c",
         if g.row_sums_ok {
             "equals the row sums of A (C(1))"
         } else {
             "differs from the row sums of A (C(1) fails)"
-        }
+        },
     );
     let verdict = match (g.kind == "rk", g.symplectic) {
         (true, true) => "W = BA + AᵀB − bbᵀ = 0 exactly",
@@ -350,123 +329,111 @@ pub fn generated_readable(origin: &str, g: &tableau::algebraic::generated::Gener
             "Wᵢⱼ = bᵢâᵢⱼ + b̂ⱼaⱼᵢ − bᵢb̂ⱼ = 0 for all i, j and b = b̂ do not both hold (exactly)"
         }
     };
-    let _ = writeln!(s, "  symplectic   {}: {verdict}", yes_no(g.symplectic));
+    r.row("symplectic", format!("{}: {verdict}", yes_no(g.symplectic)));
     let lower = g.proven_order();
-    match g.order.upper {
+    let order = match g.order.upper {
         _ if g.kind == "prk" && g.tree_order.is_none() => {
-            let _ = writeln!(
-                s,
-                "  order        the pair's order is not proven (bicoloured trees run only where the nodes need at most one square root, s ≤ 5); each table's own order below"
-            );
+            "the pair's order is not proven (bicoloured trees run only where the nodes need at most one square root, s ≤ 5); each table's own order below".to_string()
         }
-        Some(u) if g.kind == "rk" && u == lower => {
-            let _ = writeln!(s, "  order        {u} exactly");
-        }
+        Some(u) if g.kind == "rk" && u == lower => format!("{u} exactly"),
         _ if g
             .tree_order
             .as_ref()
             .is_some_and(|t| g.kind == "prk" && t.order < t.limit) =>
         {
-            let _ = writeln!(
-                s,
-                "  order        {lower} exactly (the pair's order, on bicoloured trees below; each table's own order in the proof)"
-            );
+            format!(
+                "{lower} exactly (the pair's order, on bicoloured trees below; each table's own order in the proof)"
+            )
         }
-        _ => {
-            let _ = writeln!(s, "  order        ≥ {lower}");
-        }
-    }
+        _ => format!("≥ {lower}"),
+    };
+    r.row("order", order);
     let label = "IIIA table";
-    let _ = writeln!(
-        s,
-        "  proof        {}{}",
-        if g.kind == "prk" {
-            format!("{label}: ")
-        } else {
-            String::new()
-        },
-        g.order.text
+    r.row(
+        "proof",
+        format!(
+            "{}{}",
+            if g.kind == "prk" {
+                format!("{label}: ")
+            } else {
+                String::new()
+            },
+            g.order.text
+        ),
     );
     if let Some(p) = &g.order_p {
-        let _ = writeln!(s, "               IIIB table: {}", p.text);
+        r.more(format!("IIIB table: {}", p.text));
     }
-    match &g.tree_order {
-        Some(t) => {
-            let _ = writeln!(
-                s,
-                "  trees        {} on the radical form of the table ({} trees up to order {}): order {}",
-                if g.kind == "rk" {
-                    "checked"
-                } else {
-                    "the pair's order checked"
-                },
-                if g.kind == "rk" {
-                    "rooted"
-                } else {
-                    "bicoloured"
-                },
-                t.limit,
-                if t.order >= t.limit {
-                    format!("≥ {}", t.limit)
-                } else {
-                    t.order.to_string()
-                }
-            );
-        }
-        None => {
-            let _ = writeln!(
-                s,
-                "  trees        not enumerated (the nodes are not expressible with one square root; order {} needs no tree enumeration)",
-                g.order.lower
-            );
-        }
-    }
-    let _ = writeln!(s, "  symmetric    {}", yes_no(g.symmetric));
-    if let Some(r) = &g.stability {
-        let _ = writeln!(
-            s,
-            "  R(z)         {}   (|R(iy)| = 1 on the imaginary axis: {})",
-            r.to_text(),
-            yes_no(g.unimodular == Some(true))
-        );
-        let _ = writeln!(
-            s,
-            "  A-stable     {} (poles in Re z > 0 by an exact Routh–Hurwitz test, |R(iy)| ≤ 1 by an exact sign test of |Q(iy)|² − |P(iy)|²); R(∞) = {}",
-            yes_no(g.a_stable == Some(true)),
-            g.r_infinity.as_ref().map_or("-".into(), |r| r.to_string())
-        );
-    }
-    if let (Some(r), Some(n)) = (g.max_w_rounded, g.max_w_nearest) {
-        let _ = writeln!(
-            s,
-            "  f64          certified correct rounding{}; max |Wᵢⱼ| of the doubles (exact): {r:.3e} (plain nearest: {n:.3e})",
-            if g.symplectic {
-                ", then b summed to 1.0 and (aᵢⱼ, aⱼᵢ) chosen among faithful roundings to minimise W"
+    let trees = match &g.tree_order {
+        Some(t) => format!(
+            "{} on the radical form of the table ({} trees up to order {}): order {}",
+            if g.kind == "rk" {
+                "checked"
             } else {
-                ""
+                "the pair's order checked"
+            },
+            if g.kind == "rk" {
+                "rooted"
+            } else {
+                "bicoloured"
+            },
+            t.limit,
+            if t.order >= t.limit {
+                format!("≥ {}", t.limit)
+            } else {
+                t.order.to_string()
             }
+        ),
+        None => format!(
+            "not enumerated (the nodes are not expressible with one square root; order {} needs no tree enumeration)",
+            g.order.lower
+        ),
+    };
+    r.row("trees", trees);
+    r.row("symmetric", yes_no(g.symmetric));
+    if let Some(st) = &g.stability {
+        r.row("R(z)", stability_text(st, g.unimodular));
+        r.row(
+            "A-stable",
+            format!(
+                "{} (poles in Re z > 0 by an exact Routh–Hurwitz test, |R(iy)| ≤ 1 by an exact sign test of |Q(iy)|² − |P(iy)|²); R(∞) = {}",
+                yes_no(g.a_stable == Some(true)),
+                g.r_infinity.as_ref().map_or("-".into(), |r| r.to_string())
+            ),
         );
     }
-    let _ = writeln!(
-        s,
-        "  time         exact verification {:.0} ms, certified f64 coefficients {:.0} ms",
-        g.verify_time.as_secs_f64() * 1e3,
-        g.round_time.as_secs_f64() * 1e3
-    );
-    if !g.claims.is_empty() {
-        let _ = writeln!(s, "  claims");
-        for (c, v) in &g.claims {
-            match v {
-                Ok(()) => {
-                    let _ = writeln!(s, "    ✓ {c}");
+    if let (Some(w), Some(n)) = (g.max_w_rounded, g.max_w_nearest) {
+        r.row(
+            "f64",
+            format!(
+                "certified correct rounding{}; max |Wᵢⱼ| of the doubles (exact): {w:.3e} (plain nearest: {n:.3e})",
+                if g.symplectic {
+                    ", then b summed to 1.0 and (aᵢⱼ, aⱼᵢ) chosen among faithful roundings to minimise W"
+                } else {
+                    ""
                 }
-                Err(e) => {
-                    let _ = writeln!(s, "    ✗ {c}: {e}");
-                }
-            }
-        }
+            ),
+        );
     }
-    s
+    r.row(
+        "time",
+        format!(
+            "exact verification {:.0} ms, certified f64 coefficients {:.0} ms",
+            g.verify_time.as_secs_f64() * 1e3,
+            g.round_time.as_secs_f64() * 1e3
+        ),
+    );
+    r.claims = g
+        .claims
+        .iter()
+        .map(|(c, v)| {
+            (
+                c.to_string(),
+                v.as_ref().map_err(|e| e.to_string()).copied(),
+            )
+        })
+        .collect();
+    r.render()
 }
 
 pub fn list(args: &ListArgs) -> Result<ExitCode> {
@@ -583,12 +550,11 @@ fn yes_no(b: bool) -> &'static str {
     if b { "yes" } else { "no" }
 }
 
+/// The readable report of a table file (or a catalogue table).
 pub fn readable(origin: &str, tf: &TableFile, a: &Analysis) -> String {
-    use std::fmt::Write;
-    let mut s = String::new();
-    let _ = writeln!(s, "{}  ({origin})", tf.name);
+    let mut r = Report::new(&tf.name, origin);
     if let Some(src) = &tf.source {
-        let _ = writeln!(s, "  source       {src}");
+        r.row("source", src);
     }
     let form = match a.form {
         Form::Rk => "Runge–Kutta table",
@@ -596,31 +562,30 @@ pub fn readable(origin: &str, tf: &TableFile, a: &Analysis) -> String {
         Form::DriftKick => "drift–kick sequence",
         Form::Composition => "composition of Störmer–Verlet",
     };
-    let _ = writeln!(
-        s,
-        "  form         {form}, {} stages, {}",
-        a.stages,
-        a.class.name()
+    r.row(
+        "form",
+        format!("{form}, {} stages, {}", a.stages, a.class.name()),
     );
     if a.form != Form::Rk {
-        let _ = writeln!(
-            s,
-            "  separable H  {}",
+        r.row(
+            "separable H",
             if a.explicit_separable {
                 "explicit"
             } else {
                 "implicit"
-            }
+            },
         );
     }
     if a.row_sum_mismatch.is_empty() {
-        let _ = writeln!(s, "  c            equals the row sums of A");
+        r.row("c", "equals the row sums of A");
     } else {
         for m in &a.row_sum_mismatch {
-            let _ = writeln!(
-                s,
-                "  c            {}[{}] = {} differs from the row sum {} (the order conditions use the given c)",
-                m.field, m.row, m.given, m.row_sum
+            r.row(
+                "c",
+                format!(
+                    "{}[{}] = {} differs from the row sum {} (the order conditions use the given c)",
+                    m.field, m.row, m.given, m.row_sum
+                ),
             );
         }
     }
@@ -630,109 +595,179 @@ pub fn readable(origin: &str, tf: &TableFile, a: &Analysis) -> String {
         "Wᵢⱼ = bᵢâᵢⱼ + b̂ⱼaⱼᵢ − bᵢb̂ⱼ"
     };
     if a.w_nonzero.is_empty() {
-        let _ = writeln!(
-            s,
-            "  symplectic   {}: {rule} = 0",
-            yes_no(a.symplectic_separable)
+        r.row(
+            "symplectic",
+            format!("{}: {rule} = 0", yes_no(a.symplectic_separable)),
         );
     } else {
-        let _ = writeln!(
-            s,
-            "  symplectic   {}: {rule} has nonzero entries",
-            yes_no(a.symplectic_separable)
+        r.row(
+            "symplectic",
+            format!(
+                "{}: {rule} has nonzero entries",
+                yes_no(a.symplectic_separable)
+            ),
         );
         for e in &a.w_nonzero {
-            let _ = writeln!(s, "                 W[{}][{}] = {}", e.i, e.j, e.value);
+            r.more(format!("  W[{}][{}] = {}", e.i, e.j, e.value));
         }
     }
     if a.form != Form::Rk {
-        let _ = writeln!(
-            s,
-            "  for all H    {}{}",
-            yes_no(a.symplectic),
-            if a.symplectic_separable && !a.symplectic {
-                " (b ≠ b̂: symplectic for separable H only)"
-            } else {
-                ""
-            }
+        r.row(
+            "for all H",
+            format!(
+                "{}{}",
+                yes_no(a.symplectic),
+                if a.symplectic_separable && !a.symplectic {
+                    " (b ≠ b̂: symplectic for separable H only)"
+                } else {
+                    ""
+                }
+            ),
         );
     }
     if a.reducible {
-        let _ = writeln!(
-            s,
-            "  note         the table is reducible; verdicts are taken on its irreducible form"
+        r.row(
+            "note",
+            "the table is reducible; verdicts are taken on its irreducible form",
         );
     }
+    let composition = a.form == Form::Composition;
     match &a.order {
-        Some(o) if a.form == Form::Rk => {
-            let _ = writeln!(s, "  order        {}", order_text(o));
-        }
+        Some(o) if a.form == Form::Rk => r.row("order", order_text(o)),
         Some(o) if a.form == Form::Prk => {
-            let _ = writeln!(
-                s,
-                "  order        {}  (general partitioned systems)",
-                order_text(o)
+            r.row(
+                "order",
+                format!("{}  (general partitioned systems)", order_text(o)),
             );
-            let _ = writeln!(s, "  separable    {}", order_text(&a.order_separable));
+            r.row("separable", order_text(&a.order_separable));
         }
         Some(o) => {
-            let what = if a.form == Form::Composition {
+            let what = if composition {
                 ", composition conditions"
             } else {
                 ""
             };
-            let _ = writeln!(
-                s,
-                "  order        {}  (separable systems{what})",
-                order_text(&a.order_separable)
+            r.row(
+                "order",
+                format!(
+                    "{}  (separable systems{what})",
+                    order_text(&a.order_separable)
+                ),
             );
-            let _ = writeln!(
-                s,
-                "  general      {}  (as a pair on general partitioned systems)",
-                order_text(o)
+            r.row(
+                "general",
+                format!(
+                    "{}  (as a pair on general partitioned systems)",
+                    order_text(o)
+                ),
             );
         }
         None => {
-            let what = if a.form == Form::Composition {
+            let what = if composition {
                 " (composition conditions)"
             } else {
                 ""
             };
-            let _ = writeln!(
-                s,
-                "  order        {}  (separable systems{what})",
-                order_text(&a.order_separable)
+            r.row(
+                "order",
+                format!(
+                    "{}  (separable systems{what})",
+                    order_text(&a.order_separable)
+                ),
             );
         }
     }
-    let _ = writeln!(
-        s,
-        "  T quadratic  {}  (Runge–Kutta–Nyström systems, T = ½pᵀM⁻¹p)",
-        order_text(&a.order_rkn)
+    r.row(
+        "T quadratic",
+        format!(
+            "{}  (Runge–Kutta–Nyström systems, T = ½pᵀM⁻¹p)",
+            order_text(&a.order_rkn)
+        ),
     );
-    let _ = writeln!(s, "  symmetric    {}", yes_no(a.symmetric));
-    if let Some(r) = &a.stability {
-        let _ = writeln!(
-            s,
-            "  R(z)         {}   (|R(iy)| = 1 on the imaginary axis: {})",
-            r.to_text(),
-            yes_no(a.unimodular == Some(true))
-        );
+    r.row("symmetric", yes_no(a.symmetric));
+    if let Some(st) = &a.stability {
+        r.row("R(z)", stability_text(st, a.unimodular));
     } else if let Some(why) = &a.stability_not_computed {
-        let _ = writeln!(s, "  R(z)         not computed: beyond budget ({why})");
+        r.row("R(z)", format!("not computed: beyond budget ({why})"));
     }
-    if !tf.claims.is_empty() {
-        let _ = writeln!(s, "  claims");
-        for c in &tf.claims {
-            match analysis::check_claim(&tf.table, a, c) {
-                Ok(()) => {
-                    let _ = writeln!(s, "    ✓ {c}");
-                }
-                Err(e) => {
-                    let _ = writeln!(s, "    ✗ {c}: {e}");
-                }
-            }
+    r.claims = tf
+        .claims
+        .iter()
+        .map(|c| {
+            let verdict = analysis::check_claim(&tf.table, a, c).map_err(|e| e.to_string());
+            (c.to_string(), verdict)
+        })
+        .collect();
+    r.render()
+}
+
+/// `R(z)` and whether `|R(iy)| = 1` on the imaginary axis.
+fn stability_text(
+    st: &tableau::analysis::stability::StabilityFunction,
+    unimodular: Option<bool>,
+) -> String {
+    format!(
+        "{}   (|R(iy)| = 1 on the imaginary axis: {})",
+        st.to_text(),
+        yes_no(unimodular == Some(true))
+    )
+}
+
+/// A readable report, the same layout for every kind of table (hand-written,
+/// generated, with `root(...)` entries): the name and where it came from,
+/// then one labelled row per fact (labels in a column of 13), continuation
+/// rows under the text, and the claims with their verdicts. Each kind of
+/// table states its facts as rows; only this formats them.
+struct Report {
+    title: String,
+    rows: Vec<Row>,
+    /// Each claim as written, and its verdict.
+    claims: Vec<(String, Result<(), String>)>,
+}
+
+enum Row {
+    /// `  label        text`.
+    Field(&'static str, String),
+    /// A line under the text column (indented 15).
+    More(String),
+}
+
+impl Report {
+    fn new(name: &str, origin: &str) -> Self {
+        Report {
+            title: format!("{name}  ({origin})"),
+            rows: Vec::new(),
+            claims: Vec::new(),
         }
     }
-    s
+
+    fn row(&mut self, label: &'static str, text: impl Into<String>) {
+        self.rows.push(Row::Field(label, text.into()));
+    }
+
+    fn more(&mut self, text: String) {
+        self.rows.push(Row::More(text));
+    }
+
+    fn render(&self) -> String {
+        use std::fmt::Write;
+        let mut s = String::new();
+        let _ = writeln!(s, "{}", self.title);
+        for row in &self.rows {
+            let _ = match row {
+                Row::Field(label, text) => writeln!(s, "  {label:<13}{text}"),
+                Row::More(text) => writeln!(s, "{:15}{text}", ""),
+            };
+        }
+        if !self.claims.is_empty() {
+            let _ = writeln!(s, "  claims");
+            for (c, v) in &self.claims {
+                let _ = match v {
+                    Ok(()) => writeln!(s, "    ✓ {c}"),
+                    Err(e) => writeln!(s, "    ✗ {c}: {e}"),
+                };
+            }
+        }
+        s
+    }
 }

@@ -40,7 +40,7 @@ use tableau::rounding::{F64Pair, F64Rounded, F64Table, round_table};
 use crate::error::{CompareError, Result};
 use crate::method::{Fixed, Method};
 use crate::problem::{Family, Kind, Problem};
-use crate::stepper::{Lib, Stepper};
+use crate::stepper::{StepStepper, Stepper};
 
 /// The largest table file read (a table of a hundred stages is far below).
 pub const MAX_FILE_BYTES: u64 = 1 << 20;
@@ -99,71 +99,22 @@ pub struct RootCoefficients {
 /// The coefficients and the structure of a table with `root(...)` entries,
 /// exactly: every double is the correctly rounded exact entry, and the
 /// zero pattern of `A` is decided by exact zero tests. A pair (`a_hat`,
-/// `b_hat`) gives its `p` table as well.
+/// `b_hat`) gives its `p` table as well. `tableau`'s
+/// [`round_root_table`](tableau::algebraic::rounded::round_root_table)
+/// decides all of it, as for `butcher!`, which steps the same table.
 pub fn root_coefficients(
     f: &AlgFile,
     an: &AlgAnalysis,
 ) -> std::result::Result<RootCoefficients, String> {
-    use tableau::algebraic::alg::Alg;
-    let field = &f.field;
-    let s = f.b.len();
-    let round = |x: &Alg, what: String| {
-        field
-            .to_f64(x)
-            .map_err(|e| format!("{what}: cannot round to f64 within the budget ({e:?})"))
-    };
-    let table = |a: &[Vec<Alg>],
-                 b: &[Alg],
-                 c: Option<&Vec<Alg>>,
-                 names: [&str; 3]|
-     -> std::result::Result<F64Table, String> {
-        let mut af = vec![vec![0.0; s]; s];
-        for i in 0..s {
-            for j in 0..s {
-                af[i][j] = round(&a[i][j], format!("{}[{i}][{j}]", names[0]))?;
-            }
-        }
-        let bf = (0..s)
-            .map(|i| round(&b[i], format!("{}[{i}]", names[1])))
-            .collect::<std::result::Result<Vec<f64>, String>>()?;
-        let cf = (0..s)
-            .map(|i| match c {
-                Some(c) => round(&c[i], format!("{}[{i}]", names[2])),
-                None => {
-                    let sum = a[i].iter().fold(Alg::zero(), |acc, x| acc.add(x));
-                    round(&sum, format!("the row sum of {}[{i}]", names[0]))
-                }
-            })
-            .collect::<std::result::Result<Vec<f64>, String>>()?;
-        Ok(F64Table {
-            a: af,
-            b: bf,
-            c: cf,
-        })
-    };
-    let q = table(&f.a, &f.b, f.c.as_ref(), ["a", "b", "c"])?;
-    let p = match (&f.a_hat, &f.b_hat) {
-        (Some(ah), Some(bh)) => Some(table(
-            ah,
-            bh,
-            f.c_hat.as_ref(),
-            ["a_hat", "b_hat", "c_hat"],
-        )?),
-        _ => None,
-    };
-    let explicit =
-        p.is_none() && (0..s).all(|i| (i..s).all(|j| field.is_zero(&f.a[i][j]) == Ok(true)));
-    let holds = an.b_levels.iter().take_while(|v| **v == Some(true)).count();
-    let order = if an.row_sums_ok == Some(true) && p.is_none() {
-        holds.min(2)
-    } else {
-        holds.min(1)
-    };
+    let rounded = tableau::algebraic::rounded::round_root_table(f, an)?;
     Ok(RootCoefficients {
-        pair: p.map(|p| F64Pair { q: q.clone(), p }),
-        table: q,
-        explicit,
-        order,
+        pair: rounded.hat.map(|p| F64Pair {
+            q: rounded.table.clone(),
+            p,
+        }),
+        table: rounded.table,
+        explicit: rounded.class == tableau::analysis::Class::Explicit,
+        order: rounded.order,
     })
 }
 
@@ -435,7 +386,7 @@ fn implicit_of<P: Problem, const S: usize>(
             row::<S>(&q.c),
         ),
     };
-    Box::new(Lib(Implicit(table)))
+    Box::new(StepStepper(Implicit(table)))
 }
 
 /// The stage solver for `q` (and `p` for a pair), instantiated for the
@@ -496,12 +447,10 @@ pub(crate) fn rk<P: Problem>(what: Interpretable<'_>, id: &str) -> Result<Box<dy
 /// the others by the stage solver.
 fn f64_rk<P: Problem>(t: &F64Table, explicit: bool, id: &str) -> Result<Box<dyn Stepper<P>>> {
     if explicit {
-        Ok(Box::new(Lib(RkInterpreter::new(
-            t.a.clone(),
-            t.b.clone(),
-            t.c.clone(),
-        )
-        .map_err(|e| analysis_error(id, e))?)))
+        Ok(Box::new(StepStepper(
+            RkInterpreter::new(t.a.clone(), t.b.clone(), t.c.clone())
+                .map_err(|e| analysis_error(id, e))?,
+        )))
     } else {
         implicit_stepper::<P>(t, None, id)
     }
@@ -519,7 +468,7 @@ where
     };
     match table {
         Table::Rk(_) => rk(what, id),
-        Table::Splitting(_) | Table::Composition(_) => Ok(Box::new(Lib(
+        Table::Splitting(_) | Table::Composition(_) => Ok(Box::new(StepStepper(
             SplittingInterpreter::from_table(table).map_err(|e| analysis_error(id, e))?,
         ))),
         Table::Prk(_) => {

@@ -96,7 +96,10 @@ pub use counting::{AsOde, AsSeparable, Counting, Counts};
 pub use error::{CompareError, Result};
 pub use method::{Fixed, Method, family_of};
 pub use problem::{Counted, Defaults, Family, Kind, Problem, Setup};
-pub use stepper::{Lib, Outcome, Small, Status, Stepper, Workspace, bare_caught, observed_caught};
+pub use stepper::{
+    FixedSizeStepper, Outcome, Status, StepStepper, Stepper, Workspace, bare_caught,
+    observed_caught,
+};
 pub use sweep::Row;
 pub use work_precision::{MAX_SWEEP_STEPS, SweepSettings, WorkPrecision, work_precision};
 

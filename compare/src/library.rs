@@ -7,24 +7,26 @@ use integrator_core::library::*;
 
 use crate::counting::AsSeparable;
 use crate::problem::Problem;
-use crate::stepper::{Lib, Small, Stepper};
+use crate::stepper::{FixedSizeStepper, StepStepper, Stepper};
 
-/// Declares the library by id: which schemes step any `OdeSystem`
-/// (`explicit_rk`, `rk`: Runge–Kutta tables, explicit and implicit) and
-/// which only separable
-/// Hamiltonians (`separable`: drift–kick sequences, compositions and
-/// explicit pairs; `implicit_pairs`, which step `Hamiltonian`s — all our
-/// Hamiltonian problems are separable). Emits the id lists and the
-/// constructors, among them the time-transformed variants of the explicit
-/// separable schemes (`logh:ID`); `tests::library_lists_cover_the_registry`
-/// checks the lists against `REGISTRY`. Explicit schemes are [`Small`]
-/// steppers (fixed-size state for small problems in timed runs), implicit
-/// ones [`Lib`].
+/// Declares the library by id from integrator-core's one list
+/// ([`integrator_core::for_each_scheme!`]): which schemes step any
+/// `OdeSystem` (`explicit_rk`, `implicit_rk`: Runge–Kutta tables) and which
+/// only separable Hamiltonians (`explicit_separable`: drift–kick sequences,
+/// compositions and explicit pairs; `implicit_pairs`, which step
+/// `Hamiltonian`s — all our Hamiltonian problems are separable). Emits the
+/// id lists and the constructors, among them the time-transformed variants
+/// of the explicit separable schemes (`logh:ID`);
+/// `tests::library_lists_cover_the_registry` checks the lists against
+/// `REGISTRY`. Explicit schemes are [`FixedSizeStepper`] steppers (fixed-size state
+/// for small problems in timed runs: integrator-core's `tests/registry.rs`
+/// proves that every scheme of the explicit groups has that path),
+/// implicit ones [`StepStepper`].
 macro_rules! library {
     (
         explicit_rk: [$($eid:literal => $ety:ident),* $(,)?],
-        rk: [$($rid:literal => $rty:ident),* $(,)?],
-        separable: [$($sid:literal => $sty:ident),* $(,)?],
+        implicit_rk: [$($rid:literal => $rty:ident),* $(,)?],
+        explicit_separable: [$($sid:literal => $sty:ident),* $(,)?],
         implicit_pairs: [$($iid:literal => $ity:ident),* $(,)?] $(,)?
     ) => {
         /// Ids of the Runge–Kutta tables (they step every `OdeSystem`).
@@ -54,10 +56,10 @@ macro_rules! library {
             P: Problem<Kind = AsSeparable> + Separable,
         {
             Some(match id {
-                $($eid => Box::new(Small($ety)),)*
-                $($rid => Box::new(Lib($rty)),)*
-                $($sid => Box::new(Small($sty)),)*
-                $($iid => Box::new(Lib($ity)),)*
+                $($eid => Box::new(FixedSizeStepper($ety)),)*
+                $($rid => Box::new(StepStepper($rty)),)*
+                $($sid => Box::new(FixedSizeStepper($sty)),)*
+                $($iid => Box::new(StepStepper($ity)),)*
                 _ => return None,
             })
         }
@@ -65,81 +67,15 @@ macro_rules! library {
         /// A Runge–Kutta table on any problem, `None` for any other id.
         pub fn rk_stepper<P: Problem>(id: &str) -> Option<Box<dyn Stepper<P>>> {
             Some(match id {
-                $($eid => Box::new(Small($ety)),)*
-                $($rid => Box::new(Lib($rty)),)*
+                $($eid => Box::new(FixedSizeStepper($ety)),)*
+                $($rid => Box::new(StepStepper($rty)),)*
                 _ => return None,
             })
         }
     };
 }
 
-library! {
-    explicit_rk: [
-        "euler" => ExplicitEuler,
-        "heun" => Heun,
-        "rk4" => Rk4,
-        "rk38" => Rk38,
-    ],
-    rk: [
-        "implicit-euler" => ImplicitEuler,
-        "midpoint" => ImplicitMidpoint,
-        "gauss1" => GaussLegendre1,
-        "gauss2" => GaussLegendre2,
-        "gauss3" => GaussLegendre3,
-        "gauss4" => GaussLegendre4,
-        "gauss5" => GaussLegendre5,
-        "gauss6" => GaussLegendre6,
-        "gauss7" => GaussLegendre7,
-        "gauss8" => GaussLegendre8,
-        "radau2a-2" => RadauIIA2,
-        "radau2a-3" => RadauIIA3,
-        "radau2a-4" => RadauIIA4,
-        "radau2a-5" => RadauIIA5,
-        "lobatto3a-2" => LobattoIIIA2,
-        "lobatto3a-3" => LobattoIIIA3,
-        "lobatto3b-2" => LobattoIIIB2,
-        "lobatto3b-3" => LobattoIIIB3,
-        "lobatto3c-2" => LobattoIIIC2,
-        "lobatto3c-3" => LobattoIIIC3,
-        "lobatto3cstar-2" => LobattoIIICStar2,
-        "paper-dirk2" => PaperDirk2,
-        "paper-dirk4" => PaperDirk4,
-    ],
-    separable: [
-        "symplectic-euler-a" => SymplecticEulerA,
-        "symplectic-euler-b" => SymplecticEulerB,
-        "stormer-verlet" => StormerVerlet,
-        "leapfrog" => Leapfrog,
-        "ruth3" => Ruth3,
-        "forest-ruth" => ForestRuth,
-        "candy-rozmus4" => CandyRozmus4,
-        "mclachlan-atela2" => McLachlanAtela2,
-        "mclachlan-atela3" => McLachlanAtela3,
-        "mclachlan-atela4" => McLachlanAtela4,
-        "mclachlan-atela5" => McLachlanAtela5,
-        "calvo-sanz-serna4" => CalvoSanzSerna4,
-        "mclachlan4" => McLachlan4,
-        "pefrl" => Pefrl,
-        "mclachlan-s5" => McLachlanS5,
-        "blanes-moan-prk6" => BlanesMoanPrk6,
-        "blanes-moan-prk10" => BlanesMoanPrk10,
-        "blanes-moan-srkn6b" => BlanesMoanSrkn6b,
-        "blanes-moan-srkn11b" => BlanesMoanSrkn11b,
-        "blanes-moan-srkn14a" => BlanesMoanSrkn14a,
-        "yoshida4" => Yoshida4,
-        "yoshida6" => Yoshida6,
-        "kahan-li6" => KahanLi6,
-        "mclachlan-ss9" => McLachlanSS9,
-        "kahan-li8" => KahanLi8,
-        "mclachlan8" => McLachlan8,
-        "sofroniou-spaletta10" => SofroniouSpaletta10,
-    ],
-    implicit_pairs: [
-        "lobatto3a3b-3" => LobattoIIIAIIIB3,
-        "lobatto3a3b-4" => LobattoIIIAIIIB4,
-        "lobatto3c3cstar-2" => LobattoIIICIIICStar2,
-    ],
-}
+integrator_core::for_each_scheme!(library);
 
 /// The Gauss tables whose propagators are offered on the linear system, as
 /// `(id, P, Q)` of their stability functions.

@@ -12,7 +12,7 @@ use integrator_core::{Scheme, Step};
 
 use crate::error::{CompareError, Result};
 use crate::problem::{Counted, Family, Kind, Problem};
-use crate::stepper::{Lib, Stepper, Workspace};
+use crate::stepper::{StepStepper, Stepper, Workspace};
 
 /// A fixed-step method: facts for the CSV and its stepper.
 pub struct Fixed<P> {
@@ -97,7 +97,7 @@ impl<P: Problem> Method<P> {
             symplectic: symplectic_for::<P>(info.symplectic, info.symplectic_separable),
             family: family_of(&info),
             interpreted: false,
-            stepper: Box::new(Lib(scheme)),
+            stepper: Box::new(StepStepper(scheme)),
         })
     }
 

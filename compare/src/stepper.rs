@@ -1,8 +1,11 @@
 //! Stepping one method on one problem: the generic inner loop, instantiated
 //! once per (scheme, problem) pair, behind the object-safe [`Stepper`] so
-//! that the experiments themselves are written once. [`Lib`] makes any type
-//! that implements [`Step`] for the problem a stepper: the library's
-//! schemes, a user's `butcher!` scheme, the run-time interpreters.
+//! that the experiments themselves are written once. Two wrappers make a
+//! scheme a stepper, named by the path they step on: [`StepStepper`], the
+//! general path, through [`Step`] on a slice (any scheme: the library's, a
+//! user's `butcher!` scheme, the run-time interpreters); and
+//! [`FixedSizeStepper`], which times explicit schemes on fixed-size stack
+//! state through [`StepFixed`] where the problem is small.
 
 use integrator_core::fixed::StepFixed;
 use integrator_core::implicit::ImplicitWorkspace;
@@ -127,7 +130,7 @@ impl Workspace for Vec<f64> {
 
 /// One method on problems of type `P`. Implement it directly for a method
 /// that is not a [`Step`] (as the exact propagators are); wrap a `Step`
-/// type in [`Lib`].
+/// type in [`StepStepper`].
 pub trait Stepper<P>: Send + Sync {
     /// `n` steps of size `h` from `z` (at `t = 0`) on the counting wrapper,
     /// calling `observe(step, t, z)` before the first step and after each;
@@ -235,10 +238,11 @@ where
 }
 
 /// A scheme (a `butcher!` type, or anything that implements [`Step`] for
-/// the problem and for its counting wrapper) as a [`Stepper`].
-pub struct Lib<M>(pub M);
+/// the problem and for its counting wrapper) as a [`Stepper`] on the
+/// general path: every run steps the state as a slice through [`Step`].
+pub struct StepStepper<M>(pub M);
 
-impl<M, P> Stepper<P> for Lib<M>
+impl<M, P> Stepper<P> for StepStepper<M>
 where
     P: Problem,
     M: Step<P> + Step<Counted<P>> + Send + Sync,
@@ -292,11 +296,11 @@ where
 /// a `[f64; N]` through `StepFixed::step_fixed`, so that both sides of a
 /// timing keep the state in registers; other sizes take the slice path.
 /// Both paths give the same bits (integrator-core's `tests/fixed.rs`), so
-/// the observed run, which counts evaluations, is [`Lib`]'s.
-pub struct Small<M>(pub M);
+/// the observed run, which counts evaluations, is [`StepStepper`]'s.
+pub struct FixedSizeStepper<M>(pub M);
 
-/// The fixed-size sizes of [`Small`].
-macro_rules! small_sizes {
+/// The fixed-size sizes of [`FixedSizeStepper`].
+macro_rules! fixed_sizes {
     ($m:expr, $sys:expr, $z:expr, $h:expr, $n:expr; $($size:literal),*) => {
         match $z.len() {
             $($size => return bare_fixed::<P, M, $size>($m, $sys, $z, $h, $n),)*
@@ -305,7 +309,7 @@ macro_rules! small_sizes {
     };
 }
 
-impl<M, P> Stepper<P> for Small<M>
+impl<M, P> Stepper<P> for FixedSizeStepper<M>
 where
     P: Problem,
     M: Step<P>
@@ -330,18 +334,18 @@ where
         compensated: bool,
         observe: &mut dyn FnMut(usize, f64, &[f64]) -> bool,
     ) -> Outcome {
-        Lib(self.0).observed(sys, z, h, n, compensated, observe)
+        StepStepper(self.0).observed(sys, z, h, n, compensated, observe)
     }
 
     fn bare(&self, sys: &P, z: &mut [f64], h: f64, n: usize) -> bool {
         if z.len() == sys.dim() {
-            small_sizes!(&self.0, sys, z, h, n; 2, 4, 6, 12, 36);
+            fixed_sizes!(&self.0, sys, z, h, n; 2, 4, 6, 12, 36);
         }
-        Stepper::<P>::bare(&Lib(self.0), sys, z, h, n)
+        Stepper::<P>::bare(&StepStepper(self.0), sys, z, h, n)
     }
 }
 
-/// [`Lib`]'s bare run on a `[f64; N]` (compensated, first same as last).
+/// [`StepStepper`]'s bare run on a `[f64; N]` (compensated, first same as last).
 fn bare_fixed<P, M, const N: usize>(m: &M, sys: &P, z: &mut [f64], h: f64, n: usize) -> bool
 where
     P: OdeSystem,

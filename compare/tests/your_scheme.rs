@@ -382,8 +382,8 @@ fn a_scheme_that_fails_at_step_k_is_a_row_that_says_so() {
         Method::stepper(id, 1, false, compare::Family::ExplicitRk, s)
     };
     let methods = vec![
-        stepper(Box::new(compare::Lib(GivesUp)), "gives-up"),
-        stepper(Box::new(compare::Lib(BlowsUp)), "blows-up"),
+        stepper(Box::new(compare::StepStepper(GivesUp)), "gives-up"),
+        stepper(Box::new(compare::StepStepper(BlowsUp)), "blows-up"),
     ];
     let settings = SweepSettings {
         h_min: 0.1,
@@ -502,7 +502,7 @@ fn a_scheme_that_panics_is_a_failed_row_and_the_sweep_goes_on() {
             1,
             false,
             compare::Family::ExplicitRk,
-            Box::new(compare::Lib(Panics)),
+            Box::new(compare::StepStepper(Panics)),
         ),
         Method::scheme("suzuki4", Suzuki4),
     ];

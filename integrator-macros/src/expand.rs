@@ -12,47 +12,18 @@
 use proc_macro2::TokenStream;
 use quote::quote;
 use tableau::analysis::{Class, Form, class::separable_stage_order};
-use tableau::rounding::{F64Rounded, F64Splitting, F64Table, round_table, round_weights};
+use tableau::rounding::{F64Rounded, round_table, round_weights};
 use tableau::table::Op;
 use tableau::{Number, Splitting, Table};
 
 use crate::ast::Input;
+use crate::emit::{Facts, emit, lit, rk_consts, split_consts, stability_tokens};
 use crate::step;
 use crate::valid::Verified;
 
-fn lit(v: &[f64]) -> TokenStream {
-    quote!([#(#v),*])
-}
-
-fn lit_mat(a: &[Vec<f64>]) -> TokenStream {
-    let rows = a.iter().map(|r| lit(r));
-    quote!([#(#rows),*])
-}
-
-pub(crate) fn rk_consts(t: &F64Table, suffix: &str) -> TokenStream {
-    let s = t.b.len();
-    let a_name = quote::format_ident!("A{}", suffix);
-    let b_name = quote::format_ident!("B{}", suffix);
-    let c_name = quote::format_ident!("C{}", suffix);
-    let (a, b, c) = (lit_mat(&t.a), lit(&t.b), lit(&t.c));
-    quote! {
-        /// The coefficient matrix: each entry within one ulp of the exact value,
-        /// chosen to keep the symplecticity defect as small as rounding allows.
-        pub const #a_name: [[f64; #s]; #s] = #a;
-        /// The weights, within one ulp of the exact values and summing to 1.0
-        /// in floating point (left to right) where that is possible.
-        pub const #b_name: [f64; #s] = #b;
-        /// The abscissae (the given `c`, else the row sums), correctly rounded.
-        pub const #c_name: [f64; #s] = #c;
-    }
-}
-
+/// The scheme type of a verified table.
 pub fn expand(input: &Input, v: &Verified) -> TokenStream {
-    let Input {
-        attrs, vis, name, ..
-    } = input;
     let a = &v.analysis;
-    let stages = a.stages;
     let order = v
         .claims
         .iter()
@@ -61,12 +32,6 @@ pub fn expand(input: &Input, v: &Verified) -> TokenStream {
             _ => None,
         })
         .unwrap_or(a.claimed_order_report().order);
-    let (symplectic, symplectic_separable, symmetric) =
-        (a.symplectic, a.symplectic_separable, a.symmetric);
-    let explicit = a.explicit_separable;
-    let class = a.class.name();
-    let separable_only = a.separable_only();
-    let title = &v.name;
     let rounded = round_table(&v.table, a);
     let coefficients = match &rounded {
         F64Rounded::Rk(t) => {
@@ -97,88 +62,24 @@ pub fn expand(input: &Input, v: &Verified) -> TokenStream {
         Form::DriftKick => "drift-kick",
         Form::Composition => "composition",
     };
-    let (step_impl, evaluations) = step_code(name, v, &rounded);
-    let summary = summary(v);
-    let midpoint_weights = midpoint_weights(v, &rounded);
-    quote! {
-        #(#attrs)*
-        #[doc = ""]
-        #[doc = #summary]
-        #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-        #vis struct #name;
-
-        impl ::integrator_core::Scheme for #name {
-            const INFO: ::integrator_core::Info = ::integrator_core::Info {
-                name: #title,
-                form: #form,
-                stages: #stages,
-                order: #order,
-                symplectic: #symplectic,
-                symplectic_separable: #symplectic_separable,
-                separable_only: #separable_only,
-                symmetric: #symmetric,
-                explicit: #explicit,
-                class: #class,
-                evaluations: #evaluations,
-                midpoint_weights: #midpoint_weights,
-            };
-        }
-
-        #step_impl
-
-        // The constants are the doubles nearest to exact values; a few
-        // (e.g. sqrt(2)/2) coincide with std's constants, which clippy flags.
-        #[allow(clippy::approx_constant, clippy::excessive_precision)]
-        impl #name {
-            /// The table's name.
-            pub const NAME: &'static str = #title;
-            /// `"rk"`, `"prk"`, `"drift-kick"` or `"composition"`.
-            pub const FORM: &'static str = #form;
-            /// Stages of the (partitioned) Runge–Kutta form.
-            pub const STAGES: usize = #stages;
-            /// The verified order (the claimed order where one is claimed).
-            pub const ORDER: usize = #order;
-            /// Symplectic for every Hamiltonian, proven exactly.
-            pub const SYMPLECTIC: bool = #symplectic;
-            /// Symplectic for separable Hamiltonians, proven exactly.
-            pub const SYMPLECTIC_SEPARABLE: bool = #symplectic_separable;
-            /// Steps separable systems only (symplectic only for them).
-            pub const SEPARABLE_ONLY: bool = #separable_only;
-            /// Its own adjoint, proven exactly.
-            pub const SYMMETRIC: bool = #symmetric;
-            /// Explicit (on separable systems for a pair).
-            pub const EXPLICIT: bool = #explicit;
-            /// `"explicit"`, `"sdirk"`, `"dirk"` or `"implicit"`.
-            pub const CLASS: &'static str = #class;
-            #coefficients
-        }
-    }
-}
-
-fn split_consts(s: &F64Splitting) -> TokenStream {
-    let (nd, nk) = (s.drift.len(), s.kick.len());
-    let (d, k) = (lit(&s.drift), lit(&s.kick));
-    quote! {
-        /// Drift coefficients (within one ulp, summing to 1.0).
-        pub const DRIFT: [f64; #nd] = #d;
-        /// Kick coefficients (within one ulp, summing to 1.0).
-        pub const KICK: [f64; #nk] = #k;
-    }
-}
-
-/// On error: the errors, plus the type itself so that uses of it do not add
-/// a cascade of unrelated errors.
-pub fn stub(input: &Input, err: syn::Error) -> TokenStream {
-    let Input {
-        attrs, vis, name, ..
-    } = input;
-    let errors = err.to_compile_error();
-    quote! {
-        #errors
-        #(#attrs)*
-        #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-        #vis struct #name;
-    }
+    let (step_impl, evaluations) = step_code(&input.name, v, &rounded);
+    let facts = Facts {
+        name: v.name.clone(),
+        form,
+        stages: a.stages,
+        order,
+        order_doc: "The verified order (the claimed order where one is claimed).",
+        symplectic: a.symplectic,
+        symplectic_separable: a.symplectic_separable,
+        separable_only: a.separable_only(),
+        symmetric: a.symmetric,
+        explicit: a.explicit_separable,
+        class: a.class.name(),
+        evaluations,
+        midpoint_weights: midpoint_weights(v, &rounded),
+        summary: summary(v),
+    };
+    emit(input, &facts, coefficients, step_impl)
 }
 
 /// The `Step` impl for the table's structure, and its evaluations per step.
@@ -245,22 +146,21 @@ fn step_code(name: &syn::Ident, v: &Verified, rounded: &F64Rounded) -> (TokenStr
     }
 }
 
-/// The solver's name for a class of implicit table.
-/// `Some(&[b…])` when the exact table is a composition of implicit midpoint
+/// `Some(b)` when the exact table is a composition of implicit midpoint
 /// steps ([`tableau::midpoint::composition_weights`], exact equality of the
 /// entries), with the weights as rounded for stepping; `None` otherwise.
-fn midpoint_weights(v: &Verified, rounded: &F64Rounded) -> TokenStream {
+fn midpoint_weights(v: &Verified, rounded: &F64Rounded) -> Option<Vec<f64>> {
     match (&v.table, rounded) {
         (Table::Rk(rk), F64Rounded::Rk(t))
             if tableau::midpoint::composition_weights(rk).is_some() =>
         {
-            let b = lit(&t.b);
-            quote!(::core::option::Option::Some(&#b))
+            Some(t.b.clone())
         }
-        _ => quote!(::core::option::Option::None),
+        _ => None,
     }
 }
 
+/// The solver's name for a class of implicit table.
 fn structure(class: Class) -> &'static str {
     match class {
         Class::Sdirk => "Sdirk",
@@ -298,20 +198,4 @@ fn stability_consts(v: &Verified) -> TokenStream {
         .as_ref()
         .map(stability_tokens)
         .unwrap_or_default()
-}
-
-/// The constants of an exact stability function (also for generated tables).
-pub(crate) fn stability_tokens(r: &tableau::analysis::stability::StabilityFunction) -> TokenStream {
-    let to_f64 = |p: &[Number]| -> Vec<f64> { p.iter().map(Number::to_f64).collect() };
-    let (p, q) = (lit(&to_f64(&r.numerator.0)), lit(&to_f64(&r.denominator.0)));
-    let (np, nq) = (r.numerator.0.len(), r.denominator.0.len());
-    let text = r.to_text();
-    quote! {
-        /// Numerator `P` of the stability function `R(z) = P(z)/Q(z)`, constant term first.
-        pub const STABILITY_P: [f64; #np] = #p;
-        /// Denominator `Q` of the stability function, constant term first (`Q(0) = 1`).
-        pub const STABILITY_Q: [f64; #nq] = #q;
-        /// The stability function, exactly.
-        pub const STABILITY: &'static str = #text;
-    }
 }

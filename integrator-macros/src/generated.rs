@@ -9,9 +9,10 @@
 //! handles; `tableau` decides their claims exactly in products of number
 //! fields and rounds their coefficients with certified refinement (for
 //! symplectic tables, the rounding that keeps the symplecticity defect as
-//! small as `f64` allows). Validation and expansion mirror the `Table`
-//! path: claims (the invocation's, else the literature's) checked with
-//! errors on their tokens, then a scheme stepped by the stage solver.
+//! small as `f64` allows). Validation mirrors the `Table` path: claims (the
+//! invocation's, else the literature's) checked with errors on their tokens
+//! ([`Errors`]); the scheme, stepped by the stage solver, is written by the
+//! same emitter ([`emit`]) from the facts proven here.
 
 use proc_macro2::{Span, TokenStream};
 use quote::quote;
@@ -21,7 +22,8 @@ use tableau::algebraic::generated::{Generated, GeneratedTable, literature_claims
 use tableau::claims::parse_claim;
 
 use crate::ast::{Input, Value};
-use crate::expand::{rk_consts, stability_tokens};
+use crate::emit::{Facts, emit, rk_consts, stability_tokens};
+use crate::errors::Errors;
 use crate::step;
 
 /// The generated table an invocation names, if it names one: `None` for
@@ -40,19 +42,11 @@ pub fn validate(input: &Input) -> Option<Result<Generated, Error>> {
 }
 
 fn check(input: &Input, generator: Generator, id_span: Span) -> Result<Generated, Error> {
-    let mut errs: Option<Error> = None;
-    fn push(errs: &mut Option<Error>, span: Span, msg: String) {
-        let e = Error::new(span, msg);
-        match errs {
-            Some(all) => all.combine(e),
-            None => *errs = Some(e),
-        }
-    }
+    let mut errs = Errors::default();
     if !input.lets.is_empty() {
-        push(
-            &mut errs,
+        errs.push(
             input.lets[0].name.span(),
-            "a generated table takes no `let` bindings".into(),
+            "a generated table takes no `let` bindings",
         );
     }
     let mut claims = Vec::new();
@@ -67,17 +61,15 @@ fn check(input: &Input, generator: Generator, id_span: Span) -> Result<Generated
                             claims.push(c);
                             spans.push(item.span());
                         }
-                        Err(m) => push(&mut errs, item.span(), m),
+                        Err(m) => errs.push(item.span(), m),
                     }
                 }
             }
-            ("claims", v) => push(
-                &mut errs,
+            ("claims", v) => errs.push(
                 v.span(),
-                "claims are a list: `claims: [symplectic, order = 16]`".into(),
+                "claims are a list: `claims: [symplectic, order = 16]`",
             ),
-            (k, _) => push(
-                &mut errs,
+            (k, _) => errs.push(
                 f.span(),
                 format!(
                     "a generated table (`from: \"{}\"`) takes no field `{k}`; only `claims`",
@@ -96,26 +88,18 @@ fn check(input: &Input, generator: Generator, id_span: Span) -> Result<Generated
     let g = Generated::with_claims(generator, claims);
     for ((_, verdict), span) in g.claims.iter().zip(&spans) {
         if let Err(e) = verdict {
-            push(&mut errs, *span, e.to_string());
+            errs.push(*span, e.to_string());
         }
     }
-    match errs {
-        Some(e) => Err(e),
-        None => Ok(g),
-    }
+    errs.finish()?;
+    Ok(g)
 }
 
 /// The scheme type of a generated table: the same items as the `Table`
 /// path's (facts, coefficients, stability function, stage-solver step).
 pub fn expand(input: &Input, g: &Generated) -> TokenStream {
-    let Input {
-        attrs, vis, name, ..
-    } = input;
+    let name = &input.name;
     let stages = g.stages;
-    let order = g.proven_order();
-    let symplectic = g.symplectic;
-    let symmetric = g.symmetric;
-    let title = &g.name;
     let (form, coefficients, step_code, evaluations, separable_only) = match &g.f64_table {
         GeneratedTable::Rk(t) => {
             let consts = rk_consts(t, "");
@@ -151,68 +135,32 @@ pub fn expand(input: &Input, g: &Generated) -> TokenStream {
     // midpoint steps; every other one has a full A (Gauss, Radau, Lobatto
     // IIIC), a zero first row (IIIA) or a zero last column (IIIB). An exact
     // fact of the families, not a floating-point test.
-    let midpoint_weights = if g.generator == Generator::Rk(Family::Gauss, 1) {
-        quote!(::core::option::Option::Some(&[1.0]))
-    } else {
-        quote!(::core::option::Option::None)
-    };
+    let midpoint_weights = (g.generator == Generator::Rk(Family::Gauss, 1)).then(|| vec![1.0]);
     let facts: Vec<String> = g.claims.iter().map(|(c, _)| format!("`{c}`")).collect();
     let summary = format!(
-        "*{title}* — generated (`{}`) and verified exactly at compile time: {}; order proof: {}. Source: {}.",
+        "*{}* — generated (`{}`) and verified exactly at compile time: {}; order proof: {}. Source: {}.",
+        g.name,
         g.generator.expression(),
         facts.join(", "),
         g.order.text,
         g.source
     );
-    quote! {
-        #(#attrs)*
-        #[doc = ""]
-        #[doc = #summary]
-        #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-        #vis struct #name;
-
-        impl ::integrator_core::Scheme for #name {
-            const INFO: ::integrator_core::Info = ::integrator_core::Info {
-                name: #title,
-                form: #form,
-                stages: #stages,
-                order: #order,
-                symplectic: #symplectic,
-                symplectic_separable: #symplectic,
-                separable_only: #separable_only,
-                symmetric: #symmetric,
-                explicit: false,
-                class: "implicit",
-                evaluations: #evaluations,
-                midpoint_weights: #midpoint_weights,
-            };
-        }
-
-        #step_code
-
-        #[allow(clippy::approx_constant, clippy::excessive_precision)]
-        impl #name {
-            /// The table's name.
-            pub const NAME: &'static str = #title;
-            /// `"rk"` or `"prk"`.
-            pub const FORM: &'static str = #form;
-            /// Stages.
-            pub const STAGES: usize = #stages;
-            /// The proven order.
-            pub const ORDER: usize = #order;
-            /// Symplectic, proven exactly.
-            pub const SYMPLECTIC: bool = #symplectic;
-            /// Symplectic for separable Hamiltonians, proven exactly.
-            pub const SYMPLECTIC_SEPARABLE: bool = #symplectic;
-            /// Steps separable systems only.
-            pub const SEPARABLE_ONLY: bool = #separable_only;
-            /// Its own adjoint, proven exactly.
-            pub const SYMMETRIC: bool = #symmetric;
-            /// Explicit: never, for a collocation-type table.
-            pub const EXPLICIT: bool = false;
-            /// `"implicit"`.
-            pub const CLASS: &'static str = "implicit";
-            #coefficients
-        }
-    }
+    let facts = Facts {
+        name: g.name.clone(),
+        form,
+        stages,
+        order: g.proven_order(),
+        order_doc: "The order proven exactly (the type's doc names the proof).",
+        symplectic: g.symplectic,
+        symplectic_separable: g.symplectic,
+        separable_only,
+        symmetric: g.symmetric,
+        // Never, for a collocation-type table.
+        explicit: false,
+        class: "implicit",
+        evaluations,
+        midpoint_weights,
+        summary,
+    };
+    emit(input, &facts, coefficients, step_code)
 }

@@ -8,11 +8,16 @@
 //!
 //! The macro is split as thiserror and serde_derive are: [`ast`] parses the
 //! tokens, [`valid`] builds the exact table and checks every claim (all
-//! errors collected, each on the token it is about), [`expand`] emits the
-//! scheme type. On error a stub type is still emitted, so one mistake does not
-//! cascade into "cannot find type" errors at every use.
+//! errors collected in one [`errors::Errors`], each on the token it is
+//! about), [`expand`] states what was proven as [`emit::Facts`], and
+//! [`emit`] writes the scheme type from them: the one emitter of every path
+//! (also [`generated`] tables and [`roots`] tables). On error a stub type is
+//! still emitted, so one mistake does not cascade into "cannot find type"
+//! errors at every use.
 
 mod ast;
+mod emit;
+mod errors;
 mod expand;
 mod generated;
 mod roots;
@@ -26,16 +31,16 @@ pub fn butcher(input: TokenStream) -> TokenStream {
     let input = syn::parse_macro_input!(input as ast::Input);
     match generated::validate(&input) {
         Some(Ok(g)) => return generated::expand(&input, &g).into(),
-        Some(Err(err)) => return expand::stub(&input, err).into(),
+        Some(Err(err)) => return emit::stub(&input, err).into(),
         None => {}
     }
     match roots::validate(&input) {
         Some(Ok(t)) => return roots::expand(&input, &t).into(),
-        Some(Err(err)) => return expand::stub(&input, err).into(),
+        Some(Err(err)) => return emit::stub(&input, err).into(),
         None => {}
     }
     match valid::validate(&input) {
         Ok(verified) => expand::expand(&input, &verified).into(),
-        Err(err) => expand::stub(&input, err).into(),
+        Err(err) => emit::stub(&input, err).into(),
     }
 }

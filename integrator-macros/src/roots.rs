@@ -13,8 +13,10 @@
 //! mapped back to the token the user wrote.
 //!
 //! The coefficients are the correctly rounded doubles of the exact entries
-//! (`Field::to_f64`); the zero pattern of `A` is decided exactly: explicit
-//! tables are unrolled, the others step through the core's stage solver.
+//! and the zero pattern of `A` is decided exactly, both by
+//! `tableau::algebraic::rounded::round_root_table` (as for `symlab compare
+//! --table`): explicit tables are unrolled, the others step through the
+//! core's stage solver.
 
 use std::collections::BTreeMap;
 use std::fmt::Write;
@@ -22,13 +24,14 @@ use std::fmt::Write;
 use proc_macro2::{Span, TokenStream};
 use quote::quote;
 use syn::Error;
-use tableau::algebraic::alg::Alg;
 use tableau::algebraic::file::{AlgAnalysis, AlgFile, Loaded};
+use tableau::algebraic::rounded::{RootF64, round_root_table};
+use tableau::analysis::Class;
 use tableau::claims::{Claim, parse_claim};
-use tableau::rounding::F64Table;
 
 use crate::ast::{Entry, Input, Value};
-use crate::expand::rk_consts;
+use crate::emit::{Facts, emit, rk_consts};
+use crate::errors::Errors;
 use crate::step;
 
 /// The fields a table with `root(...)` entries takes (`a_hat`, `b_hat`,
@@ -40,32 +43,10 @@ pub struct RootTable {
     pub file: AlgFile,
     pub analysis: AlgAnalysis,
     pub claims: Vec<Claim>,
-    pub coefficients: F64Table,
-    /// A pair's `p` table (`a_hat`, `b_hat`).
-    pub hat: Option<F64Table>,
-    pub structure: Structure,
-    /// The order its decided conditions prove (at most 2).
-    pub order: usize,
-}
-
-/// The zero pattern of `A`, decided exactly.
-#[derive(Clone, Copy, PartialEq, Eq, Debug)]
-pub enum Structure {
-    Explicit,
-    Sdirk,
-    Dirk,
-    Full,
-}
-
-impl Structure {
-    fn class(self) -> &'static str {
-        match self {
-            Structure::Explicit => "explicit",
-            Structure::Sdirk => "sdirk",
-            Structure::Dirk => "dirk",
-            Structure::Full => "implicit",
-        }
-    }
+    /// The doubles, the exact zero pattern of `A` and the order its
+    /// decided conditions prove (at most 2): `tableau`'s, as `compare
+    /// --table` has them.
+    pub rounded: RootF64,
 }
 
 /// `Some` when a `let` binds a `root(...)`: then the whole invocation is a
@@ -96,19 +77,6 @@ fn is_root(e: &Entry) -> bool {
         }
     }
     false
-}
-
-#[derive(Default)]
-struct Errors(Option<Error>);
-
-impl Errors {
-    fn push(&mut self, span: Span, msg: impl std::fmt::Display) {
-        let e = Error::new(span, msg);
-        match &mut self.0 {
-            Some(all) => all.combine(e),
-            None => self.0 = Some(e),
-        }
-    }
 }
 
 /// A TOML basic string.
@@ -245,13 +213,14 @@ fn check(input: &Input) -> Result<RootTable, Error> {
         }
         let _ = writeln!(lets, "{} = {}", quoted(&name), quoted(&let_text(&l.value)));
     }
-    if let Some(e) = errs.0.take() {
+    if let Some(e) = errs.take() {
         return Err(e);
     }
     let text = format!("name = {}\n{body}{lets}", quoted(&input.name.to_string()));
     let label = format!("butcher! {}", input.name);
     let claim_texts: Vec<String> = claim_items.iter().map(|e| e.text.clone()).collect();
-    let Some(work) = on_big_stack(move || read_and_analyse(&label, &text, &claim_texts)) else {
+    let Some(work) = on_analysis_thread(move || read_and_analyse(&label, &text, &claim_texts))
+    else {
         return Err(Error::new(
             input.name.span(),
             "the exact analysis of this root(...) table failed (a panic in tableau): please report it",
@@ -302,37 +271,20 @@ fn check(input: &Input) -> Result<RootTable, Error> {
             Err(m) => errs.push(item.span(), m),
         }
     }
-    let (coefficients, hat, structure) = match work.coefficients {
+    let rounded = match work.coefficients {
         Ok(x) => x,
         Err(m) => {
             errs.push(input.name.span(), m);
-            return Err(errs.0.expect("just pushed"));
+            return Err(errs.take().expect("just pushed"));
         }
     };
-    if let Some(e) = errs.0 {
-        return Err(e);
-    }
+    errs.finish()?;
     let analysis = work.analysis.expect("analysed when the file was read");
-    let holds = analysis
-        .b_levels
-        .iter()
-        .take_while(|v| **v == Some(true))
-        .count();
-    // Order 2 needs Σbᵢcᵢ = 1/2 with c the row sums; for a pair the
-    // coupling conditions are not decided, so at most 1.
-    let order = if analysis.row_sums_ok == Some(true) && hat.is_none() {
-        holds.min(2)
-    } else {
-        holds.min(1)
-    };
     Ok(RootTable {
         file,
         analysis,
         claims,
-        coefficients,
-        hat,
-        structure,
-        order,
+        rounded,
     })
 }
 
@@ -344,7 +296,7 @@ struct Work {
     /// Each claim as parsed, and its verdict.
     claims: Vec<Result<Claim, String>>,
     verdicts: Vec<Result<(), String>>,
-    coefficients: Result<(F64Table, Option<F64Table>, Structure), String>,
+    coefficients: Result<RootF64, String>,
 }
 
 /// Read the rendered file, decide what its claims need, check them and
@@ -369,7 +321,7 @@ fn read_and_analyse(label: &str, text: &str, claim_texts: &[String]) -> Work {
             Err(_) => Ok(()),
         })
         .collect();
-    let coefficients = coefficients(f);
+    let coefficients = round_root_table(f, &analysis);
     Work {
         analysis: Some(analysis),
         claims,
@@ -379,101 +331,49 @@ fn read_and_analyse(label: &str, text: &str, claim_texts: &[String]) -> Work {
     }
 }
 
+/// The stack of the analysis thread. The analysis recurses only as deep as
+/// an entry is nested (`tableau::expr::MAX_DEPTH` levels) since `tableau`
+/// compares rationals without recursion; the 512 MiB this once was dates
+/// from before that, when the unoptimised analysis a proc macro runs
+/// overflowed rustc's stack on root tables of a few hundred terms. 16 MiB is
+/// what `symlab check` and `compare --table` give the same analysis
+/// (`src/check.rs`), where every collocation root file with s ≤ 8 checks on
+/// 2 MiB in a debug build: margin for the macro's unoptimised build, and a
+/// reservation that a limit on rustc's address space does not refuse.
+const ANALYSIS_STACK_BYTES: usize = 16 << 20;
+
 /// Run `f` on a thread of its own, so that a panic of the analysis is a
-/// compile error rather than a crash of rustc (`None` if it panicked). The
-/// large stack dates from before `tableau` compared rationals without
-/// recursion, when the unoptimised analysis a proc macro runs overflowed
-/// rustc's stack on root tables of a few hundred terms; the recursion left
-/// is bounded by an entry's nesting (`tableau::expr::MAX_DEPTH`), so the
-/// stack is margin now (only touched pages are committed).
-fn on_big_stack<T: Send + 'static>(f: impl FnOnce() -> T + Send + 'static) -> Option<T> {
+/// compile error rather than a crash of rustc (`None` if it panicked or the
+/// thread could not start), on a stack of [`ANALYSIS_STACK_BYTES`].
+fn on_analysis_thread<T: Send + 'static>(f: impl FnOnce() -> T + Send + 'static) -> Option<T> {
     std::thread::Builder::new()
         .name("butcher-roots".into())
-        .stack_size(512 << 20)
+        .stack_size(ANALYSIS_STACK_BYTES)
         .spawn(f)
         .ok()?
         .join()
         .ok()
 }
 
-/// The correctly rounded coefficients and the exact zero pattern of `A`
-/// (an entry beyond the zero-test budget counts as nonzero).
-fn coefficients(f: &AlgFile) -> Result<(F64Table, Option<F64Table>, Structure), String> {
-    let field = &f.field;
-    let s = f.b.len();
-    let zero = |x: &Alg| field.is_zero(x) == Ok(true);
-    let round = |x: &Alg, what: String| {
-        field
-            .to_f64(x)
-            .map_err(|e| format!("{what}: cannot be rounded to f64 within the budget ({e:?})"))
-    };
-    let table = |a: &[Vec<Alg>], b: &[Alg], c: Option<&Vec<Alg>>, names: [&str; 3]| {
-        let mut af = vec![vec![0.0; s]; s];
-        for i in 0..s {
-            for j in 0..s {
-                af[i][j] = round(&a[i][j], format!("{}[{i}][{j}]", names[0]))?;
-            }
-        }
-        let bf = (0..s)
-            .map(|i| round(&b[i], format!("{}[{i}]", names[1])))
-            .collect::<Result<Vec<f64>, String>>()?;
-        let cf = (0..s)
-            .map(|i| match c {
-                Some(c) => round(&c[i], format!("{}[{i}]", names[2])),
-                None => {
-                    let sum = a[i].iter().fold(Alg::zero(), |acc, x| acc.add(x));
-                    round(&sum, format!("the row sum of {}[{i}]", names[0]))
-                }
-            })
-            .collect::<Result<Vec<f64>, String>>()?;
-        Ok::<F64Table, String>(F64Table {
-            a: af,
-            b: bf,
-            c: cf,
-        })
-    };
-    let q = table(&f.a, &f.b, f.c.as_ref(), ["a", "b", "c"])?;
-    if let (Some(ah), Some(bh)) = (&f.a_hat, &f.b_hat) {
-        // A pair goes to the stage solver with all stages together.
-        let p = table(ah, bh, f.c_hat.as_ref(), ["a_hat", "b_hat", "c_hat"])?;
-        return Ok((q, Some(p), Structure::Full));
-    }
-    let upper_zero = (0..s).all(|i| (i + 1..s).all(|j| zero(&f.a[i][j])));
-    let structure = if !upper_zero {
-        Structure::Full
-    } else if (0..s).all(|i| zero(&f.a[i][i])) {
-        Structure::Explicit
-    } else if (0..s).all(|i| !zero(&f.a[i][i]) && zero(&f.a[i][i].sub(&f.a[0][0]))) {
-        Structure::Sdirk
-    } else {
-        Structure::Dirk
-    };
-    Ok((q, None, structure))
-}
-
 /// The scheme type: the items of the `Table` path (facts, coefficients,
 /// step code), with the verdicts decided for root tables.
 pub fn expand(input: &Input, t: &RootTable) -> TokenStream {
-    let Input {
-        attrs, vis, name, ..
-    } = input;
+    let name = &input.name;
     let stages = t.analysis.stages;
-    let order = t.order;
     let symplectic = t.analysis.symplectic == Some(true);
     let symplectic_separable = t.analysis.symplectic_separable == Some(true);
     // A pair symplectic for separable Hamiltonians only (b ≠ b̂) steps only
     // separable systems, as other such pairs do.
-    let separable_only = t.hat.is_some() && symplectic_separable && !symplectic;
-    let form = if t.hat.is_some() { "prk" } else { "rk" };
-    let evaluations = if t.hat.is_some() { 2 * stages } else { stages };
-    let class = t.structure.class();
-    let explicit = t.structure == Structure::Explicit;
-    let title = name.to_string();
-    let q_consts = rk_consts(&t.coefficients, "");
-    let p_consts = t.hat.as_ref().map(|p| rk_consts(p, "_HAT"));
+    let r = &t.rounded;
+    let separable_only = r.hat.is_some() && symplectic_separable && !symplectic;
+    let form = if r.hat.is_some() { "prk" } else { "rk" };
+    let evaluations = if r.hat.is_some() { 2 * stages } else { stages };
+    let explicit = r.class == Class::Explicit;
+    let q_consts = rk_consts(&r.table, "");
+    let p_consts = r.hat.as_ref().map(|p| rk_consts(p, "_HAT"));
     let coefficients = quote!(#q_consts #p_consts);
-    let step_code = match t.structure {
-        _ if t.hat.is_some() => step::implicit(
+    let step_code = match r.class {
+        _ if r.hat.is_some() => step::implicit(
             name,
             stages,
             "Full",
@@ -484,18 +384,13 @@ pub fn expand(input: &Input, t: &RootTable) -> TokenStream {
                 quote!(::integrator_core::Hamiltonian)
             },
         ),
-        Structure::Explicit => step::explicit_rk(
-            name,
-            &t.coefficients.a,
-            &t.coefficients.b,
-            &t.coefficients.c,
-        ),
-        s => step::implicit(
+        Class::Explicit => step::explicit_rk(name, &r.table.a, &r.table.b, &r.table.c),
+        class => step::implicit(
             name,
             stages,
-            match s {
-                Structure::Sdirk => "Sdirk",
-                Structure::Dirk => "Dirk",
+            match class {
+                Class::Sdirk => "Sdirk",
+                Class::Dirk => "Dirk",
                 _ => "Full",
             },
             false,
@@ -507,64 +402,29 @@ pub fn expand(input: &Input, t: &RootTable) -> TokenStream {
         facts.push("no claims".into());
     }
     let summary = format!(
-        "*{title}* — entries in {} real algebraic root(s) ({}), verified exactly at compile time: {}. Symplecticity is decided exactly; order beyond 2, symmetry and the stability function are not decided for root(...) tables.",
+        "*{name}* — entries in {} real algebraic root(s) ({}), verified exactly at compile time: {}. Symplecticity is decided exactly; order beyond 2, symmetry and the stability function are not decided for root(...) tables.",
         t.file.field.names.len(),
         t.file.field.names.join(", "),
         facts.join(", ")
     );
-    quote! {
-        #(#attrs)*
-        #[doc = ""]
-        #[doc = #summary]
-        #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-        #vis struct #name;
-
-        impl ::integrator_core::Scheme for #name {
-            const INFO: ::integrator_core::Info = ::integrator_core::Info {
-                name: #title,
-                form: #form,
-                stages: #stages,
-                order: #order,
-                symplectic: #symplectic,
-                symplectic_separable: #symplectic_separable,
-                separable_only: #separable_only,
-                symmetric: false,
-                explicit: #explicit,
-                class: #class,
-                evaluations: #evaluations,
-                midpoint_weights: ::core::option::Option::None,
-            };
-        }
-
-        #step_code
-
-        #[allow(clippy::approx_constant, clippy::excessive_precision)]
-        impl #name {
-            /// The table's name.
-            pub const NAME: &'static str = #title;
-            /// `"rk"`, or `"prk"` for a pair (`a_hat`, `b_hat`).
-            pub const FORM: &'static str = #form;
-            /// Stages.
-            pub const STAGES: usize = #stages;
-            /// The order proven for a root(...) table: 1 when Σbᵢ = 1, 2 when
-            /// also Σbᵢcᵢ = 1/2 with c the row sums (decided exactly; for a
-            /// pair at most 1); higher orders are not decided for such tables.
-            pub const ORDER: usize = #order;
-            /// Symplectic for every Hamiltonian (W = 0; for a pair, the pair
-            /// condition and b = b̂), proven exactly.
-            pub const SYMPLECTIC: bool = #symplectic;
-            /// Symplectic for separable Hamiltonians (for a pair, the pair
-            /// condition), proven exactly.
-            pub const SYMPLECTIC_SEPARABLE: bool = #symplectic_separable;
-            /// Steps separable systems only (a pair symplectic only for them).
-            pub const SEPARABLE_ONLY: bool = #separable_only;
-            /// Not decided for root(...) tables, so not claimed.
-            pub const SYMMETRIC: bool = false;
-            /// Explicit, decided by exact zero tests.
-            pub const EXPLICIT: bool = #explicit;
-            /// `"explicit"`, `"sdirk"`, `"dirk"` or `"implicit"`, decided exactly.
-            pub const CLASS: &'static str = #class;
-            #coefficients
-        }
-    }
+    let facts = Facts {
+        name: name.to_string(),
+        form,
+        stages,
+        order: r.order,
+        order_doc: "The order proven for a root(...) table: 1 when Σbᵢ = 1, 2 when \
+            also Σbᵢcᵢ = 1/2 with c the row sums (decided exactly; for a pair at most 1); \
+            higher orders are not decided for such tables.",
+        symplectic,
+        symplectic_separable,
+        separable_only,
+        // Not decided for root(...) tables, so not claimed.
+        symmetric: false,
+        explicit,
+        class: r.class.name(),
+        evaluations,
+        midpoint_weights: None,
+        summary,
+    };
+    emit(input, &facts, coefficients, step_code)
 }

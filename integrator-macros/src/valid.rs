@@ -12,6 +12,7 @@ use tableau::expr;
 use tableau::{Composition, Number, Prk, Rk, Splitting, Table};
 
 use crate::ast::{Entry, Field, Input, Value};
+use crate::errors::Errors;
 
 /// A table whose claims all hold.
 pub struct Verified {
@@ -21,23 +22,6 @@ pub struct Verified {
     pub name: String,
     /// The literature source, for tables read `from` the catalogue.
     pub source: Option<String>,
-}
-
-/// Collects errors so that every mistake in one invocation is reported.
-#[derive(Default)]
-struct Errors(Option<Error>);
-
-impl Errors {
-    fn push(&mut self, span: Span, msg: impl std::fmt::Display) {
-        let e = Error::new(span, msg);
-        match &mut self.0 {
-            Some(all) => all.combine(e),
-            None => self.0 = Some(e),
-        }
-    }
-    fn finish(self) -> Result<(), Error> {
-        self.0.map_or(Ok(()), Err)
-    }
 }
 
 const KEYS: &[&str] = &[

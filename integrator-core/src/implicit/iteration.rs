@@ -7,6 +7,7 @@
 
 use super::collocation::{SymplecticForm, symplectic_form};
 use super::settings::{Settings, Solver, Stats};
+use super::symplectic_iteration::{FormScratch, FormSweeps};
 use super::table::{ImplicitTable, Structure};
 use crate::error::SolveError;
 use crate::system::OdeSystem;
@@ -372,15 +373,15 @@ pub(crate) struct Core {
     pub d: usize,
     pub s: usize,
     /// Stage increments `Zᵢ = Yᵢ − z`, stage after stage (`s·d`).
-    pub(super) zs: Vec<f64>,
+    zs: Vec<f64>,
     /// Starting values of the current step.
-    pub(super) z0: Vec<f64>,
+    z0: Vec<f64>,
     /// `F(Yᵢ)`.
-    pub(super) f: Vec<f64>,
+    f: Vec<f64>,
     /// `F(Yᵢ)` of the previous step, for the extrapolation.
     f_prev: Vec<f64>,
     /// Residuals and corrections.
-    pub(super) res: Vec<f64>,
+    res: Vec<f64>,
     /// A stage value `z + Zᵢ`.
     y: Vec<f64>,
     /// The explicit part of a DIRK stage.
@@ -388,7 +389,7 @@ pub(crate) struct Core {
     /// The state the previous step left, to know whether its history applies.
     z_end: Vec<f64>,
     /// Kahan compensation of the update.
-    pub(super) comp: Vec<f64>,
+    comp: Vec<f64>,
     h_prev: f64,
     history: bool,
     /// The table the caches were made for.
@@ -399,12 +400,10 @@ pub(crate) struct Core {
     /// `βᵢⱼ` for the `q` and the `p` components (`2·s·s`).
     beta: Vec<f64>,
     beta_r: f64,
-    /// The compensation `e` (state `z + e`) and the running minima of the
-    /// stage changes, of the symplectic-form iteration (`d` each).
-    pub(super) e: Vec<f64>,
-    pub(super) dmin: Vec<f64>,
+    /// What the symplectic-form iteration keeps between steps.
+    form_scratch: FormScratch,
     /// The symplectic form of the table, if it has one.
-    pub(super) form: Option<SymplecticForm>,
+    form: Option<SymplecticForm>,
     /// Counts the calls of `step`: a Jacobian stamped with the current one
     /// is fresh.
     pub attempt: u64,
@@ -436,8 +435,7 @@ impl Core {
             lagrange: vec![0.0; s * s],
             beta: vec![0.0; 2 * s * s],
             beta_r: f64::NAN,
-            e: vec![0.0; d],
-            dmin: vec![0.0; d],
+            form_scratch: FormScratch::new(d),
             form: None,
             attempt: 0,
             newton_sticky: false,
@@ -913,6 +911,32 @@ impl Core {
             }
         }
         Ok(())
+    }
+
+    /// One step in the table's symplectic form: the workspace's buffers lent
+    /// to [`FormSweeps`], which also updates `z`.
+    fn step_symplectic<Sys: OdeSystem + ?Sized>(
+        &mut self,
+        sys: &Sys,
+        t: f64,
+        h: f64,
+        z: &mut [f64],
+        predicted: bool,
+    ) -> Result<(), SolveError> {
+        FormSweeps {
+            form: self.form.as_ref().expect("a table with a symplectic form"),
+            settings: &self.settings,
+            stats: &mut self.stats,
+            ys: &mut self.zs,
+            l: &mut self.res,
+            f: &mut self.f,
+            z0: &self.z0,
+            comp: &mut self.comp,
+            scratch: &mut self.form_scratch,
+            d: self.d,
+            s: self.s,
+        }
+        .step(sys, t, h, z, predicted)
     }
 
     /// `z ← z + h·Σ bᵢ·F(Yᵢ)`, compensated if asked.

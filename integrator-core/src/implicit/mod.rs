@@ -78,6 +78,7 @@ mod dense;
 mod iteration;
 mod settings;
 mod sparse;
+mod symplectic_iteration;
 mod table;
 mod twofold;
 mod workspace;

@@ -17,7 +17,9 @@
 //!   intervals ([`root`]), with an exact and complete zero test (the
 //!   characteristic polynomial of multiplication, plus a certified
 //!   enclosure), within a budget on the size of the algebra. Table files
-//!   with `root(...)` entries use it ([`file`]).
+//!   with `root(...)` entries use it ([`file`]); [`rounded`] turns such a
+//!   table into the correctly rounded doubles and the exact structure that
+//!   `butcher!` and `symlab compare --table` step.
 //!
 //! Signs and correctly rounded `f64` values come from certified refinement
 //! (Sturm sequences, exact bisection, rational interval arithmetic), never
@@ -29,4 +31,5 @@ pub mod file;
 pub mod generated;
 pub mod pair;
 pub mod poly;
+pub mod rounded;
 pub mod root;
