@@ -10,18 +10,8 @@ use cloth::render::rasterise;
 
 pub use cloth::render::{Camera, Stage};
 
-/// Render the cloth at `positions` (all particles, by id) to a PNG file.
-pub fn render_png(
-    path: &Path,
-    stage: &Stage,
-    camera: &Camera,
-    positions: &[Vec3],
-    caption: &str,
-) -> Result<()> {
-    render_png_noted(path, stage, camera, positions, caption).map(|_| ())
-}
-
-/// [`render_png`], returning a note when the picture left triangles out
+/// Render the cloth at `positions` (all particles, by id) to a PNG file;
+/// a note when the picture left triangles out
 /// (the pixel budget, [`cloth::render::PIXEL_BUDGET_PER_PIXEL`]); the
 /// caption says so too.
 pub fn render_png_noted(
@@ -97,7 +87,7 @@ mod tests {
         let dir = std::env::temp_dir().join(format!("symlab-render-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
         let path = dir.join("x.png");
-        render_png(&path, &stage, &camera, &pts, "test").unwrap();
+        render_png_noted(&path, &stage, &camera, &pts, "test").unwrap();
         let bytes = std::fs::read(&path).unwrap();
         assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n");
         std::fs::remove_dir_all(&dir).unwrap();

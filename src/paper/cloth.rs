@@ -32,7 +32,8 @@ use cloth::{
     RunSettings, Scene, Simulation, SolverStats, Vec3,
 };
 
-use crate::cloth_cmd::render;
+use cloth::render::{Camera, Stage, rasterise};
+use compare::format;
 
 /// A run has blown up once `|H − H₀|/E_ref` passes this: the energy
 /// guard's default limit.
@@ -424,7 +425,7 @@ pub fn write_files(exp: &ClothExperiment, dir: &Path) -> Result<Vec<String>> {
 
     // Renderings of the last good frame of the substepped runs; one camera
     // for the runs that completed, its own for a run that blew up.
-    let stage = render::Stage {
+    let stage = Stage {
         colliders: exp.scene.colliders.clone(),
         triangles: Simulation::new(&exp.scene)
             .map_err(|e| anyhow!("{e}"))?
@@ -438,7 +439,7 @@ pub fn write_files(exp: &ClothExperiment, dir: &Path) -> Result<Vec<String>> {
         .filter(|r| r.stopped.is_none())
         .flat_map(|r| r.last_positions.iter().copied())
         .collect();
-    let shared = (!good.is_empty()).then(|| render::Camera::fit(&good, &exp.scene.colliders));
+    let shared = (!good.is_empty()).then(|| Camera::fit(&good, &exp.scene.colliders));
     for r in shown {
         let f = r.frames.last().map_or(0, |f| f.frame);
         let (positions, caption) = match &r.blowing_up {
@@ -466,10 +467,18 @@ pub fn write_files(exp: &ClothExperiment, dir: &Path) -> Result<Vec<String>> {
         };
         let camera = match (&r.stopped, shared) {
             (None, Some(c)) => c,
-            _ => render::Camera::fit(positions, &exp.scene.colliders),
+            _ => Camera::fit(positions, &exp.scene.colliders),
         };
         let name = format!("{}.png", r.file_stem());
-        render::render_png(&dir.join(&name), &stage, &camera, positions, &caption)?;
+        let picture = rasterise(&stage, &camera, positions);
+        let caption = picture.caption(&caption);
+        let image = picture.image;
+        plot::captioned_png(
+            &dir.join(&name),
+            (image.width, image.height),
+            image.rgb,
+            &caption,
+        )?;
         files.push(name);
     }
     Ok(files)
@@ -484,21 +493,24 @@ fn ms_per_frame(r: &ClothRun) -> f64 {
     }
 }
 
-fn e(x: f64) -> String {
-    if x.is_finite() {
-        format!("{x:.2e}")
-    } else {
-        "—".to_string()
-    }
-}
-
-/// The report's section (without its heading).
+/// The report's section (without its heading), one function per part.
 pub fn markdown(exp: &ClothExperiment, files: &[String]) -> String {
     let mut w = String::new();
-    let sc = &exp.scene;
-    let hf = frame_h(exp);
-    let run = |id: &str, k: usize| exp.runs.iter().find(|r| r.id == id && r.substeps == k);
-    let k_exp = sc.simulation.substeps;
+    claim(&mut w);
+    this_run(&mut w, exp, files);
+    runs_table(&mut w, exp);
+    one_step_explicit(&mut w, exp);
+    grid_limits(&mut w, exp);
+    minimisation(&mut w, exp);
+    implicit_one_step(&mut w, exp);
+    substepped(&mut w, exp);
+    contrast(&mut w, exp);
+    cost(&mut w, exp);
+    w
+}
+
+/// The report: the paper's claim, in its words.
+fn claim(w: &mut String) {
     let _ = writeln!(
         w,
         "**The paper's claim.** On \"a rectangle cloth surface, initially horizontal, attached along one of its \
@@ -506,6 +518,12 @@ pub fn markdown(exp: &ClothExperiment, files: &[String]) -> String {
          explicit Euler's result is \"not satisfactory\" while symplectic Euler \"shows stable and reasonable \
          dynamic behaviors\" (their figure 5, pictures only, no numbers). Implicit methods were omitted as too slow.\n"
     );
+}
+
+/// The report: what this run is: the scene, its scales, the files.
+fn this_run(w: &mut String, exp: &ClothExperiment, files: &[String]) {
+    let sc = &exp.scene;
+    let hf = frame_h(exp);
     let _ = writeln!(
         w,
         "**This run.** `scenes/paper.toml`: {:.0} m × {:.0} m, {}×{} particles pinned along one edge, stretch and shear \
@@ -531,6 +549,10 @@ pub fn markdown(exp: &ClothExperiment, files: &[String]) -> String {
             .collect::<Vec<_>>()
             .join(", ")
     );
+}
+
+/// The report: one row per run.
+fn runs_table(w: &mut String, exp: &ClothExperiment) {
     let _ = writeln!(
         w,
         "| method | steps per frame | h (s) | h·ω_max | outcome | max \\|H − H₀\\|/E_ref | final (H − H₀)/E_ref | ms stepping per frame | Newton its/step |"
@@ -547,21 +569,18 @@ pub fn markdown(exp: &ClothExperiment, files: &[String]) -> String {
             r.stopped
                 .clone()
                 .unwrap_or_else(|| format!("completed {:.1} s", r.end_time())),
-            e(r.max_error(exp.e_ref)),
-            e(r.final_error(exp.e_ref)),
-            {
-                let ms = ms_per_frame(r);
-                if ms.is_finite() {
-                    format!("{ms:.2}")
-                } else {
-                    "—".into()
-                }
-            },
-            r.newton_per_step.map_or("—".into(), |n| format!("{n:.1}")),
+            format::sci(r.max_error(exp.e_ref), 2),
+            format::sci(r.final_error(exp.e_ref), 2),
+            format::fixed(ms_per_frame(r), 2),
+            format::opt(r.newton_per_step, |n| format::fixed(n, 1)),
         );
     }
     let _ = writeln!(w);
+}
 
+/// The report: where this differs from the paper: every explicit method at one step per frame.
+fn one_step_explicit(w: &mut String, exp: &ClothExperiment) {
+    let hf = frame_h(exp);
     // What the numbers say, from the numbers.
     let one_step_explicit: Vec<&ClothRun> = exp
         .runs
@@ -594,6 +613,12 @@ pub fn markdown(exp: &ClothExperiment, files: &[String]) -> String {
             hf * exp.omega_max
         );
     }
+}
+
+/// The report: nor on a coarser grid: 2/ω_max per resolution, and what one explicit step per frame would need.
+fn grid_limits(w: &mut String, exp: &ClothExperiment) {
+    let sc = &exp.scene;
+    let hf = frame_h(exp);
     let coarsest = exp.grids.first();
     let largest = exp.grids.iter().map(|g| g.h_max).fold(0.0f64, f64::max);
     let _ = writeln!(
@@ -637,14 +662,10 @@ pub fn markdown(exp: &ClothExperiment, files: &[String]) -> String {
         50.75 / soft.max(f64::MIN_POSITIVE),
         soft,
     );
-    let imp1: Vec<&ClothRun> = exp
-        .runs
-        .iter()
-        .filter(|r| {
-            r.substeps == 1
-                && method_of(r.id).is_ok_and(|m| m.mechanism() == Mechanism::StageSolver)
-        })
-        .collect();
+}
+
+/// The report: the midpoint family and the AVF as minimisation at one step per frame.
+fn minimisation(w: &mut String, exp: &ClothExperiment) {
     let mins: Vec<String> = exp
         .runs
         .iter()
@@ -656,7 +677,7 @@ pub fn markdown(exp: &ClothExperiment, files: &[String]) -> String {
             None => format!(
                 "{} ran to the end (max |H − H₀|/E_ref = {})",
                 r.name,
-                e(r.max_error(exp.e_ref))
+                format::sci(r.max_error(exp.e_ref), 2)
             ),
         })
         .collect();
@@ -680,7 +701,7 @@ pub fn markdown(exp: &ClothExperiment, files: &[String]) -> String {
             Some(why) => why.clone(),
             None => format!(
                 "ran to the end with max |H − H₀|/E_ref = {} (energy-conserving to the solver's tolerance)",
-                e(r.max_error(exp.e_ref))
+                format::sci(r.max_error(exp.e_ref), 2)
             ),
         };
         let _ = writeln!(
@@ -690,6 +711,18 @@ pub fn markdown(exp: &ClothExperiment, files: &[String]) -> String {
              averaged over the step) solved with the same Newton machinery, at one step per frame: {outcome}."
         );
     }
+}
+
+/// The report: the implicit methods at one step per frame.
+fn implicit_one_step(w: &mut String, exp: &ClothExperiment) {
+    let imp1: Vec<&ClothRun> = exp
+        .runs
+        .iter()
+        .filter(|r| {
+            r.substeps == 1
+                && method_of(r.id).is_ok_and(|m| m.mechanism() == Mechanism::StageSolver)
+        })
+        .collect();
     let imp_failed: Vec<String> = imp1
         .iter()
         .filter(|r| r.stopped.is_some())
@@ -711,22 +744,28 @@ pub fn markdown(exp: &ClothExperiment, files: &[String]) -> String {
             "- At 16.7 ms the implicit methods ran to the end (A-stable; the stage equations converged)."
         );
     }
+}
+
+/// The report: the paper's qualitative claim, once the step is stable.
+fn substepped(w: &mut String, exp: &ClothExperiment) {
+    let run = |id: &str, k: usize| exp.runs.iter().find(|r| r.id == id && r.substeps == k);
+    let k_exp = exp.scene.simulation.substeps;
     // The substepped comparison: the paper's qualitative claim.
     if let (Some(eu), Some(se)) = (run("euler", k_exp), run("symplectic-euler-a", k_exp)) {
         let eu_text = match &eu.stopped {
             Some(why) => format!("explicit Euler {why}"),
             None => format!(
                 "explicit Euler completed with max error {}",
-                e(eu.max_error(exp.e_ref))
+                format::sci(eu.max_error(exp.e_ref), 2)
             ),
         };
         let se_text = match &se.stopped {
             Some(why) => format!("symplectic Euler {why}"),
             None => format!(
                 "symplectic Euler's energy error stays bounded: at most {} over {:.1} s, {} at the end",
-                e(se.max_error(exp.e_ref)),
+                format::sci(se.max_error(exp.e_ref), 2),
                 se.end_time(),
-                e(se.final_error(exp.e_ref))
+                format::sci(se.final_error(exp.e_ref), 2)
             ),
         };
         let _ = writeln!(
@@ -741,10 +780,16 @@ pub fn markdown(exp: &ClothExperiment, files: &[String]) -> String {
                  stiffest, in-plane ones, whose amplitude √(2E/K) stays small even at that energy; a few steps \
                  later the coordinates are astronomical. Explicit Euler's \
                  failure is sudden, not a slow visible drift.",
-                e(*rel)
+                format::sci(*rel, 2)
             ))
         );
     }
+}
+
+/// The report: Gauss–Legendre 2 and implicit Euler, substepped.
+fn contrast(w: &mut String, exp: &ClothExperiment) {
+    let hf = frame_h(exp);
+    let run = |id: &str, k: usize| exp.runs.iter().find(|r| r.id == id && r.substeps == k);
     if let Some(g) = run("gauss2", IMPLICIT_SUBSTEPS) {
         let ie = run("implicit-euler", IMPLICIT_SUBSTEPS);
         let _ = writeln!(
@@ -755,7 +800,7 @@ pub fn markdown(exp: &ClothExperiment, files: &[String]) -> String {
                 Some(why) => why.clone(),
                 None => format!(
                     "keeps the energy error at {} with {} ms of stepping per frame",
-                    e(g.max_error(exp.e_ref)),
+                    format::sci(g.max_error(exp.e_ref), 2),
                     format_args!("{:.1}", ms_per_frame(g))
                 ),
             },
@@ -764,11 +809,17 @@ pub fn markdown(exp: &ClothExperiment, files: &[String]) -> String {
                 None => format!(
                     "; implicit Euler, the usual choice of cloth simulators, loses energy to numerical damping: \
                      (H − H₀)/E_ref = {} at the end",
-                    e(ie.final_error(exp.e_ref))
+                    format::sci(ie.final_error(exp.e_ref), 2)
                 ),
             })
         );
     }
+}
+
+/// The report: the cost per frame of symplectic Euler against Gauss–Legendre 2.
+fn cost(w: &mut String, exp: &ClothExperiment) {
+    let run = |id: &str, k: usize| exp.runs.iter().find(|r| r.id == id && r.substeps == k);
+    let k_exp = exp.scene.simulation.substeps;
     if let (Some(se), Some(g)) = (
         run("symplectic-euler-a", k_exp),
         run("gauss2", IMPLICIT_SUBSTEPS),
@@ -792,7 +843,6 @@ pub fn markdown(exp: &ClothExperiment, files: &[String]) -> String {
             ratio
         );
     }
-    w
 }
 
 /// One line per run, for the terminal.
@@ -809,7 +859,7 @@ pub fn terminal(exp: &ClothExperiment) -> String {
                 Some(why) => why.clone(),
                 None => format!(
                     "completed, max |H − H₀|/E_ref = {}",
-                    e(r.max_error(exp.e_ref))
+                    format::sci(r.max_error(exp.e_ref), 2)
                 ),
             }
         );
