@@ -11,7 +11,7 @@
 
 pub(crate) mod energy;
 mod growth;
-pub(crate) mod render;
+mod render;
 mod stability;
 mod summary;
 
@@ -757,7 +757,7 @@ fn energy_growth(frames: &[FrameStats], e_ref: f64) -> Growth {
 
 /// Render the kept frames with one camera fitted to all of them; the names
 /// written, and a note when a picture had to be simplified (see
-/// [`render::rasterise_checked`]).
+/// [`cloth::render::Picture::simplified`]).
 fn render_kept(
     scene: &Scene,
     triangles: &[[usize; 3]],
