@@ -4,9 +4,10 @@
 //! A [`Method`] is parsed once from its id ([`Method::parse`]) and says how
 //! it steps ([`Mechanism`]), its order, whether it is symplectic or
 //! symmetric, and what it conserves. The library's schemes come from the
-//! scheme registry (one list of `id => type` per kind, see
-//! `cloth_schemes!` below, the shape of `integrator_core::for_each_scheme!`); the two energy-conserving comparison
-//! schemes, which have no table, are added here.
+//! library's one scheme list (`integrator_core::for_each_scheme!`: one list
+//! of `id => type` per kind), so a table added there steps cloth with no
+//! edit here; the two energy-conserving comparison schemes, which have no
+//! table, are added here.
 //!
 //! ```
 //! use cloth::{Mechanism, Method};
@@ -311,8 +312,8 @@ impl std::str::FromStr for Method {
     }
 }
 
-/// Generates [`Method::all`]'s list from the scheme lists (the input shape
-/// of `integrator_core::for_each_scheme!`). The dispatch of a method to its
+/// Generates [`Method::all`]'s list from the library's scheme list
+/// (`integrator_core::for_each_scheme!`, the one place that lists them). The dispatch of a method to its
 /// scheme type is generated from the same lists in
 /// [`crate::step::dispatch`].
 macro_rules! cloth_facts {
@@ -336,83 +337,4 @@ macro_rules! cloth_facts {
     };
 }
 
-/// The library's schemes by kind, handed to `$callback`. Until
-/// `integrator_core::for_each_scheme!` is merged this is the same list
-/// written out (from compare's `library!`); then both uses,
-/// `cloth_schemes!(cloth_facts)` here and `cloth_schemes!(cloth_dispatch)`
-/// in [`crate::step::dispatch`], become `integrator_core::for_each_scheme!`
-/// and this macro goes.
-macro_rules! cloth_schemes {
-    ($callback:ident) => {
-        $callback! {
-            explicit_rk: [
-                "euler" => ExplicitEuler,
-                "heun" => Heun,
-                "rk4" => Rk4,
-                "rk38" => Rk38,
-            ],
-            implicit_rk: [
-                "implicit-euler" => ImplicitEuler,
-                "midpoint" => ImplicitMidpoint,
-                "gauss1" => GaussLegendre1,
-                "gauss2" => GaussLegendre2,
-                "gauss3" => GaussLegendre3,
-                "gauss4" => GaussLegendre4,
-                "gauss5" => GaussLegendre5,
-                "gauss6" => GaussLegendre6,
-                "gauss7" => GaussLegendre7,
-                "gauss8" => GaussLegendre8,
-                "radau2a-2" => RadauIIA2,
-                "radau2a-3" => RadauIIA3,
-                "radau2a-4" => RadauIIA4,
-                "radau2a-5" => RadauIIA5,
-                "lobatto3a-2" => LobattoIIIA2,
-                "lobatto3a-3" => LobattoIIIA3,
-                "lobatto3b-2" => LobattoIIIB2,
-                "lobatto3b-3" => LobattoIIIB3,
-                "lobatto3c-2" => LobattoIIIC2,
-                "lobatto3c-3" => LobattoIIIC3,
-                "lobatto3cstar-2" => LobattoIIICStar2,
-                "paper-dirk2" => PaperDirk2,
-                "paper-dirk4" => PaperDirk4,
-            ],
-            explicit_separable: [
-                "symplectic-euler-a" => SymplecticEulerA,
-                "symplectic-euler-b" => SymplecticEulerB,
-                "stormer-verlet" => StormerVerlet,
-                "leapfrog" => Leapfrog,
-                "ruth3" => Ruth3,
-                "forest-ruth" => ForestRuth,
-                "candy-rozmus4" => CandyRozmus4,
-                "mclachlan-atela2" => McLachlanAtela2,
-                "mclachlan-atela3" => McLachlanAtela3,
-                "mclachlan-atela4" => McLachlanAtela4,
-                "mclachlan-atela5" => McLachlanAtela5,
-                "calvo-sanz-serna4" => CalvoSanzSerna4,
-                "mclachlan4" => McLachlan4,
-                "pefrl" => Pefrl,
-                "mclachlan-s5" => McLachlanS5,
-                "blanes-moan-prk6" => BlanesMoanPrk6,
-                "blanes-moan-prk10" => BlanesMoanPrk10,
-                "blanes-moan-srkn6b" => BlanesMoanSrkn6b,
-                "blanes-moan-srkn11b" => BlanesMoanSrkn11b,
-                "blanes-moan-srkn14a" => BlanesMoanSrkn14a,
-                "yoshida4" => Yoshida4,
-                "yoshida6" => Yoshida6,
-                "kahan-li6" => KahanLi6,
-                "mclachlan-ss9" => McLachlanSS9,
-                "kahan-li8" => KahanLi8,
-                "mclachlan8" => McLachlan8,
-                "sofroniou-spaletta10" => SofroniouSpaletta10,
-            ],
-            implicit_pairs: [
-                "lobatto3a3b-3" => LobattoIIIAIIIB3,
-                "lobatto3a3b-4" => LobattoIIIAIIIB4,
-                "lobatto3c3cstar-2" => LobattoIIICIIICStar2,
-            ],
-        }
-    };
-}
-pub(crate) use cloth_schemes;
-
-cloth_schemes!(cloth_facts);
+integrator_core::for_each_scheme!(cloth_facts);

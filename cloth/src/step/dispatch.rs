@@ -1,6 +1,5 @@
-//! A method to its scheme type: generated from the same scheme lists as
-//! [`Method::all`] (`cloth_schemes!`, the shape of
-//! `integrator_core::for_each_scheme!`).
+//! A method to its scheme type: generated from the library's scheme list
+//! (`integrator_core::for_each_scheme!`), as [`Method::all`] is.
 //!
 //! Rust has no generic closures, so the dispatch takes a visitor: a value
 //! whose `visit` is generic over the scheme type ([`SchemeVisitor`], and
@@ -27,7 +26,7 @@ use integrator_core::implicit::ImplicitTable;
 use integrator_core::library::*;
 use integrator_core::{Info, Scheme, Step};
 
-use crate::method::{Method, MethodError, cloth_schemes};
+use crate::method::{Method, MethodError};
 use crate::model::ClothModel;
 
 /// Called with the scheme type a method stands for.
@@ -108,4 +107,4 @@ macro_rules! cloth_dispatch {
     };
 }
 
-cloth_schemes!(cloth_dispatch);
+integrator_core::for_each_scheme!(cloth_dispatch);
