@@ -103,6 +103,98 @@ where
     }
 }
 
+/// The extended state `(q, t, p, p₀)` of the start `z` in the engine's
+/// form, or why there is none (a run failed at step 0).
+fn start<S, E>(engine: &E, sys: &LogHamiltonian<S>, z: &[f64]) -> Result<E::State, Status>
+where
+    S: Separable,
+    E: Engine<S>,
+{
+    let extended = sys.extend(z, 0.0).map_err(|e| Status::SolverFailed {
+        step: 0,
+        reason: e.to_string(),
+    })?;
+    engine.state(extended).ok_or_else(|| Status::SolverFailed {
+        step: 0,
+        reason: "the extended state does not have the fixed size".into(),
+    })
+}
+
+/// The step that would pass `t_end`, made to land on it: a full step of
+/// `ds` where that does not pass `t_end`, else the fictitious step
+/// `σ ∈ (0, ds)` with `t(σ) = t_end`, found by the Illinois method (a
+/// secant that keeps the root bracketed) from the state before the step.
+/// Each trial starts from that state and scratch, without reuse (as a
+/// plain `step`); `saved` is a buffer for that state. `false` if a trial
+/// diverged.
+fn land<S, E>(
+    engine: &E,
+    sys: &LogHamiltonian<S>,
+    ds: f64,
+    t_end: f64,
+    w: &mut E::State,
+    ws: &mut E::Scratch,
+    saved: &mut E::State,
+) -> bool
+where
+    S: Separable,
+    E: Engine<S>,
+{
+    let n = sys.inner.dof();
+    let t = w.as_ref()[n];
+    saved.clone_from(w);
+    let saved = &*saved;
+    let ws0 = ws.clone();
+    let trial = |sigma: f64, w: &mut E::State, ws: &mut E::Scratch| -> f64 {
+        w.clone_from(saved);
+        *ws = ws0.clone();
+        if engine.step(sys, sigma, w, ws, false) {
+            w.as_ref()[n]
+        } else {
+            f64::NAN
+        }
+    };
+    let t_full = trial(ds, w, ws);
+    if t_full.is_nan() || t_full <= t_end {
+        return t_full.is_finite();
+    }
+    let (mut lo, mut f_lo) = (0.0, t - t_end);
+    let (mut hi, mut f_hi) = (ds, t_full - t_end);
+    let mut side = 0i8;
+    let tol = 4.0 * f64::EPSILON * t_end.abs();
+    for _ in 0..100 {
+        let sigma = hi - f_hi * (hi - lo) / (f_hi - f_lo);
+        let sigma = if sigma > lo && sigma < hi {
+            sigma
+        } else {
+            0.5 * (lo + hi)
+        };
+        let f = trial(sigma, w, ws) - t_end;
+        if !f.is_finite() {
+            return false;
+        }
+        if f.abs() <= tol || hi - lo <= f64::EPSILON * ds {
+            break;
+        }
+        if f > 0.0 {
+            hi = sigma;
+            f_hi = f;
+            if side == 1 {
+                f_lo *= 0.5;
+            }
+            side = 1;
+        } else {
+            lo = sigma;
+            f_lo = f;
+            if side == -1 {
+                f_hi *= 0.5;
+            }
+            side = -1;
+        }
+    }
+    true
+}
+
 /// `n` steps of the run as `(status, steps taken)`; `z` (`[q; p]` of the
 /// problem) is updated in place, `observe(step, t, z)` sees the restricted
 /// state after each step (and the start).
@@ -120,26 +212,9 @@ where
     E: Engine<S>,
 {
     let n = sys.inner.dof();
-    let extended = match sys.extend(z, 0.0) {
+    let mut w = match start(engine, sys, z) {
         Ok(w) => w,
-        Err(e) => {
-            return (
-                Status::SolverFailed {
-                    step: 0,
-                    reason: e.to_string(),
-                },
-                0,
-            );
-        }
-    };
-    let Some(mut w) = engine.state(extended) else {
-        return (
-            Status::SolverFailed {
-                step: 0,
-                reason: "the extended state does not have the fixed size".into(),
-            },
-            0,
-        );
+        Err(status) => return (status, 0),
     };
     let ds = h * (-sys.inner.potential(&z[..n]));
     if !observe(0, 0.0, z) {
@@ -170,79 +245,18 @@ where
         if !(rate.is_finite() && rate > 0.0) {
             return (Status::Diverged { step: k as usize }, k);
         }
-        if t + 2.0 * ds * rate < t_end {
-            if !engine.step(sys, ds, &mut w, ws, k > 0) {
-                return (
-                    Status::Diverged {
-                        step: k as usize + 1,
-                    },
-                    k,
-                );
-            }
+        let stepped = if t + 2.0 * ds * rate < t_end {
+            engine.step(sys, ds, &mut w, ws, k > 0)
         } else {
-            saved.clone_from(&w);
-            let ws0 = ws.clone();
-            // Each trial from the same state and scratch, without reuse
-            // (as a plain `step`).
-            let trial = |sigma: f64, w: &mut E::State, ws: &mut E::Scratch| -> f64 {
-                w.clone_from(&saved);
-                *ws = ws0.clone();
-                if engine.step(sys, sigma, w, ws, false) {
-                    w.as_ref()[n]
-                } else {
-                    f64::NAN
-                }
-            };
-            let t_full = trial(ds, &mut w, ws);
-            if t_full > t_end {
-                // Illinois: a secant that keeps the root bracketed.
-                let (mut lo, mut f_lo) = (0.0, t - t_end);
-                let (mut hi, mut f_hi) = (ds, t_full - t_end);
-                let mut side = 0i8;
-                let tol = 4.0 * f64::EPSILON * t_end.abs();
-                for _ in 0..100 {
-                    let sigma = hi - f_hi * (hi - lo) / (f_hi - f_lo);
-                    let sigma = if sigma > lo && sigma < hi {
-                        sigma
-                    } else {
-                        0.5 * (lo + hi)
-                    };
-                    let f = trial(sigma, &mut w, ws) - t_end;
-                    if !f.is_finite() {
-                        return (
-                            Status::Diverged {
-                                step: k as usize + 1,
-                            },
-                            k,
-                        );
-                    }
-                    if f.abs() <= tol || hi - lo <= f64::EPSILON * ds {
-                        break;
-                    }
-                    if f > 0.0 {
-                        hi = sigma;
-                        f_hi = f;
-                        if side == 1 {
-                            f_lo *= 0.5;
-                        }
-                        side = 1;
-                    } else {
-                        lo = sigma;
-                        f_lo = f;
-                        if side == -1 {
-                            f_hi *= 0.5;
-                        }
-                        side = -1;
-                    }
-                }
-            } else if !t_full.is_finite() {
-                return (
-                    Status::Diverged {
-                        step: k as usize + 1,
-                    },
-                    k,
-                );
-            }
+            land(engine, sys, ds, t_end, &mut w, ws, &mut saved)
+        };
+        if !stepped {
+            return (
+                Status::Diverged {
+                    step: k as usize + 1,
+                },
+                k,
+            );
         }
         k += 1;
         let wr = w.as_ref();
