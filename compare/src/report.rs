@@ -452,11 +452,12 @@ pub fn sweep_report(title: &str, head: &[String], rows: &[Row], target: f64, ove
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::problem::Family;
 
-    fn row(method: &str, steps: u64, error: f64, time_s: f64) -> Row {
+    /// A successful run of `method` (the peer at rtol 1e-6) for tests.
+    pub(crate) fn row(method: &str, steps: u64, error: f64, time_s: f64) -> Row {
         Row {
             problem: "p".into(),
             method: method.into(),

@@ -88,53 +88,27 @@ fn the_papers_closed_form_agrees_with_the_exact_flow() {
     assert!(paper_closed_form_deviation(r, &config) < 1e-14);
 }
 
+/// The default set-up changed by `f`.
+fn with(f: impl FnOnce(&mut Config)) -> Config {
+    let mut c = Config::default();
+    f(&mut c);
+    c
+}
+
 #[test]
 fn bad_set_ups_are_refused_with_the_field_named() {
-    let bad = [
-        Config {
-            k: -1.0,
-            ..Config::default()
-        },
-        Config {
-            k: f64::NAN,
-            ..Config::default()
-        },
-        Config {
-            q0: 0.0,
-            p0: 0.0,
-            ..Config::default()
-        },
-        Config {
-            steps: 3,
-            ..Config::default()
-        },
-        Config {
-            step_sizes: vec![],
-            ..Config::default()
-        },
-        Config {
-            step_sizes: vec![0.1, 0.0],
-            ..Config::default()
-        },
-        Config {
-            step_sizes: vec![0.1, 0.1],
-            ..Config::default()
-        },
+    let cases = [
+        (with(|c| c.k = 0.0), "k"),
+        (with(|c| c.p0 = f64::INFINITY), "q0"),
+        (with(|c| c.steps = MAX_STEPS + 1), "steps"),
+        (with(|c| c.q0 = 1e-200), "k"),
+        (with(|c| c.step_sizes = vec![f64::NAN]), "step_sizes"),
     ];
-    let fields = [
-        "k",
-        "k",
-        "q0",
-        "steps",
-        "step_sizes",
-        "step_sizes",
-        "step_sizes",
-    ];
-    for (c, field) in bad.into_iter().zip(fields) {
+    for (c, field) in cases {
         match experiment(&c) {
             Err(CompareError::Setting { name, why }) => {
                 assert_eq!(name, field, "{why}");
-                assert!(why.starts_with(field), "{why}");
+                assert!(why.contains(field), "{why}");
             }
             other => panic!("{c:?}: {other:?}"),
         }
