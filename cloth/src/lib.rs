@@ -39,6 +39,45 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 //!
+//! The studies are library code too ([`study`]): the largest step at which a
+//! method keeps the energy error of a scene within a tolerance
+//! ([`study::stability::largest_stable_step`], the bracketing shared with
+//! `compare --hard`), the growth of the energy error over a run
+//! ([`study::growth::fit`]), the reference energy and the guard
+//! ([`study::energy`], [`EnergyGuard`]). `symlab cloth --stability` and
+//! `symlab paper` format what these return:
+//!
+//! ```
+//! use cloth::study::stability::{StabilitySettings, Status, largest_stable_step};
+//! use cloth::{Method, Scene};
+//!
+//! let scene = Scene::from_toml(r#"
+//!     gravity = [0.0, -9.81, 0.0]
+//!     [cloth]
+//!     width = 1.0
+//!     height = 1.0
+//!     nx = 4
+//!     ny = 4
+//!     [material]
+//!     density = 0.1
+//!     stretch = 1000.0
+//!     [pins]
+//!     edges = ["top"]
+//!     [simulation]
+//!     substeps = 20
+//!     frames = 3
+//!     method = "stormer-verlet"
+//! "#, "inline.toml")?;
+//! let settings = StabilitySettings { duration: 0.2, ..Default::default() };
+//! let found = largest_stable_step(&scene, &Method::parse("stormer-verlet")?, &settings)?;
+//! assert_eq!(found.status, Status::Bracketed);
+//! // Störmer–Verlet's linear limit is h·ω_max = 2; on the nonlinear sheet the
+//! // search lands near it.
+//! let ratio = found.h.unwrap() / found.h_linear;
+//! assert!(0.5 < ratio && ratio < 2.0, "h/h_linear = {ratio}");
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+//!
 //! # Conventions
 //!
 //! * **Units**: SI throughout (m, kg, s, N, J). The y axis points up.
