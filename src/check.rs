@@ -641,11 +641,13 @@ pub fn readable(origin: &str, tf: &TableFile, a: &Analysis) -> String {
             );
             r.row("separable", order_text(&a.order_separable));
         }
-        Some(o) => {
-            let what = if composition {
-                ", composition conditions"
-            } else {
-                ""
+        // The separable order, said with the conditions it was checked by;
+        // a pair also states its order on general partitioned systems.
+        general => {
+            let what = match (composition, general.is_some()) {
+                (true, true) => ", composition conditions",
+                (true, false) => " (composition conditions)",
+                (false, _) => "",
             };
             r.row(
                 "order",
@@ -654,27 +656,15 @@ pub fn readable(origin: &str, tf: &TableFile, a: &Analysis) -> String {
                     order_text(&a.order_separable)
                 ),
             );
-            r.row(
-                "general",
-                format!(
-                    "{}  (as a pair on general partitioned systems)",
-                    order_text(o)
-                ),
-            );
-        }
-        None => {
-            let what = if composition {
-                " (composition conditions)"
-            } else {
-                ""
-            };
-            r.row(
-                "order",
-                format!(
-                    "{}  (separable systems{what})",
-                    order_text(&a.order_separable)
-                ),
-            );
+            if let Some(o) = general {
+                r.row(
+                    "general",
+                    format!(
+                        "{}  (as a pair on general partitioned systems)",
+                        order_text(o)
+                    ),
+                );
+            }
         }
     }
     r.row(

@@ -137,66 +137,37 @@ where
     }
 }
 
-macro_rules! symmetric {
-    ($($id:literal => $ty:ident),* $(,)?) => {
-        /// The symmetric library schemes, which the reversible controllers
-        /// accept (`tests::symmetric_ids_are_the_registry_s` checks the list
-        /// against the verified `INFO.symmetric`).
-        pub const SYMMETRIC_IDS: &[&str] = &[$($id),*];
+/// The symmetric library schemes, which the reversible controllers accept:
+/// those whose verified `INFO.symmetric` says so, in the library's order.
+pub fn symmetric_ids() -> Vec<&'static str> {
+    integrator_core::library::REGISTRY
+        .iter()
+        .filter(|(_, info)| info.symmetric)
+        .map(|(id, _)| *id)
+        .collect()
+}
 
+/// Generates [`stepper`] from the library's one scheme list
+/// (`integrator_core::for_each_scheme!`): an id whose scheme is symmetric
+/// becomes an adaptive stepper, any other `None`.
+macro_rules! symmetric {
+    ($($group:ident: [$($id:literal => $ty:ident),* $(,)?]),* $(,)?) => {
         fn stepper<P>(id: &str, controller: Controller) -> Option<(Box<dyn Stepper<P>>, integrator_core::Info)>
         where
             P: Problem<Kind = AsSeparable> + Separable,
         {
             Some(match id {
-                $($id => (
+                $($($id if <$ty as Scheme>::INFO.symmetric => (
                     Box::new(Adaptive { scheme: $ty, controller }) as Box<dyn Stepper<P>>,
                     <$ty as Scheme>::INFO,
-                ),)*
+                ),)*)*
                 _ => return None,
             })
         }
     };
 }
 
-symmetric! {
-    "midpoint" => ImplicitMidpoint,
-    "gauss1" => GaussLegendre1,
-    "gauss2" => GaussLegendre2,
-    "gauss3" => GaussLegendre3,
-    "gauss4" => GaussLegendre4,
-    "gauss5" => GaussLegendre5,
-    "gauss6" => GaussLegendre6,
-    "gauss7" => GaussLegendre7,
-    "gauss8" => GaussLegendre8,
-    "lobatto3a-2" => LobattoIIIA2,
-    "lobatto3a-3" => LobattoIIIA3,
-    "lobatto3b-2" => LobattoIIIB2,
-    "lobatto3b-3" => LobattoIIIB3,
-    "paper-dirk2" => PaperDirk2,
-    "paper-dirk4" => PaperDirk4,
-    "stormer-verlet" => StormerVerlet,
-    "lobatto3a3b-3" => LobattoIIIAIIIB3,
-    "lobatto3a3b-4" => LobattoIIIAIIIB4,
-    "leapfrog" => Leapfrog,
-    "forest-ruth" => ForestRuth,
-    "candy-rozmus4" => CandyRozmus4,
-    "mclachlan4" => McLachlan4,
-    "pefrl" => Pefrl,
-    "mclachlan-s5" => McLachlanS5,
-    "blanes-moan-prk6" => BlanesMoanPrk6,
-    "blanes-moan-prk10" => BlanesMoanPrk10,
-    "blanes-moan-srkn6b" => BlanesMoanSrkn6b,
-    "blanes-moan-srkn11b" => BlanesMoanSrkn11b,
-    "blanes-moan-srkn14a" => BlanesMoanSrkn14a,
-    "yoshida4" => Yoshida4,
-    "yoshida6" => Yoshida6,
-    "kahan-li6" => KahanLi6,
-    "mclachlan-ss9" => McLachlanSS9,
-    "kahan-li8" => KahanLi8,
-    "mclachlan8" => McLachlan8,
-    "sofroniou-spaletta10" => SofroniouSpaletta10,
-}
+integrator_core::for_each_scheme!(symmetric);
 
 /// `adaptive:BASE` / `adaptive-implicit:BASE` for `sys`, or why not: a
 /// problem that is not separable or has no step density, an unknown base,
@@ -233,11 +204,11 @@ pub fn method<P: Problem>(
         None => match integrator_core::library::info(base) {
             Some(i) if !i.symmetric => err(format!(
                 "'{base}' is not symmetric: reversible step-size control needs a symmetric method; symmetric ones: {}",
-                SYMMETRIC_IDS.join(", ")
+                symmetric_ids().join(", ")
             )),
             _ => err(format!(
                 "unknown base method '{base}'; {prefix} takes one of {}",
-                SYMMETRIC_IDS.join(", ")
+                symmetric_ids().join(", ")
             )),
         },
     }
@@ -262,7 +233,7 @@ mod tests {
 
     #[test]
     fn symmetric_ids_are_the_registry_s() {
-        let mut mine: Vec<&str> = SYMMETRIC_IDS.to_vec();
+        let mut mine: Vec<&str> = symmetric_ids();
         let mut registry: Vec<&str> = REGISTRY
             .iter()
             .filter(|(_, i)| i.symmetric)
@@ -274,6 +245,11 @@ mod tests {
             mine, registry,
             "a symmetric library scheme is missing from compare/src/adaptive.rs (or one listed there is not symmetric)"
         );
+        // The dispatch generated from the scheme list covers exactly them.
+        for (id, info) in REGISTRY {
+            let got = stepper::<Kepler>(id, Controller::Integrating).is_some();
+            assert_eq!(got, info.symmetric, "{id}");
+        }
     }
 
     #[test]

@@ -37,10 +37,9 @@ mod tests {
     use super::*;
     use cloth::study::growth::fit;
 
+    /// `f` sampled at 60 Hz over `n` frames: (times, values).
     fn series(n: usize, f: impl Fn(f64) -> f64) -> (Vec<f64>, Vec<f64>) {
-        let t: Vec<f64> = (0..=n).map(|k| k as f64 / 60.0).collect();
-        let e = t.iter().map(|&t| f(t)).collect();
-        (t, e)
+        (0..=n).map(|k| k as f64 / 60.0).map(|t| (t, f(t))).unzip()
     }
 
     #[test]
