@@ -31,5 +31,5 @@ pub mod file;
 pub mod generated;
 pub mod pair;
 pub mod poly;
-pub mod rounded;
 pub mod root;
+pub mod rounded;
