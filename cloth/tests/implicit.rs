@@ -315,7 +315,7 @@ fn every_implicit_method_steps_cloth_and_names_resolve() {
 }
 
 /// The runner hands the solver the state moved by a constant and a small
-/// drift (see `cloth::implicit`); Runge–Kutta steps commute with that, so
+/// drift (see `cloth::step::stage`); Runge–Kutta steps commute with that, so
 /// from a state where every component is well away from zero (where the
 /// solver converges on the model as it is) both give the same steps.
 #[test]

@@ -39,12 +39,14 @@ use summary::Summary;
 pub struct ClothArgs {
     /// The scene file (TOML; see scenes/ and the cloth crate's documentation).
     pub scene: PathBuf,
-    /// The method (default: the scene's): an explicit library scheme
-    /// (symplectic-euler-a, stormer-verlet, leapfrog, forest-ruth, …, euler,
-    /// rk4), an implicit one (gauss2, implicit-euler, gauss3, radau2a-3
-    /// through the sparse stage solver; midpoint, paper-dirk2, paper-dirk4
-    /// as energy minimisations), or an energy-conserving comparison scheme
-    /// (avf, a minimisation; discrete-gradient).
+    /// The method (default: the scene's): any id of `symlab list` — an
+    /// explicit scheme (symplectic-euler-a, stormer-verlet, leapfrog,
+    /// forest-ruth, …, euler, rk4) steps directly, an implicit table or pair
+    /// (gauss2, implicit-euler, radau2a-3, lobatto3a3b-4, …) through the
+    /// sparse stage solver, the midpoint family (midpoint, gauss1,
+    /// paper-dirk2, paper-dirk4) as energy minimisations — or an
+    /// energy-conserving comparison scheme (avf, a minimisation;
+    /// discrete-gradient).
     #[arg(long, value_name = "NAME", allow_hyphen_values = true)]
     pub method: Option<String>,
     /// Frames to simulate after the initial one (default: the scene's; at
