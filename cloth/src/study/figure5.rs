@@ -1,0 +1,319 @@
+//! The paper's figure 5 as data: the undamped cloth of its section 5 (a
+//! horizontal rectangle pinned along one edge, 13.78 g/m², stiffness 50.75)
+//! at 60 Hz frames, explicit Euler against symplectic Euler, with
+//! Störmer–Verlet, implicit Euler and Gauss–Legendre 2 for contrast, and the
+//! midpoint family and the average vector field solved as energy
+//! minimisation at one step per frame; plus `2/ω_max` of the same cloth over
+//! grid resolutions. Each run stops at the first frame whose relative energy
+//! error passes the [`EnergyGuard`]'s default limit, or at a failed solve,
+//! and records where. `symlab paper` formats and plots what [`experiment`]
+//! returns.
+
+use crate::study::energy::{reference_energy_or_unit, relative_errors};
+use crate::{
+    AVERAGE_VECTOR_FIELD, EnergyGuard, FrameStats, Method, RunError, RunOptions, RunSettings,
+    Scene, SceneError, Simulation, SolverStats, Vec3,
+};
+
+/// A run has blown up once `|H − H₀|/E_ref` passes this: the energy
+/// guard's default limit.
+pub const BLOWUP: f64 = EnergyGuard::DEFAULT_LIMIT;
+
+/// The paper scene, as shipped (compiled in, so `symlab paper` does not
+/// depend on the working directory).
+pub const SCENE_TOML: &str = include_str!("../../../scenes/paper.toml");
+
+/// Frames simulated by default: 5 s at 60 Hz.
+pub const DEFAULT_FRAMES: usize = 300;
+
+/// Steps per frame of the implicit methods in the substepped setting: the
+/// fewest (a power of two) at which both stage solves converged over the
+/// first second when this was measured (at 4 and 8 Newton diverged within
+/// half a second; the report shows what this run met).
+pub const IMPLICIT_SUBSTEPS: usize = 16;
+
+/// Frames of the substepped implicit runs (at most): one second. Each
+/// Gauss–Legendre step is a sparse Newton solve of 7 200 unknowns, about
+/// 20 ms here, so a second at 16 steps per frame costs about 20 s.
+pub const IMPLICIT_FRAMES: usize = 60;
+
+/// One run of the comparison.
+#[derive(Clone, Debug)]
+pub struct ClothRun {
+    /// Method id (as in `symlab list`).
+    pub id: &'static str,
+    /// The scheme's name.
+    pub name: String,
+    pub substeps: usize,
+    /// Step size (s).
+    pub h: f64,
+    /// `h·ω_max` at rest.
+    pub h_omega: f64,
+    /// Frames recorded (the initial one first), up to the last good one.
+    pub frames: Vec<FrameStats>,
+    /// `None` when the run completed; otherwise why and where it stopped.
+    pub stopped: Option<String>,
+    /// Seconds spent stepping.
+    pub stepping_seconds: f64,
+    /// Newton iterations per step (implicit methods).
+    pub newton_per_step: Option<f64>,
+    /// Positions of the last good frame, by particle id.
+    pub last_positions: Vec<Vec3>,
+    /// For an explicit run that blew up: the blow-up under way, replayed
+    /// step by step — the last step whose strain is at most [`SHOW_STRAIN`]
+    /// (step, time, `|H − H₀|/E_ref`, positions).
+    pub blowing_up: Option<(usize, f64, f64, Vec<Vec3>)>,
+}
+
+/// The largest strain `|ℓ − L|/L` of the state shown for a run that blew
+/// up. The unstable modes are stiff and in-plane: the cloth still looks
+/// intact at 50 times E_ref, and a few steps later its coordinates are
+/// astronomical; the last state whose springs are at most doubled shows
+/// the blow-up and still fits a picture.
+pub const SHOW_STRAIN: f64 = 1.0;
+
+/// Replay an explicit run one step per frame up to `until` steps and keep
+/// the last state with finite energy and strain at most [`SHOW_STRAIN`].
+fn replay_blowup(
+    scene: &Scene,
+    method: &Method,
+    opts: &RunOptions,
+    until: usize,
+    e_ref: f64,
+) -> Option<(usize, f64, f64, Vec<Vec3>)> {
+    let mut sim = Simulation::new(scene).ok()?;
+    let h0 = sim.stats().energy.total();
+    let replay = RunOptions {
+        frames: until,
+        substeps: 1,
+        frame_rate: opts.frame_rate * opts.substeps as f64,
+    };
+    let mut shown = None;
+    let _ = sim.run(method, &RunSettings::new(replay), |frame| {
+        let rel = ((frame.stats.energy.total() - h0) / e_ref).abs();
+        let strain = frame.stats.max_strain;
+        if !rel.is_finite() || strain.is_nan() || strain > SHOW_STRAIN {
+            return Err("past the threshold".into());
+        }
+        shown = Some((frame.stats.step, frame.stats.time, rel, frame.positions()));
+        Ok(())
+    });
+    shown
+}
+
+impl ClothRun {
+    /// The largest `|H − H₀|/E_ref` over the recorded frames.
+    pub fn max_error(&self, e_ref: f64) -> f64 {
+        relative_errors(&self.frames, e_ref)
+            .into_iter()
+            .fold(0.0, |m, e| m.max(e.abs()))
+    }
+    /// `(H − H₀)/E_ref` at the last recorded frame.
+    pub fn final_error(&self, e_ref: f64) -> f64 {
+        relative_errors(&self.frames, e_ref)
+            .last()
+            .copied()
+            .unwrap_or(0.0)
+    }
+    /// Simulated time of the last good frame (s).
+    pub fn end_time(&self) -> f64 {
+        self.frames.last().map_or(0.0, |f| f.time)
+    }
+}
+
+/// `2/ω_max` of the paper's cloth at one resolution.
+#[derive(Clone, Copy, Debug)]
+pub struct GridLimit {
+    pub n: usize,
+    pub particle_mass: f64,
+    pub omega_max: f64,
+    pub h_max: f64,
+}
+
+/// The whole comparison.
+#[derive(Clone, Debug)]
+pub struct ClothExperiment {
+    pub scene: Scene,
+    pub frames: usize,
+    pub e_ref: f64,
+    pub omega_max: f64,
+    pub h_max: f64,
+    pub runs: Vec<ClothRun>,
+    pub grids: Vec<GridLimit>,
+}
+
+/// The paper scene, parsed.
+pub fn paper_scene() -> Result<Scene, SceneError> {
+    Scene::from_toml(SCENE_TOML, "scenes/paper.toml")
+}
+
+/// Run one method at `substeps` steps per frame for `frames` frames.
+fn run_one(
+    scene: &Scene,
+    id: &'static str,
+    substeps: usize,
+    frames: usize,
+    e_ref: f64,
+    omega_max: f64,
+) -> Result<ClothRun, RunError> {
+    let mut sim = Simulation::new(scene)?;
+    let opts = RunOptions {
+        frames,
+        substeps,
+        frame_rate: scene.simulation.frame_rate,
+    };
+    let method = Method::parse(id)?;
+    let mut recorded: Vec<FrameStats> = Vec::new();
+    let mut last_positions = sim.model.positions(&sim.state[..sim.state.len() / 2]);
+    // The guard places a blow-up at its frame: the report says between
+    // which steps (at one step per frame, the step itself).
+    let settings = RunSettings::new(opts).with_guard(EnergyGuard::new(e_ref).without_replay());
+    let result = sim.run(&method, &settings, |frame| {
+        recorded.push(frame.stats);
+        last_positions = frame.positions();
+        Ok(())
+    });
+    let name = method.name().to_string();
+    let mut blown_at = None;
+    let (stopped, stepping_seconds, newton_per_step) = match result {
+        Ok(report) => (
+            None,
+            report.stepping_seconds,
+            match report.solver {
+                SolverStats::Stage(s) => Some(s.newton_iterations as f64 / s.steps.max(1) as f64),
+                SolverStats::Minimise(s, _) => Some(s.iterations_per_step()),
+                SolverStats::None => None,
+            },
+        ),
+        Err(RunError::Blowup(b)) => {
+            let rel = b.relative_error;
+            blown_at = Some(b.step);
+            let good = recorded.last().map_or(0, |f| f.step);
+            let where_ = if substeps == 1 {
+                format!("at step {} (t = {:.4} s)", b.step, b.time)
+            } else {
+                format!(
+                    "between steps {good} and {} (frame {}, t = {:.4} s)",
+                    b.step, b.frame, b.time
+                )
+            };
+            let what = if rel.is_finite() {
+                format!("|H − H₀|/E_ref = {rel:.2e} > {BLOWUP}")
+            } else {
+                "the energy is no longer finite".to_string()
+            };
+            (Some(format!("blew up {where_}: {what}")), f64::NAN, None)
+        }
+        Err(RunError::Diverged { step, time, .. }) => (
+            Some(format!(
+                "blew up at step {step} (t = {time:.4} s): a non-finite state"
+            )),
+            f64::NAN,
+            None,
+        ),
+        Err(RunError::Solve {
+            step, time, source, ..
+        }) => (
+            Some(format!(
+                "stage solver failed at step {step} (t = {time:.4} s): {source}"
+            )),
+            f64::NAN,
+            None,
+        ),
+        Err(RunError::Minimise {
+            step, time, source, ..
+        }) => (
+            Some(format!(
+                "minimisation failed at step {step} (t = {time:.4} s): {source}"
+            )),
+            f64::NAN,
+            None,
+        ),
+        Err(other) => return Err(other),
+    };
+    let h = opts.step_size();
+    let blowing_up = match (&stopped, blown_at) {
+        (Some(_), Some(step)) if method.explicit() => {
+            replay_blowup(scene, &method, &opts, step, e_ref)
+        }
+        _ => None,
+    };
+    Ok(ClothRun {
+        id,
+        name,
+        substeps,
+        h,
+        h_omega: h * omega_max,
+        frames: recorded,
+        stopped,
+        stepping_seconds,
+        newton_per_step,
+        last_positions,
+        blowing_up,
+    })
+}
+
+/// `2/ω_max` of the paper's cloth, pinned along its top edge, at `n × n`.
+fn grid_limit(scene: &Scene, n: usize) -> Result<GridLimit, SceneError> {
+    let mut s = scene.clone();
+    s.cloth.nx = n;
+    s.cloth.ny = n;
+    s.pins = (0..n).map(|i| (i, 0)).collect();
+    let sim = Simulation::new(&s)?;
+    let st = sim.model.stability();
+    Ok(GridLimit {
+        n,
+        particle_mass: sim.model.particle_mass(),
+        omega_max: st.omega_max,
+        h_max: st.h_max,
+    })
+}
+
+/// Run the comparison: `frames` frames of each setting.
+pub fn experiment(frames: usize) -> Result<ClothExperiment, RunError> {
+    let scene = paper_scene()?;
+    let sim = Simulation::new(&scene)?;
+    let e_ref = reference_energy_or_unit(&scene, &sim);
+    let stab = sim.model.stability();
+    let explicit_substeps = scene.simulation.substeps;
+    let plan: [(&'static str, usize); 14] = [
+        ("euler", 1),
+        ("symplectic-euler-a", 1),
+        ("stormer-verlet", 1),
+        ("implicit-euler", 1),
+        ("gauss2", 1),
+        // The midpoint family as energy minimisation (cloth::step::minimise).
+        ("midpoint", 1),
+        ("paper-dirk2", 1),
+        ("paper-dirk4", 1),
+        // Energy-conserving (not symplectic), the same minimisation machinery.
+        (AVERAGE_VECTOR_FIELD, 1),
+        ("euler", explicit_substeps),
+        ("symplectic-euler-a", explicit_substeps),
+        ("stormer-verlet", explicit_substeps),
+        ("implicit-euler", IMPLICIT_SUBSTEPS),
+        ("gauss2", IMPLICIT_SUBSTEPS),
+    ];
+    let mut runs = Vec::with_capacity(plan.len());
+    for (id, k) in plan {
+        let n = if !Method::parse(id)?.explicit() && k > 1 {
+            frames.min(IMPLICIT_FRAMES)
+        } else {
+            frames
+        };
+        runs.push(run_one(&scene, id, k, n, e_ref, stab.omega_max)?);
+    }
+    let mut grids = Vec::new();
+    for n in [2, 3, 5, 9, 17, 25] {
+        grids.push(grid_limit(&scene, n)?);
+    }
+    Ok(ClothExperiment {
+        scene,
+        frames,
+        e_ref,
+        omega_max: stab.omega_max,
+        h_max: stab.h_max,
+        runs,
+        grids,
+    })
+}
