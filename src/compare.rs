@@ -25,8 +25,9 @@ use std::time::Instant;
 use anyhow::{Context, Result, bail};
 use compare::builtin::Builtin;
 use compare::format;
-use compare::plan::{self, HardSearch, OnSetup, SweepDefaults};
-use compare::{Method, Problem, Setup, SweepSettings};
+use compare::plan::{self, HardSearch, OnSetup};
+use compare::sweep_plan::{FromFile, Names, SweepPlan, SweepRequest, sweep_plan};
+use compare::{Method, Problem, Setup};
 
 /// The columns of `runs.csv`, for `--help`.
 const HELP: &str = "\
@@ -179,23 +180,9 @@ impl CompareArgs {
     }
 }
 
+/// `--NAME`'s value if it is a finite, normal number > 0.
 fn positive(name: &str, x: f64) -> Result<f64> {
-    if !(x.is_finite() && x > 0.0) {
-        bail!(
-            "--{name} must be a finite number > 0, got {}",
-            format::plain(x)
-        );
-    }
-    // A subnormal time or step has lost its precision (5e-324 is the only
-    // number between 0 and 1e-323): no run means anything there.
-    if !x.is_normal() {
-        bail!(
-            "--{name} must be at least {:e} (the smallest normal f64), got {}",
-            f64::MIN_POSITIVE,
-            format::plain(x)
-        );
-    }
-    Ok(x)
+    Ok(compare::sweep_plan::positive(&format!("--{name}"), x)?)
 }
 
 fn out_dir(args: &CompareArgs, default: &str) -> Result<PathBuf> {
@@ -276,12 +263,12 @@ pub fn run(args: &CompareArgs) -> Result<ExitCode> {
         let file = compare::linear_file::load(path)?;
         let field =
             |given: bool, name: &str| given.then(|| format!("{}: field {name}", path.display()));
-        let origin = Origin {
+        let from_file = FromFile {
             t_end: field(file.given.t_end, "t_end"),
             h_min: field(file.given.h_min, "h_min"),
             h_max: field(file.given.h_max, "h_max"),
         };
-        let plan = plan_from(args, file.defaults, &origin)?;
+        let plan = sweep_plan(&request(args, from_file), file.defaults)?;
         let setup = file.setup(plan.t_end)?;
         sweep_problem(args, &plan, setup, None)?;
     } else {
@@ -296,132 +283,24 @@ pub fn run(args: &CompareArgs) -> Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
-/// The validated sweep parameters.
-struct Plan {
-    t_end: f64,
-    settings: SweepSettings,
+/// The sweep request of the flags; `from_file` names the defaults a
+/// problem file set.
+fn request(args: &CompareArgs, from_file: FromFile) -> SweepRequest {
+    SweepRequest {
+        t_end: args.t_end,
+        h_min: args.h_min,
+        h_max: args.h_max,
+        points: args.points,
+        repeats: args.repeats,
+        target: args.target,
+        quick: args.quick,
+        names: Names::default(),
+        from_file,
+    }
 }
 
-/// Where the sweep defaults that no flag overrides come from: `None`, the
-/// problem's own; `Some(name)`, a problem file's field (`FILE: field h_min`),
-/// named as such in messages.
-#[derive(Default)]
-struct Origin {
-    t_end: Option<String>,
-    h_min: Option<String>,
-    h_max: Option<String>,
-}
-
-fn plan(args: &CompareArgs, defaults: compare::Defaults) -> Result<Plan> {
-    plan_from(args, defaults, &Origin::default())
-}
-
-fn plan_from(args: &CompareArgs, defaults: compare::Defaults, origin: &Origin) -> Result<Plan> {
-    let t_def = defaults.t_end;
-    let t_end = positive("t-end", args.t_end.unwrap_or(t_def))?;
-    // Who set each value: a flag, a problem file's field, or neither (the
-    // problem's default).
-    let who = |flag: Option<f64>, name: &str, file: &Option<String>| -> Option<String> {
-        if flag.is_some() {
-            Some(format!("--{name}"))
-        } else {
-            file.clone()
-        }
-    };
-    let who_t = who(args.t_end, "t-end", &origin.t_end);
-    let who_min = who(args.h_min, "h-min", &origin.h_min);
-    let who_max = who(args.h_max, "h-max", &origin.h_max);
-    // Defaults the user did not give adapt to a short --t-end (one step at
-    // most the whole run), so that an error names a flag that was given.
-    // A problem file's own values are not moved: a contradiction with a
-    // flag is an error naming both.
-    let h_max = match args.h_max {
-        Some(h) => positive("h-max", h)?,
-        None if origin.h_max.is_some() => defaults.h_max,
-        None => defaults.h_max.min(t_end),
-    };
-    let h_min = match args.h_min {
-        Some(h) => positive("h-min", h)?,
-        None if origin.h_min.is_some() => defaults.h_min,
-        None => {
-            let h = if args.quick {
-                plan::quick_h_min(defaults)
-            } else {
-                defaults.h_min
-            };
-            if args.h_max.is_none() {
-                h.min(h_max)
-            } else {
-                h
-            }
-        }
-    };
-    let (lo, hi, t) = (
-        format::plain(h_min),
-        format::plain(h_max),
-        format::plain(t_end),
-    );
-    let end = who_t
-        .clone()
-        .unwrap_or_else(|| "the default end time".into());
-    if h_min > h_max {
-        match (&who_min, &who_max) {
-            (Some(a), Some(b)) => bail!("{a} ({lo}) must not exceed {b} ({hi})"),
-            (Some(a), None) => bail!(
-                "{a} ({lo}) exceeds the default largest step {hi} (the problem's, at most {end}); give --h-max too"
-            ),
-            (None, Some(b)) => {
-                bail!("{b} ({hi}) is below the default smallest step {lo}; give --h-min too")
-            }
-            (None, None) => bail!(
-                "the default smallest step {lo} exceeds the default largest step {hi}; give --h-min and --h-max"
-            ),
-        }
-    }
-    if h_max > t_end {
-        let b = who_max
-            .clone()
-            .unwrap_or_else(|| "the default largest step".into());
-        match &who_t {
-            Some(w) => bail!("{b} ({hi}) exceeds the end time {w} ({t})"),
-            None => bail!("{b} ({hi}) exceeds the default end time ({t}); give --t-end too"),
-        }
-    }
-    if t_end / h_min > 1e8 {
-        bail!(
-            "{} {lo} over {end} {t} is {:.1e} steps per run; at most 1e8{}",
-            who_min
-                .clone()
-                .unwrap_or_else(|| "the default smallest step".into()),
-            t_end / h_min,
-            if who_min.is_some() {
-                ""
-            } else {
-                " (give --h-min too)"
-            }
-        );
-    }
-    let given = SweepDefaults::of(args.quick);
-    let points = args.points.unwrap_or(given.points);
-    if !(1..=200).contains(&points) {
-        bail!("--points must be between 1 and 200, got {points}");
-    }
-    let repeats = args.repeats.unwrap_or(given.repeats);
-    if repeats > 100 {
-        bail!("--repeats must be at most 100, got {repeats}");
-    }
-    let tolerances = args.points.unwrap_or(given.tolerances);
-    let settings = SweepSettings {
-        h_min,
-        h_max,
-        points,
-        tolerances: compare::sweep::tolerances(tolerances),
-        repeats,
-        target: args.target(),
-    };
-    // The library checks the same facts; its names are the fields'.
-    settings.validate(t_end)?;
-    Ok(Plan { t_end, settings })
+fn plan(args: &CompareArgs, defaults: compare::Defaults) -> Result<SweepPlan> {
+    Ok(sweep_plan(&request(args, FromFile::default()), defaults)?)
 }
 
 fn resolve<P: Problem>(
@@ -462,7 +341,7 @@ fn work_precision(args: &CompareArgs, problem: Builtin) -> Result<()> {
     /// The sweep of one built-in problem, whatever its type.
     struct Sweep<'a> {
         args: &'a CompareArgs,
-        plan: &'a Plan,
+        plan: &'a SweepPlan,
         problem: Builtin,
     }
     impl OnSetup for Sweep<'_> {
@@ -481,7 +360,7 @@ fn work_precision(args: &CompareArgs, problem: Builtin) -> Result<()> {
 
 fn sweep_problem<P: Problem>(
     args: &CompareArgs,
-    plan: &Plan,
+    plan: &SweepPlan,
     setup: Setup<P>,
     builtin: Option<Builtin>,
 ) -> Result<()> {

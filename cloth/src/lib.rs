@@ -214,6 +214,7 @@ mod output;
 pub mod render;
 mod run;
 pub mod scene;
+pub mod schedule;
 pub mod step;
 pub mod study;
 

@@ -13,6 +13,12 @@ pub enum CompareError {
     /// the settings struct, e.g. `t_end`).
     #[error("{name}: {why}")]
     Setting { name: &'static str, why: String },
+    /// A value the caller gave (or a problem file set) that is out of range
+    /// or contradicts another: `names` are the values involved as the
+    /// caller named them (`--h-min`, `FILE: field h_max`), `why` the
+    /// sentence that names them.
+    #[error("{why}")]
+    Given { names: Vec<String>, why: String },
     /// The problem cannot be run as given: a start or reference of the
     /// wrong length, a non-finite start, energy or reference.
     #[error("problem '{problem}': {why}")]

@@ -89,6 +89,7 @@ mod problem;
 pub mod report;
 pub mod stepper;
 pub mod sweep;
+pub mod sweep_plan;
 pub mod time_transformed;
 mod work_precision;
 

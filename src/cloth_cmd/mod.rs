@@ -24,6 +24,8 @@ use std::time::Instant;
 use anyhow::{Context, Result, anyhow, bail};
 use clap::Args;
 use cloth::scene::GridError;
+use cloth::schedule::{Asked, RunRequest, schedule};
+use cloth::study::stability::{StabilityError, StabilitySettings};
 use cloth::study::energy::{reference_energy, relative_errors};
 use cloth::study::growth::Growth;
 use cloth::{
@@ -146,22 +148,6 @@ fn count_parser(min: usize) -> impl Fn(&str) -> Result<usize, String> + Clone {
     }
 }
 
-/// The smallest `--tolerance`: a relative energy error below 1e-12 is
-/// round-off, which no step size can beat; the search would only halve
-/// down to its floor.
-const MIN_TOLERANCE: f64 = 1e-12;
-
-/// The range of a run's `--tolerance` (the minimisation solver's ‖∇Φ‖_∞
-/// relative to the force scale): the round-off of the force scale is about
-/// 1e-16 of it, and a tolerance of the whole scale accepts any guess.
-const RUN_TOLERANCE_RANGE: (f64, f64) = (1e-15, 1.0);
-
-/// Shortest and longest `--duration` of a stability trial (s). Below, the
-/// trial's step floor `duration/400000` approaches the smallest normal
-/// numbers and the search means nothing; above, a trial would be all
-/// frames.
-const DURATION_RANGE: (f64, f64) = (1e-6, 1e6);
-
 pub fn run(args: &ClothArgs) -> Result<ExitCode> {
     let file = args.scene.display().to_string();
     let scene = load_scene(args, &file)?;
@@ -241,27 +227,20 @@ fn run_stability(
     file: &str,
     settings: MinimiseSettings,
 ) -> Result<ExitCode> {
-    let tolerance = args.tolerance.unwrap_or(0.1);
-    if !(tolerance >= MIN_TOLERANCE && tolerance.is_finite()) {
-        bail!(
-            "--tolerance: must be at least {MIN_TOLERANCE:e} and finite (got {:e}): below that, round-off alone exceeds it",
-            tolerance
-        );
-    }
-    let blowup = EnergyGuard::DEFAULT_LIMIT;
-    if tolerance > blowup {
-        bail!(
-            "--tolerance: must be at most {blowup} (got {:e}): a run whose relative energy error passes {blowup} has blown up whatever the tolerance",
-            tolerance
-        );
-    }
-    let (lo, hi) = DURATION_RANGE;
-    if !(args.duration >= lo && args.duration <= hi) {
-        bail!(
-            "--duration: must be between {lo:e} s and {hi:e} s (got {:e})",
-            args.duration
-        );
-    }
+    let study = StabilitySettings {
+        duration: args.duration,
+        tolerance: args
+            .tolerance
+            .unwrap_or(StabilitySettings::default().tolerance),
+        minimise: settings,
+        ..StabilitySettings::default()
+    };
+    study.check().map_err(|e| match e {
+        StabilityError::Setting { field, message } => {
+            anyhow!("--{}: {message}", field.replace('_', "-"))
+        }
+        other => anyhow!("--stability: {other}"),
+    })?;
     let methods = match &args.methods {
         Some(list) => {
             let names: Vec<&str> = list
@@ -285,7 +264,7 @@ fn run_stability(
     check_solver_applies(args, &methods)?;
     let dir = output_dir(args, scene)?;
     let ids: Vec<String> = methods.iter().map(|m| m.id().to_string()).collect();
-    stability::run(scene, file, &ids, tolerance, args.duration, &dir, settings)
+    stability::run(scene, file, &ids, &study, &dir)
 }
 
 /// A method id that steps cloth, or an error naming the flag and listing
@@ -352,73 +331,31 @@ fn rename(e: &cloth::SceneError, file: &str) -> String {
     }
 }
 
-/// Frames, substeps and frame rate from the scene and the flags, and a note
-/// when the frame rate had to change for --dt. The run they describe is
-/// checked against the limits ([`cloth::MAX_FRAMES`], [`cloth::MAX_STEPS`],
-/// a normal step size) here, before anything is built, and an error names
-/// the flag (or the scene's field) that broke it.
+/// Frames, substeps and frame rate from the scene and the flags
+/// ([`cloth::schedule`], checked against the run limits before anything is
+/// built), and a note when the frame rate had to change for --dt; an error
+/// names the flag (or the scene's field) that broke the limits.
 fn run_options(
     scene: &Scene,
     args: &ClothArgs,
     file: &str,
 ) -> Result<(RunOptions, Option<String>)> {
-    let mut opts = RunOptions::from_scene(scene);
-    let duration = scene.simulation.frames as f64 / scene.simulation.frame_rate;
-    let mut note = None;
-    if let Some(k) = args.substeps {
-        if k == 0 {
-            bail!("--substeps: must be at least 1");
-        }
-        opts.substeps = k;
-    }
-    if let Some(h) = args.dt {
-        if !(h > 0.0 && h.is_finite()) {
-            bail!("--dt: must be a positive step size in seconds (got {h})");
-        }
-        let rate = opts.frame_rate;
-        let per_frame = (1.0 / (rate * h)).round().max(1.0);
-        if per_frame.is_nan() || per_frame > cloth::MAX_STEPS as f64 {
-            bail!(
-                "--dt {h:e}: {per_frame:e} steps per {rate} Hz frame is more than the limit of {} steps in a run",
-                cloth::MAX_STEPS
-            );
-        }
-        let k = per_frame as usize;
-        opts.substeps = k;
-        let exact = 1.0 / (k as f64 * h);
-        if (exact - rate).abs() > 1e-9 * rate {
-            opts.frame_rate = exact;
-            note = Some(format!(
-                "frame rate {exact:.4} Hz instead of {rate} Hz so that {k} step{} of h = {h:e} s make a frame",
-                if k == 1 { "" } else { "s" }
-            ));
-            if args.frames.is_none() {
-                let frames = (duration * exact).round().max(1.0);
-                if frames.is_nan() || frames > cloth::MAX_FRAMES as f64 {
-                    bail!(
-                        "--dt {h:e}: the scene's {duration} s would be {frames:e} frames of one step, more than the limit of {} frames (give --frames)",
-                        cloth::MAX_FRAMES
-                    );
-                }
-                opts.frames = frames as usize;
-            }
-        }
-    }
-    if let Some(n) = args.frames {
-        opts.frames = n;
-    }
-    if let Some((what, message)) =
-        cloth::scene::run_length_problem(opts.frames, opts.substeps, opts.frame_rate)
-    {
-        let from = match what {
-            "frames" if args.frames.is_some() => "--frames".to_string(),
-            "frames" | "substeps" | "frame_rate" if args.dt.is_some() => "--dt".to_string(),
-            "substeps" if args.substeps.is_some() => "--substeps".to_string(),
-            other => format!("{file}: simulation.{other}"),
+    let request = RunRequest {
+        frames: args.frames,
+        substeps: args.substeps,
+        dt: args.dt,
+    };
+    let plan = schedule(scene, &request).map_err(|e| {
+        let from = match (e.asked, args.dt) {
+            (Asked::Frames, _) => "--frames".to_string(),
+            (Asked::Substeps, _) => "--substeps".to_string(),
+            (Asked::Dt, Some(h)) if h > 0.0 && h.is_finite() => format!("--dt {h:e}"),
+            (Asked::Dt, _) => "--dt".to_string(),
+            (Asked::Scene(field), _) => format!("{file}: simulation.{field}"),
         };
-        bail!("{from}: {message}");
-    }
-    Ok((opts, note))
+        anyhow!("{from}: {}", e.message)
+    })?;
+    Ok((plan.options, plan.note))
 }
 
 /// The frames to render: the list given, or first, middle and last.
@@ -540,16 +477,9 @@ fn minimise_settings(args: &ClothArgs) -> Result<MinimiseSettings> {
     };
     let mut settings = MinimiseSettings::new(solver);
     if let (false, Some(t)) = (args.stability, args.tolerance) {
-        if !(t > 0.0 && t.is_finite()) {
-            bail!("--tolerance: must be a positive finite number (got {t})");
-        }
-        let (lo, hi) = RUN_TOLERANCE_RANGE;
-        if !(lo..=hi).contains(&t) {
-            bail!(
-                "--tolerance: must be between {lo:e} and {hi} (got {t:e}): below, the residual's round-off alone exceeds it and no solve converges; above, a step is accepted without a solve"
-            );
-        }
-        settings.tolerance = t;
+        settings = settings
+            .with_tolerance(t)
+            .map_err(|why| anyhow!("--tolerance: {why}"))?;
     }
     Ok(settings)
 }

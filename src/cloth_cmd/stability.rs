@@ -18,7 +18,7 @@ use cloth::study::energy::reference_energy;
 use cloth::study::stability::{
     Found, Outcome, Scales, StabilitySettings, Status, search, seconds_per_simulated_second,
 };
-use cloth::{Method, MinimiseSettings, Scene, Simulation};
+use cloth::{Method, Scene, Simulation};
 use compare::format::{self, MISSING};
 use compare::output::csv_field;
 use rayon::prelude::*;
@@ -66,10 +66,8 @@ pub fn run(
     scene: &Scene,
     file: &str,
     methods: &[String],
-    tol: f64,
-    duration: f64,
+    study: &StabilitySettings,
     dir: &Path,
-    settings: MinimiseSettings,
 ) -> Result<ExitCode> {
     let sim = Simulation::new(scene).map_err(|e| match e {
         cloth::SceneError::Field { field, message, .. } => anyhow!("{file}: {field}: {message}"),
@@ -79,13 +77,6 @@ pub fn run(
     let stab = sim.model.stability();
     let h_lin = stab.h_max;
     let h_bound = 2.0 / stab.omega_bound;
-    let study = StabilitySettings {
-        duration,
-        tolerance: tol,
-        minimise: settings,
-        ..StabilitySettings::default()
-    };
-    study.check().map_err(|e| anyhow!("--stability: {e}"))?;
     let methods = methods
         .iter()
         .map(|m| Method::parse(m).map_err(|e| anyhow!("--methods {m}: {e}")))
@@ -97,17 +88,18 @@ pub fn run(
     let clock = Instant::now();
     let found: Vec<Found> = methods
         .par_iter()
-        .map(|m| search(scene, m, &scales, &study))
+        .map(|m| search(scene, m, &scales, study))
         .collect();
     let search_seconds = clock.elapsed().as_secs_f64();
     // Time each method alone at its step.
     let seconds: Vec<Option<f64>> = found
         .iter()
         .map(|f| {
-            f.h.and_then(|h| seconds_per_simulated_second(scene, &f.method, h, e_ref, &study))
+            f.h.and_then(|h| seconds_per_simulated_second(scene, &f.method, h, e_ref, study))
         })
         .collect();
     let (nx, ny) = sim.model.grid();
+    let (tol, duration) = (study.tolerance, study.duration);
     let mut out = String::new();
     let _ = writeln!(
         out,

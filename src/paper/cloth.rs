@@ -86,7 +86,12 @@ pub fn write_files(exp: &ClothExperiment, dir: &Path) -> Result<Vec<String>> {
             ms,
             r.newton_per_step
                 .map_or("NaN".into(), |n| format!("{n:.2}")),
-            csv_field(r.stopped.as_deref().unwrap_or_default())
+            csv_field(
+                &r.stopped
+                    .as_ref()
+                    .map(ToString::to_string)
+                    .unwrap_or_default()
+            )
         );
     }
     let path = dir.join("cloth_runs.csv");
@@ -272,9 +277,10 @@ fn runs_table(w: &mut String, exp: &ClothExperiment) {
             r.substeps,
             r.h,
             r.h_omega,
-            r.stopped
-                .clone()
-                .unwrap_or_else(|| format!("completed {:.1} s", r.end_time())),
+            r.stopped.as_ref().map_or_else(
+                || format!("completed {:.1} s", r.end_time()),
+                ToString::to_string
+            ),
             format::sci(r.max_error(exp.e_ref), 2),
             format::sci(r.final_error(exp.e_ref), 2),
             format::fixed(ms_per_frame(r), 2),
@@ -404,7 +410,7 @@ fn minimisation(w: &mut String, exp: &ClothExperiment) {
         .find(|r| r.substeps == 1 && r.id == AVERAGE_VECTOR_FIELD)
     {
         let outcome = match &r.stopped {
-            Some(why) => why.clone(),
+            Some(why) => why.to_string(),
             None => format!(
                 "ran to the end with max |H − H₀|/E_ref = {} (energy-conserving to the solver's tolerance)",
                 format::sci(r.max_error(exp.e_ref), 2)
@@ -503,7 +509,7 @@ fn contrast(w: &mut String, exp: &ClothExperiment) {
             "- For contrast at {IMPLICIT_SUBSTEPS} steps per frame over {:.1} s: Gauss–Legendre 2 (symplectic, implicit) {}{}.",
             exp.frames.min(IMPLICIT_FRAMES) as f64 * hf,
             match &g.stopped {
-                Some(why) => why.clone(),
+                Some(why) => why.to_string(),
                 None => format!(
                     "keeps the energy error at {} with {} ms of stepping per frame",
                     format::sci(g.max_error(exp.e_ref), 2),
@@ -562,7 +568,7 @@ pub fn terminal(exp: &ClothExperiment) -> String {
             r.substeps,
             r.h_omega,
             match &r.stopped {
-                Some(why) => why.clone(),
+                Some(why) => why.to_string(),
                 None => format!(
                     "completed, max |H − H₀|/E_ref = {}",
                     format::sci(r.max_error(exp.e_ref), 2)

@@ -110,6 +110,29 @@ impl Default for MinimiseSettings {
 }
 
 impl MinimiseSettings {
+    /// The range of the tolerance (‖∇Φ‖_∞ relative to the force scale): the
+    /// round-off of the force scale is about 1e-16 of it, and a tolerance of
+    /// the whole scale accepts any guess.
+    pub const TOLERANCE_RANGE: (f64, f64) = (1e-15, 1.0);
+
+    /// These settings with `tolerance`, if it is in [`TOLERANCE_RANGE`](Self::TOLERANCE_RANGE);
+    /// otherwise a sentence saying why not (the caller names the value).
+    pub fn with_tolerance(mut self, tolerance: f64) -> Result<MinimiseSettings, String> {
+        if !(tolerance > 0.0 && tolerance.is_finite()) {
+            return Err(format!(
+                "must be a positive finite number (got {tolerance})"
+            ));
+        }
+        let (lo, hi) = Self::TOLERANCE_RANGE;
+        if !(lo..=hi).contains(&tolerance) {
+            return Err(format!(
+                "must be between {lo:e} and {hi} (got {tolerance:e}): below, the residual's round-off alone exceeds it and no solve converges; above, a step is accepted without a solve"
+            ));
+        }
+        self.tolerance = tolerance;
+        Ok(self)
+    }
+
     /// The solver with the default tolerance and its default iteration cap.
     pub fn new(solver: Solver) -> MinimiseSettings {
         MinimiseSettings {

@@ -52,7 +52,7 @@ pub struct ClothRun {
     /// Frames recorded (the initial one first), up to the last good one.
     pub frames: Vec<FrameStats>,
     /// `None` when the run completed; otherwise why and where it stopped.
-    pub stopped: Option<String>,
+    pub stopped: Option<Stopped>,
     /// Seconds spent stepping.
     pub stepping_seconds: f64,
     /// Newton iterations per step (implicit methods).
@@ -186,49 +186,42 @@ fn run_one(
             },
         ),
         Err(RunError::Blowup(b)) => {
-            let rel = b.relative_error;
             blown_at = Some(b.step);
-            let good = recorded.last().map_or(0, |f| f.step);
-            let where_ = if substeps == 1 {
-                format!("at step {} (t = {:.4} s)", b.step, b.time)
-            } else {
-                format!(
-                    "between steps {good} and {} (frame {}, t = {:.4} s)",
-                    b.step, b.frame, b.time
-                )
+            let stop = Stop::Blowup {
+                step: b.step,
+                last_good_step: recorded.last().map_or(0, |f| f.step),
+                frame: b.frame,
+                time: b.time,
+                relative_error: b.relative_error,
+                substeps,
             };
-            let what = if rel.is_finite() {
-                format!("|H − H₀|/E_ref = {rel:.2e} > {BLOWUP}")
-            } else {
-                "the energy is no longer finite".to_string()
-            };
-            (Some(format!("blew up {where_}: {what}")), f64::NAN, None)
+            (Some(Stopped(stop)), f64::NAN, None)
         }
         Err(RunError::Diverged { step, time, .. }) => (
-            Some(format!(
-                "blew up at step {step} (t = {time:.4} s): a non-finite state"
-            )),
+            Some(Stopped(Stop::NonFinite { step, time })),
             f64::NAN,
             None,
         ),
         Err(RunError::Solve {
             step, time, source, ..
-        }) => (
-            Some(format!(
-                "stage solver failed at step {step} (t = {time:.4} s): {source}"
-            )),
-            f64::NAN,
-            None,
-        ),
+        }) => {
+            let why = source.to_string();
+            (
+                Some(Stopped(Stop::Stage { step, time, why })),
+                f64::NAN,
+                None,
+            )
+        }
         Err(RunError::Minimise {
             step, time, source, ..
-        }) => (
-            Some(format!(
-                "minimisation failed at step {step} (t = {time:.4} s): {source}"
-            )),
-            f64::NAN,
-            None,
-        ),
+        }) => {
+            let why = source.to_string();
+            (
+                Some(Stopped(Stop::Minimise { step, time, why })),
+                f64::NAN,
+                None,
+            )
+        }
         Err(other) => return Err(other),
     };
     let h = opts.step_size();
@@ -316,4 +309,71 @@ pub fn experiment(frames: usize) -> Result<ClothExperiment, RunError> {
         runs,
         grids,
     })
+}
+
+/// Why a run of the experiment stopped before its end, as data; its
+/// `Display` is the sentence the report prints.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Stopped(pub Stop);
+
+/// The ways a run of the experiment stops early.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Stop {
+    /// The energy guard fired (or the energy stopped being finite) at
+    /// `step`; `last_good_step` is the step of the last recorded frame.
+    Blowup {
+        step: usize,
+        last_good_step: usize,
+        frame: usize,
+        time: f64,
+        relative_error: f64,
+        substeps: usize,
+    },
+    /// The state stopped being finite at `step`.
+    NonFinite { step: usize, time: f64 },
+    /// The stage solver failed at `step`.
+    Stage { step: usize, time: f64, why: String },
+    /// The minimisation failed at `step`.
+    Minimise { step: usize, time: f64, why: String },
+}
+
+impl std::fmt::Display for Stopped {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match &self.0 {
+            Stop::Blowup {
+                step,
+                last_good_step,
+                frame,
+                time,
+                relative_error,
+                substeps,
+            } => {
+                if *substeps == 1 {
+                    write!(f, "blew up at step {step} (t = {time:.4} s): ")?;
+                } else {
+                    write!(
+                        f,
+                        "blew up between steps {last_good_step} and {step} (frame {frame}, t = {time:.4} s): "
+                    )?;
+                }
+                if relative_error.is_finite() {
+                    write!(f, "|H − H₀|/E_ref = {relative_error:.2e} > {BLOWUP}")
+                } else {
+                    write!(f, "the energy is no longer finite")
+                }
+            }
+            Stop::NonFinite { step, time } => write!(
+                f,
+                "blew up at step {step} (t = {time:.4} s): a non-finite state"
+            ),
+            Stop::Stage { step, time, why } => write!(
+                f,
+                "stage solver failed at step {step} (t = {time:.4} s): {why}"
+            ),
+            Stop::Minimise { step, time, why } => write!(
+                f,
+                "minimisation failed at step {step} (t = {time:.4} s): {why}"
+            ),
+        }
+    }
 }

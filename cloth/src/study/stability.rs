@@ -93,21 +93,48 @@ impl Default for StabilitySettings {
 }
 
 impl StabilitySettings {
+    /// The smallest tolerance: a relative energy error below 1e-12 is
+    /// round-off, which no step size can beat; the search would only halve
+    /// down to its floor.
+    pub const MIN_TOLERANCE: f64 = 1e-12;
+    /// Shortest and longest trial (s). Below, the trial's step floor
+    /// `duration/max_steps_explicit` approaches the smallest normal numbers
+    /// and the search means nothing; above, a trial would be all frames.
+    pub const DURATION_RANGE: (f64, f64) = (1e-6, 1e6);
+
     /// Each field finite and in its range, or an error naming it: a zero
     /// resolution or an infinite duration would never end.
     pub fn check(&self) -> Result<(), StabilityError> {
         let bad =
             |field: &'static str, message: String| Err(StabilityError::Setting { field, message });
-        if !(self.duration.is_finite() && self.duration > 0.0) {
+        let (lo, hi) = Self::DURATION_RANGE;
+        if !(self.duration >= lo && self.duration <= hi) {
             return bad(
                 "duration",
-                format!("must be positive and finite, got {:e}", self.duration),
+                format!(
+                    "must be between {lo:e} s and {hi:e} s (got {:e})",
+                    self.duration
+                ),
             );
         }
-        if !(self.tolerance.is_finite() && self.tolerance > 0.0) {
+        if !(self.tolerance >= Self::MIN_TOLERANCE && self.tolerance.is_finite()) {
             return bad(
                 "tolerance",
-                format!("must be positive and finite, got {:e}", self.tolerance),
+                format!(
+                    "must be at least {:e} and finite (got {:e}): below that, round-off alone exceeds it",
+                    Self::MIN_TOLERANCE,
+                    self.tolerance
+                ),
+            );
+        }
+        let blowup = EnergyGuard::DEFAULT_LIMIT;
+        if self.tolerance > blowup {
+            return bad(
+                "tolerance",
+                format!(
+                    "must be at most {blowup} (got {:e}): a run whose relative energy error passes {blowup} has blown up whatever the tolerance",
+                    self.tolerance
+                ),
             );
         }
         if !(self.resolution.is_finite() && self.resolution > 1.0) {
