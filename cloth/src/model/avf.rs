@@ -510,32 +510,7 @@ impl ClothModel {
     /// relative to it. Allocates nothing.
     pub fn avf_force(&self, q: &[f64], q1: &[f64], out: &mut [f64]) -> f64 {
         let n = self.free_count();
-        let q3 = &q.as_chunks::<3>().0[..n];
-        let p3 = &q1.as_chunks::<3>().0[..n];
-        let f3 = &mut out.as_chunks_mut::<3>().0[..n];
-        f3.fill(self.weight);
-        let mut scale = Vector3::from(self.weight).norm();
-        let mut kappa: f64 = 0.0;
-        for s in &self.ff {
-            let (a, b) = (s.a as usize, s.b as usize);
-            let d = Vector3::from(q3[b]) - Vector3::from(q3[a]);
-            let d1 = Vector3::from(p3[b]) - Vector3::from(p3[a]);
-            let g = spring_avf(d, d1, s.kl, s.rest);
-            kappa = kappa.max(s.kl);
-            scale = scale.max(g.norm());
-            f3[a] = (Vector3::from(f3[a]) + g).into();
-            f3[b] = (Vector3::from(f3[b]) - g).into();
-        }
-        for s in &self.fp {
-            let a = s.a as usize;
-            let pin = Vector3::from(s.pin);
-            let d = pin - Vector3::from(q3[a]);
-            let d1 = pin - Vector3::from(p3[a]);
-            let g = spring_avf(d, d1, s.kl, s.rest);
-            kappa = kappa.max(s.kl);
-            scale = scale.max(g.norm());
-            f3[a] = (Vector3::from(f3[a]) + g).into();
-        }
+        let (scale, kappa) = self.two_configuration_force(q, q1, out, spring_avf);
         let q_max = q[..3 * n]
             .iter()
             .chain(&q1[..3 * n])

@@ -20,35 +20,11 @@ impl ClothModel {
     /// not included (callers refuse scenes with colliders). Returns the
     /// force scale as [`force_and_scale`](Self::force_and_scale) does.
     pub fn discrete_gradient_force(&self, q: &[f64], xbar: &[f64], out: &mut [f64]) -> f64 {
-        let n = self.free_count();
-        let q3 = &q.as_chunks::<3>().0[..n];
-        let x3 = &xbar.as_chunks::<3>().0[..n];
-        let f3 = &mut out.as_chunks_mut::<3>().0[..n];
-        f3.fill(self.weight);
-        let mut scale = Vector3::from(self.weight).norm();
-        let mut kappa: f64 = 0.0;
-        for s in &self.ff {
-            let (a, b) = (s.a as usize, s.b as usize);
-            let d = Vector3::from(q3[b]) - Vector3::from(q3[a]);
-            let dm = Vector3::from(x3[b]) - Vector3::from(x3[a]);
+        // With `dm = x̄_b − x̄_a`: `d' = 2·dm − d`.
+        let (scale, kappa) = self.two_configuration_force(q, xbar, out, |d, dm, kl, rest| {
             let (l0, l1) = (d.norm(), (2.0 * dm - d).norm());
-            let fd = dm * (s.kl - 2.0 * s.kl * s.rest / (l0 + l1));
-            kappa = kappa.max(s.kl);
-            scale = scale.max(fd.norm());
-            f3[a] = (Vector3::from(f3[a]) + fd).into();
-            f3[b] = (Vector3::from(f3[b]) - fd).into();
-        }
-        for s in &self.fp {
-            let a = s.a as usize;
-            let pin = Vector3::from(s.pin);
-            let d = pin - Vector3::from(q3[a]);
-            let dm = pin - Vector3::from(x3[a]);
-            let (l0, l1) = (d.norm(), (2.0 * dm - d).norm());
-            let fd = dm * (s.kl - 2.0 * s.kl * s.rest / (l0 + l1));
-            kappa = kappa.max(s.kl);
-            scale = scale.max(fd.norm());
-            f3[a] = (Vector3::from(f3[a]) + fd).into();
-        }
+            dm * (kl - 2.0 * kl * rest / (l0 + l1))
+        });
         let q_max = xbar.iter().fold(0.0f64, |m, x| m.max(x.abs()));
         scale.max(kappa * q_max)
     }

@@ -65,6 +65,53 @@ impl ClothModel {
         (&self.ff, &self.fp)
     }
 
+    /// The force of gravity and of every spring evaluated between two
+    /// configurations `q` and `q1` into `out`: `pair(d, d1, k/L, L)` is the
+    /// pull on a spring's second end given its vector `d` in `q` and `d1` in
+    /// `q1` (for a pin spring, from the particle to the pin), and the first
+    /// end gets its opposite. The one loop of the discrete gradients
+    /// ([`avf_force`](Self::avf_force),
+    /// [`discrete_gradient_force`](Self::discrete_gradient_force)), which
+    /// differ only in `pair`. Returns the largest weight or pull, and the
+    /// largest `k/L`.
+    #[inline(always)]
+    pub(crate) fn two_configuration_force(
+        &self,
+        q: &[f64],
+        q1: &[f64],
+        out: &mut [f64],
+        pair: impl Fn(Vector3<f64>, Vector3<f64>, f64, f64) -> Vector3<f64>,
+    ) -> (f64, f64) {
+        let n = self.free_count();
+        let q3 = &q.as_chunks::<3>().0[..n];
+        let p3 = &q1.as_chunks::<3>().0[..n];
+        let f3 = &mut out.as_chunks_mut::<3>().0[..n];
+        f3.fill(self.weight);
+        let mut scale = Vector3::from(self.weight).norm();
+        let mut kappa: f64 = 0.0;
+        for s in &self.ff {
+            let (a, b) = (s.a as usize, s.b as usize);
+            let d = Vector3::from(q3[b]) - Vector3::from(q3[a]);
+            let d1 = Vector3::from(p3[b]) - Vector3::from(p3[a]);
+            let g = pair(d, d1, s.kl, s.rest);
+            kappa = kappa.max(s.kl);
+            scale = scale.max(g.norm());
+            f3[a] = (Vector3::from(f3[a]) + g).into();
+            f3[b] = (Vector3::from(f3[b]) - g).into();
+        }
+        for s in &self.fp {
+            let a = s.a as usize;
+            let pin = Vector3::from(s.pin);
+            let d = pin - Vector3::from(q3[a]);
+            let d1 = pin - Vector3::from(p3[a]);
+            let g = pair(d, d1, s.kl, s.rest);
+            kappa = kappa.max(s.kl);
+            scale = scale.max(g.norm());
+            f3[a] = (Vector3::from(f3[a]) + g).into();
+        }
+        (scale, kappa)
+    }
+
     /// The force `F(q) = −∇V` into `out` (as
     /// [`Separable::force`](integrator_core::Separable::force)), and the
     /// force scale at `q`: the size of the terms whose round-off `F` carries.

@@ -10,7 +10,7 @@ use std::time::Instant;
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
 use faer::{Conj, MatMut, Par};
-use integrator_core::minimise::{MinimiseError, Stats};
+use integrator_core::minimise::{MinimiseError, Stats, converged};
 
 use super::Refused;
 use crate::method::DISCRETE_GRADIENT;
@@ -205,23 +205,9 @@ impl DiscreteGradient {
         let (mut residual, mut norm) = dg_gradient(&self.x, &mut self.f, &mut self.g, &self.y);
         let mut it = 0;
         loop {
-            if !residual.is_finite() {
-                return Err(MinimiseError::NonFinite {
-                    solver: "discrete-gradient",
-                    iteration: it,
-                });
-            }
-            if residual <= tol {
+            if converged("discrete-gradient", it, residual, tol, cap)? {
                 stats.max_residual = stats.max_residual.max(residual);
                 break;
-            }
-            if it == cap {
-                return Err(MinimiseError::NotConverged {
-                    solver: "discrete-gradient",
-                    iterations: it,
-                    residual,
-                    tolerance: tol,
-                });
             }
             it += 1;
             let clock = Instant::now();

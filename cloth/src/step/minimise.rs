@@ -46,7 +46,7 @@ use std::time::Instant;
 use faer::Par;
 use integrator_core::minimise::{
     AveragedPotential, AvfStepper, Mass, MidpointSettings, MidpointStepper, NewtonSettings,
-    SparseLlt, SparsePotential, UpperPattern,
+    SparseLlt, SparsePotential, UpperPattern, converged,
 };
 use nalgebra::Vector3;
 
@@ -517,23 +517,9 @@ impl Minimiser {
         let mut it = 0;
         loop {
             let residual = gradient(model, c, &self.x, &self.y, &mut self.f, &mut self.g);
-            if !residual.is_finite() {
-                return Err(MinimiseError::NonFinite {
-                    solver: "local-global",
-                    iteration: it,
-                });
-            }
-            if residual <= tol {
+            if converged("local-global", it, residual, tol, cap)? {
                 self.stats.max_residual = self.stats.max_residual.max(residual);
                 return Ok(it);
-            }
-            if it == cap {
-                return Err(MinimiseError::NotConverged {
-                    solver: "local-global",
-                    iterations: it,
-                    residual,
-                    tolerance: tol,
-                });
             }
             it += 1;
             // Local: each spring's nearest rest-length vector; global: the

@@ -309,6 +309,35 @@ impl Stats {
     }
 }
 
+/// The stopping test of every minimiser's iteration, once the residual
+/// (`‖∇Φ‖` relative to the force scale) of `iteration` is known: `Ok(true)`
+/// when it meets `tolerance`, `Ok(false)` to iterate again, and an error
+/// for a non-finite residual or for `iteration == cap` — a cap is never
+/// accepted silently.
+pub fn converged(
+    solver: &'static str,
+    iteration: usize,
+    residual: f64,
+    tolerance: f64,
+    cap: usize,
+) -> Result<bool, MinimiseError> {
+    if !residual.is_finite() {
+        return Err(MinimiseError::NonFinite { solver, iteration });
+    }
+    if residual <= tolerance {
+        return Ok(true);
+    }
+    if iteration == cap {
+        return Err(MinimiseError::NotConverged {
+            solver,
+            iterations: iteration,
+            residual,
+            tolerance,
+        });
+    }
+    Ok(false)
+}
+
 /// Why a minimisation solve failed.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum MinimiseError {

@@ -269,23 +269,15 @@ impl Newton {
         // by REUSE_CONTRACTION per iteration; refactorise otherwise.
         let mut refactor = self.factored != Some(c);
         loop {
-            if !residual.is_finite() || !phi.0.is_finite() {
+            if !phi.0.is_finite() {
                 return Err(MinimiseError::NonFinite {
                     solver: "newton",
                     iteration: it,
                 });
             }
-            if residual <= tol {
+            if super::converged("newton", it, residual, tol, cap)? {
                 self.stats.max_residual = self.stats.max_residual.max(residual);
                 return Ok(it);
-            }
-            if it == cap {
-                return Err(MinimiseError::NotConverged {
-                    solver: "newton",
-                    iterations: it,
-                    residual,
-                    tolerance: tol,
-                });
             }
             it += 1;
             let fresh = refactor || self.factored != Some(c);
