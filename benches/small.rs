@@ -178,7 +178,8 @@ fn fixed<M: StepFixed<Kepler, 4>>(m: &M, z0: [f64; 4], h: f64, comp: bool) -> [f
     let mut carry = m.carry(comp);
     let mut z = z0;
     for k in 0..STEPS {
-        m.step_fixed(&Kepler, k as f64 * h, h, &mut z, &mut carry, false);
+        m.step_fixed(&Kepler, k as f64 * h, h, &mut z, &mut carry, false)
+            .expect("explicit");
     }
     z
 }

@@ -356,7 +356,12 @@ where
     };
     let mut carry = m.carry(true);
     for k in 0..n {
-        m.step_fixed(sys, k as f64 * h, h, &mut x, &mut carry, k > 0);
+        if m.step_fixed(sys, k as f64 * h, h, &mut x, &mut carry, k > 0)
+            .is_err()
+        {
+            z.copy_from_slice(&x);
+            return false;
+        }
     }
     z.copy_from_slice(&x);
     x.iter().all(|v| v.is_finite())

@@ -98,8 +98,7 @@ where
         carry: &mut M::Carry,
         reuse: bool,
     ) -> bool {
-        self.0.step_fixed(sys, 0.0, ds, w, carry, reuse);
-        true
+        self.0.step_fixed(sys, 0.0, ds, w, carry, reuse).is_ok()
     }
 }
 

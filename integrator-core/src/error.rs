@@ -44,7 +44,8 @@ fn short(x: &f64) -> String {
 }
 
 /// Why one step could not be taken: an implicit stage solve that did not
-/// converge or met a singular matrix. Returned by [`Step::step`](crate::Step::step);
+/// converge or met a singular matrix, or the flow of a part of a split
+/// system that failed. Returned by [`Step::step`](crate::Step::step);
 /// [`integrate`](crate::integrate) adds the step number.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum SolveError {
@@ -71,4 +72,12 @@ pub enum SolveError {
         "this stepper was prepared for dimension {prepared}, but the state has dimension {got}"
     )]
     DimensionMismatch { prepared: usize, got: usize },
+    /// The flow of one part of a split system failed (a solve inside it
+    /// did not converge, or it left a non-finite value).
+    #[error("the flow of part {part} failed: {source}")]
+    Flow {
+        part: crate::split::Part,
+        #[source]
+        source: crate::split::FlowError,
+    },
 }

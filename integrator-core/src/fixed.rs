@@ -13,8 +13,9 @@
 //! small struct the caller's loop keeps in registers.
 //!
 //! The size is declared by the state's type, `[f64; N]`, not by the system:
-//! the same system (any [`OdeSystem`] or [`Separable`](crate::Separable))
-//! runs on either path, and [`integrate_fixed`] checks once, before the
+//! the same system (any [`OdeSystem`](crate::OdeSystem),
+//! [`Separable`](crate::Separable) or [`Split`](crate::Split) one) runs on
+//! either path, and [`integrate_fixed`] checks once, before the
 //! first step, that `N` is its dimension. `butcher!` emits [`StepFixed`] for
 //! every explicit table (Runge–Kutta, drift–kick, composition, explicit
 //! partitioned pair); implicit tables keep the slice path, whose cost is the
@@ -50,8 +51,8 @@
 //! assert!(integrate_fixed(&Leapfrog, &Kepler, &mut short, 0.0, h, 1, |_, _, _| {}).is_err());
 //! ```
 
-use crate::error::StepError;
-use crate::system::OdeSystem;
+use crate::error::{SolveError, StepError};
+use crate::split::StateSpace;
 
 /// One step of an explicit scheme on a state of compile-time length `N`
 /// (the whole state: `N = 2·dof` for a Hamiltonian system), with the same
@@ -71,6 +72,11 @@ pub trait StepFixed<S: ?Sized, const N: usize> {
     ///
     /// The caller guarantees that `N` is the system's dimension
     /// ([`integrate_fixed`] checks it); the step checks it in debug builds.
+    ///
+    /// Fails only where the slice path's step does: when a flow of a
+    /// [`Split`](crate::Split) system fails (Runge–Kutta tables, pairs and
+    /// drift–kick steps of separable systems always succeed, and the
+    /// compiler removes the check after inlining).
     fn step_fixed(
         &self,
         sys: &S,
@@ -79,7 +85,7 @@ pub trait StepFixed<S: ?Sized, const N: usize> {
         z: &mut [f64; N],
         carry: &mut Self::Carry,
         reuse: bool,
-    );
+    ) -> Result<(), SolveError>;
 }
 
 /// Carried state of an explicit Runge–Kutta step: the rounding error of
@@ -100,10 +106,12 @@ impl<const N: usize> RkCarry<N> {
 }
 
 /// Carried state of a drift–kick step: the last velocity and force (first
-/// same as last) and the rounding errors of `q` and `p`. Each array is the
-/// state's length `N`; a step uses its first `N/2` entries (the length of
-/// `q` cannot be a type-level `N/2` in stable Rust, and for the systems
-/// this path is for, the unused half costs nothing).
+/// same as last) and the rounding errors of `q` and `p` (for a
+/// [`Split`](crate::Split) system: the [`PartBuffers`](crate::PartBuffers)
+/// of its parts `A`, `B`). Each array is the state's length `N`; a separable
+/// step uses its first `N/2` entries (the length of `q` cannot be a
+/// type-level `N/2` in stable Rust, and for the systems this path is for,
+/// the unused half costs nothing).
 #[derive(Clone, Debug)]
 pub struct SplitCarry<const N: usize> {
     pub v: [f64; N],
@@ -159,7 +167,9 @@ impl<const N: usize, const S: usize> PrkCarry<N, S> {
 /// every step, compensated summation, first same as last where the scheme
 /// has it, and the same checks: the state's length against the system's
 /// dimension, the step size, finite values at the start and after every
-/// step ([`StepError::Diverged`] names the first step that leaves one).
+/// step ([`StepError::Diverged`] names the first step that leaves one), and
+/// a step that fails (a flow of a [`Split`](crate::Split) system) stops the
+/// run with [`StepError::Solve`] naming the step and the part.
 ///
 /// The state is copied into a local for the run and back at its end (also
 /// when it stops early), so that it stays in registers between steps.
@@ -173,7 +183,7 @@ pub fn integrate_fixed<S, M, const N: usize>(
     observe: impl FnMut(usize, f64, &[f64]),
 ) -> Result<(), StepError>
 where
-    S: OdeSystem + ?Sized,
+    S: StateSpace + ?Sized,
     M: StepFixed<S, N>,
 {
     integrate_fixed_with(method, sys, z, t0, h, n, true, observe)
@@ -193,7 +203,7 @@ pub fn integrate_fixed_with<S, M, const N: usize>(
     mut observe: impl FnMut(usize, f64, &[f64]),
 ) -> Result<(), StepError>
 where
-    S: OdeSystem + ?Sized,
+    S: StateSpace + ?Sized,
     M: StepFixed<S, N>,
 {
     crate::integrate::check_start(sys, z, h)?;
@@ -202,7 +212,14 @@ where
     observe(0, t0, &x);
     for k in 0..n {
         let t = t0 + k as f64 * h;
-        method.step_fixed(sys, t, h, &mut x, &mut carry, k > 0);
+        if let Err(source) = method.step_fixed(sys, t, h, &mut x, &mut carry, k > 0) {
+            *z = x;
+            return Err(StepError::Solve {
+                step: k + 1,
+                t,
+                source,
+            });
+        }
         let t_next = t0 + (k + 1) as f64 * h;
         // One pass, no early exit: a vectorisable check the loop can keep.
         if !x.iter().fold(true, |ok, v| ok & v.is_finite()) {

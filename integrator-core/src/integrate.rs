@@ -3,7 +3,7 @@
 
 use crate::error::StepError;
 use crate::scheme::Step;
-use crate::system::OdeSystem;
+use crate::split::StateSpace;
 
 /// First index and value of a non-finite entry.
 fn first_non_finite(z: &[f64]) -> Option<(usize, f64)> {
@@ -13,7 +13,9 @@ fn first_non_finite(z: &[f64]) -> Option<(usize, f64)> {
 /// Integrate `n` steps of size `h` from `(t0, z)`, calling
 /// `observe(step, t, z)` before the first step and after every step.
 /// Stops with [`StepError::Diverged`] at the first step that leaves a
-/// non-finite value. Consecutive steps reuse the last evaluation of the
+/// non-finite value, and with [`StepError::Solve`] at a step that fails
+/// (an implicit stage solve, or the flow of a part of a
+/// [`Split`](crate::Split) system, named in the error). Consecutive steps reuse the last evaluation of the
 /// previous step where the scheme allows (first same as last).
 ///
 /// ```
@@ -56,7 +58,7 @@ pub fn integrate<S, M>(
     mut observe: impl FnMut(usize, f64, &[f64]),
 ) -> Result<(), StepError>
 where
-    S: OdeSystem + ?Sized,
+    S: StateSpace + ?Sized,
     M: Step<S>,
 {
     check_start(sys, z, h)?;
@@ -86,10 +88,10 @@ where
 }
 
 /// The checks before the first step.
-pub fn check_start<S: OdeSystem + ?Sized>(sys: &S, z: &[f64], h: f64) -> Result<(), StepError> {
-    if z.len() != sys.dim() {
+pub fn check_start<S: StateSpace + ?Sized>(sys: &S, z: &[f64], h: f64) -> Result<(), StepError> {
+    if z.len() != sys.state_len() {
         return Err(StepError::Dimension {
-            expected: sys.dim(),
+            expected: sys.state_len(),
             got: z.len(),
         });
     }

@@ -48,6 +48,7 @@ pub mod minimise;
 pub mod problems;
 pub mod scheme;
 pub mod search;
+pub mod split;
 mod system;
 pub mod time_transform;
 
@@ -56,4 +57,5 @@ pub use fixed::{StepFixed, integrate_fixed};
 pub use integrate::{check_start, integrate};
 pub use integrator_macros::butcher;
 pub use scheme::{Info, Scheme, Step};
+pub use split::{FlowError, Part, PartBuffers, Split, StateSpace};
 pub use system::{Hamiltonian, OdeSystem, Separable, energy};

@@ -33,7 +33,9 @@
 //!   `explicit`): stepped by the stage solver, on every `OdeSystem`;
 //! - `explicit_separable`: pairs, drift–kick sequences and compositions
 //!   that are explicit on separable Hamiltonians (`form != "rk"`,
-//!   `explicit`): kick/drift code, separable systems only;
+//!   `explicit`): kick/drift code; the pairs step separable systems only,
+//!   the drift–kick sequences and compositions every
+//!   [`Split`](crate::Split) system (separable ones among them);
 //! - `implicit_pairs`: implicit partitioned pairs (`form == "prk"`, not
 //!   `explicit`): stepped by the stage solver, on `Hamiltonian`s (or
 //!   separable ones where the pair is symplectic only for those).

@@ -3,8 +3,18 @@
 //! A scheme is a zero-sized type. [`Step<S>`] is implemented for exactly the
 //! systems `S` it may be applied to: explicit Runge–Kutta tables for every
 //! [`OdeSystem`](crate::OdeSystem) (hence every Hamiltonian), drift–kick
-//! sequences, compositions and explicit pairs for [`Separable`](crate::Separable)
-//! systems only. The caller owns the workspace, so stepping never allocates.
+//! sequences and compositions for every [`Split`](crate::Split) system (the
+//! exact flows of two parts; every [`Separable`](crate::Separable) system is
+//! one, `A = T`, `B = V`), explicit pairs for separable systems only. The
+//! caller owns the workspace, so stepping never allocates.
+//!
+//! The order of a drift–kick sequence or composition on a split system is
+//! its `order` ([`Info::order`]): the verifier decides it for separable
+//! `H = T(p) + V(q)` with a general `T`, whose order conditions are those of
+//! the free Lie algebra on two generators, hence those of a splitting for
+//! any parts `A` and `B` (see [`split`](crate::split)). The higher
+//! Runge–Kutta–Nyström order some tables also claim (`order_rkn`, for
+//! quadratic `T`) does not carry over.
 
 use crate::error::SolveError;
 
@@ -46,15 +56,17 @@ pub trait Scheme: Copy + Default + 'static {
 #[diagnostic::on_unimplemented(
     message = "the scheme `{Self}` cannot step the system `{S}`",
     label = "`{Self}` does not implement `Step<{S}>`",
-    note = "drift–kick sequences, compositions and explicit partitioned pairs are symplectic only for separable Hamiltonians, so they step only systems that implement `Separable`; implicit partitioned pairs step systems that implement `Hamiltonian`"
+    note = "drift–kick sequences and compositions step systems that implement `Split` (every `Separable` one does); explicit partitioned pairs are symplectic only for separable Hamiltonians, so they step only systems that implement `Separable`; implicit partitioned pairs step systems that implement `Hamiltonian`"
 )]
 pub trait Step<S: ?Sized> {
     /// Scratch memory for one system size, requested up front.
     type Workspace;
     fn workspace(&self, sys: &S) -> Self::Workspace;
-    /// `z ← Ψ_h(z)` for the step from `t` to `t + h`. Explicit schemes never
-    /// fail; implicit ones return the reason their stage solve failed, and
-    /// leave `z` unchanged then.
+    /// `z ← Ψ_h(z)` for the step from `t` to `t + h`. Explicit schemes fail
+    /// only where a flow of a [`Split`](crate::Split) system fails
+    /// ([`SolveError::Flow`], naming the part; `z` is then what the flows
+    /// before it left); implicit ones return the reason their stage solve
+    /// failed, and leave `z` unchanged then.
     fn step(
         &self,
         sys: &S,
@@ -105,12 +117,16 @@ impl<const S: usize> RkWorkspace<S> {
     }
 }
 
-/// Buffers of a drift–kick step: the last velocity and force evaluations.
+/// Buffers of a drift–kick step: the last evaluations of the flows (for a
+/// separable system the velocity and the force), handed to the flows of
+/// parts `A` (`v`, `eq`) and `B` (`f`, `ep`) as
+/// [`PartBuffers`](crate::split::PartBuffers).
 #[derive(Clone, Debug)]
 pub struct SplitWorkspace {
     pub v: Vec<f64>,
     pub f: Vec<f64>,
-    /// Carried rounding errors of the drifts (`q`) and kicks (`p`).
+    /// Carried rounding errors of the drifts (`q`) and kicks (`p`): of the
+    /// flows of parts `A` and `B`.
     pub eq: Vec<f64>,
     pub ep: Vec<f64>,
     /// Compensated summation of every drift and kick (default on).
@@ -118,6 +134,8 @@ pub struct SplitWorkspace {
 }
 
 impl SplitWorkspace {
+    /// Vectors of length `dof` (a split system's
+    /// [`buffer_len`](crate::Split::buffer_len)).
     pub fn new(dof: usize) -> Self {
         SplitWorkspace {
             v: vec![0.0; dof],

@@ -8,8 +8,10 @@
 //!
 //! Every separable system is a Hamiltonian and every Hamiltonian an ODE
 //! system (blanket impls), so a Runge–Kutta scheme steps all three, while a
-//! drift–kick scheme, symplectic only for separable `H`, steps only
-//! [`Separable`] systems: using it on anything else is a compile error.
+//! drift–kick scheme, a product of the exact flows of two parts, steps only
+//! [`Separable`] systems (drifts and kicks) and other
+//! [`Split`](crate::Split) systems (every separable system is one): using
+//! it on anything else is a compile error.
 
 /// `z' = f(t, z)`.
 pub trait OdeSystem {
@@ -40,7 +42,7 @@ pub trait Hamiltonian {
 #[diagnostic::on_unimplemented(
     message = "`{Self}` is not a separable Hamiltonian",
     label = "`{Self}` does not implement `Separable`",
-    note = "drift–kick sequences, compositions and explicit partitioned pairs are symplectic only for separable Hamiltonians, so they step only systems that implement `Separable`"
+    note = "explicit partitioned pairs are symplectic only for separable Hamiltonians, so they step only systems that implement `Separable`; drift–kick sequences and compositions step those and systems that implement `Split` (the exact flows of two parts)"
 )]
 pub trait Separable {
     /// Degrees of freedom `n`; the state is `z = [q; p]` of length `2n`.

@@ -139,7 +139,7 @@ pub fn explicit_rk(name: &syn::Ident, a: &[Vec<f64>], b: &[f64], c: &[f64]) -> T
             // length (see `integrator_core::fixed`).
             #[inline(always)]
             #[allow(unused_variables, unused_mut, clippy::all, clippy::approx_constant, clippy::excessive_precision)]
-            fn step_fixed(&self, sys: &Sys, t: f64, h: f64, z: &mut [f64; N], carry: &mut Self::Carry, _reuse: bool) {
+            fn step_fixed(&self, sys: &Sys, t: f64, h: f64, z: &mut [f64; N], carry: &mut Self::Carry, _reuse: bool) -> ::core::result::Result<(), ::integrator_core::SolveError> {
                 debug_assert_eq!(sys.dim(), N, "a fixed-size state must have the system's dimension");
                 let n: usize = N;
                 let z: &mut [f64] = &mut z[..];
@@ -150,6 +150,7 @@ pub fn explicit_rk(name: &syn::Ident, a: &[Vec<f64>], b: &[f64], c: &[f64]) -> T
                 let [#(#ks),*] = &mut k;
                 #(#stages)*
                 #update
+                Ok(())
             }
         }
         impl<Sys: ::integrator_core::OdeSystem + ?Sized> ::integrator_core::Step<Sys> for #name {
@@ -176,32 +177,41 @@ pub fn explicit_rk(name: &syn::Ident, a: &[Vec<f64>], b: &[f64], c: &[f64]) -> T
     }
 }
 
-/// A drift–kick sequence (normal form) for `Separable` systems. When the
-/// sequence starts and ends with the same kind of operation, the evaluation
+/// A drift–kick sequence (normal form) for `Split` systems (every
+/// `Separable` one among them): a drift is the flow of part `A`, a kick the
+/// flow of part `B`, each for `h` times its coefficient, in the table's
+/// order; the flows do the update (for a separable system, with compensated
+/// summation, the arithmetic this step always had). When the sequence
+/// starts and ends with the same kind of operation, the flow's evaluation
 /// of the last one is still valid at the start of the next step and
-/// `step_reusing` skips it.
+/// `step_reusing` lets it reuse it (first same as last).
 pub fn drift_kick(name: &syn::Ident, ops: &[(Op, f64)]) -> TokenStream {
     let fsal = ops.len() > 1 && ops.first().map(|o| o.0) == ops.last().map(|o| o.0);
     let code = ops.iter().enumerate().map(|(k, (op, c))| {
-        let eval = match op {
-            Op::Drift => quote!(sys.velocity(p, v);),
-            Op::Kick => quote!(sys.force(q, f);),
+        let (part, eval, err) = match op {
+            Op::Drift => (quote!(A), quote!(v), quote!(eq)),
+            Op::Kick => (quote!(B), quote!(f), quote!(ep)),
         };
-        let eval = if k == 0 && fsal {
-            quote!(if !reuse { #eval })
+        let reuse = if k == 0 && fsal {
+            quote!(reuse)
         } else {
-            eval
+            quote!(false)
         };
-        let upd = match op {
-            Op::Drift => state_update(quote!(q), quote!(eq), &[(*c, quote!(v))]),
-            Op::Kick => state_update(quote!(p), quote!(ep), &[(*c, quote!(f))]),
-        };
-        quote!(#eval #upd)
+        quote! {
+            ::integrator_core::split::flow(
+                sys,
+                ::integrator_core::split::Part::#part,
+                h * #c,
+                z,
+                ::integrator_core::split::PartBuffers { eval: &mut #eval[..], err: &mut #err[..], compensated },
+                #reuse,
+            )?;
+        }
     });
     let code: Vec<TokenStream> = code.collect();
     let reuse_arg = if fsal { quote!(reuse) } else { quote!(_reuse) };
     quote! {
-        impl<Sys: ::integrator_core::Separable + ?Sized, const N: usize> ::integrator_core::StepFixed<Sys, N> for #name {
+        impl<Sys: ::integrator_core::split::Split + ?Sized, const N: usize> ::integrator_core::StepFixed<Sys, N> for #name {
             type Carry = ::integrator_core::fixed::SplitCarry<N>;
             fn carry(&self, compensated: bool) -> Self::Carry {
                 ::integrator_core::fixed::SplitCarry::new(compensated)
@@ -210,21 +220,19 @@ pub fn drift_kick(name: &syn::Ident, ops: &[(Op, f64)]) -> TokenStream {
             // length (see `integrator_core::fixed`).
             #[inline(always)]
             #[allow(unused_variables, clippy::all, clippy::approx_constant, clippy::excessive_precision)]
-            fn step_fixed(&self, sys: &Sys, t: f64, h: f64, z: &mut [f64; N], carry: &mut Self::Carry, #reuse_arg: bool) {
-                debug_assert_eq!(2 * sys.dof(), N, "a fixed-size state must have the system's dimension");
-                let n: usize = N / 2;
-                let (q, p) = z.split_at_mut(n);
-                let (q, p) = (&mut q[..n], &mut p[..n]);
+            fn step_fixed(&self, sys: &Sys, t: f64, h: f64, z: &mut [f64; N], carry: &mut Self::Carry, #reuse_arg: bool) -> ::core::result::Result<(), ::integrator_core::SolveError> {
+                debug_assert_eq!(::integrator_core::split::StateSpace::state_len(sys), N, "a fixed-size state must have the system's dimension");
+                let z: &mut [f64] = &mut z[..];
                 let ::integrator_core::fixed::SplitCarry { v, f, eq, ep, compensated } = carry;
                 let compensated = *compensated;
-                let (v, f): (&mut [f64], &mut [f64]) = (&mut v[..n], &mut f[..n]);
                 #(#code)*
+                Ok(())
             }
         }
-        impl<Sys: ::integrator_core::Separable + ?Sized> ::integrator_core::Step<Sys> for #name {
+        impl<Sys: ::integrator_core::split::Split + ?Sized> ::integrator_core::Step<Sys> for #name {
             type Workspace = ::integrator_core::scheme::SplitWorkspace;
             fn workspace(&self, sys: &Sys) -> Self::Workspace {
-                ::integrator_core::scheme::SplitWorkspace::new(sys.dof())
+                ::integrator_core::scheme::SplitWorkspace::new(::integrator_core::split::Split::buffer_len(sys))
             }
             // Always inlined, as the Runge–Kutta step: out of line, the plain
             // leapfrog step ran 1.35× slower than the same loop by hand.
@@ -235,12 +243,10 @@ pub fn drift_kick(name: &syn::Ident, ops: &[(Op, f64)]) -> TokenStream {
             #[inline(always)]
             #[allow(unused_variables, clippy::all, clippy::approx_constant, clippy::excessive_precision)]
             fn step_reusing(&self, sys: &Sys, t: f64, h: f64, z: &mut [f64], ws: &mut Self::Workspace, #reuse_arg: bool) -> ::core::result::Result<(), ::integrator_core::SolveError> {
-                let n = sys.dof();
-                let (q, p) = z.split_at_mut(n);
-                let (q, p) = (&mut q[..n], &mut p[..n]);
+                let len = ::integrator_core::split::StateSpace::state_len(sys);
+                let z: &mut [f64] = &mut z[..len];
                 let ::integrator_core::scheme::SplitWorkspace { v, f, eq, ep, compensated } = ws;
                 let compensated = *compensated;
-                let (v, f): (&mut [f64], &mut [f64]) = (&mut v[..n], &mut f[..n]);
                 #(#code)*
                 Ok(())
             }
@@ -367,7 +373,7 @@ pub fn explicit_prk(
             // length (see `integrator_core::fixed`).
             #[inline(always)]
             #[allow(unused_variables, unused_mut, clippy::all, clippy::approx_constant, clippy::excessive_precision)]
-            fn step_fixed(&self, sys: &Sys, t: f64, h: f64, z: &mut [f64; N], carry: &mut Self::Carry, #reuse_arg: bool) {
+            fn step_fixed(&self, sys: &Sys, t: f64, h: f64, z: &mut [f64; N], carry: &mut Self::Carry, #reuse_arg: bool) -> ::core::result::Result<(), ::integrator_core::SolveError> {
                 debug_assert_eq!(2 * sys.dof(), N, "a fixed-size state must have the system's dimension");
                 let n: usize = N / 2;
                 let (q, p) = z.split_at_mut(n);
@@ -377,6 +383,7 @@ pub fn explicit_prk(
                 #q_out
                 #p_out
                 #keep
+                Ok(())
             }
         }
         impl<Sys: ::integrator_core::Separable + ?Sized> ::integrator_core::Step<Sys> for #name {

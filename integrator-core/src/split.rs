@@ -1,0 +1,326 @@
+//! Split systems: `H = A + B`, where the exact flows of the parts `A` and
+//! `B` are known (Kepler motion and an interaction kick; a linear part
+//! solved exactly and a nonlinear one), and a drift–kick sequence or
+//! composition is a product of those flows.
+//!
+//! A drift–kick sequence never needed `T` and `V` as such: a drift is the
+//! exact flow of `T(p)` for a time `cᵢh`, a kick the exact flow of `V(q)`.
+//! So every drift–kick sequence and composition of the library and of
+//! `butcher!` steps any [`Split`] system, with the code `butcher!` emits for
+//! the table (drift ↦ [`flow_a`](Split::flow_a), kick ↦
+//! [`flow_b`](Split::flow_b)), and a [`Separable`] system is the special
+//! case `A = T`, `B = V` through a blanket impl that keeps what the
+//! separable step always did: compensated summation of every drift and
+//! kick, and first same as last (the velocity or force of the previous
+//! step's last operation reused).
+//!
+//! # Order
+//!
+//! The order of a splitting for general `A` and `B` is the order the
+//! verifier decides for the drift–kick sequence on separable `H` with a
+//! general `T(p)` (`ORDER`, `INFO.order`), and no more. The reason is the
+//! free Lie algebra: the error of a composition of the flows of `A` and `B`
+//! is a series of nested Poisson brackets (Lie brackets of the vector
+//! fields) of `A` and `B`, and for `H = T(p) + V(q)` with general `T` and
+//! `V` no linear relation holds among the brackets up to the orders
+//! checked beyond those that hold for any `A`, `B` (e.g. antisymmetry and
+//! the Jacobi identity) — unlike `T = ½pᵀM⁻¹p`, where
+//! `{V, {V, {V, T}}} = 0` and the Runge–Kutta–Nyström orders (`order_rkn`)
+//! are higher. The order conditions of the sequence for general `T` and `V`
+//! are therefore those of the free Lie algebra on two generators: the
+//! conditions of a splitting for any `A` and `B`. An `order_rkn` claim does
+//! not carry over to a split system whose parts lack that structure.
+//!
+//! # Three parts
+//!
+//! The trait has two parts: a `butcher!` table is a word in two letters
+//! (drift and kick), and the verifier's order conditions are those of two
+//! generators. A system `A + B + C` is stepped by making one of the flows a
+//! composition itself, e.g. `flow_b` the Strang step `φ_{C,h/2} ∘ φ_{B,h} ∘
+//! φ_{C,h/2}`; that is second order in the split of `B + C`, so the order
+//! of the whole step is at most 2 unless the inner composition is of the
+//! scheme's order. Three-letter tables and their order conditions are not
+//! built.
+//!
+//! ```
+//! use integrator_core::split::{FlowError, PartBuffers, Split, StateSpace};
+//! use integrator_core::{integrate, library::Leapfrog};
+//!
+//! /// `H = ω(q² + p²)/2 + ε(qp)²/2`: a rotation and a squeeze along the
+//! /// hyperbolae `qp = const`, both exact; not of the form `T(p) + V(q)`.
+//! struct RotationSqueeze { omega: f64, eps: f64 }
+//!
+//! impl StateSpace for RotationSqueeze {
+//!     fn state_len(&self) -> usize { 2 }
+//! }
+//! impl Split for RotationSqueeze {
+//!     fn flow_a(&self, h: f64, z: &mut [f64], _: PartBuffers<'_>, _: bool) -> Result<(), FlowError> {
+//!         let (s, c) = (self.omega * h).sin_cos();
+//!         let (q, p) = (z[0], z[1]);
+//!         z[0] = c * q + s * p;
+//!         z[1] = c * p - s * q;
+//!         Ok(())
+//!     }
+//!     fn flow_b(&self, h: f64, z: &mut [f64], _: PartBuffers<'_>, _: bool) -> Result<(), FlowError> {
+//!         let g = (self.eps * z[0] * z[1] * h).exp();
+//!         z[0] *= g;
+//!         z[1] /= g;
+//!         Ok(())
+//!     }
+//! }
+//!
+//! let sys = RotationSqueeze { omega: 1.0, eps: 0.1 };
+//! let mut z = [1.0, 0.0];
+//! integrate(&Leapfrog, &sys, &mut z, 0.0, 0.01, 100, |_, _, _| {}).unwrap();
+//! assert!((z[0] - 1f64.cos()).abs() < 1e-2);
+//! ```
+
+use crate::error::SolveError;
+use crate::system::{OdeSystem, Separable};
+
+/// A system whose state is one vector of known length: what
+/// [`integrate`](crate::integrate) checks a state against before the first
+/// step. Every [`OdeSystem`] (hence every Hamiltonian) is one, with
+/// `state_len = dim`; a [`Split`] system that is not an `OdeSystem` says
+/// its length itself.
+pub trait StateSpace {
+    /// The length of the state `z`.
+    fn state_len(&self) -> usize;
+}
+
+impl<S: OdeSystem + ?Sized> StateSpace for S {
+    #[inline]
+    fn state_len(&self) -> usize {
+        self.dim()
+    }
+}
+
+/// One part of a split system: `A` (the part a drift-kick table's drifts
+/// move with) or `B` (its kicks).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Part {
+    A,
+    B,
+}
+
+impl std::fmt::Display for Part {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Part::A => "A",
+            Part::B => "B",
+        })
+    }
+}
+
+/// Why the flow of one part could not be taken. The step adds the part
+/// ([`SolveError::Flow`]), [`integrate`](crate::integrate) the step.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum FlowError {
+    /// An iterative solve inside the flow did not converge (`what`: e.g.
+    /// "Kepler's equation").
+    #[error("{what} did not converge in {iterations} iterations (last correction {correction:e})")]
+    NotConverged {
+        what: &'static str,
+        iterations: usize,
+        correction: f64,
+    },
+    /// The flow left a value in the state that is not finite (checked by the
+    /// step after every flow of a system with [`Split::CHECK_FINITE`]).
+    #[error("the flow left a non-finite value: z[{index}] = {value}")]
+    NonFinite { index: usize, value: f64 },
+    /// Any other reason, in the flow's words.
+    #[error("{0}")]
+    Failed(String),
+}
+
+impl FlowError {
+    /// A failure described by a message (e.g. another error's text).
+    pub fn failed(why: impl std::fmt::Display) -> Self {
+        FlowError::Failed(why.to_string())
+    }
+}
+
+/// The memory a flow keeps between its calls, owned by the step's
+/// workspace ([`SplitWorkspace`](crate::scheme::SplitWorkspace) on the
+/// slice path, [`SplitCarry`](crate::fixed::SplitCarry) on the fixed-size
+/// path) so that stepping never allocates. Each part has its own pair of
+/// vectors, each at least [`Split::buffer_len`] long (the state's length on
+/// the fixed-size path). A flow that needs none of it ignores it.
+#[derive(Debug)]
+pub struct PartBuffers<'a> {
+    /// The flow's last evaluation (the separable drift's velocity, the
+    /// kick's force), kept for first same as last (`reuse`).
+    pub eval: &'a mut [f64],
+    /// The rounding errors of the flow's last update of the state, carried
+    /// into the next (compensated summation).
+    pub err: &'a mut [f64],
+    /// Whether the step asks for compensated summation of the updates
+    /// (the workspace's flag, default on).
+    pub compensated: bool,
+}
+
+/// A system `H = A + B` stepped through the exact flows of its parts: what
+/// every drift–kick sequence and composition steps (drift ↦ `flow_a`, kick
+/// ↦ `flow_b`, each for the time `cᵢh` of the table's coefficient).
+///
+/// The order of a scheme on a split system is its `ORDER`: the order the
+/// verifier decides for separable `H` with general `T(p)`, which by the
+/// free Lie algebra argument (see the [module documentation](self)) is the
+/// order of the splitting for any `A` and `B`. A scheme is symplectic on a
+/// split system when the flows are (exact flows of Hamiltonians are), and
+/// symmetric schemes are symmetric when the flows are exact (`φ_{−h} =
+/// φ_h⁻¹`).
+///
+/// Every [`Separable`] system is a `Split` one (`A = T`, `B = V`; blanket
+/// impl). Implement it for a system that is not separable but whose parts
+/// have known flows; such a type also implements [`StateSpace`] (unless it
+/// is an [`OdeSystem`] or a Hamiltonian, which are `StateSpace` already).
+#[diagnostic::on_unimplemented(
+    message = "`{Self}` is neither a separable Hamiltonian nor a split system",
+    label = "`{Self}` implements neither `Separable` nor `Split`",
+    note = "drift–kick sequences and compositions are products of the exact flows of two parts, so they step only systems that provide them: `Separable` ones (drifts and kicks) or ones that implement `Split`"
+)]
+pub trait Split: StateSpace {
+    /// Whether the step checks the state for non-finite values after every
+    /// flow, so that a flow that returns one stops the run with an error
+    /// naming the part ([`FlowError::NonFinite`]) rather than only the step.
+    /// On for every `Split` system unless it says otherwise; off for
+    /// separable systems, whose drifts and kicks are the arithmetic of the
+    /// scheme itself and whose non-finite values
+    /// [`integrate`](crate::integrate) reports at the step that makes them
+    /// (the check would cost a pass over the state per drift and kick).
+    const CHECK_FINITE: bool = true;
+
+    /// The length of each vector of [`PartBuffers`] on the slice path
+    /// (default: the state's length; separable systems need `dof`).
+    fn buffer_len(&self) -> usize {
+        self.state_len()
+    }
+
+    /// `z ← φ_{A,h}(z)`: the exact flow of part `A` for the time `h` (any
+    /// sign: symmetric schemes have negative coefficients). `reuse` is true
+    /// when the previous operation on `z` was this same flow, which left
+    /// `z` as it is now (first same as last across two steps): an
+    /// evaluation kept in `buf.eval` that the flow itself does not change
+    /// may be reused.
+    fn flow_a(
+        &self,
+        h: f64,
+        z: &mut [f64],
+        buf: PartBuffers<'_>,
+        reuse: bool,
+    ) -> Result<(), FlowError>;
+
+    /// `z ← φ_{B,h}(z)`: the exact flow of part `B`, as
+    /// [`flow_a`](Split::flow_a).
+    fn flow_b(
+        &self,
+        h: f64,
+        z: &mut [f64],
+        buf: PartBuffers<'_>,
+        reuse: bool,
+    ) -> Result<(), FlowError>;
+}
+
+/// `d ← d + h·s`, with compensated (Kahan) summation into `e` when
+/// `compensated`: the state update of a drift or kick, the arithmetic of
+/// `butcher!`'s generated updates term for term (so a separable system
+/// stepped as a split one gives the bits it gave before).
+#[inline(always)]
+fn add_scaled(d: &mut [f64], e: &mut [f64], h: f64, s: &[f64], compensated: bool) {
+    let n = d.len();
+    let (e, s) = (&mut e[..n], &s[..n]);
+    if compensated {
+        for i in 0..n {
+            let inc = e[i] + h * s[i];
+            let new = d[i] + inc;
+            e[i] = (d[i] - new) + inc;
+            d[i] = new;
+        }
+    } else {
+        for i in 0..n {
+            d[i] = d[i] + h * s[i];
+        }
+    }
+}
+
+/// A separable system is split as `A = T(p)` (a drift: `q += h·∇T(p)`) and
+/// `B = V(q)` (a kick: `p += h·F(q)`); each flow keeps its evaluation for
+/// first same as last (a drift leaves `p`, a kick `q` unchanged).
+impl<S: Separable + ?Sized> Split for S {
+    const CHECK_FINITE: bool = false;
+
+    #[inline]
+    fn buffer_len(&self) -> usize {
+        Separable::dof(self)
+    }
+
+    #[inline(always)]
+    fn flow_a(
+        &self,
+        h: f64,
+        z: &mut [f64],
+        buf: PartBuffers<'_>,
+        reuse: bool,
+    ) -> Result<(), FlowError> {
+        let n = z.len() / 2;
+        let (q, p) = z.split_at_mut(n);
+        let (q, p) = (&mut q[..n], &p[..n]);
+        let v = &mut buf.eval[..n];
+        if !reuse {
+            self.velocity(p, v);
+        }
+        add_scaled(q, buf.err, h, v, buf.compensated);
+        Ok(())
+    }
+
+    #[inline(always)]
+    fn flow_b(
+        &self,
+        h: f64,
+        z: &mut [f64],
+        buf: PartBuffers<'_>,
+        reuse: bool,
+    ) -> Result<(), FlowError> {
+        let n = z.len() / 2;
+        let (q, p) = z.split_at_mut(n);
+        let (q, p) = (&q[..n], &mut p[..n]);
+        let f = &mut buf.eval[..n];
+        if !reuse {
+            self.force(q, f);
+        }
+        add_scaled(p, buf.err, h, f, buf.compensated);
+        Ok(())
+    }
+}
+
+/// One flow of a split step, as `butcher!`'s step code calls it: the flow
+/// of `part` for the time `h`, its failure as [`SolveError::Flow`] naming
+/// the part, and, where the system asks for it ([`Split::CHECK_FINITE`]),
+/// a non-finite value it left as [`FlowError::NonFinite`].
+#[doc(hidden)]
+#[inline(always)]
+pub fn flow<S: Split + ?Sized>(
+    sys: &S,
+    part: Part,
+    h: f64,
+    z: &mut [f64],
+    buf: PartBuffers<'_>,
+    reuse: bool,
+) -> Result<(), SolveError> {
+    let done = match part {
+        Part::A => sys.flow_a(h, z, buf, reuse),
+        Part::B => sys.flow_b(h, z, buf, reuse),
+    };
+    done.map_err(|source| SolveError::Flow { part, source })?;
+    if S::CHECK_FINITE
+        && let Some(index) = z.iter().position(|x| !x.is_finite())
+    {
+        let value = z[index];
+        return Err(SolveError::Flow {
+            part,
+            source: FlowError::NonFinite { index, value },
+        });
+    }
+    Ok(())
+}
