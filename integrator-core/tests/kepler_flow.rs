@@ -34,8 +34,20 @@ fn state(gm: f64, a: f64, e: f64, nu: f64) -> ([f64; 3], [f64; 3]) {
 
 fn rotate(u: [f64; 3]) -> [f64; 3] {
     let (o, i, w) = (0.7f64, 0.4f64, 1.9f64);
-    let rz = |u: [f64; 3], t: f64| [t.cos() * u[0] - t.sin() * u[1], t.sin() * u[0] + t.cos() * u[1], u[2]];
-    let rx = |u: [f64; 3], t: f64| [u[0], t.cos() * u[1] - t.sin() * u[2], t.sin() * u[1] + t.cos() * u[2]];
+    let rz = |u: [f64; 3], t: f64| {
+        [
+            t.cos() * u[0] - t.sin() * u[1],
+            t.sin() * u[0] + t.cos() * u[1],
+            u[2],
+        ]
+    };
+    let rx = |u: [f64; 3], t: f64| {
+        [
+            u[0],
+            t.cos() * u[1] - t.sin() * u[2],
+            t.sin() * u[1] + t.cos() * u[2],
+        ]
+    };
     rz(rx(rz(u, w), i), o)
 }
 
@@ -159,9 +171,8 @@ fn the_drift_is_the_exact_flow_to_a_few_ulps_times_the_conditioning() {
     for c in bound_cases().into_iter().chain(hyperbolic_cases()) {
         let (x0, v0) = state(c.gm, c.a, c.e, c.nu);
         let (mut x, mut v) = (x0, v0);
-        drift(c.gm, c.h, &mut x, &mut v).unwrap_or_else(|err| {
-            panic!("e = {}, nu = {}, h = {}: {err}", c.e, c.nu, c.h)
-        });
+        drift(c.gm, c.h, &mut x, &mut v)
+            .unwrap_or_else(|err| panic!("e = {}, nu = {}, h = {}: {err}", c.e, c.nu, c.h));
         let (xr, vr) = double_double::flow(c.gm, c.h, x0, v0).expect("reference converges");
         let err = scaled_error(&x, &v, &xr, &vr);
         let k = kappa(c.gm, c.h, x0, v0);
@@ -201,13 +212,19 @@ fn steps_of_several_periods_land_where_the_remainder_does() {
             let (xr, vr) = double_double::flow(1.0, h + k * period, x0, v0).unwrap();
             let err = scaled_error(&xa, &va, &xr, &vr);
             let kap = kappa(1.0, h + k * period, x0, v0);
-            assert!(err <= C * EPS * (1.0 + kap), "e = {e}, k = {k}: {err:e}, κ = {kap:e}");
+            assert!(
+                err <= C * EPS * (1.0 + kap),
+                "e = {e}, k = {k}: {err:e}, κ = {kap:e}"
+            );
         }
     }
 }
 
 fn energy(gm: f64, x: &[f64; 3], v: &[f64; 3]) -> (f64, f64) {
-    let (t, u) = (0.5 * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]), gm / norm(x));
+    let (t, u) = (
+        0.5 * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]),
+        gm / norm(x),
+    );
     (t - u, t + u)
 }
 
@@ -262,12 +279,21 @@ fn energy_angular_momentum_and_the_lrl_vector_are_kept_to_round_off() {
                 *w = w.max(r);
             }
             println!("e = {e}, GM = {gm}: ratios {ratios:.2?}");
-            assert!(ratios[0] <= 8.0, "e = {e}, GM = {gm}: energy {de:e} (scale {e_scale:e})");
-            assert!(ratios[1] <= 8.0, "e = {e}, GM = {gm}: angular momentum {dl:e}");
+            assert!(
+                ratios[0] <= 8.0,
+                "e = {e}, GM = {gm}: energy {de:e} (scale {e_scale:e})"
+            );
+            assert!(
+                ratios[1] <= 8.0,
+                "e = {e}, GM = {gm}: angular momentum {dl:e}"
+            );
             assert!(ratios[2] <= 8.0, "e = {e}, GM = {gm}: LRL vector {da:e}");
         }
     }
-    println!("worst error/(ε√n·scale): energy {:.2}, L {:.2}, LRL {:.2}", worst[0], worst[1], worst[2]);
+    println!(
+        "worst error/(ε√n·scale): energy {:.2}, L {:.2}, LRL {:.2}",
+        worst[0], worst[1], worst[2]
+    );
 }
 
 #[test]
@@ -302,7 +328,10 @@ fn the_flow_is_a_group_to_round_off() {
         let wd = w.map(Dd::new);
         let d = scaled_error(&x, &v, &yd, &wd);
         let bound = C * EPS * ((1.0 + k1) * (1.0 + k2) + 1.0 + k12);
-        assert!(d <= bound, "e = {e}, h1 = {h1}, h2 = {h2}: {d:e} > {bound:e}");
+        assert!(
+            d <= bound,
+            "e = {e}, h1 = {h1}, h2 = {h2}: {d:e} > {bound:e}"
+        );
 
         // Back again.
         let (mut x, mut v) = (x0, v0);
@@ -332,7 +361,10 @@ fn bad_input_is_an_error_and_leaves_the_state_alone() {
         Err(KeplerError::BadStep { .. })
     ));
     let (mut x, mut v) = ([0.0; 3], v0);
-    assert_eq!(drift(1.0, 0.1, &mut x, &mut v), Err(KeplerError::ZeroPosition));
+    assert_eq!(
+        drift(1.0, 0.1, &mut x, &mut v),
+        Err(KeplerError::ZeroPosition)
+    );
     let (mut x, mut v) = (x0, [0.0, f64::INFINITY, 0.0]);
     let err = drift(1.0, 0.1, &mut x, &mut v).unwrap_err();
     assert_eq!(
@@ -365,7 +397,10 @@ fn bad_input_is_an_error_and_leaves_the_state_alone() {
         }
         other => panic!("expected NotConverged, got {other}"),
     }
-    assert!(err.to_string().contains("did not converge in 1 iterations"), "{err}");
+    assert!(
+        err.to_string().contains("did not converge in 1 iterations"),
+        "{err}"
+    );
     assert_eq!((x, v), (x1, v1));
 
     // A hyperbola followed beyond the range of f64.
@@ -433,11 +468,21 @@ fn over_a_million_orbits_the_error_grows_like_round_off() {
         }
     }
     let t: Vec<f64> = checkpoints.iter().map(|&k| k as f64 * h).collect();
-    let rms = |s: &[f64]| s.iter().map(|x| (x / runs as f64).sqrt()).collect::<Vec<_>>();
+    let rms = |s: &[f64]| {
+        s.iter()
+            .map(|x| (x / runs as f64).sqrt())
+            .collect::<Vec<_>>()
+    };
     let (re, rx) = (rms(&e_sq), rms(&x_sq));
     let (pe, px) = (fitted_exponent(&t, &re), fitted_exponent(&t, &rx));
-    println!("energy RMS {:.2e} … {:.2e}, fitted exponent {pe:.3}", re[0], re[6]);
-    println!("position RMS {:.2e} … {:.2e}, fitted exponent {px:.3}", rx[0], rx[6]);
+    println!(
+        "energy RMS {:.2e} … {:.2e}, fitted exponent {pe:.3}",
+        re[0], re[6]
+    );
+    println!(
+        "position RMS {:.2e} … {:.2e}, fitted exponent {px:.3}",
+        rx[0], rx[6]
+    );
     assert!(
         (pe - 0.5).abs() < 0.25,
         "energy error grows like t^{pe:.3}, not like round-off's t^½"

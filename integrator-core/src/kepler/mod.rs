@@ -174,7 +174,9 @@ impl KeplerSolver {
             // margin covers a reduced step that rounding left just above P.
             let turn = 2.0 * PI / sb * (1.0 + 1e-9);
             (lo, hi) = if ht >= 0.0 { (0.0, turn) } else { (-turn, 0.0) };
-            s = o.short_step_guess(ht).unwrap_or_else(|| o.elliptic_guess(ht));
+            s = o
+                .short_step_guess(ht)
+                .unwrap_or_else(|| o.elliptic_guess(ht));
         } else {
             (lo, hi) = if ht >= 0.0 {
                 (0.0, f64::INFINITY)
@@ -320,7 +322,13 @@ impl Orbit {
         let [g0, g1, g2, g3, h] = g;
         (
             s - d,
-            [g0 + d * self.beta * g1, g1 - d * g0, g2 - d * g1, g3 - d * g2, h],
+            [
+                g0 + d * self.beta * g1,
+                g1 - d * g0,
+                g2 - d * g1,
+                g3 - d * g2,
+                h,
+            ],
             fp - d * fpp,
         )
     }

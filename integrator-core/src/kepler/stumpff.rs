@@ -99,8 +99,14 @@ mod tests {
         assert_eq!(stumpff(0.0), [1.0, 1.0, 0.5, 1.0 / 6.0]);
         for z in [-30.0, -2.0, -0.7, -1e-3, 1e-3, 0.4, 0.99, 3.0, 39.0] {
             let [c0, c1, c2, c3] = stumpff(z);
-            assert!((c0 - (1.0 - z * c2)).abs() < 1e-14 * c0.abs().max(1.0), "z = {z}");
-            assert!((c1 - (1.0 - z * c3)).abs() < 1e-14 * c1.abs().max(1.0), "z = {z}");
+            assert!(
+                (c0 - (1.0 - z * c2)).abs() < 1e-14 * c0.abs().max(1.0),
+                "z = {z}"
+            );
+            assert!(
+                (c1 - (1.0 - z * c3)).abs() < 1e-14 * c1.abs().max(1.0),
+                "z = {z}"
+            );
         }
     }
 }

@@ -228,7 +228,10 @@ pub fn flow_dd(gm: f64, h: Dd, x: [f64; 3], v: [f64; 3]) -> Option<([Dd; 3], [Dd
         }
     }
     if !done {
-        eprintln!("reference: Newton stalled at s = {s:?}, F = {:?}", eval(s).0);
+        eprintln!(
+            "reference: Newton stalled at s = {s:?}, F = {:?}",
+            eval(s).0
+        );
         return None;
     }
     let (_, r, g1, g2, g3) = eval(s);

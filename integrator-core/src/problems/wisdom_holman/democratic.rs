@@ -68,7 +68,8 @@ impl DemocraticHeliocentric {
     /// `w = [Q; P]` from the inertial `z = [x; p]`.
     pub fn from_inertial(&self, z: &[f64], w: &mut [f64]) -> Result<(), WhError> {
         self.bodies.check_state("the inertial state", z)?;
-        self.bodies.check_len("the democratic heliocentric state", w)?;
+        self.bodies
+            .check_len("the democratic heliocentric state", w)?;
         let n = self.bodies.n();
         let m = &self.bodies.m;
         let (x, p) = z.split_at(3 * n);
@@ -96,7 +97,8 @@ impl DemocraticHeliocentric {
 
     /// The inertial `z = [x; p]` from `w = [Q; P]`.
     pub fn to_inertial(&self, w: &[f64], z: &mut [f64]) -> Result<(), WhError> {
-        self.bodies.check_state("the democratic heliocentric state", w)?;
+        self.bodies
+            .check_state("the democratic heliocentric state", w)?;
         self.bodies.check_len("the inertial state", z)?;
         let n = self.bodies.n();
         let m = &self.bodies.m;
@@ -140,7 +142,8 @@ impl DemocraticHeliocentric {
     /// `(Qᵢ, Pᵢ/mᵢ)` by the exact [Kepler drift](crate::kepler::drift)
     /// about the central mass (`GM = G·m₀`).
     pub fn kepler_flow(&self, h: f64, w: &mut [f64]) -> Result<(), WhError> {
-        self.bodies.check_len("the democratic heliocentric state", w)?;
+        self.bodies
+            .check_len("the democratic heliocentric state", w)?;
         let n = self.bodies.n();
         let m = &self.bodies.m;
         let gm = self.bodies.g * m[0];
@@ -168,7 +171,8 @@ impl DemocraticHeliocentric {
     /// The flow of `H_interaction` over `h`: every pair of non-central
     /// bodies kicks the other's momentum by `h·G mᵢmⱼ (Qⱼ − Qᵢ)/|Qⱼ − Qᵢ|³`.
     pub fn interaction_kick(&self, h: f64, w: &mut [f64]) -> Result<(), WhError> {
-        self.bodies.check_len("the democratic heliocentric state", w)?;
+        self.bodies
+            .check_len("the democratic heliocentric state", w)?;
         let n = self.bodies.n();
         let m = &self.bodies.m;
         let hg = h * self.bodies.g;
@@ -200,7 +204,8 @@ impl DemocraticHeliocentric {
     /// The flow of `H_jump` over `h`: every `Qᵢ` (`i ≥ 1`) moves by
     /// `h·ΣⱼPⱼ/m₀`.
     pub fn jump(&self, h: f64, w: &mut [f64]) -> Result<(), WhError> {
-        self.bodies.check_len("the democratic heliocentric state", w)?;
+        self.bodies
+            .check_len("the democratic heliocentric state", w)?;
         let n = self.bodies.n();
         let (q, p) = w.split_at_mut(3 * n);
         let mut s = [0.0; 3];

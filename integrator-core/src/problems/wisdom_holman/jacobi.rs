@@ -87,7 +87,11 @@ impl Jacobi {
             let (xi, pi) = (get3(x, i), get3(p, i));
             let (mi, mprev, mcur) = (m[i], self.interior[i - 1], self.interior[i]);
             set3(q, i, [0, 1, 2].map(|k| xi[k] - sx[k] / mprev));
-            set3(pj, i, [0, 1, 2].map(|k| (mprev * pi[k] - mi * sp[k]) / mcur));
+            set3(
+                pj,
+                i,
+                [0, 1, 2].map(|k| (mprev * pi[k] - mi * sp[k]) / mcur),
+            );
             for k in 0..3 {
                 sx[k] += mi * xi[k];
                 sp[k] += pi[k];
@@ -215,8 +219,7 @@ impl Jacobi {
                     p[3 * i + k] += hm * qdd;
                     acc[k] += m[i] * ai[k];
                 }
-                if !(p[3 * i].is_finite() && p[3 * i + 1].is_finite() && p[3 * i + 2].is_finite())
-                {
+                if !(p[3 * i].is_finite() && p[3 * i + 1].is_finite() && p[3 * i + 2].is_finite()) {
                     return Err(WhError::NonFinite {
                         part: "interaction",
                         body: i,
