@@ -219,9 +219,6 @@ pub fn flow_dd(gm: f64, h: Dd, x: [f64; 3], v: [f64; 3]) -> Option<([Dd; 3], [Dd
         let (f, r, ..) = eval(s);
         let ds = f / r;
         s = s - ds;
-        if std::env::var("DDTRACE").is_ok() {
-            eprintln!("s = {s:?} f = {f:?} r = {r:?} ds = {ds:?}");
-        }
         if ds.hi.abs() <= 1e-27 * s.hi.abs() || f.hi == 0.0 {
             done = true;
             break;
