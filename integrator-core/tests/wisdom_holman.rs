@@ -404,3 +404,30 @@ fn both_coordinate_systems_agree_on_the_outer_solar_system() {
     assert!(d < 1e-5, "{d:e}");
     assert!(rel_dist(&a, &z0) > 0.01);
 }
+
+#[test]
+#[ignore = "a measurement: cargo test --release -p integrator-core --test wisdom_holman work_precision -- --ignored --nocapture"]
+fn work_precision() {
+    // The error at 10⁵ days (the project's measure, against the converged
+    // reference) and the wall time per step, over the step counts of
+    // `symlab compare --problem outer-solar` (500 to 5·10⁴).
+    let sys = OuterSolarSystem;
+    let z0 = sys.initial_state();
+    let t = 1e5;
+    let reference = reference_solution(&sys, &z0, t, 0.2);
+    for k in kernels() {
+        for n in [500usize, 1000, 2000, 5000, 10000, 20000, 50000] {
+            let start = std::time::Instant::now();
+            let z = k.run(&z0, t / n as f64, n).unwrap();
+            let secs = start.elapsed().as_secs_f64();
+            let err = rel_dist(&z, &reference);
+            println!(
+                "{:>24} n = {n:>6}: error {err:.3e}, {:.3} ms, {:.1} ns/step",
+                k.name(),
+                secs * 1e3,
+                secs * 1e9 / n as f64
+            );
+            assert!(err.is_finite());
+        }
+    }
+}
