@@ -85,10 +85,12 @@ impl KeplerSolver {
     /// so a correction this small means the iterate is correct to
     /// rounding and the next would change nothing.
     pub const DEFAULT_TOLERANCE: f64 = 2.0 * f64::EPSILON;
-    /// Halley from the starters takes 2–4 steps on every orbit of the
-    /// tests; the worst case, bisection on a bracket that a bad starter
-    /// left wide, needs about 60 to reach a relative width of 1e-16 and
-    /// the same again for doubling a hyperbolic bracket up.
+    /// Room for the worst case: bisection on a bracket that a poor starter
+    /// left wide needs about 60 steps to reach a relative width of 1e-16,
+    /// and doubling a hyperbolic bracket up as many again. Measured on the
+    /// orbits of `tests/kepler_flow.rs` (e = 0 … 0.999 and hyperbolae,
+    /// steps 10⁻⁴ P … 10 P): 1 to 3 evaluations for nearly all, at most 12
+    /// (e = 0.999, from the pericentre, a step of three periods).
     pub const DEFAULT_MAX_ITERATIONS: usize = 200;
 
     /// [`drift`] with these settings.
