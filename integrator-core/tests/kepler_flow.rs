@@ -281,7 +281,7 @@ fn energy_angular_momentum_and_the_lrl_vector_are_kept_to_round_off() {
             // At e = 0.999 each step passes a pericentre at r = a/1000 and
             // its conditioning κ (≈ 3.7e3 here, against 5–330 for e ≤ 0.99)
             // enlarges what one step's rounding does to the invariants;
-            // measured, by up to 50 instead of 8, so there the bound is
+            // measured, up to 17 (not 8) times ε√n·scale, so there the bound is
             // 8·√(1 + κ).
             let bound = if e > 0.99 {
                 8.0 * (1.0 + kappa(gm, h, x0, v0)).sqrt()

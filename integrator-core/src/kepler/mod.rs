@@ -73,7 +73,9 @@ use std::f64::consts::PI;
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct KeplerSolver {
     /// The solve stops when the proposed correction of `s` is at most
-    /// `tolerance·|s|` (or when the residual is at rounding level).
+    /// `tolerance·|s|` (or when the residual is at rounding level), and
+    /// applies that correction to second order. Above ~1e-6 the neglected
+    /// third-order terms reach rounding level.
     pub tolerance: f64,
     /// The most Halley or bisection steps (and bracket doublings) one solve
     /// may take before it is a [`KeplerError::NotConverged`].
@@ -81,10 +83,11 @@ pub struct KeplerSolver {
 }
 
 impl KeplerSolver {
-    /// Two units in the last place: Halley's method converges cubically,
-    /// so a correction this small means the iterate is correct to
-    /// rounding and the next would change nothing.
-    pub const DEFAULT_TOLERANCE: f64 = 2.0 * f64::EPSILON;
+    /// Halley's method converges cubically: after a correction of
+    /// `1e-7·|s|` the next would be about `1e-21·|s|`, far below rounding,
+    /// so the solve stops there and carries the correction into the
+    /// `Gₖ` by their Taylor series instead of evaluating them again.
+    pub const DEFAULT_TOLERANCE: f64 = 1e-7;
     /// Room for the worst case: bisection on a bracket that a poor starter
     /// left wide needs about 60 steps to reach a relative width of 1e-16,
     /// and doubling a hyperbolic bracket up as many again. Measured on the
@@ -207,7 +210,7 @@ impl KeplerSolver {
             let (g, f, fp, fpp, scale) = o.evaluate(s, ht);
             residual = f;
             if f == 0.0 || f.abs() <= 2.0 * f64::EPSILON * scale {
-                return Ok(o.at_root(s, g, f, fp, fpp));
+                return Ok(o.at_root(s, g, f / fp));
             }
             if f < 0.0 {
                 lo = s;
@@ -228,7 +231,7 @@ impl KeplerSolver {
             };
             correction = ds;
             if ds.abs() <= self.tolerance * s.abs() {
-                return Ok(o.at_root(s, g, f, fp, fpp));
+                return Ok(o.at_root(s, g, ds));
             }
             let mut next = s - ds;
             if !(next > lo && next < hi) || !next.is_finite() {
@@ -245,7 +248,7 @@ impl KeplerSolver {
                 };
             }
             if next == s {
-                return Ok(o.at_root(s, g, f, fp, fpp));
+                return Ok(o.at_root(s, g, ds));
             }
             s = next;
         }
@@ -308,31 +311,29 @@ impl Orbit {
         ([c0, g1, g2, g3, h], f, fp, fpp, scale)
     }
 
-    /// The last correction `δ = F/F'` (below the tolerance) carried into
-    /// the `Gₖ` to first order, `Gₖ(s − δ) = Gₖ − δ·G_{k−1}` (the `δ²` terms
-    /// are below rounding), instead of another evaluation. Stopping at `s`
-    /// itself would leave the root always on the side Halley's method
+    /// The last correction `δ` (Halley's, or Newton's `F/F'` where the
+    /// residual is at rounding level) carried into the `Gₖ` by their Taylor
+    /// series to second order, `Gₖ(s − δ) = Gₖ − δ·Gₖ' + δ²/2·Gₖ''` (with
+    /// `Gₖ' = G_{k−1}`, `G₀' = −βG₁`), instead of another evaluation; with
+    /// `|δ| ≤ 1e-7·|s|` the cubic term is below 1e-21 of `s`. Stopping at
+    /// `s` itself would leave the root always on the side Halley's method
     /// approaches it from, a bias that makes `f ġ − g ḟ` differ from 1 by
-    /// the same sign at every step and the energy drift linearly in time;
-    /// with the correction the error per step is unbiased rounding.
+    /// the same sign at every step and the energy drift linearly in time.
     #[inline]
-    fn at_root(&self, s: f64, g: [f64; 5], f: f64, fp: f64, fpp: f64) -> (f64, [f64; 5], f64) {
-        let d = f / fp;
-        if !(d.is_finite() && fpp.is_finite()) || d == 0.0 {
-            return (s, g, fp);
-        }
+    fn at_root(&self, s: f64, g: [f64; 5], d: f64) -> (f64, [f64; 5], f64) {
         let [g0, g1, g2, g3, h] = g;
-        (
-            s - d,
-            [
-                g0 + d * self.beta * g1,
-                g1 - d * g0,
-                g2 - d * g1,
-                g3 - d * g2,
-                h,
-            ],
-            fp - d * fpp,
-        )
+        if !d.is_finite() || d == 0.0 {
+            let r = self.r0 + self.eta * g1 + self.zeta * g2;
+            return (s, g, r);
+        }
+        let b = self.beta;
+        let e = 0.5 * d * d;
+        let n1 = g1 - d * g0 - e * b * g1;
+        let n2 = g2 - d * g1 + e * g0;
+        let n3 = g3 - d * g2 + e * g1;
+        let n0 = g0 + d * b * g1 - e * b * g0;
+        let r = self.r0 + self.eta * n1 + self.zeta * n2;
+        (s - d, [n0, n1, n2, n3, h], r)
     }
 
     /// `s ≈ h/r₀ − η₀h²/(2r₀³)` (the series of `s(h)` to second order),
