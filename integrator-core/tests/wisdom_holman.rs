@@ -250,6 +250,38 @@ fn bad_input_names_the_body_and_the_part() {
 }
 
 #[test]
+fn a_conversion_that_does_not_round_trip_is_an_error_naming_the_body() {
+    // Subnormal positions: the mass-weighted sums lose their digits to
+    // underflow, so the inertial state does not come back within the
+    // stated bound.
+    let m = [1.0, 1.0];
+    let mut z = vec![0.0; 12];
+    // 3 and 8 units of the smallest subnormal: their barycentre, 5.5
+    // units, cannot be stored.
+    z[0] = f64::from_bits(3);
+    z[3] = f64::from_bits(8);
+    z[9] = 1.0;
+    let mut w = vec![0.0; 12];
+    let err = Jacobi::new(1.0, &m, Some(&["star", "dust"]))
+        .unwrap()
+        .from_inertial_checked(&z, &mut w)
+        .unwrap_err();
+    assert!(
+        matches!(
+            err,
+            WhError::RoundTrip {
+                coordinates: "Jacobi",
+                ..
+            }
+        ),
+        "{err}"
+    );
+    let text = err.to_string();
+    assert!(text.contains("(star)") || text.contains("(dust)"), "{text}");
+    assert!(text.contains("do not round-trip"), "{text}");
+}
+
+#[test]
 fn the_energy_error_at_ten_days_over_ten_to_the_five_days_is_small() {
     let sys = OuterSolarSystem;
     let z0 = sys.initial_state();

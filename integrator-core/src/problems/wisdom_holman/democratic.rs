@@ -129,7 +129,7 @@ impl DemocraticHeliocentric {
 
     /// [`from_inertial`](Self::from_inertial), then back, and an error
     /// naming the first body whose inertial state does not come back within
-    /// [`ROUND_TRIP_ULPS`](super::ROUND_TRIP_ULPS)`·N·ε` of the largest
+    /// [`ROUND_TRIP_ULPS`](super::ROUND_TRIP_ULPS)`·N·ε` of the largest coordinate,
     /// position (momentum).
     pub fn from_inertial_checked(&self, z: &[f64], w: &mut [f64]) -> Result<(), WhError> {
         self.from_inertial(z, w)?;
