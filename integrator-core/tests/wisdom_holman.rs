@@ -4,9 +4,7 @@
 //! converged reference of `tests/outer_solar.rs`, symplectic in fact,
 //! time-reversible.
 
-use integrator_core::problems::wisdom_holman::{
-    DemocraticHeliocentric, Jacobi, ROUND_TRIP_ULPS, WhError,
-};
+use integrator_core::problems::wisdom_holman::{DemocraticHeliocentric, Jacobi, WhError};
 use integrator_core::problems::{OuterSolarSystem, reference_solution};
 
 mod common;
@@ -114,7 +112,6 @@ fn the_conversions_round_trip_to_a_few_ulps() {
     assert!((w[18] - p_total).abs() <= 4.0 * f64::EPSILON * p_total.abs());
     dh.from_inertial(&z0, &mut w).unwrap();
     assert_eq!(w[3], z0[3] - z0[0]);
-    assert!(ROUND_TRIP_ULPS >= 1.0);
 }
 
 #[test]

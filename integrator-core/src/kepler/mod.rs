@@ -160,6 +160,9 @@ impl KeplerSolver {
     /// The root `s` of the universal Kepler equation for a step `h`, with
     /// `[G₀, G₁, G₂, G₃, h']` at it (`h'` the step after the reduction by
     /// whole periods) and `r = F'(s)`.
+    // The bracket tests are written `!(lo < s && s < hi)` so that a NaN
+    // iterate fails them too.
+    #[allow(clippy::nonminimal_bool)]
     fn solve(&self, o: &Orbit, h: f64) -> Result<(f64, [f64; 5], f64), KeplerError> {
         let mut ht = h;
         // The bracket [lo, hi] of the root; F(lo) ≤ 0 ≤ F(hi).
@@ -376,6 +379,7 @@ impl Orbit {
 
     /// `s` from the hyperbolic Kepler equation `e sinh H − H = M` with the
     /// starter `H ≈ sign(M) ln(2|M|/e + 1.8)`, as `ΔH/√(−β)` (β < 0).
+    #[allow(clippy::neg_cmp_op_on_partial_ord)] // a NaN e² is no hyperbola either
     fn hyperbolic_guess(&self, h: f64) -> Option<f64> {
         if self.beta >= 0.0 {
             return None;

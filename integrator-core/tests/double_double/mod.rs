@@ -191,7 +191,7 @@ pub fn flow_dd(gm: f64, h: Dd, x: [f64; 3], v: [f64; 3]) -> Option<([Dd; 3], [Dd
     };
     // Bracket [lo, hi] with F(lo) ≤ 0 ≤ F(hi); F is increasing.
     let sign = if h.hi >= 0.0 { 1.0 } else { -1.0 };
-    let mut far = Dd::new(sign * (h.hi.abs() / r0.hi).min(1.0).max(1e-300));
+    let mut far = Dd::new(sign * (h.hi.abs() / r0.hi).clamp(1e-300, 1.0));
     let mut grows = 0;
     while eval(far).0.hi * sign < 0.0 {
         far = far * Dd::new(2.0);

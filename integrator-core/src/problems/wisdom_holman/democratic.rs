@@ -26,6 +26,10 @@
 //! (J jump, I interaction, K Kepler): symplectic, symmetric, order 2. The
 //! interaction and the jump are both of the order of the planetary masses.
 
+// Loops over bodies index several per-body arrays (masses, positions,
+// momenta) at once; an index reads clearer than zipped iterators.
+#![allow(clippy::needless_range_loop)]
+
 use super::{Bodies, WhError, get3, set3};
 use crate::kepler::drift;
 
@@ -160,7 +164,7 @@ impl DemocraticHeliocentric {
                 body: i,
                 name: self.bodies.name(i),
                 step: None,
-                source,
+                source: Box::new(source),
             })?;
             set3(q, i, x);
             set3(p, i, v.map(|c| c * m[i]));

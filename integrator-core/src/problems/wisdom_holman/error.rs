@@ -42,7 +42,7 @@ pub enum WhError {
         name: Option<String>,
         step: Option<usize>,
         #[source]
-        source: KeplerError,
+        source: Box<KeplerError>,
     },
     #[error("{}{}, {part} part: the new state is not finite", who(*.body, .name), at(.step))]
     NonFinite {

@@ -19,6 +19,10 @@
 //! acceleration `Q̈ᵢ = aᵢ − Σ_{j<i} mⱼaⱼ/M_{i−1} + G Mᵢ Qᵢ/|Qᵢ|³` from the
 //! inertial accelerations `aₖ` (`m'ᵢQ̈ᵢ = −∂H_interaction/∂Qᵢ`).
 
+// Loops over bodies index several per-body arrays (masses, positions,
+// momenta) at once; an index reads clearer than zipped iterators.
+#![allow(clippy::needless_range_loop)]
+
 use super::{Bodies, WhError, get3, set3, with_scratch};
 use crate::kepler::drift;
 
@@ -161,7 +165,7 @@ impl Jacobi {
                     body: i,
                     name: self.bodies.name(i),
                     step: None,
-                    source,
+                    source: Box::new(source),
                 }
             })?;
             set3(q, i, x);
