@@ -1,22 +1,4 @@
-//! Stumpff's functions `c₀ … c₃`, which turn the universal-variable form of
-//! the two-body problem into one formula for every conic:
-//!
-//! ```text
-//! c₀(z) = cos √z,  c₁(z) = sin √z / √z,  c₂(z) = (1 − cos √z)/z,
-//! c₃(z) = (√z − sin √z)/z^{3/2}            (z > 0; cosh/sinh for z < 0),
-//! ```
-//!
-//! all entire in `z` with `cₖ(0) = 1/k!` and `c_k(z) = 1/k! − z·c_{k+2}(z)`.
-//!
-//! For `|z| < 1` (the whole Wisdom–Holman regime, a step of a few per cent
-//! of an orbit) `c₂` and `c₃` come from their Taylor series, five to ten
-//! terms as `|z|` grows, which reach the last bit there: no cancellation, no transcendental
-//! call. Only `c₀` and `c₁` are then formed from `cₖ = 1/k! − z·c_{k+2}`,
-//! where `|z·c_{k+2}| ≤ ½` keeps the subtraction benign. For `|z| ≥ 1` the
-//! closed forms are used, with `1 − cos x = 2 sin²(x/2)` (and
-//! `cosh x − 1 = 2 sinh²(x/2)`) so that no difference of nearly equal
-//! numbers is formed; `x − sin x` loses at most a factor
-//! `1/(1 − sin 1) ≈ 6` of relative accuracy at `x = 1` and less beyond.
+//! Stumpff's functions: [`stumpff`].
 
 /// Below this `|z|` the series is used.
 const SERIES_LIMIT: f64 = 1.0;
@@ -49,7 +31,26 @@ const C3: [f64; 10] = [
     1.0 / 51090942171709440000.0,
 ];
 
-/// `[c₀(z), c₁(z), c₂(z), c₃(z)]` (see the [module documentation](self)).
+/// `[c₀(z), c₁(z), c₂(z), c₃(z)]`: Stumpff's functions `c₀ … c₃`, which turn the universal-variable form of
+/// the two-body problem into one formula for every conic:
+///
+/// ```text
+/// c₀(z) = cos √z,  c₁(z) = sin √z / √z,  c₂(z) = (1 − cos √z)/z,
+/// c₃(z) = (√z − sin √z)/z^{3/2}            (z > 0; cosh/sinh for z < 0),
+/// ```
+///
+/// all entire in `z` with `cₖ(0) = 1/k!` and `c_k(z) = 1/k! − z·c_{k+2}(z)`.
+///
+/// For `|z| < 1` (the whole Wisdom–Holman regime, a step of a few per cent
+/// of an orbit) `c₂` and `c₃` come from their Taylor series, five to ten
+/// terms as `|z|` grows, which reach the last bit there: no cancellation, no transcendental
+/// call. Only `c₀` and `c₁` are then formed from `cₖ = 1/k! − z·c_{k+2}`,
+/// where `|z·c_{k+2}| ≤ ½` keeps the subtraction benign. For `|z| ≥ 1` the
+/// closed forms are used, with `1 − cos x = 2 sin²(x/2)` (and
+/// `cosh x − 1 = 2 sinh²(x/2)`) so that no difference of nearly equal
+/// numbers is formed; `x − sin x` loses at most a factor
+/// `1/(1 − sin 1) ≈ 6` of relative accuracy at `x = 1` and less beyond.
+///
 /// Non-finite for a `z` so negative that `cosh √−z` overflows (`z < −5·10⁵`).
 #[inline]
 pub fn stumpff(z: f64) -> [f64; 4] {

@@ -1,30 +1,4 @@
-//! Wisdom–Holman in democratic heliocentric coordinates (Duncan, Levison &
-//! Lee 1998, the coordinates of SyMBA).
-//!
-//! Positions relative to the central body, momenta relative to the
-//! barycentre: `Q₀ = Σmₖxₖ/M` (the barycentre), `Qᵢ = xᵢ − x₀`, `P₀ = Σpₖ`,
-//! `Pᵢ = pᵢ − (mᵢ/M)P₀` (`M` the total mass), a canonical change of
-//! variables in which the Hamiltonian splits into three parts,
-//!
-//! ```text
-//! H_Kepler      = |P₀|²/(2M) + Σᵢ₌₁ [ |Pᵢ|²/(2mᵢ) − G m₀mᵢ/|Qᵢ| ],
-//! H_interaction = −Σ_{1≤i<j} G mᵢmⱼ/|Qᵢ − Qⱼ|,
-//! H_jump        = |Σᵢ₌₁ Pᵢ|²/(2m₀),
-//! ```
-//!
-//! each with an exact flow: N − 1 Kepler problems about the central mass
-//! (`GM = G·m₀`) and a free barycentre; a kick of the momenta by the
-//! planets' mutual forces; and a "jump" of every heliocentric position by
-//! the same `h·ΣPᵢ/m₀` (the central body's motion about the barycentre,
-//! felt by all). The step composes them as Duncan, Levison & Lee do,
-//! symmetrically:
-//!
-//! ```text
-//! J(h/2) I(h/2) K(h) I(h/2) J(h/2)
-//! ```
-//!
-//! (J jump, I interaction, K Kepler): symplectic, symmetric, order 2. The
-//! interaction and the jump are both of the order of the planetary masses.
+//! Wisdom–Holman in democratic heliocentric coordinates: [`DemocraticHeliocentric`].
 
 // Loops over bodies index several per-body arrays (masses, positions,
 // momenta) at once; an index reads clearer than zipped iterators.
@@ -33,9 +7,33 @@
 use super::{Bodies, WhError, get3, set3};
 use crate::kepler::drift;
 
-/// An N-body problem in democratic heliocentric coordinates, split as
-/// `H_Kepler + H_interaction + H_jump` (see the [module
-/// documentation](self)).
+/// Wisdom–Holman in democratic heliocentric coordinates (Duncan, Levison &
+/// Lee 1998, the coordinates of SyMBA).
+///
+/// Positions relative to the central body, momenta relative to the
+/// barycentre: `Q₀ = Σmₖxₖ/M` (the barycentre), `Qᵢ = xᵢ − x₀`, `P₀ = Σpₖ`,
+/// `Pᵢ = pᵢ − (mᵢ/M)P₀` (`M` the total mass), a canonical change of
+/// variables in which the Hamiltonian splits into three parts,
+///
+/// ```text
+/// H_Kepler      = |P₀|²/(2M) + Σᵢ₌₁ [ |Pᵢ|²/(2mᵢ) − G m₀mᵢ/|Qᵢ| ],
+/// H_interaction = −Σ_{1≤i<j} G mᵢmⱼ/|Qᵢ − Qⱼ|,
+/// H_jump        = |Σᵢ₌₁ Pᵢ|²/(2m₀),
+/// ```
+///
+/// each with an exact flow: N − 1 Kepler problems about the central mass
+/// (`GM = G·m₀`) and a free barycentre; a kick of the momenta by the
+/// planets' mutual forces; and a "jump" of every heliocentric position by
+/// the same `h·ΣPᵢ/m₀` (the central body's motion about the barycentre,
+/// felt by all). The step composes them as Duncan, Levison & Lee do,
+/// symmetrically:
+///
+/// ```text
+/// J(h/2) I(h/2) K(h) I(h/2) J(h/2)
+/// ```
+///
+/// (J jump, I interaction, K Kepler): symplectic, symmetric, order 2. The
+/// interaction and the jump are both of the order of the planetary masses.
 #[derive(Clone, Debug, PartialEq)]
 pub struct DemocraticHeliocentric {
     bodies: Bodies,
@@ -236,8 +234,8 @@ impl DemocraticHeliocentric {
         Ok(())
     }
 
-    /// One step `J(h/2) I(h/2) K(h) I(h/2) J(h/2)` (see the [module
-    /// documentation](self)).
+    /// One step `J(h/2) I(h/2) K(h) I(h/2) J(h/2)` (see the [type
+    /// documentation](DemocraticHeliocentric)).
     pub fn step(&self, h: f64, w: &mut [f64]) -> Result<(), WhError> {
         self.jump(0.5 * h, w)?;
         self.interaction_kick(0.5 * h, w)?;

@@ -1,23 +1,4 @@
-//! Wisdom–Holman in Jacobi coordinates (Wisdom & Holman 1991; the form of
-//! WHFast, Rein & Tamayo 2015).
-//!
-//! With `Mᵢ = m₀ + … + mᵢ` and `Rᵢ` the centre of mass of bodies `0 … i`,
-//! the Jacobi coordinates are `Q₀ = R_{N−1}` (the barycentre) and
-//! `Qᵢ = xᵢ − R_{i−1}`, with masses `m'ᵢ = mᵢM_{i−1}/Mᵢ` and conjugate
-//! momenta `Pᵢ = m'ᵢQ̇ᵢ` (`P₀` the total momentum). The Hamiltonian splits as
-//!
-//! ```text
-//! H_Kepler      = |P₀|²/(2M_{N−1}) + Σᵢ₌₁ [ |Pᵢ|²/(2m'ᵢ) − G m'ᵢMᵢ/|Qᵢ| ],
-//! H_interaction = Σᵢ₌₁ G m'ᵢMᵢ/|Qᵢ| − Σ_{i<j} G mᵢmⱼ/|xᵢ − xⱼ|,
-//! ```
-//!
-//! so that `H_Kepler` is N − 1 independent Kepler problems (`GM = G·Mᵢ`)
-//! plus the free barycentre, and `H_interaction`, a function of the
-//! positions alone, is small (the planets' mutual pull and the difference
-//! between the Sun's pull and the Kepler term's, both of the order of the
-//! planetary masses). Its flow is a kick `Pᵢ += h m'ᵢ Q̈ᵢ` with the Jacobi
-//! acceleration `Q̈ᵢ = aᵢ − Σ_{j<i} mⱼaⱼ/M_{i−1} + G Mᵢ Qᵢ/|Qᵢ|³` from the
-//! inertial accelerations `aₖ` (`m'ᵢQ̈ᵢ = −∂H_interaction/∂Qᵢ`).
+//! Wisdom–Holman in Jacobi coordinates: [`Jacobi`].
 
 // Loops over bodies index several per-body arrays (masses, positions,
 // momenta) at once; an index reads clearer than zipped iterators.
@@ -26,8 +7,26 @@
 use super::{Bodies, WhError, get3, set3, with_scratch};
 use crate::kepler::drift;
 
-/// An N-body problem in Jacobi coordinates, split as `H_Kepler +
-/// H_interaction` (see the [module documentation](self)).
+/// Wisdom–Holman in Jacobi coordinates (Wisdom & Holman 1991; the form of
+/// WHFast, Rein & Tamayo 2015).
+///
+/// With `Mᵢ = m₀ + … + mᵢ` and `Rᵢ` the centre of mass of bodies `0 … i`,
+/// the Jacobi coordinates are `Q₀ = R_{N−1}` (the barycentre) and
+/// `Qᵢ = xᵢ − R_{i−1}`, with masses `m'ᵢ = mᵢM_{i−1}/Mᵢ` and conjugate
+/// momenta `Pᵢ = m'ᵢQ̇ᵢ` (`P₀` the total momentum). The Hamiltonian splits as
+///
+/// ```text
+/// H_Kepler      = |P₀|²/(2M_{N−1}) + Σᵢ₌₁ [ |Pᵢ|²/(2m'ᵢ) − G m'ᵢMᵢ/|Qᵢ| ],
+/// H_interaction = Σᵢ₌₁ G m'ᵢMᵢ/|Qᵢ| − Σ_{i<j} G mᵢmⱼ/|xᵢ − xⱼ|,
+/// ```
+///
+/// so that `H_Kepler` is N − 1 independent Kepler problems (`GM = G·Mᵢ`)
+/// plus the free barycentre, and `H_interaction`, a function of the
+/// positions alone, is small (the planets' mutual pull and the difference
+/// between the Sun's pull and the Kepler term's, both of the order of the
+/// planetary masses). Its flow is a kick `Pᵢ += h m'ᵢ Q̈ᵢ` with the Jacobi
+/// acceleration `Q̈ᵢ = aᵢ − Σ_{j<i} mⱼaⱼ/M_{i−1} + G Mᵢ Qᵢ/|Qᵢ|³` from the
+/// inertial accelerations `aₖ` (`m'ᵢQ̈ᵢ = −∂H_interaction/∂Qᵢ`).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Jacobi {
     bodies: Bodies,
@@ -175,7 +174,7 @@ impl Jacobi {
     }
 
     /// The flow of `H_interaction` over `h`: the kick
-    /// `Pᵢ += h·m'ᵢQ̈ᵢ` (see the [module documentation](self)).
+    /// `Pᵢ += h·m'ᵢQ̈ᵢ` (see the [type documentation](Jacobi)).
     pub fn interaction_kick(&self, h: f64, w: &mut [f64]) -> Result<(), WhError> {
         self.bodies.check_len("the Jacobi state", w)?;
         let n = self.bodies.n();
