@@ -34,9 +34,8 @@ use crate::kepler::drift;
 ///
 /// (J jump, I interaction, K Kepler): symplectic, symmetric, order 2. The
 /// interaction and the jump are both of the order of the planetary masses;
-/// any symmetric arrangement of the three flows is order 2 as well (REBOUND
-/// groups the jump with the Kepler flow instead), and the three parts
-/// stay available on their own for other compositions. None of them
+/// any symmetric arrangement of the three flows is order 2 as well, and the
+/// three parts stay available on their own for other compositions. None of them
 /// commute, so a two-part scheme that treats `J·K·J` as one part gets at
 /// most order 2 from it.
 #[derive(Clone, Debug, PartialEq)]
