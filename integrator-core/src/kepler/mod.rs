@@ -92,7 +92,7 @@ impl KeplerSolver {
     /// left wide needs about 60 steps to reach a relative width of 1e-16,
     /// and doubling a hyperbolic bracket up as many again. Measured on the
     /// orbits of `tests/kepler_flow.rs` (e = 0 … 0.999 and hyperbolae,
-    /// steps 10⁻⁴ P … 10 P): 1 to 3 evaluations for 96 %, at most 11
+    /// steps 10⁻⁴ P … 10 P): 1 to 3 evaluations for 97 %, at most 11
     /// (e = 0.999, from the pericentre, a step of three periods).
     pub const DEFAULT_MAX_ITERATIONS: usize = 200;
 
