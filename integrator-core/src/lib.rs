@@ -42,6 +42,7 @@ pub mod fixed;
 pub mod implicit;
 mod integrate;
 pub mod interp;
+pub mod kepler;
 pub mod library;
 pub mod linear;
 pub mod minimise;

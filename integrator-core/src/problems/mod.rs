@@ -12,6 +12,7 @@
 //! | [`HenonHeiles`] chaotic at `H = 1/8` | `Separable` | numerical reference | `H` |
 //! | [`Fpu`] stiff FPU chain, `ω = 50` | `Separable` | numerical reference | `H`, `Σ Iⱼ` (adiabatic) |
 //! | [`OuterSolarSystem`] Sun and five outer planets (HLW I.2.3) | `Separable` | numerical reference | `H`, angular momentum |
+//! | [`wisdom_holman`]: any N-body problem split for Wisdom–Holman (Jacobi, democratic heliocentric) | inherent flows of the parts | Kepler part exact ([`kepler`](crate::kepler)) | `H` |
 //! | [`gyroscopic`](crate::linear::gyroscopic) `Mq̈ + Gq̇ + Kq = f` | `OdeSystem` | matrix exponential | quadratic energy |
 //!
 //! The exact flows implement [`ExactFlow`]; they are exact up to a few
@@ -27,6 +28,7 @@ mod oscillator;
 pub mod outer_solar;
 mod pendulum;
 mod random;
+pub mod wisdom_holman;
 
 pub use elliptic::{carlson_rf, complete_k, incomplete_f, jacobi};
 pub use fpu::Fpu;

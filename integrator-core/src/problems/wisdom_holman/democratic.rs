@@ -1,0 +1,269 @@
+//! Wisdom–Holman in democratic heliocentric coordinates: [`DemocraticHeliocentric`].
+
+// Loops over bodies index several per-body arrays (masses, positions,
+// momenta) at once; an index reads clearer than zipped iterators.
+#![allow(clippy::needless_range_loop)]
+
+use super::{Bodies, WhError, get3, set3};
+use crate::kepler::drift;
+
+/// Wisdom–Holman in democratic heliocentric coordinates (Duncan, Levison &
+/// Lee 1998, the coordinates of SyMBA).
+///
+/// Positions relative to the central body, momenta relative to the
+/// barycentre: `Q₀ = Σmₖxₖ/M` (the barycentre), `Qᵢ = xᵢ − x₀`, `P₀ = Σpₖ`,
+/// `Pᵢ = pᵢ − (mᵢ/M)P₀` (`M` the total mass), a canonical change of
+/// variables in which the Hamiltonian splits into three parts,
+///
+/// ```text
+/// H_Kepler      = |P₀|²/(2M) + Σᵢ₌₁ [ |Pᵢ|²/(2mᵢ) − G m₀mᵢ/|Qᵢ| ],
+/// H_interaction = −Σ_{1≤i<j} G mᵢmⱼ/|Qᵢ − Qⱼ|,
+/// H_jump        = |Σᵢ₌₁ Pᵢ|²/(2m₀),
+/// ```
+///
+/// each with an exact flow: N − 1 Kepler problems about the central mass
+/// (`GM = G·m₀`) and a free barycentre; a kick of the momenta by the
+/// planets' mutual forces; and a "jump" of every heliocentric position by
+/// the same `h·ΣPᵢ/m₀` (the central body's motion about the barycentre,
+/// felt by all). The step composes them as Duncan, Levison & Lee do,
+/// symmetrically:
+///
+/// ```text
+/// J(h/2) I(h/2) K(h) I(h/2) J(h/2)
+/// ```
+///
+/// (J jump, I interaction, K Kepler): symplectic, symmetric, order 2. The
+/// interaction and the jump are both of the order of the planetary masses;
+/// any symmetric arrangement of the three flows is order 2 as well, and the
+/// three parts stay available on their own for other compositions. None of them
+/// commute, so a two-part scheme that treats `J·K·J` as one part gets at
+/// most order 2 from it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DemocraticHeliocentric {
+    bodies: Bodies,
+    total: f64,
+}
+
+impl DemocraticHeliocentric {
+    /// `G` and the masses (body 0 the central one), optionally the bodies'
+    /// names for messages. A mass that is zero, negative or not finite is
+    /// an error naming the body.
+    pub fn new(g: f64, masses: &[f64], names: Option<&[&str]>) -> Result<Self, WhError> {
+        let bodies = Bodies::new(g, masses, names)?;
+        let total = masses.iter().sum();
+        Ok(Self { bodies, total })
+    }
+
+    /// The outer solar system of [`crate::problems::outer_solar`], with its
+    /// names.
+    pub fn outer_solar() -> Self {
+        use crate::problems::outer_solar::{G, MASSES, NAMES};
+        Self::new(G, &MASSES, Some(&NAMES)).expect("the published masses are positive")
+    }
+
+    /// The number of bodies.
+    pub fn bodies(&self) -> usize {
+        self.bodies.n()
+    }
+
+    /// The total energy of an inertial state `z = [x; p]`.
+    pub fn energy(&self, z: &[f64]) -> f64 {
+        self.bodies.energy(z)
+    }
+
+    /// `w = [Q; P]` from the inertial `z = [x; p]`.
+    pub fn from_inertial(&self, z: &[f64], w: &mut [f64]) -> Result<(), WhError> {
+        self.bodies.check_state("the inertial state", z)?;
+        self.bodies
+            .check_len("the democratic heliocentric state", w)?;
+        let n = self.bodies.n();
+        let m = &self.bodies.m;
+        let (x, p) = z.split_at(3 * n);
+        let (q, pd) = w.split_at_mut(3 * n);
+        let x0 = get3(x, 0);
+        let mut sx = [0.0; 3];
+        let mut sp = [0.0; 3];
+        for i in 0..n {
+            let (xi, pi) = (get3(x, i), get3(p, i));
+            for k in 0..3 {
+                sx[k] += m[i] * xi[k];
+                sp[k] += pi[k];
+            }
+        }
+        for i in 1..n {
+            let (xi, pi) = (get3(x, i), get3(p, i));
+            let f = m[i] / self.total;
+            set3(q, i, [0, 1, 2].map(|k| xi[k] - x0[k]));
+            set3(pd, i, [0, 1, 2].map(|k| pi[k] - f * sp[k]));
+        }
+        set3(q, 0, sx.map(|c| c / self.total));
+        set3(pd, 0, sp);
+        Ok(())
+    }
+
+    /// The inertial `z = [x; p]` from `w = [Q; P]`.
+    pub fn to_inertial(&self, w: &[f64], z: &mut [f64]) -> Result<(), WhError> {
+        self.bodies
+            .check_state("the democratic heliocentric state", w)?;
+        self.bodies.check_len("the inertial state", z)?;
+        let n = self.bodies.n();
+        let m = &self.bodies.m;
+        let (q, pd) = w.split_at(3 * n);
+        let (x, p) = z.split_at_mut(3 * n);
+        // x₀ = Q₀ − Σ mᵢQᵢ/M; p₀ = (m₀/M)P₀ − Σ Pᵢ.
+        let mut sq = [0.0; 3];
+        let mut sp = [0.0; 3];
+        for i in 1..n {
+            let (qi, pi) = (get3(q, i), get3(pd, i));
+            for k in 0..3 {
+                sq[k] += m[i] * qi[k];
+                sp[k] += pi[k];
+            }
+        }
+        let (q0, p0) = (get3(q, 0), get3(pd, 0));
+        let x0 = [0, 1, 2].map(|k| q0[k] - sq[k] / self.total);
+        set3(x, 0, x0);
+        set3(p, 0, [0, 1, 2].map(|k| m[0] / self.total * p0[k] - sp[k]));
+        for i in 1..n {
+            let (qi, pi) = (get3(q, i), get3(pd, i));
+            let f = m[i] / self.total;
+            set3(x, i, [0, 1, 2].map(|k| qi[k] + x0[k]));
+            set3(p, i, [0, 1, 2].map(|k| pi[k] + f * p0[k]));
+        }
+        Ok(())
+    }
+
+    /// [`from_inertial`](Self::from_inertial), then back, and an error
+    /// naming the first body whose inertial state does not come back within
+    /// [`ROUND_TRIP_ULPS`](super::ROUND_TRIP_ULPS)`·N·ε` of the largest coordinate,
+    /// position (momentum).
+    pub fn from_inertial_checked(&self, z: &[f64], w: &mut [f64]) -> Result<(), WhError> {
+        self.from_inertial(z, w)?;
+        let mut back = vec![0.0; z.len()];
+        self.to_inertial(w, &mut back)?;
+        self.bodies.round_trip("democratic heliocentric", z, &back)
+    }
+
+    /// The flow of `H_Kepler` over `h`: the barycentre moves freely, each
+    /// `(Qᵢ, Pᵢ/mᵢ)` by the exact [Kepler drift](crate::kepler::drift)
+    /// about the central mass (`GM = G·m₀`).
+    pub fn kepler_flow(&self, h: f64, w: &mut [f64]) -> Result<(), WhError> {
+        self.bodies
+            .check_len("the democratic heliocentric state", w)?;
+        let n = self.bodies.n();
+        let m = &self.bodies.m;
+        let gm = self.bodies.g * m[0];
+        let (q, p) = w.split_at_mut(3 * n);
+        let v0 = h / self.total;
+        for k in 0..3 {
+            q[k] += p[k] * v0;
+        }
+        for i in 1..n {
+            let mut x = get3(q, i);
+            let mut v = get3(p, i).map(|c| c / m[i]);
+            drift(gm, h, &mut x, &mut v).map_err(|source| WhError::Kepler {
+                part: "Kepler",
+                body: i,
+                name: self.bodies.name(i),
+                step: None,
+                source: Box::new(source),
+            })?;
+            set3(q, i, x);
+            set3(p, i, v.map(|c| c * m[i]));
+        }
+        Ok(())
+    }
+
+    /// The flow of `H_interaction` over `h`: every pair of non-central
+    /// bodies kicks the other's momentum by `h·G mᵢmⱼ (Qⱼ − Qᵢ)/|Qⱼ − Qᵢ|³`.
+    pub fn interaction_kick(&self, h: f64, w: &mut [f64]) -> Result<(), WhError> {
+        self.bodies
+            .check_len("the democratic heliocentric state", w)?;
+        let n = self.bodies.n();
+        let m = &self.bodies.m;
+        let hg = h * self.bodies.g;
+        let (q, p) = w.split_at_mut(3 * n);
+        for i in 1..n {
+            let qi = get3(q, i);
+            for j in i + 1..n {
+                let qj = get3(q, j);
+                let d = [qj[0] - qi[0], qj[1] - qi[1], qj[2] - qi[2]];
+                let r2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+                let s = hg * m[i] * m[j] / (r2 * r2.sqrt());
+                for k in 0..3 {
+                    p[3 * i + k] += s * d[k];
+                    p[3 * j + k] -= s * d[k];
+                }
+            }
+            if !(p[3 * i].is_finite() && p[3 * i + 1].is_finite() && p[3 * i + 2].is_finite()) {
+                return Err(WhError::NonFinite {
+                    part: "interaction",
+                    body: i,
+                    name: self.bodies.name(i),
+                    step: None,
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// The flow of `H_jump` over `h`: every `Qᵢ` (`i ≥ 1`) moves by
+    /// `h·ΣⱼPⱼ/m₀`.
+    pub fn jump(&self, h: f64, w: &mut [f64]) -> Result<(), WhError> {
+        self.bodies
+            .check_len("the democratic heliocentric state", w)?;
+        let n = self.bodies.n();
+        let (q, p) = w.split_at_mut(3 * n);
+        let mut s = [0.0; 3];
+        for i in 1..n {
+            for k in 0..3 {
+                s[k] += p[3 * i + k];
+            }
+        }
+        let f = h / self.bodies.m[0];
+        let d = s.map(|c| c * f);
+        if !d.iter().all(|c| c.is_finite()) {
+            return Err(WhError::NonFinite {
+                part: "jump",
+                body: 0,
+                name: self.bodies.name(0),
+                step: None,
+            });
+        }
+        for i in 1..n {
+            for k in 0..3 {
+                q[3 * i + k] += d[k];
+            }
+        }
+        Ok(())
+    }
+
+    /// One step `J(h/2) I(h/2) K(h) I(h/2) J(h/2)` (see the [type
+    /// documentation](DemocraticHeliocentric)).
+    pub fn step(&self, h: f64, w: &mut [f64]) -> Result<(), WhError> {
+        self.jump(0.5 * h, w)?;
+        self.interaction_kick(0.5 * h, w)?;
+        self.kepler_flow(h, w)?;
+        self.interaction_kick(0.5 * h, w)?;
+        self.jump(0.5 * h, w)
+    }
+
+    /// `n` steps of [`step`](Self::step), the half jumps of consecutive
+    /// steps merged into one (the same map up to rounding). Errors name the
+    /// step (numbered from 0).
+    pub fn integrate(&self, h: f64, n: usize, w: &mut [f64]) -> Result<(), WhError> {
+        if n == 0 {
+            return Ok(());
+        }
+        self.jump(0.5 * h, w).map_err(|e| e.at_step(0))?;
+        for k in 0..n {
+            let at = |e: WhError| e.at_step(k);
+            self.interaction_kick(0.5 * h, w).map_err(at)?;
+            self.kepler_flow(h, w).map_err(at)?;
+            self.interaction_kick(0.5 * h, w).map_err(at)?;
+            let last = if k + 1 == n { 0.5 * h } else { h };
+            self.jump(last, w).map_err(at)?;
+        }
+        Ok(())
+    }
+}

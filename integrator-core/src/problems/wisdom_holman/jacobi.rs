@@ -1,0 +1,262 @@
+//! Wisdom–Holman in Jacobi coordinates: [`Jacobi`].
+
+// Loops over bodies index several per-body arrays (masses, positions,
+// momenta) at once; an index reads clearer than zipped iterators.
+#![allow(clippy::needless_range_loop)]
+
+use super::{Bodies, WhError, get3, set3, with_scratch};
+use crate::kepler::drift;
+
+/// Wisdom–Holman in Jacobi coordinates (Wisdom & Holman 1991; the form of
+/// WHFast, Rein & Tamayo 2015).
+///
+/// With `Mᵢ = m₀ + … + mᵢ` and `Rᵢ` the centre of mass of bodies `0 … i`,
+/// the Jacobi coordinates are `Q₀ = R_{N−1}` (the barycentre) and
+/// `Qᵢ = xᵢ − R_{i−1}`, with masses `m'ᵢ = mᵢM_{i−1}/Mᵢ` and conjugate
+/// momenta `Pᵢ = m'ᵢQ̇ᵢ` (`P₀` the total momentum). The Hamiltonian splits as
+///
+/// ```text
+/// H_Kepler      = |P₀|²/(2M_{N−1}) + Σᵢ₌₁ [ |Pᵢ|²/(2m'ᵢ) − G m'ᵢMᵢ/|Qᵢ| ],
+/// H_interaction = Σᵢ₌₁ G m'ᵢMᵢ/|Qᵢ| − Σ_{i<j} G mᵢmⱼ/|xᵢ − xⱼ|,
+/// ```
+///
+/// so that `H_Kepler` is N − 1 independent Kepler problems (`GM = G·Mᵢ`)
+/// plus the free barycentre, and `H_interaction`, a function of the
+/// positions alone, is small (the planets' mutual pull and the difference
+/// between the Sun's pull and the Kepler term's, both of the order of the
+/// planetary masses). Its flow is a kick `Pᵢ += h m'ᵢ Q̈ᵢ` with the Jacobi
+/// acceleration `Q̈ᵢ = aᵢ − Σ_{j<i} mⱼaⱼ/M_{i−1} + G Mᵢ Qᵢ/|Qᵢ|³` from the
+/// inertial accelerations `aₖ` (`m'ᵢQ̈ᵢ = −∂H_interaction/∂Qᵢ`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Jacobi {
+    bodies: Bodies,
+    /// `Mᵢ = m₀ + … + mᵢ`.
+    interior: Vec<f64>,
+    /// `m'ᵢ` (`m'₀ = M_{N−1}`).
+    reduced: Vec<f64>,
+}
+
+impl Jacobi {
+    /// `G` and the masses (body 0 the central one), optionally the bodies'
+    /// names for messages. A mass that is zero, negative or not finite is
+    /// an error naming the body.
+    pub fn new(g: f64, masses: &[f64], names: Option<&[&str]>) -> Result<Self, WhError> {
+        let bodies = Bodies::new(g, masses, names)?;
+        let mut interior = Vec::with_capacity(masses.len());
+        let mut acc = 0.0;
+        for &m in masses {
+            acc += m;
+            interior.push(acc);
+        }
+        let mut reduced = vec![acc; masses.len()];
+        for i in 1..masses.len() {
+            reduced[i] = masses[i] * interior[i - 1] / interior[i];
+        }
+        Ok(Self {
+            bodies,
+            interior,
+            reduced,
+        })
+    }
+
+    /// The outer solar system of [`crate::problems::outer_solar`], with its
+    /// names.
+    pub fn outer_solar() -> Self {
+        use crate::problems::outer_solar::{G, MASSES, NAMES};
+        Self::new(G, &MASSES, Some(&NAMES)).expect("the published masses are positive")
+    }
+
+    /// The number of bodies.
+    pub fn bodies(&self) -> usize {
+        self.bodies.n()
+    }
+
+    /// The total energy of an inertial state `z = [x; p]`.
+    pub fn energy(&self, z: &[f64]) -> f64 {
+        self.bodies.energy(z)
+    }
+
+    /// `w = [Q; P]` from the inertial `z = [x; p]`.
+    pub fn from_inertial(&self, z: &[f64], w: &mut [f64]) -> Result<(), WhError> {
+        self.bodies.check_state("the inertial state", z)?;
+        self.bodies.check_len("the Jacobi state", w)?;
+        let n = self.bodies.n();
+        let m = &self.bodies.m;
+        let (x, p) = z.split_at(3 * n);
+        let (q, pj) = w.split_at_mut(3 * n);
+        let mut sx = get3(x, 0).map(|c| c * m[0]);
+        let mut sp = get3(p, 0);
+        for i in 1..n {
+            let (xi, pi) = (get3(x, i), get3(p, i));
+            let (mi, mprev, mcur) = (m[i], self.interior[i - 1], self.interior[i]);
+            set3(q, i, [0, 1, 2].map(|k| xi[k] - sx[k] / mprev));
+            set3(
+                pj,
+                i,
+                [0, 1, 2].map(|k| (mprev * pi[k] - mi * sp[k]) / mcur),
+            );
+            for k in 0..3 {
+                sx[k] += mi * xi[k];
+                sp[k] += pi[k];
+            }
+        }
+        let mt = self.interior[n - 1];
+        set3(q, 0, sx.map(|c| c / mt));
+        set3(pj, 0, sp);
+        Ok(())
+    }
+
+    /// The inertial `z = [x; p]` from `w = [Q; P]`.
+    pub fn to_inertial(&self, w: &[f64], z: &mut [f64]) -> Result<(), WhError> {
+        self.bodies.check_state("the Jacobi state", w)?;
+        self.bodies.check_len("the inertial state", z)?;
+        let n = self.bodies.n();
+        let m = &self.bodies.m;
+        let (q, pj) = w.split_at(3 * n);
+        let (x, p) = z.split_at_mut(3 * n);
+        // R_{i−1} = Rᵢ − (mᵢ/Mᵢ)Qᵢ, xᵢ = R_{i−1} + Qᵢ; S_{i−1} = (M_{i−1}/Mᵢ)Sᵢ − Pᵢ,
+        // pᵢ = Pᵢ + (mᵢ/Mᵢ)Sᵢ (S the total momentum of bodies 0 … i).
+        let mut r = get3(q, 0);
+        let mut s = get3(pj, 0);
+        for i in (1..n).rev() {
+            let (qi, pi) = (get3(q, i), get3(pj, i));
+            let f = m[i] / self.interior[i];
+            let g = self.interior[i - 1] / self.interior[i];
+            r = [0, 1, 2].map(|k| r[k] - f * qi[k]);
+            set3(x, i, [0, 1, 2].map(|k| r[k] + qi[k]));
+            set3(p, i, [0, 1, 2].map(|k| pi[k] + f * s[k]));
+            s = [0, 1, 2].map(|k| g * s[k] - pi[k]);
+        }
+        set3(x, 0, r);
+        set3(p, 0, s);
+        Ok(())
+    }
+
+    /// [`from_inertial`](Self::from_inertial), then back, and an error
+    /// naming the first body whose inertial state does not come back within
+    /// [`ROUND_TRIP_ULPS`](super::ROUND_TRIP_ULPS)`·N·ε` of the largest coordinate,
+    /// position (momentum).
+    pub fn from_inertial_checked(&self, z: &[f64], w: &mut [f64]) -> Result<(), WhError> {
+        self.from_inertial(z, w)?;
+        let mut back = vec![0.0; z.len()];
+        self.to_inertial(w, &mut back)?;
+        self.bodies.round_trip("Jacobi", z, &back)
+    }
+
+    /// The flow of `H_Kepler` over `h`: the barycentre moves freely, each
+    /// `(Qᵢ, Pᵢ/m'ᵢ)` by the exact [Kepler drift](crate::kepler::drift)
+    /// with `GM = G·Mᵢ`.
+    pub fn kepler_flow(&self, h: f64, w: &mut [f64]) -> Result<(), WhError> {
+        self.bodies.check_len("the Jacobi state", w)?;
+        let n = self.bodies.n();
+        let (q, p) = w.split_at_mut(3 * n);
+        let v0 = 1.0 / self.reduced[0];
+        for k in 0..3 {
+            q[k] += h * p[k] * v0;
+        }
+        for i in 1..n {
+            let mr = self.reduced[i];
+            let mut x = get3(q, i);
+            let mut v = get3(p, i).map(|c| c / mr);
+            drift(self.bodies.g * self.interior[i], h, &mut x, &mut v).map_err(|source| {
+                WhError::Kepler {
+                    part: "Kepler",
+                    body: i,
+                    name: self.bodies.name(i),
+                    step: None,
+                    source: Box::new(source),
+                }
+            })?;
+            set3(q, i, x);
+            set3(p, i, v.map(|c| c * mr));
+        }
+        Ok(())
+    }
+
+    /// The flow of `H_interaction` over `h`: the kick
+    /// `Pᵢ += h·m'ᵢQ̈ᵢ` (see the [type documentation](Jacobi)).
+    pub fn interaction_kick(&self, h: f64, w: &mut [f64]) -> Result<(), WhError> {
+        self.bodies.check_len("the Jacobi state", w)?;
+        let n = self.bodies.n();
+        let g = self.bodies.g;
+        let m = &self.bodies.m;
+        with_scratch(6 * n, |scratch| {
+            let (x, a) = scratch.split_at_mut(3 * n);
+            let (q, p) = w.split_at_mut(3 * n);
+            // Inertial positions relative to the barycentre (Q₀ drops out
+            // of every difference, so it is left out).
+            let mut r = [0.0; 3];
+            for i in (1..n).rev() {
+                let qi = get3(q, i);
+                let f = m[i] / self.interior[i];
+                r = [0, 1, 2].map(|k| r[k] - f * qi[k]);
+                set3(x, i, [0, 1, 2].map(|k| r[k] + qi[k]));
+            }
+            set3(x, 0, r);
+            // Inertial accelerations, every pair once.
+            for i in 0..n {
+                let xi = get3(x, i);
+                for j in i + 1..n {
+                    let xj = get3(x, j);
+                    let d = [xj[0] - xi[0], xj[1] - xi[1], xj[2] - xi[2]];
+                    let r2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+                    let s = g / (r2 * r2.sqrt());
+                    let (si, sj) = (s * m[j], s * m[i]);
+                    for k in 0..3 {
+                        a[3 * i + k] += si * d[k];
+                        a[3 * j + k] -= sj * d[k];
+                    }
+                }
+            }
+            // Jacobi accelerations minus the Kepler part's.
+            let mut acc = get3(a, 0).map(|c| c * m[0]);
+            for i in 1..n {
+                let ai = get3(a, i);
+                let qi = get3(q, i);
+                let r2 = qi[0] * qi[0] + qi[1] * qi[1] + qi[2] * qi[2];
+                let kep = g * self.interior[i] / (r2 * r2.sqrt());
+                let inv = 1.0 / self.interior[i - 1];
+                let hm = h * self.reduced[i];
+                for k in 0..3 {
+                    let qdd = ai[k] - acc[k] * inv + kep * qi[k];
+                    p[3 * i + k] += hm * qdd;
+                    acc[k] += m[i] * ai[k];
+                }
+                if !(p[3 * i].is_finite() && p[3 * i + 1].is_finite() && p[3 * i + 2].is_finite()) {
+                    return Err(WhError::NonFinite {
+                        part: "interaction",
+                        body: i,
+                        name: self.bodies.name(i),
+                        step: None,
+                    });
+                }
+            }
+            Ok(())
+        })
+    }
+
+    /// One Wisdom–Holman step `A(h/2) B(h) A(h/2)` (A the Kepler flow, B
+    /// the interaction kick): symmetric, symplectic, order 2.
+    pub fn step(&self, h: f64, w: &mut [f64]) -> Result<(), WhError> {
+        self.kepler_flow(0.5 * h, w)?;
+        self.interaction_kick(h, w)?;
+        self.kepler_flow(0.5 * h, w)
+    }
+
+    /// `n` steps of [`step`](Self::step), the half Kepler flows of
+    /// consecutive steps merged into one (`A(h/2) [B(h) A(h)]ⁿ⁻¹ B(h)
+    /// A(h/2)`, the same map up to rounding, one Kepler solve per body
+    /// per step). Errors name the step (numbered from 0).
+    pub fn integrate(&self, h: f64, n: usize, w: &mut [f64]) -> Result<(), WhError> {
+        if n == 0 {
+            return Ok(());
+        }
+        self.kepler_flow(0.5 * h, w).map_err(|e| e.at_step(0))?;
+        for k in 0..n {
+            self.interaction_kick(h, w).map_err(|e| e.at_step(k))?;
+            let last = if k + 1 == n { 0.5 * h } else { h };
+            self.kepler_flow(last, w).map_err(|e| e.at_step(k))?;
+        }
+        Ok(())
+    }
+}
