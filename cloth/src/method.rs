@@ -320,13 +320,15 @@ macro_rules! cloth_facts {
     (
         explicit_rk: [$($e_id:literal => $e_ty:ident),* $(,)?],
         implicit_rk: [$($i_id:literal => $i_ty:ident),* $(,)?],
-        explicit_separable: [$($s_id:literal => $s_ty:ident),* $(,)?],
+        explicit_pairs: [$($x_id:literal => $x_ty:ident),* $(,)?],
+        splittings: [$($s_id:literal => $s_ty:ident),* $(,)?],
         implicit_pairs: [$($p_id:literal => $p_ty:ident),* $(,)?] $(,)?
     ) => {
         /// Every method: the separable (symplectic) explicit schemes first,
         /// then the explicit Runge–Kutta tables, the implicit tables and
         /// pairs, and the two energy schemes.
         static ALL: &[Method] = &[
+            $(Method::of($x_id, &<$x_ty as Scheme>::INFO),)*
             $(Method::of($s_id, &<$s_ty as Scheme>::INFO),)*
             $(Method::of($e_id, &<$e_ty as Scheme>::INFO),)*
             $(Method::of($i_id, &<$i_ty as Scheme>::INFO),)*

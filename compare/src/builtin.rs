@@ -172,6 +172,19 @@ impl Problem for OuterSolarSystem {
     fn period(&self) -> Option<(f64, &'static str)> {
         Some((4332.59, "Jupiter orbit"))
     }
+    /// `wh:ID`: the library's splittings on the Wisdom–Holman (Jacobi)
+    /// split of the same bodies, masses and `G`.
+    fn special_method(&self, id: &str) -> Option<Result<Method<Self>>> {
+        id.starts_with(crate::wisdom_holman::PREFIX).then(|| {
+            Method::wisdom_holman(
+                id,
+                &integrator_core::problems::wisdom_holman::Jacobi::outer_solar(),
+            )
+        })
+    }
+    fn special_ids(&self) -> Vec<String> {
+        crate::wisdom_holman::ids()
+    }
 }
 
 impl Problem for HenonHeiles {

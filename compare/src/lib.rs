@@ -91,6 +91,7 @@ pub mod stepper;
 pub mod sweep;
 pub mod sweep_plan;
 pub mod time_transformed;
+pub mod wisdom_holman;
 mod work_precision;
 
 pub use counting::{AsOde, AsSeparable, Counting, Counts};

@@ -12,8 +12,8 @@ use crate::stepper::{FixedSizeStepper, StepStepper, Stepper};
 /// Declares the library by id from integrator-core's one list
 /// ([`integrator_core::for_each_scheme!`]): which schemes step any
 /// `OdeSystem` (`explicit_rk`, `implicit_rk`: Runge–Kutta tables) and which
-/// only separable Hamiltonians (`explicit_separable`: drift–kick sequences,
-/// compositions and explicit pairs; `implicit_pairs`, which step
+/// only separable Hamiltonians (`explicit_pairs`, and `splittings`: drift–kick
+/// sequences and compositions, which also step Wisdom–Holman splits; `implicit_pairs`, which step
 /// `Hamiltonian`s — all our Hamiltonian problems are separable). Emits the
 /// id lists and the constructors, among them the time-transformed variants
 /// of the explicit separable schemes (`logh:ID`);
@@ -26,16 +26,35 @@ macro_rules! library {
     (
         explicit_rk: [$($eid:literal => $ety:ident),* $(,)?],
         implicit_rk: [$($rid:literal => $rty:ident),* $(,)?],
-        explicit_separable: [$($sid:literal => $sty:ident),* $(,)?],
+        explicit_pairs: [$($xid:literal => $xty:ident),* $(,)?],
+        splittings: [$($sid:literal => $sty:ident),* $(,)?],
         implicit_pairs: [$($iid:literal => $ity:ident),* $(,)?] $(,)?
     ) => {
         /// Ids of the Runge–Kutta tables (they step every `OdeSystem`).
         pub const RK_IDS: &[&str] = &[$($eid,)* $($rid),*];
         /// Ids of the schemes that step separable Hamiltonians only.
-        pub const SEPARABLE_IDS: &[&str] = &[$($sid,)* $($iid),*];
+        pub const SEPARABLE_IDS: &[&str] = &[$($xid,)* $($sid,)* $($iid),*];
         /// Ids of the explicit schemes for separable Hamiltonians: those
         /// that also step the logarithmic Hamiltonian (`logh:ID`).
-        pub const EXPLICIT_SEPARABLE_IDS: &[&str] = &[$($sid),*];
+        pub const EXPLICIT_SEPARABLE_IDS: &[&str] = &[$($xid,)* $($sid),*];
+        /// Ids of the splittings (drift–kick sequences and compositions):
+        /// those that also step the Wisdom–Holman split of an N-body
+        /// problem (`wh:ID`).
+        pub const SPLITTING_IDS: &[&str] = &[$($sid),*];
+
+        /// The splitting `base` on the Wisdom–Holman split `split` of an
+        /// N-body problem, as the method `id` (`wh:BASE`); `None` for a
+        /// `base` that is not a splitting.
+        pub fn wh_method<P: Problem>(
+            id: &str,
+            base: &str,
+            split: &integrator_core::problems::wisdom_holman::Jacobi,
+        ) -> Option<crate::method::Method<P>> {
+            Some(match base {
+                $($sid => crate::wisdom_holman::fixed(id, $sty, split),)*
+                _ => return None,
+            })
+        }
 
         /// The time-transformed variant `logh:ID` of an explicit separable
         /// scheme on a separable problem, `None` for any other id.
@@ -44,6 +63,7 @@ macro_rules! library {
             P: Problem<Kind = AsSeparable> + Separable,
         {
             Some(match id {
+                $($xid => Box::new(crate::time_transformed::LogH($xty)),)*
                 $($sid => Box::new(crate::time_transformed::LogH($sty)),)*
                 _ => return None,
             })
@@ -58,6 +78,7 @@ macro_rules! library {
             Some(match id {
                 $($eid => Box::new(FixedSizeStepper($ety)),)*
                 $($rid => Box::new(StepStepper($rty)),)*
+                $($xid => Box::new(FixedSizeStepper($xty)),)*
                 $($sid => Box::new(FixedSizeStepper($sty)),)*
                 $($iid => Box::new(StepStepper($ity)),)*
                 _ => return None,

@@ -207,6 +207,17 @@ impl<P: Problem> Method<P> {
         ))
     }
 
+    /// `wh:BASE` on a user's N-body problem: the library splitting `BASE`
+    /// stepped on the Wisdom–Holman (Jacobi) split `split` of the problem,
+    /// whose state is the inertial `[x; p]` (see
+    /// [`wisdom_holman`](crate::wisdom_holman)).
+    pub fn wisdom_holman(
+        id: &str,
+        split: &integrator_core::problems::wisdom_holman::Jacobi,
+    ) -> Result<Self> {
+        crate::wisdom_holman::method(id, split)
+    }
+
     /// `logh:BASE`: the explicit separable library scheme `BASE` on the
     /// logarithmic Hamiltonian of the problem (see
     /// [`time_transformed`](crate::time_transformed)).

@@ -31,11 +31,13 @@
 //!   ([`StepFixed`](crate::StepFixed)); they step every `OdeSystem`;
 //! - `implicit_rk`: implicit Runge–Kutta tables (`form == "rk"`, not
 //!   `explicit`): stepped by the stage solver, on every `OdeSystem`;
-//! - `explicit_separable`: pairs, drift–kick sequences and compositions
-//!   that are explicit on separable Hamiltonians (`form != "rk"`,
-//!   `explicit`): kick/drift code; the pairs step separable systems only,
-//!   the drift–kick sequences and compositions every
-//!   [`Split`](crate::Split) system (separable ones among them);
+//! - `explicit_pairs`: partitioned pairs that are explicit on separable
+//!   Hamiltonians (`form == "prk"`, `explicit`): kick/drift code on
+//!   separable systems only;
+//! - `splittings`: drift–kick sequences and compositions (`form` is
+//!   `"drift-kick"` or `"composition"`): products of the flows of two
+//!   parts, so they step every [`Split`](crate::Split) system (separable
+//!   ones among them: drifts and kicks);
 //! - `implicit_pairs`: implicit partitioned pairs (`form == "prk"`, not
 //!   `explicit`): stepped by the stage solver, on `Hamiltonian`s (or
 //!   separable ones where the pair is symplectic only for those).
@@ -43,7 +45,7 @@
 use crate::butcher;
 use crate::scheme::{Info, Scheme};
 
-/// The library, written once: `"id" => Type` per scheme, in four groups
+/// The library, written once: `"id" => Type` per scheme, in five groups
 /// (see the [module documentation](self)), each entry with the doc comment
 /// its type gets. `id` is a catalogue file (`tableau/catalogue/ID.toml`) or
 /// a table `tableau::algebraic` generates (`gauss8`); `butcher! { pub Type
@@ -99,10 +101,12 @@ macro_rules! __scheme_list {
                 "paper-dirk2" => PaperDirk2,
                 "paper-dirk4" => PaperDirk4,
             ],
-            explicit_separable: [
+            explicit_pairs: [
                 "symplectic-euler-a" => SymplecticEulerA,
                 "symplectic-euler-b" => SymplecticEulerB,
                 "stormer-verlet" => StormerVerlet,
+            ],
+            splittings: [
                 "leapfrog" => Leapfrog,
                 "ruth3" => Ruth3,
                 "forest-ruth" => ForestRuth,
@@ -141,8 +145,8 @@ macro_rules! __scheme_list {
 
 /// Hands the library's list to a macro of the caller's: every scheme as
 /// `"id" => Type` (a type of [`integrator_core::library`](self); bring them
-/// into scope with `use integrator_core::library::*;`), in the four groups
-/// of the [module documentation](self), always all four, in this order:
+/// into scope with `use integrator_core::library::*;`), in the five groups
+/// of the [module documentation](self), always all five, in this order:
 ///
 /// ```
 /// macro_rules! count {
@@ -152,7 +156,10 @@ macro_rules! __scheme_list {
 /// }
 /// let groups = integrator_core::for_each_scheme!(count);
 /// assert_eq!(groups[0].0, "explicit_rk");
-/// assert_eq!(groups.map(|g| g.0), ["explicit_rk", "implicit_rk", "explicit_separable", "implicit_pairs"]);
+/// assert_eq!(
+///     groups.map(|g| g.0),
+///     ["explicit_rk", "implicit_rk", "explicit_pairs", "splittings", "implicit_pairs"]
+/// );
 /// ```
 ///
 /// `for_each_scheme!(callback)` (the callback named by an identifier or a
@@ -162,7 +169,8 @@ macro_rules! __scheme_list {
 /// callback! {
 ///     explicit_rk: ["euler" => ExplicitEuler, "heun" => Heun, …],
 ///     implicit_rk: ["implicit-euler" => ImplicitEuler, …],
-///     explicit_separable: ["symplectic-euler-a" => SymplecticEulerA, …],
+///     explicit_pairs: ["symplectic-euler-a" => SymplecticEulerA, …],
+///     splittings: ["leapfrog" => Leapfrog, …],
 ///     implicit_pairs: ["lobatto3a3b-3" => LobattoIIIAIIIB3, …],
 /// }
 /// ```
@@ -170,7 +178,9 @@ macro_rules! __scheme_list {
 /// with no trailing comma inside a group and one after each group. Each
 /// group is a fact of its schemes ([`Scheme::INFO`]), so a consumer may
 /// rely on it: `explicit_rk` types implement [`StepFixed`](crate::StepFixed)
-/// for every `OdeSystem`, `explicit_separable` ones for every `Separable`.
+/// for every `OdeSystem`, `explicit_pairs` ones for every `Separable`,
+/// `splittings` ones for every [`Split`](crate::Split) system (hence every
+/// `Separable` one).
 #[macro_export]
 macro_rules! for_each_scheme {
     ($($callback:tt)+) => {

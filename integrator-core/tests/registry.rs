@@ -16,7 +16,7 @@ macro_rules! groups {
     };
 }
 
-const GROUPS: [(&str, &[(&str, Info)]); 4] = integrator_core::for_each_scheme!(groups);
+const GROUPS: [(&str, &[(&str, Info)]); 5] = integrator_core::for_each_scheme!(groups);
 
 #[test]
 fn the_groups_come_in_their_documented_order() {
@@ -26,7 +26,8 @@ fn the_groups_come_in_their_documented_order() {
         [
             "explicit_rk",
             "implicit_rk",
-            "explicit_separable",
+            "explicit_pairs",
+            "splittings",
             "implicit_pairs"
         ]
     );
@@ -41,9 +42,12 @@ fn every_scheme_is_in_the_group_its_facts_say() {
             let fits = match group {
                 "explicit_rk" => rk && info.explicit && info.class == "explicit",
                 "implicit_rk" => rk && !info.explicit,
-                // Pairs explicit on separable systems, drift–kick sequences
-                // and compositions.
-                "explicit_separable" => !rk && info.explicit,
+                // Pairs explicit on separable systems; drift–kick sequences
+                // and compositions (products of the flows of two parts).
+                "explicit_pairs" => info.form == "prk" && info.explicit,
+                "splittings" => {
+                    (info.form == "drift-kick" || info.form == "composition") && info.explicit
+                }
                 "implicit_pairs" => info.form == "prk" && !info.explicit,
                 other => panic!("unknown group {other}"),
             };
@@ -95,20 +99,59 @@ fn every_catalogue_table_is_listed_and_every_other_id_is_generated() {
 fn the_groups_step_what_they_promise() {
     fn fixed<M: StepFixed<Kepler, 4>>(_: M) {}
     fn stepped<M: Step<Kepler>>(_: M) {}
+    fn split<M: Step<RotationKick>>(_: M) {}
     macro_rules! bounds {
         (
             explicit_rk: [$($e:literal => $ety:ident),*],
             implicit_rk: [$($i:literal => $ity:ident),*],
-            explicit_separable: [$($s:literal => $sty:ident),*],
+            explicit_pairs: [$($x:literal => $xty:ident),*],
+            splittings: [$($s:literal => $sty:ident),*],
             implicit_pairs: [$($p:literal => $pty:ident),*],
         ) => {
             $(fixed($ety);)*
             $(stepped($ity);)*
+            $(fixed($xty);)*
             $(fixed($sty);)*
+            $(split($sty);)*
             $(stepped($pty);)*
         };
     }
     integrator_core::for_each_scheme!(bounds);
+}
+
+/// A split system that is not separable: only `splittings` step it.
+struct RotationKick;
+
+impl integrator_core::split::StateSpace for RotationKick {
+    fn state_len(&self) -> usize {
+        2
+    }
+}
+
+impl integrator_core::Split for RotationKick {
+    fn flow_a(
+        &self,
+        h: f64,
+        z: &mut [f64],
+        _: integrator_core::split::PartBuffers<'_>,
+        _: bool,
+    ) -> Result<(), integrator_core::split::FlowError> {
+        let (s, c) = h.sin_cos();
+        let (q, p) = (z[0], z[1]);
+        z[0] = c * q + s * p;
+        z[1] = c * p - s * q;
+        Ok(())
+    }
+    fn flow_b(
+        &self,
+        h: f64,
+        z: &mut [f64],
+        _: integrator_core::split::PartBuffers<'_>,
+        _: bool,
+    ) -> Result<(), integrator_core::split::FlowError> {
+        z[1] -= h * z[0].sin();
+        Ok(())
+    }
 }
 
 /// The callback may be named by a path, as consumers in other modules do.

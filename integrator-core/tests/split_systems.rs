@@ -101,8 +101,8 @@ impl<S: Separable> Split for AsSplit<S> {
 }
 
 /// The drift–kick sequences and compositions of the library: the
-/// `explicit_separable` group without the explicit partitioned pairs
-/// (`every_splitting_is_listed` checks the list against the library).
+/// `splittings` group (`every_splitting_is_listed` checks the list against
+/// the library).
 macro_rules! splittings {
     ($run:ident $(, $arg:expr)*) => {
         vec![
@@ -125,13 +125,14 @@ fn info<M: Scheme>() -> Info {
     M::INFO
 }
 
-/// The `explicit_separable` group of the library's one list, by type name.
+/// The `splittings` group of the library's one list.
 macro_rules! separable_group {
     ($($group:ident: [$($id:literal => $ty:ident),*],)*) => {
         separable_group!(@pick $($group: [$($id => $ty),*],)*)
     };
     (@pick explicit_rk: [$($a:tt)*], implicit_rk: [$($b:tt)*],
-        explicit_separable: [$($id:literal => $ty:ident),*], implicit_pairs: [$($c:tt)*],) => {
+        explicit_pairs: [$($x:tt)*], splittings: [$($id:literal => $ty:ident),*],
+        implicit_pairs: [$($c:tt)*],) => {
         vec![$(<$ty as Scheme>::INFO),*]
     };
 }

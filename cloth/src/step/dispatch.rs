@@ -79,12 +79,14 @@ macro_rules! cloth_dispatch {
     (
         explicit_rk: [$($e_id:literal => $e_ty:ident),* $(,)?],
         implicit_rk: [$($i_id:literal => $i_ty:ident),* $(,)?],
-        explicit_separable: [$($s_id:literal => $s_ty:ident),* $(,)?],
+        explicit_pairs: [$($x_id:literal => $x_ty:ident),* $(,)?],
+        splittings: [$($s_id:literal => $s_ty:ident),* $(,)?],
         implicit_pairs: [$($p_id:literal => $p_ty:ident),* $(,)?] $(,)?
     ) => {
         /// `visitor` with the library scheme type named `id`.
         fn visit_scheme<V: SchemeVisitor>(id: &str, visitor: V) -> Option<V::Output> {
             Some(match id {
+                $($x_id => visitor.visit($x_ty),)*
                 $($s_id => visitor.visit($s_ty),)*
                 $($e_id => visitor.visit($e_ty),)*
                 $($i_id => visitor.visit($i_ty),)*

@@ -1,0 +1,54 @@
+//! The Wisdom–Holman splits as [`Split`] systems, so that every drift–kick
+//! sequence and composition of the library and of `butcher!` steps them:
+//! part `A` is the Kepler flow (the table's drifts), part `B` the
+//! interaction kick (its kicks). A near-integrable table (`SABA₄`,
+//! `ABA(8,6,4)`, …) is stepped the way it was designed: `A` integrable and
+//! large, `B` of the order of the planetary masses.
+//!
+//! The state is the split's own `w = [Q; P]`: convert with `from_inertial`
+//! before the first step and with `to_inertial` for output.
+//!
+//! ```
+//! use integrator_core::library::Leapfrog;
+//! use integrator_core::problems::wisdom_holman::Jacobi;
+//! use integrator_core::problems::OuterSolarSystem;
+//! use integrator_core::integrate;
+//!
+//! let split = Jacobi::outer_solar();
+//! let z0 = OuterSolarSystem.initial_state();
+//! let mut w = vec![0.0; z0.len()];
+//! split.from_inertial_checked(&z0, &mut w).unwrap();
+//! // Leapfrog's drift–kick–drift on the split is Wisdom–Holman's kernel.
+//! integrate(&Leapfrog, &split, &mut w, 0.0, 10.0, 100, |_, _, _| {}).unwrap();
+//! let mut z = vec![0.0; z0.len()];
+//! split.to_inertial(&w, &mut z).unwrap();
+//! let e = |z: &[f64]| split.energy(z);
+//! assert!(((e(&z) - e(&z0)) / e(&z0)).abs() < 1e-8);
+//! ```
+
+use super::{Jacobi, WhError};
+use crate::split::{FlowError, PartBuffers, Split, StateSpace};
+
+impl StateSpace for Jacobi {
+    fn state_len(&self) -> usize {
+        6 * self.bodies()
+    }
+}
+
+/// A flow's error as the step reports it: the body and part in the words of
+/// [`WhError`]; the step adds the part letter, `integrate` the step.
+fn flow_error(e: WhError) -> FlowError {
+    FlowError::failed(e)
+}
+
+impl Split for Jacobi {
+    #[inline]
+    fn flow_a(&self, h: f64, w: &mut [f64], _: PartBuffers<'_>, _: bool) -> Result<(), FlowError> {
+        self.kepler_flow(h, w).map_err(flow_error)
+    }
+
+    #[inline]
+    fn flow_b(&self, h: f64, w: &mut [f64], _: PartBuffers<'_>, _: bool) -> Result<(), FlowError> {
+        self.interaction_kick(h, w).map_err(flow_error)
+    }
+}
