@@ -42,7 +42,7 @@ runs.csv columns (one row per run):
   error              ‖z(T) − z_ref(T)‖₂/‖z_ref(T)‖₂ (NaN unless status is ok)
   energy_error       max |E − E0|/|E0| over the steps taken
   time_s             median wall time of the timed runs in seconds (NaN unless ok)
-  evals              force evaluations (separable problems), right-hand sides
+  evals              force evaluations (separable problems; wh:ID: interaction kicks), right-hand sides
                      (gyroscopic; a propagator step counts one matrix-vector product),
                      or dop853's own count
   newton_iterations  Newton iterations of the implicit stage solver (0 if explicit)
@@ -71,7 +71,9 @@ times, ratio, energy errors).
 long_fit.csv and long_energy.svg; on kepler-hard it runs logh:kahan-li8, adaptive:kahan-li8
 and dop853 over 10⁴ orbits (--quick: 100) at equal work (about 4000 force evaluations per
 orbit each; dop853 at the tolerance nearest to that, in calls of 100 orbits), h being the
-mean step; --hard writes hard.csv and hard.md.
+mean step; on outer-solar it runs the --methods named (default wh:leapfrog, wh:kahan-li8,
+kahan-li8, stormer-verlet) at h = Jupiter's period / 20 over 10⁷ days (--quick: 10⁵);
+--hard writes hard.csv and hard.md.
 
 --table FILE.toml (repeatable) adds a table file: its claims are verified exactly (a false
 claim or a malformed file: exit 2), then it is stepped by the run-time interpreter; its
@@ -114,7 +116,9 @@ pub struct CompareArgs {
     /// logh:ID (an explicit separable scheme on the logarithmic
     /// Hamiltonian), adaptive:ID and adaptive-implicit:ID (a symmetric
     /// scheme, explicit or implicit, under a reversible step-size controller
-    /// with the inverse distance as step density: kepler, kepler-hard).
+    /// with the inverse distance as step density: kepler, kepler-hard),
+    /// wh:ID (a drift–kick sequence or composition on the Wisdom–Holman
+    /// split, Kepler flows and interaction kicks: outer-solar).
     #[arg(long, value_delimiter = ',', value_name = "ID,...")]
     methods: Option<Vec<String>>,
     /// A table file (TOML, as for `symlab check`) to add to the sweep: its
@@ -151,10 +155,13 @@ pub struct CompareArgs {
     /// Long runs: energy error of symplectic vs non-symplectic pairs over
     /// 10⁶ steps (kepler, oscillator, henon-heiles); on kepler-hard,
     /// logh:kahan-li8, adaptive:kahan-li8 and dop853 over 10⁴ orbits at
-    /// equal work.
+    /// equal work; on outer-solar, the --methods named (default
+    /// wh:leapfrog, wh:kahan-li8, kahan-li8, stormer-verlet) at Jupiter's
+    /// period / 20 over 10⁷ days.
     #[arg(long, conflicts_with = "hard")]
     long: bool,
-    /// Steps of the long runs (default 10⁶, at most 10⁷).
+    /// Steps of the long runs (default 10⁶, on outer-solar 10⁷ days; at
+    /// most 10⁷).
     #[arg(long, value_name = "N", requires = "long", allow_hyphen_values = true)]
     steps: Option<u64>,
     /// Hard cases: the largest stable step of each method on stiff FPU,
@@ -484,12 +491,65 @@ fn long_variable(args: &CompareArgs) -> Result<()> {
     Ok(())
 }
 
+/// `--long --problem outer-solar`: the named methods (default
+/// [`plan::OUTER_SOLAR_LONG_METHODS`]) at Jupiter's period / 20 over 10⁷
+/// days, the energy error's growth fitted.
+fn long_outer_solar(args: &CompareArgs) -> Result<()> {
+    if let Some(name) = sweep_flag(args) {
+        bail!("--{name} belongs to the work-precision sweep, not to --long (use --steps)");
+    }
+    let settings = plan::outer_solar_long_settings(args.steps, args.quick);
+    let n = settings.steps;
+    if !plan::LONG_STEPS.contains(&n) {
+        bail!(
+            "--steps must be between {} and 10^7, got {n}",
+            plan::LONG_STEPS.start()
+        );
+    }
+    let t = n as f64 * settings.h;
+    let setup = compare::builtin::outer_solar(t, false)?;
+    let ids = method_ids(args)?.unwrap_or_else(|| {
+        plan::OUTER_SOLAR_LONG_METHODS
+            .iter()
+            .map(|s| s.to_string())
+            .collect()
+    });
+    let mut methods = Vec::new();
+    for id in &ids {
+        match setup
+            .method(id)
+            .with_context(|| format!("--methods {id}"))?
+        {
+            Method::Fixed(f) => methods.push(f),
+            Method::Dop853 => bail!("--methods {id}: --long runs fixed-step methods"),
+        }
+    }
+    let runs = compare::long::run(&setup, &methods, settings)?;
+    let dir = out_dir(args, "outer-solar")?;
+    compare::long::write(&dir, &runs)?;
+    println!(
+        "{}: {n} steps of h = {} days (T = {t:.4e} days)",
+        Builtin::OuterSolar.description(),
+        format::plain(settings.h)
+    );
+    print!("{}", compare::long::summary(&runs));
+    for f in ["long.csv", "long_fit.csv", "long_energy.svg"] {
+        println!("wrote {}", dir.join(f).display());
+    }
+    Ok(())
+}
+
 fn long_runs(args: &CompareArgs) -> Result<()> {
     let Some(problem) = args.problem else {
-        bail!("--long needs --problem kepler, kepler-hard, oscillator or henon-heiles");
+        bail!(
+            "--long needs --problem kepler, kepler-hard, oscillator, henon-heiles or outer-solar"
+        );
     };
     if problem == Builtin::KeplerHard {
         return long_variable(args);
+    }
+    if problem == Builtin::OuterSolar {
+        return long_outer_solar(args);
     }
     if args.methods.is_some() {
         bail!(
@@ -513,7 +573,7 @@ fn long_runs(args: &CompareArgs) -> Result<()> {
         Builtin::Kepler | Builtin::Oscillator | Builtin::HenonHeiles
     ) {
         bail!(
-            "--long runs on kepler, kepler-hard, oscillator or henon-heiles, not on {}",
+            "--long runs on kepler, kepler-hard, oscillator, henon-heiles or outer-solar, not on {}",
             problem.name()
         );
     }

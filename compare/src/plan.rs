@@ -184,3 +184,25 @@ pub fn long_settings(steps: Option<u64>, quick: bool) -> LongSettings {
     let steps = steps.unwrap_or(if quick { 10_000 } else { 1_000_000 });
     LongSettings { h: LONG_H, steps }
 }
+
+/// The outer solar system's long-run step: Jupiter's period over 20 (about
+/// 216.6 days), the step of long planetary integrations.
+pub const OUTER_SOLAR_LONG_H: f64 = 4332.59 / 20.0;
+
+/// The outer solar system's long runs: `steps` steps of
+/// [`OUTER_SOLAR_LONG_H`], by default 10⁷ days (about 27 000 years;
+/// 10⁵ days when `quick`).
+pub fn outer_solar_long_settings(steps: Option<u64>, quick: bool) -> LongSettings {
+    let days = if quick { 1e5 } else { 1e7 };
+    let steps = steps.unwrap_or((days / OUTER_SOLAR_LONG_H).ceil() as u64);
+    LongSettings {
+        h: OUTER_SOLAR_LONG_H,
+        steps,
+    }
+}
+
+/// The methods of the outer solar system's long runs when none are named:
+/// Wisdom–Holman (the classical map and a near-integrable splitting) beside
+/// the best plain splitting and Störmer–Verlet.
+pub const OUTER_SOLAR_LONG_METHODS: &[&str] =
+    &["wh:leapfrog", "wh:kahan-li8", "kahan-li8", "stormer-verlet"];
