@@ -91,8 +91,10 @@ pub fn parse_claim(text: &str) -> Result<Claim, String> {
             orders.push(p);
         }
         if orders.windows(2).any(|w| w[1] > w[0]) {
+            let items: Vec<String> = orders.iter().map(usize::to_string).collect();
             return Err(format!(
-                "`{t}`: a generalised order (P1, P2, …) is non-increasing (the εʲ error is never of higher order in h than the ε error)"
+                "`order = ({})`: a generalised order (P1, P2, …) is non-increasing (the εʲ error is never of higher order in h than the ε error)",
+                items.join(", ")
             ));
         }
         // The bound, if any, reads as after a plain order.

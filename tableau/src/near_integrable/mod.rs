@@ -89,7 +89,13 @@ impl fmt::Display for NearCondition {
     /// `the ε²h⁵ condition fails: the coefficient of A³B² in log Φ (the
     /// leading word of [A,[A,[[A,B],B]]]) is 1/720 ≈ 1.389e-3, not 0`.
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let value = self.value.short_text();
+        // The canonical text when it is short, else the abbreviated one.
+        let full = self.value.to_string();
+        let value = if full.len() <= 120 {
+            full
+        } else {
+            self.value.short_text()
+        };
         write!(
             f,
             "the {} condition fails: the coefficient of {} in log Φ (the leading word of {}) is {} ≈ {:.3e}, not {}",
