@@ -317,3 +317,37 @@ fn compositions_are_drift_kick_sequences() {
     let report = near_orders(&y4.table, &[6, 6, 6, 6, 6], None).unwrap();
     assert_eq!(report.generalised_text(), "(4)");
 }
+
+/// Processing: a kernel `K = χ⁻¹ S χ` built from SABA₃ (`S`, order (6, 2))
+/// and an arbitrary processor `χ = D(1/5) K(1/7) D(−1/3)` has low orders of
+/// its own, and `χ K χ⁻¹ = S` has exactly SABA₃'s: the effective order is
+/// decided on the processed sequence.
+#[test]
+fn a_processor_gives_the_effective_order() {
+    use tableau::near_integrable::processed_orders;
+    let kernel = parse_table_file(
+        "kernel",
+        "name = \"K\"\nlet = { c1 = \"1/2 - sqrt(15)/10\", c2 = \"sqrt(15)/10\" }\n\
+         drift = [\"1/3\", \"c1 - 1/5\", \"c2\", \"c2\", \"c1 + 1/5\", \"-1/3\"]\n\
+         kick = [\"-1/7\", \"5/18\", \"4/9\", \"5/18\", \"1/7\"]\n",
+    )
+    .unwrap();
+    let chi = parse_table_file(
+        "chi",
+        "name = \"χ\"\ndrift = [\"1/5\", \"-1/3\"]\nkick = [\"1/7\"]\n",
+    )
+    .unwrap();
+    let degrees = [8, 4, 4];
+    let own = near_orders(&kernel.table, &degrees, None).unwrap();
+    assert!(own.parts[0].order < 6, "{}", own.generalised_text());
+    let effective = processed_orders(&kernel.table, &chi.table, &degrees, None).unwrap();
+    let saba3 = near_orders(&entry("saba3").table, &degrees, None).unwrap();
+    assert_eq!(effective.generalised_text(), "(6, 2)");
+    assert_eq!(effective.parts, saba3.parts);
+    // A processor of another form is refused.
+    let rk4 = tableau::catalogue::load("rk4").unwrap();
+    assert!(matches!(
+        processed_orders(&kernel.table, &rk4.table, &degrees, None),
+        Err(NearError::Form(_))
+    ));
+}

@@ -218,6 +218,46 @@ fn ops_of(table: &Table) -> Result<Vec<(u8, Number)>, NearError> {
         .collect())
 }
 
+/// The effective generalised orders of a kernel `K` with a processor
+/// (corrector) `χ`, applied as `χ Kⁿ χ⁻¹` with `χ` only at output (Wisdom,
+/// Holman & Touma 1996; Blanes–Casas processing): `χ Kⁿ χ⁻¹ = (χ K χ⁻¹)ⁿ`,
+/// so the effective method is `χ K χ⁻¹`, whose logarithm is
+/// `exp(ad_{log χ}) log K`. Both are drift–kick sequences (a composition is
+/// taken as its sequence) and `χ⁻¹` is `χ`'s sequence reversed with every
+/// coefficient negated, so `χ K χ⁻¹` is one drift–kick sequence — `χ`'s
+/// flows, `K`'s, then `χ⁻¹`'s, in the order applied — and its orders are
+/// decided exactly as [`near_orders`] decides any sequence's. The processor
+/// need not be consistent (its drifts and kicks typically sum to zero).
+pub fn processed_orders(
+    kernel: &Table,
+    processor: &Table,
+    degrees: &[usize],
+    bound: Option<&Number>,
+) -> Result<NearReport, NearError> {
+    let k = ops_of(kernel)?;
+    let chi = ops_of(processor)?;
+    let inverse: Vec<(u8, Number)> = chi.iter().rev().map(|(l, x)| (*l, -x)).collect();
+    let mut ops: Vec<(u8, Number)> = chi;
+    ops.extend(k);
+    ops.extend(inverse);
+    // Merge neighbours of the same letter (exp(xX) exp(yX) = exp((x + y)X)),
+    // dropping what cancels, so `χ χ⁻¹` vanishes where they meet.
+    let mut merged: Vec<(u8, Number)> = Vec::with_capacity(ops.len());
+    for (l, x) in ops {
+        match merged.last_mut() {
+            Some((m, y)) if *m == l => {
+                *y += &x;
+                if y.is_zero() {
+                    merged.pop();
+                }
+            }
+            _ if x.is_zero() => {}
+            _ => merged.push((l, x)),
+        }
+    }
+    decide_ops(&merged, degrees, bound)
+}
+
 /// Decide the order of every part `j = 1..=degrees.len()` up to degree
 /// `degrees[j − 1]` (a non-increasing list), exactly or, with `bound`, up to
 /// `|residual| < bound`.
@@ -226,9 +266,17 @@ pub fn near_orders(
     degrees: &[usize],
     bound: Option<&Number>,
 ) -> Result<NearReport, NearError> {
-    let ops = ops_of(table)?;
-    let (full, lyndon) = prepare(&ops, degrees)?;
-    let p = product_of_exponentials(&ops, &full);
+    decide_ops(&ops_of(table)?, degrees, bound)
+}
+
+/// [`near_orders`] of a sequence of flows (`0` drift, `1` kick).
+fn decide_ops(
+    ops: &[(u8, Number)],
+    degrees: &[usize],
+    bound: Option<&Number>,
+) -> Result<NearReport, NearError> {
+    let (full, lyndon) = prepare(ops, degrees)?;
+    let p = product_of_exponentials(ops, &full);
     let mut conditions = 0;
     // Consistency of the drifts: the coefficient of A is Σ aᵢ, target 1.
     let a = Word::from_letters(&[0]);
