@@ -51,7 +51,7 @@ pub(crate) fn product_of_exponentials(
     }
     // Longest first: the update of `w` reads only its (shorter) prefixes,
     // which still hold the previous factor's values.
-    words.sort_by(|a, b| b.len.cmp(&a.len));
+    words.sort_by_key(|w| std::cmp::Reverse(w.len));
     let top = degrees.iter().copied().max().unwrap_or(0);
     let mut p: HashMap<Word, Number> = words.iter().map(|w| (*w, Number::zero())).collect();
     p.insert(Word::EMPTY, Number::one());
@@ -71,11 +71,10 @@ pub(crate) fn product_of_exponentials(
                 continue;
             }
             let mut add = Number::zero();
-            for r in 1..=run {
-                let u = w.drop_last(r);
-                let pu = &p[&u];
+            for (r, scale) in scaled.iter().enumerate().take(run + 1).skip(1) {
+                let pu = &p[&w.drop_last(r)];
                 if !pu.is_zero() {
-                    add += &(pu * &scaled[r]);
+                    add += &(pu * scale);
                 }
             }
             if !add.is_zero() {

@@ -144,7 +144,7 @@ pub(crate) fn words_with(n: usize, j: usize) -> Vec<Word> {
         let left = n - prefix.len();
         for letter in [0u8, 1] {
             let after = used + usize::from(letter);
-            if after <= j && after + left - 1 >= j {
+            if after <= j && after + left > j {
                 prefix.push(letter);
                 go(n, j, prefix, out);
                 prefix.pop();
