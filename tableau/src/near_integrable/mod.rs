@@ -15,11 +15,11 @@
 //!
 //! **How it is decided.** The product of exponentials and its logarithm are
 //! computed in the free associative algebra on `{A, B}` truncated by
-//! (number of `B`s, degree) ([`algebra`]): a non-increasing degree bound
+//! (number of `B`s, degree) (module `algebra`): a non-increasing degree bound
 //! makes the dropped words an ideal, so the kept coefficients are exact,
 //! and a part with `j` `B`s costs `C(n, j)` words of degree `n` instead of
 //! the full algebra's `2ⁿ`. A Lie term is zero exactly when its
-//! coefficients on the Lyndon words are ([`words`]), so only those are
+//! coefficients on the Lyndon words are (module `words`), so only those are
 //! tested, each one named by its Lyndon word and the bracket it leads
 //! (`A²B`, `[A,[A,B]]`). Every coefficient is an exact [`Number`]; a
 //! condition holds when the coefficient is exactly its target (`1` for the
