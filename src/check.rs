@@ -27,6 +27,12 @@ pub struct CheckArgs {
     /// Print one JSON object instead of the readable report.
     #[arg(long)]
     json: bool,
+    /// Also decide the generalised orders (p₁, p₂, …) of a drift–kick
+    /// sequence or composition for near-integrable H = A + εB (drifts the
+    /// flow of A, kicks that of εB). Done without the flag for a table that
+    /// claims one (`order = (8, 6, 4)`).
+    #[arg(long)]
+    near_integrable: bool,
 }
 
 #[derive(clap::Args)]
@@ -100,15 +106,173 @@ fn run_here(args: &CheckArgs) -> Result<ExitCode> {
         (None, None) => unreachable!("clap requires one of them"),
     };
     let analysis = Analysis::of(&tf.table).map_err(|e| anyhow::anyhow!("{origin}: field {e}"))?;
+    let near = near_integrable(&tf, args.near_integrable);
     if args.json {
-        println!(
-            "{}",
-            serde_json::to_string_pretty(&to_json(&tf, &analysis))?
-        );
+        let mut v = to_json(&tf, &analysis);
+        if let Some(n) = &near {
+            v["near_integrable"] = near_json(n);
+        }
+        println!("{}", serde_json::to_string_pretty(&v)?);
     } else {
-        print!("{}", readable(&origin, &tf, &analysis));
+        let mut text = readable(&origin, &tf, &analysis);
+        if let Some(n) = &near {
+            text = insert_before_claims(&text, &near_readable(n));
+        }
+        print!("{text}");
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// The generalised orders of a near-integrable table, as decided.
+struct Near {
+    /// The degrees examined, `D(j)` for `j = 1, 2, …`.
+    degrees: Vec<usize>,
+    /// The residual bound of the table's generalised-order claim, if any.
+    bound: Option<tableau::Number>,
+    result: Result<tableau::near_integrable::NearReport, tableau::near_integrable::NearError>,
+    time: std::time::Duration,
+}
+
+/// Decide the generalised orders when the table claims one or `asked`; a
+/// Runge–Kutta table or pair is left alone unless asked (then the refusal
+/// is reported). The degrees are the report's, raised to one past each
+/// claimed order, so a claim's next condition is shown.
+fn near_integrable(tf: &TableFile, asked: bool) -> Option<Near> {
+    use tableau::claims::Claim;
+    use tableau::near_integrable::{REPORT_DEGREES, claim_degrees, near_orders};
+    let claim = tf.claims.iter().find_map(|c| match c {
+        Claim::NearOrder { orders, bound } => Some((orders.clone(), bound.clone())),
+        _ => None,
+    });
+    if claim.is_none() && !asked {
+        return None;
+    }
+    let mut degrees = REPORT_DEGREES.to_vec();
+    let mut bound = None;
+    if let Some((orders, b)) = claim {
+        bound = b;
+        let claimed = claim_degrees(&orders);
+        if claimed.len() > degrees.len() {
+            degrees.resize(claimed.len(), *degrees.last().expect("nonempty"));
+        }
+        for (d, c) in degrees.iter_mut().zip(&claimed) {
+            *d = (*d).max(c + 1);
+        }
+        // Non-increasing, as the truncation needs.
+        for j in (0..degrees.len() - 1).rev() {
+            degrees[j] = degrees[j].max(degrees[j + 1]);
+        }
+    }
+    let start = std::time::Instant::now();
+    let result = near_orders(&tf.table, &degrees, bound.as_ref());
+    Some(Near {
+        degrees,
+        bound,
+        result,
+        time: start.elapsed(),
+    })
+}
+
+/// `ε`, `ε²`, …
+fn eps(j: usize) -> String {
+    tableau::near_integrable::power_label(j, 1)
+        .trim_end_matches('h')
+        .to_string()
+}
+
+fn near_readable(n: &Near) -> Vec<String> {
+    let mut out = Vec::new();
+    let report = match &n.result {
+        Ok(r) => r,
+        Err(e) => {
+            out.push(format!("  {:<13}not decided: {e}", "H = A + εB"));
+            return out;
+        }
+    };
+    use tableau::near_integrable::power_label;
+    let generalised = report.generalised();
+    let terms: Vec<String> = generalised
+        .iter()
+        .enumerate()
+        .map(|(i, (p, _))| power_label(i + 1, *p))
+        .collect();
+    let at_limit = if generalised.iter().all(|g| g.1) {
+        ""
+    } else {
+        " (≥: every condition up to the degree examined holds)"
+    };
+    out.push(format!(
+        "  {:<13}generalised order {}: error O({}){at_limit}, drifts the flow of A, kicks that of εB",
+        "H = A + εB",
+        report.generalised_text(),
+        terms.join(" + ")
+    ));
+    for part in &report.parts {
+        let text = match &part.failure {
+            Some(f) => format!("order {}; {f}", part.order),
+            None => format!(
+                "order ≥ {} (every condition up to {} holds)",
+                part.order,
+                power_label(part.bs, part.limit)
+            ),
+        };
+        out.push(format!("{:15}{} part: {text}", "", eps(part.bs)));
+    }
+    let how = match &n.bound {
+        Some(b) => format!(
+            "each within |residual| < {} (the claim's bound for decimal coefficients), compared exactly",
+            b.as_rational()
+                .and_then(|r| tableau::expr::decimal_text(&r))
+                .unwrap_or_else(|| b.to_string())
+        ),
+        None => "each exactly".to_string(),
+    };
+    let degrees: Vec<String> = n.degrees.iter().map(usize::to_string).collect();
+    out.push(format!(
+        "{:15}proof: log Φ in the free algebra on {{A, B}} truncated to degree ≤ ({}) for 1, 2, … letters B ({} words); {} Lyndon coefficients tested, {how}",
+        "",
+        degrees.join(", "),
+        report.words,
+        report.conditions
+    ));
+    out
+}
+
+fn near_json(n: &Near) -> Value {
+    match &n.result {
+        Err(e) => json!({"decided": false, "reason": e.to_string(), "degrees": n.degrees}),
+        Ok(r) => json!({
+            "decided": true,
+            "orders": r.generalised().iter().map(|g| g.0).collect::<Vec<_>>(),
+            "exact": r.generalised().iter().map(|g| g.1).collect::<Vec<_>>(),
+            "parts": r.parts.iter().map(|p| json!({
+                "b_letters": p.bs,
+                "order": p.order,
+                "limit": p.limit,
+                "first_failure": p.failure.as_ref().map(|f| json!({
+                    "word": f.word,
+                    "lie": f.lie,
+                    "degree": f.degree,
+                    "value": f.value.to_string(),
+                    "value_f64": f.value.to_f64(),
+                })),
+            })).collect::<Vec<_>>(),
+            "degrees": n.degrees,
+            "bound": n.bound.as_ref().map(|b| b.to_string()),
+            "words": r.words,
+            "conditions": r.conditions,
+            "ms": n.time.as_secs_f64() * 1e3,
+        }),
+    }
+}
+
+/// The report with `lines` inserted before its claims (or at its end).
+fn insert_before_claims(report: &str, lines: &[String]) -> String {
+    let block: String = lines.iter().map(|l| format!("{l}\n")).collect();
+    match report.find("\n  claims\n") {
+        Some(i) => format!("{}{block}{}", &report[..=i], &report[i + 1..]),
+        None => format!("{report}{block}"),
+    }
 }
 
 fn print_generated(

@@ -625,3 +625,57 @@ fn root_file_json_is_documented_and_lists_w_both_ways() {
         "{out}"
     );
 }
+
+/// A table that claims a generalised order gets its generalised orders,
+/// how they were proven and the first failing condition of each part; a
+/// table without such a claim keeps its report unless asked.
+#[test]
+fn near_integrable_orders_are_printed_with_their_proof() {
+    let (code, out, err) = symlab(&["check", "tableau/catalogue/saba2.toml"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        out.contains("  H = A + εB   generalised order (4, 2): error O(εh⁴ + ε²h²), drifts the flow of A, kicks that of εB\n"),
+        "{out}"
+    );
+    assert!(
+        out.contains("ε part: order 4; the εh⁵ condition fails: the coefficient of A⁴B in log Φ (the leading word of [A,[A,[A,[A,B]]]]) is -1/4320 ≈ -2.315e-4, not 0"),
+        "{out}"
+    );
+    assert!(
+        out.contains("14 Lyndon coefficients tested, each exactly"),
+        "{out}"
+    );
+    assert!(out.contains("    ✓ order = (4, 2)\n"), "{out}");
+    // The rows come before the claims.
+    assert!(out.find("H = A + εB").unwrap() < out.find("  claims\n").unwrap());
+
+    let v = check_json(&["tableau/catalogue/aba-8-6-4.toml"]);
+    let n = &v["near_integrable"];
+    assert_eq!(n["orders"], serde_json::json!([8, 6, 4]));
+    assert_eq!(n["exact"], serde_json::json!([true, true, true]));
+    assert_eq!(n["bound"], "1/100000000000000000000000000000000000000");
+    assert_eq!(n["parts"][1]["first_failure"]["word"], "A⁵B²");
+
+    // No claim, no flag: the report of a drift–kick sequence is unchanged.
+    let (_, plain, _) = symlab(&["check", "--builtin", "leapfrog"]);
+    assert!(!plain.contains("H = A + εB"), "{plain}");
+    let v = check_json(&["--builtin", "leapfrog"]);
+    assert!(v.get("near_integrable").is_none());
+    let (code, asked, err) = symlab(&["check", "--builtin", "leapfrog", "--near-integrable"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        asked.contains("generalised order (2): error O(εh²)"),
+        "{asked}"
+    );
+    assert_eq!(
+        asked.replace(
+            &asked[asked.find("  H = A + εB").unwrap()..asked.find("  claims\n").unwrap()],
+            ""
+        ),
+        plain
+    );
+    // A Runge–Kutta table, asked: refused with the reason.
+    let (code, rk, _) = symlab(&["check", "--builtin", "rk4", "--near-integrable"]);
+    assert_eq!(code, 0);
+    assert!(rk.contains("H = A + εB   not decided: a near-integrable (generalised) order is a property of a drift–kick sequence or a composition"), "{rk}");
+}

@@ -29,6 +29,9 @@
 //! | [`MAX_ALG_PRODUCT_WORK`] | 2³² word products | one product or power step in a root-file entry or condition, estimated before it is done: at the limit about 0.75 s, 20 MB (`(√2 + √3 + … + √37)^8`, 2·10⁹ in 0.35 s); `(c0 + … + c7)^64` is refused |
 //! | [`MAX_ZERO_TEST_BITS`] | 2¹⁸ bits | the precision `(n − 1)·log₂ M` a zero test in several roots needs (six quintic roots, 218 815 bits: 0.64 s) |
 //! | [`MAX_ZERO_TEST_WORK`] | 2³² word products | one zero test, sign, rounding, gcd or root isolation, estimated before it is done: at the limit about 1.6 s (a zero test in six quintic roots, 1.7·10⁹ in 0.64 s; isolating a root of degree 64, 10⁹ in 0.44 s), under 10 MB |
+//! | [`crate::near_integrable::MAX_NEAR_DEGREE`] | degree 24 | the power of `h` to which a generalised order (`order = (8, 6, 4)`) is examined |
+//! | [`crate::near_integrable::MAX_NEAR_WORDS`] | 2¹⁶ words | the free algebra on {A, B} truncated by (number of B's, degree) for a generalised order |
+//! | [`crate::near_integrable::MAX_NEAR_WORK`] | 2²⁰ products | words × flows × degree, plus m³/6 per Lyndon word of m letters, estimated before the work: at the limit about 15 s with 40-digit decimals |
 //! | [`MAX_ANALYSIS_WORK`] | 2³³ word products | parsing and analysing one root-file table together; the tests past it are reported undecided: at the limit about 3.6 s (36 such zero tests, 6.6·10⁹ in 2.8 s), under 10 MB |
 //!
 //! Word products are counted with Karatsuba's exponent for long operands

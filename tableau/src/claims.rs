@@ -3,7 +3,10 @@
 //! conditions hold only up to a stated residual (coefficients published as
 //! decimals), and the same two forms of `order_rkn`, the order on
 //! Runge–Kutta–Nyström systems (separable `H = T(p) + V(q)` with `T`
-//! quadratic): `order_rkn = 4`, `order_rkn = 4 (residual < 1e-16)`.
+//! quadratic): `order_rkn = 4`, `order_rkn = 4 (residual < 1e-16)`; and the
+//! generalised order of a splitting for near-integrable `H = A + εB`
+//! ([`crate::near_integrable`]): `order = (8, 6, 4)`, `order = (8, 6, 4)
+//! (residual < 1e-30)`.
 
 use std::fmt;
 use std::str::FromStr;
@@ -30,9 +33,18 @@ pub enum Claim {
         p: usize,
         bound: Option<Number>,
     },
+    /// Generalised order `(p₁, p₂, …, p_m)` for near-integrable `H = A + εB`
+    /// (drifts the flow of `A`, kicks that of `εB`): the error is
+    /// `O(ε h^{p₁} + ε² h^{p₂} + … + ε^m h^{p_m})`, `p_m` standing for every
+    /// power of `ε` from `m` on (see [`crate::near_integrable`]); `bound` as
+    /// for [`Claim::Order`].
+    NearOrder {
+        orders: Vec<usize>,
+        bound: Option<Number>,
+    },
 }
 
-const SYNTAX: &str = "the claims are symplectic, symmetric, explicit, `order = N`, `order = N (residual < BOUND)`, `order_rkn = N` and `order_rkn = N (residual < BOUND)`";
+const SYNTAX: &str = "the claims are symplectic, symmetric, explicit, `order = N`, `order = N (residual < BOUND)`, `order = (P1, P2, …)` (the generalised order for H = A + εB), `order_rkn = N` and `order_rkn = N (residual < BOUND)`";
 
 /// The keywords of the order claims; the longer first, since `order` is a
 /// prefix of `order_rkn`.
@@ -55,6 +67,40 @@ pub fn parse_claim(text: &str) -> Result<Claim, String> {
     }) else {
         return Err(unknown(t));
     };
+    if keyword == "order"
+        && let Some(tuple) = rest.trim_start().strip_prefix('=').map(str::trim_start)
+        && tuple.starts_with('(')
+    {
+        let close = tuple
+            .find(')')
+            .ok_or_else(|| format!("`{t}`: expected `order = (P1, P2, …)`, with a closing `)`"))?;
+        let mut orders = Vec::new();
+        for item in tuple[1..close].split(',') {
+            let item = item.trim();
+            if item.is_empty() || !item.bytes().all(|b| b.is_ascii_digit()) {
+                return Err(format!(
+                    "`{t}`: expected whole numbers in `order = (P1, P2, …)`, found `{item}`"
+                ));
+            }
+            let p: usize = item
+                .parse()
+                .map_err(|_| format!("`{t}`: the order {item} is too large"))?;
+            if p == 0 {
+                return Err(format!("`{t}`: an order is at least 1"));
+            }
+            orders.push(p);
+        }
+        if orders.windows(2).any(|w| w[1] > w[0]) {
+            let items: Vec<String> = orders.iter().map(usize::to_string).collect();
+            return Err(format!(
+                "`order = ({})`: a generalised order (P1, P2, …) is non-increasing (the εʲ error is never of higher order in h than the ε error)",
+                items.join(", ")
+            ));
+        }
+        // The bound, if any, reads as after a plain order.
+        let (_, bound) = parse_order(t, keyword, &format!("= 1 {}", &tuple[close + 1..]))?;
+        return Ok(Claim::NearOrder { orders, bound });
+    }
     let (p, bound) = parse_order(t, keyword, rest)?;
     Ok(if keyword == "order" {
         Claim::Order { p, bound }
@@ -136,17 +182,27 @@ impl fmt::Display for Claim {
             Claim::Explicit => return f.write_str("explicit"),
             Claim::Order { p, bound } => ("order", p, bound),
             Claim::OrderRkn { p, bound } => ("order_rkn", p, bound),
+            Claim::NearOrder { orders, bound } => {
+                let items: Vec<String> = orders.iter().map(usize::to_string).collect();
+                write!(f, "order = ({})", items.join(", "))?;
+                return write_bound(f, bound);
+            }
         };
         write!(f, "{keyword} = {p}")?;
-        if let Some(bound) = bound {
-            let text = bound
-                .as_rational()
-                .and_then(|r| decimal_text(&r))
-                .unwrap_or_else(|| bound.to_string());
-            write!(f, " (residual < {text})")?;
-        }
-        Ok(())
+        write_bound(f, bound)
     }
+}
+
+/// ` (residual < BOUND)`, when there is a bound.
+fn write_bound(f: &mut fmt::Formatter<'_>, bound: &Option<Number>) -> fmt::Result {
+    if let Some(bound) = bound {
+        let text = bound
+            .as_rational()
+            .and_then(|r| decimal_text(&r))
+            .unwrap_or_else(|| bound.to_string());
+        write!(f, " (residual < {text})")?;
+    }
+    Ok(())
 }
 
 #[cfg(test)]
@@ -167,6 +223,9 @@ mod tests {
             "order_rkn = 4",
             "order_rkn = 5 (residual < 1e-16)",
             "order_rkn = 4 (residual < sqrt(3)/1000)",
+            "order = (8, 6, 4)",
+            "order = (2, 2)",
+            "order = (10, 6, 4) (residual < 1e-30)",
         ] {
             let claim = parse_claim(text).unwrap_or_else(|e| panic!("{text}: {e}"));
             let printed = claim.to_string();
@@ -231,6 +290,13 @@ mod tests {
             ),
             ("order_rkn = 4 (residual < 1e-)", "residual bound `1e-`"),
             ("order_rkn = 4 (residual < 0)", "positive"),
+            ("order = (8, 6", "closing `)`"),
+            ("order = (8, , 4)", "found ``"),
+            ("order = (8, x)", "found `x`"),
+            ("order = (8, 0)", "at least 1"),
+            ("order = (4, 6)", "non-increasing"),
+            ("order = (8, 4) residual", "expected `(residual < BOUND)`"),
+            ("order = (8, 4) (residual < -1)", "positive"),
         ];
         for (text, phrase) in cases {
             let e = parse_claim(text).unwrap_err();

@@ -17,6 +17,7 @@ pub mod claims;
 pub mod expr;
 pub mod file;
 pub mod midpoint;
+pub mod near_integrable;
 pub mod number;
 pub mod order;
 pub mod rounding;

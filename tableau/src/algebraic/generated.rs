@@ -290,6 +290,9 @@ impl Generated {
             Claim::OrderRkn { .. } => Err(ClaimError(
                 "order_rkn is not decided for generated tables".into(),
             )),
+            Claim::NearOrder { .. } => Err(ClaimError(
+                "a generalised order `order = (P1, P2, …)` is a property of a drift–kick sequence or a composition, not of a generated Runge–Kutta table".into(),
+            )),
         }
     }
 

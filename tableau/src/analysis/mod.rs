@@ -284,6 +284,11 @@ pub fn check_claim(table: &Table, analysis: &Analysis, claim: &Claim) -> Result<
         }
         Claim::Order { p, bound } => check_order(table, analysis, *p, bound.as_ref()),
         Claim::OrderRkn { p, bound } => check_order_rkn(table, analysis, *p, bound.as_ref()),
+        Claim::NearOrder { orders, bound } => {
+            crate::near_integrable::check_near_claim(table, orders, bound.as_ref())
+                .map(|_| ())
+                .map_err(ClaimError)
+        }
     }
 }
 

@@ -1,0 +1,479 @@
+//! Generalised orders of splitting methods for near-integrable systems
+//! `H = A + εB`, decided exactly.
+//!
+//! A drift–kick sequence `exp(a₁hA) exp(b₁hB) ⋯` (drifts are the flow of
+//! the integrable part `A`, kicks that of the perturbation `εB`; the `ε` is
+//! carried by `B`) has `log Φ = h(A + εB) + Σ` Lie terms, and a term of
+//! degree `n` with `j` letters `B` is of size `εʲ hⁿ`. The method has
+//! **generalised order `(p₁, p₂, …, p_m)`** when every term with `j` `B`s and
+//! degree `2 ≤ n ≤ p_j` vanishes, `p_j` read as `p_m` for `j ≥ m`; its
+//! global error is then `O(ε h^{p₁} + ε² h^{p₂} + … + ε^m h^{p_m})`. This is
+//! the convention of Laskar & Robutel (2001; SABAₙ and SBABₙ have order
+//! `(2n, 2)`: error `O(εh^{2n} + ε²h²)`) and of Blanes, Casas, Farrés,
+//! Laskar, Makazaga & Murua (2013; ABA(8,6,4) has `O(εh⁸ + ε²h⁶ + ε³h⁴)`).
+//! The orders are non-increasing and `p_m` is the classical order.
+//!
+//! **How it is decided.** The product of exponentials and its logarithm are
+//! computed in the free associative algebra on `{A, B}` truncated by
+//! (number of `B`s, degree) (module `algebra`): a non-increasing degree bound
+//! makes the dropped words an ideal, so the kept coefficients are exact,
+//! and a part with `j` `B`s costs `C(n, j)` words of degree `n` instead of
+//! the full algebra's `2ⁿ`. A Lie term is zero exactly when its
+//! coefficients on the Lyndon words are (module `words`), so only those are
+//! tested, each one named by its Lyndon word and the bracket it leads
+//! (`A²B`, `[A,[A,B]]`). Every coefficient is an exact [`Number`]; a
+//! condition holds when the coefficient is exactly its target (`1` for the
+//! words `A` and `B`, `0` otherwise) or, for coefficients published as
+//! decimals, within a stated `|residual| < bound`, compared exactly. Nothing
+//! is decided in floating point.
+//!
+//! **Budgets.** The degree is at most [`MAX_NEAR_DEGREE`], the words of the
+//! truncation at most [`MAX_NEAR_WORDS`], and the products estimated before
+//! the work starts at most [`MAX_NEAR_WORK`]; beyond them the verifier
+//! refuses with a message saying which limit and by how much.
+
+mod algebra;
+mod words;
+
+use std::fmt;
+
+use crate::budget::BeyondBudget;
+use crate::order::within;
+use crate::table::Op;
+use crate::{Number, Splitting, Table};
+use algebra::{log_coefficient, log_work, product_of_exponentials, word_count};
+use words::{Word, bracket, is_lyndon, words_with};
+
+/// The highest degree (power of `h`) examined.
+pub const MAX_NEAR_DEGREE: usize = 24;
+
+/// The most words of the truncated algebra (the words with `j` `B`s and
+/// degree at most `D(j)`, summed over `j`).
+pub const MAX_NEAR_WORDS: u64 = 1 << 16;
+
+/// The most products of exact numbers, estimated before the work starts:
+/// words × flows × the highest degree for the product of exponentials, plus
+/// `m³/6` per Lyndon word of `m` letters for the logarithm. Measured on the
+/// project's 2-core machine (dev profile, which is optimised): with the
+/// catalogue's 40-digit decimals a unit costs up to about 15 µs (ABA(10,6,4)
+/// at degrees (16, 12, 10, 8, 8, 8, 8): 262 144 units in 4.5 s), with exact
+/// radicals far less (SBAB₄: 50 ms); so the limit is about 15 s at worst.
+pub const MAX_NEAR_WORK: u64 = 1 << 20;
+
+/// The degrees `symlab check` examines: `D(j)` for `j = 1, 2, …`. The last
+/// entry, 8, is examined for every `j` from 3 to 7, i.e. every Lie term of
+/// degree at most 8, so a classical order below 8 is decided; `p₁` is
+/// decided up to 11, `p₂` up to 7.
+pub const REPORT_DEGREES: [usize; 7] = [12, 8, 8, 8, 8, 8, 8];
+
+/// One condition: the coefficient of a Lyndon word in `log Φ`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct NearCondition {
+    /// The number of `B`s: the power of `ε`.
+    pub bs: usize,
+    /// The length of the word: the power of `h`.
+    pub degree: usize,
+    /// The Lyndon word, runs as powers: `A³B²`.
+    pub word: String,
+    /// The Lie element whose leading word it is: `[A,[A,[[A,B],B]]]`.
+    pub lie: String,
+    /// The coefficient of the word in `log Φ` (with `h = 1`).
+    pub value: Number,
+    /// `1` for the words `A` and `B`, `0` otherwise.
+    pub expected: Number,
+    /// `value − expected`.
+    pub residual: Number,
+}
+
+impl fmt::Display for NearCondition {
+    /// `the ε²h⁵ condition fails: the coefficient of A³B² in log Φ (the
+    /// leading word of [A,[A,[[A,B],B]]]) is 1/720 ≈ 1.389e-3, not 0`.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        // The canonical text when it is short, else the abbreviated one.
+        let full = self.value.to_string();
+        let value = if full.len() <= 120 {
+            full
+        } else {
+            self.value.short_text()
+        };
+        write!(
+            f,
+            "the {} condition fails: the coefficient of {} in log Φ (the leading word of {}) is {} ≈ {:.3e}, not {}",
+            power_label(self.bs, self.degree),
+            self.word,
+            self.lie,
+            value,
+            self.value.to_f64(),
+            self.expected
+        )
+    }
+}
+
+/// `εh`, `ε²h⁵`.
+pub fn power_label(bs: usize, degree: usize) -> String {
+    let sup = |n: usize| -> String {
+        const SUP: [char; 10] = ['⁰', '¹', '²', '³', '⁴', '⁵', '⁶', '⁷', '⁸', '⁹'];
+        if n == 1 {
+            return String::new();
+        }
+        n.to_string()
+            .bytes()
+            .map(|b| SUP[usize::from(b - b'0')])
+            .collect()
+    };
+    let e = if bs == 0 {
+        String::new()
+    } else {
+        format!("ε{}", sup(bs))
+    };
+    format!("{e}h{}", sup(degree))
+}
+
+/// The order of the part with `bs` letters `B`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PartOrder {
+    pub bs: usize,
+    /// Every condition of this part up to this degree holds.
+    pub order: usize,
+    /// The highest degree examined; `order == limit` means `≥ limit`.
+    pub limit: usize,
+    /// The first condition that fails, at degree `order + 1`.
+    pub failure: Option<NearCondition>,
+}
+
+/// The generalised orders found.
+#[derive(Clone, Debug, PartialEq)]
+pub struct NearReport {
+    /// One per `j = 1, 2, …, J`.
+    pub parts: Vec<PartOrder>,
+    /// The words of the truncated algebra computed.
+    pub words: usize,
+    /// The Lyndon coefficients tested.
+    pub conditions: usize,
+}
+
+impl NearReport {
+    /// The generalised order as published: `p₁, p₂, …` up to the first part
+    /// whose order is the least of all (the classical order), each with
+    /// whether it is exact (`false`: at least this, the limit examined).
+    pub fn generalised(&self) -> Vec<(usize, bool)> {
+        let Some(least) = self.parts.iter().map(|p| p.order).min() else {
+            return Vec::new();
+        };
+        let mut out = Vec::new();
+        for p in &self.parts {
+            out.push((p.order, p.failure.is_some()));
+            if p.order == least {
+                break;
+            }
+        }
+        out
+    }
+
+    /// `(8, 6, 4)`, with `≥` where the limit was reached.
+    pub fn generalised_text(&self) -> String {
+        let items: Vec<String> = self
+            .generalised()
+            .iter()
+            .map(|(p, exact)| {
+                if *exact {
+                    p.to_string()
+                } else {
+                    format!("≥{p}")
+                }
+            })
+            .collect();
+        format!("({})", items.join(", "))
+    }
+}
+
+/// Why a generalised order cannot be decided.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum NearError {
+    /// The table is not a drift–kick sequence or a composition.
+    #[error(
+        "a near-integrable (generalised) order is a property of a drift–kick sequence or a composition (H = A + εB, drifts the flow of A, kicks that of εB); this table is {0}"
+    )]
+    Form(&'static str),
+    /// The degrees are not a non-increasing list of positive numbers.
+    #[error("{0}")]
+    Degrees(String),
+    #[error("{0}")]
+    Budget(#[from] BeyondBudget),
+}
+
+/// The drift–kick sequence of a table: letters `0` (drift, `A`) and `1`
+/// (kick, `B`) with their coefficients, in the order applied.
+fn ops_of(table: &Table) -> Result<Vec<(u8, Number)>, NearError> {
+    let splitting: Splitting = match table {
+        Table::Splitting(s) => s.clone(),
+        Table::Composition(c) => c.to_splitting(),
+        Table::Rk(_) => return Err(NearError::Form("a Runge–Kutta table")),
+        Table::Prk(_) => return Err(NearError::Form("a partitioned pair")),
+    };
+    Ok(splitting
+        .normal_form()
+        .into_iter()
+        .map(|(op, x)| (u8::from(op == Op::Kick), x))
+        .collect())
+}
+
+/// The effective generalised orders of a kernel `K` with a processor
+/// (corrector) `χ`, applied as `χ Kⁿ χ⁻¹` with `χ` only at output (Wisdom,
+/// Holman & Touma 1996; Blanes–Casas processing): `χ Kⁿ χ⁻¹ = (χ K χ⁻¹)ⁿ`,
+/// so the effective method is `χ K χ⁻¹`, whose logarithm is
+/// `exp(ad_{log χ}) log K`. Both are drift–kick sequences (a composition is
+/// taken as its sequence) and `χ⁻¹` is `χ`'s sequence reversed with every
+/// coefficient negated, so `χ K χ⁻¹` is one drift–kick sequence — `χ`'s
+/// flows, `K`'s, then `χ⁻¹`'s, in the order applied — and its orders are
+/// decided exactly as [`near_orders`] decides any sequence's. The processor
+/// need not be consistent (its drifts and kicks typically sum to zero).
+pub fn processed_orders(
+    kernel: &Table,
+    processor: &Table,
+    degrees: &[usize],
+    bound: Option<&Number>,
+) -> Result<NearReport, NearError> {
+    let k = ops_of(kernel)?;
+    let chi = ops_of(processor)?;
+    let inverse: Vec<(u8, Number)> = chi.iter().rev().map(|(l, x)| (*l, -x)).collect();
+    let mut ops: Vec<(u8, Number)> = chi;
+    ops.extend(k);
+    ops.extend(inverse);
+    // Merge neighbours of the same letter (exp(xX) exp(yX) = exp((x + y)X)),
+    // dropping what cancels, so `χ χ⁻¹` vanishes where they meet.
+    let mut merged: Vec<(u8, Number)> = Vec::with_capacity(ops.len());
+    for (l, x) in ops {
+        match merged.last_mut() {
+            Some((m, y)) if *m == l => {
+                *y += &x;
+                if y.is_zero() {
+                    merged.pop();
+                }
+            }
+            _ if x.is_zero() => {}
+            _ => merged.push((l, x)),
+        }
+    }
+    decide_ops(&merged, degrees, bound)
+}
+
+/// Decide the order of every part `j = 1..=degrees.len()` up to degree
+/// `degrees[j − 1]` (a non-increasing list), exactly or, with `bound`, up to
+/// `|residual| < bound`.
+pub fn near_orders(
+    table: &Table,
+    degrees: &[usize],
+    bound: Option<&Number>,
+) -> Result<NearReport, NearError> {
+    decide_ops(&ops_of(table)?, degrees, bound)
+}
+
+/// [`near_orders`] of a sequence of flows (`0` drift, `1` kick).
+fn decide_ops(
+    ops: &[(u8, Number)],
+    degrees: &[usize],
+    bound: Option<&Number>,
+) -> Result<NearReport, NearError> {
+    let (full, lyndon) = prepare(ops, degrees)?;
+    let p = product_of_exponentials(ops, &full);
+    let mut conditions = 0;
+    // Consistency of the drifts: the coefficient of A is Σ aᵢ, target 1.
+    let a = Word::from_letters(&[0]);
+    let drift_failure = {
+        conditions += 1;
+        condition(&p, a, bound)
+    };
+    let mut parts = Vec::with_capacity(degrees.len());
+    for (j, words) in (1..).zip(&lyndon) {
+        let limit = degrees[j - 1];
+        let mut failure = drift_failure.clone();
+        if failure.is_none() {
+            for w in words {
+                conditions += 1;
+                if let Some(f) = condition(&p, *w, bound) {
+                    failure = Some(f);
+                    break;
+                }
+            }
+        }
+        let order = failure.as_ref().map_or(limit, |f| f.degree - 1);
+        parts.push(PartOrder {
+            bs: j,
+            order,
+            limit,
+            failure,
+        });
+    }
+    Ok(NearReport {
+        parts,
+        words: p.len(),
+        conditions,
+    })
+}
+
+/// Every Lyndon coefficient of `log Φ` with `j = 1..=degrees.len()` letters
+/// `B` and degree at most `degrees[j − 1]` (and the word `A`), whether it
+/// holds or not: the residuals a bound for decimal coefficients is measured
+/// from.
+pub fn near_coefficients(
+    table: &Table,
+    degrees: &[usize],
+) -> Result<Vec<NearCondition>, NearError> {
+    let ops = ops_of(table)?;
+    let (full, lyndon) = prepare(&ops, degrees)?;
+    let p = product_of_exponentials(&ops, &full);
+    let mut out = vec![coefficient(&p, Word::from_letters(&[0]))];
+    for w in lyndon.iter().flatten() {
+        out.push(coefficient(&p, *w));
+    }
+    Ok(out)
+}
+
+/// Check the degrees against the budgets; the truncation (with `D(0) =
+/// D(1)`) and the Lyndon words of each part.
+#[allow(clippy::type_complexity)]
+fn prepare(
+    ops: &[(u8, Number)],
+    degrees: &[usize],
+) -> Result<(Vec<usize>, Vec<Vec<Word>>), NearError> {
+    if degrees.is_empty() || degrees.contains(&0) {
+        return Err(NearError::Degrees(
+            "the degrees examined are a nonempty list of positive numbers".into(),
+        ));
+    }
+    if degrees.windows(2).any(|w| w[1] > w[0]) {
+        return Err(NearError::Degrees(format!(
+            "the degrees examined, {degrees:?}, must be non-increasing (the truncated algebra is an algebra only then)"
+        )));
+    }
+    let top = degrees[0];
+    if top > MAX_NEAR_DEGREE {
+        return Err(BeyondBudget(format!(
+            "degree {top} asked for, and the near-integrable verifier examines at most degree {MAX_NEAR_DEGREE} (tableau::near_integrable::MAX_NEAR_DEGREE)"
+        ))
+        .into());
+    }
+    // D(0) = D(1): the powers of A.
+    let mut full = vec![top];
+    full.extend_from_slice(degrees);
+    let count = word_count(&full);
+    if count > MAX_NEAR_WORDS {
+        return Err(BeyondBudget(format!(
+            "the truncated algebra for degrees {degrees:?} has {count} words, more than the {MAX_NEAR_WORDS} the near-integrable verifier takes on (tableau::near_integrable::MAX_NEAR_WORDS)"
+        ))
+        .into());
+    }
+    let lyndon: Vec<Vec<Word>> = (1..=degrees.len())
+        .map(|j| {
+            (1..=degrees[j - 1])
+                .flat_map(|n| words_with(n, j))
+                .filter(|w| is_lyndon(&w.letters()))
+                .collect()
+        })
+        .collect();
+    let work = count.saturating_mul(ops.len() as u64 * top as u64)
+        + lyndon
+            .iter()
+            .flatten()
+            .map(|w| log_work(usize::from(w.len)))
+            .sum::<u64>();
+    if work > MAX_NEAR_WORK {
+        return Err(BeyondBudget(format!(
+            "deciding degrees {degrees:?} for {} flows needs about {work} exact products, more than the {MAX_NEAR_WORK} the near-integrable verifier takes on (tableau::near_integrable::MAX_NEAR_WORK)",
+            ops.len()
+        ))
+        .into());
+    }
+    Ok((full, lyndon))
+}
+
+/// The condition of Lyndon word `w`, if it fails.
+fn condition(
+    p: &std::collections::HashMap<Word, Number>,
+    w: Word,
+    bound: Option<&Number>,
+) -> Option<NearCondition> {
+    let c = coefficient(p, w);
+    (!within(&c.residual, bound)).then_some(c)
+}
+
+/// The coefficient of Lyndon word `w` in `log Φ`, as a condition.
+fn coefficient(p: &std::collections::HashMap<Word, Number>, w: Word) -> NearCondition {
+    let value = log_coefficient(p, w);
+    let expected = if w.len == 1 {
+        Number::one()
+    } else {
+        Number::zero()
+    };
+    let residual = &value - &expected;
+    NearCondition {
+        bs: w.bs(),
+        degree: usize::from(w.len),
+        word: w.label(),
+        lie: bracket(&w.letters()),
+        value,
+        expected,
+        residual,
+    }
+}
+
+/// The degrees a claim `(p₁, …, p_m)` needs: `p_j` for `j < m`, and `p_m`
+/// for `m ≤ j < p_m` (a Lie term of degree `n` has at most `n − 1` `B`s
+/// besides the word `B` itself).
+pub fn claim_degrees(orders: &[usize]) -> Vec<usize> {
+    let Some(&last) = orders.last() else {
+        return Vec::new();
+    };
+    let mut out = orders.to_vec();
+    while out.len() < last.saturating_sub(1) {
+        out.push(last);
+    }
+    out
+}
+
+/// Check a claimed generalised order exactly (or within `bound`); the error
+/// names the first failing condition: its power `εʲhⁿ`, Lyndon word, Lie
+/// element, exact value and a float approximation.
+pub fn check_near_claim(
+    table: &Table,
+    orders: &[usize],
+    bound: Option<&Number>,
+) -> Result<NearReport, String> {
+    let claimed = tuple_text(orders);
+    if orders.is_empty() || orders.contains(&0) {
+        return Err(format!(
+            "order = {claimed}: a generalised order is a nonempty list of orders of at least 1"
+        ));
+    }
+    if orders.windows(2).any(|w| w[1] > w[0]) {
+        return Err(format!(
+            "order = {claimed}: a generalised order (p₁, p₂, …) is non-increasing: the εʲ error of a splitting is never of higher order in h than the ε error's"
+        ));
+    }
+    let report = near_orders(table, &claim_degrees(orders), bound)
+        .map_err(|e| format!("order = {claimed}: {e}"))?;
+    for part in &report.parts {
+        if let Some(f) = &part.failure {
+            let within = match bound {
+                Some(b) => format!(" (residual not below {b})"),
+                None => String::new(),
+            };
+            return Err(format!(
+                "order = {claimed} claimed, but the ε{} part has order {} < {}: {f}{within}",
+                power_label(part.bs, 1)
+                    .trim_end_matches('h')
+                    .trim_start_matches('ε'),
+                part.order,
+                part.limit
+            ));
+        }
+    }
+    Ok(report)
+}
+
+/// `(8, 6, 4)`.
+pub fn tuple_text(orders: &[usize]) -> String {
+    let items: Vec<String> = orders.iter().map(usize::to_string).collect();
+    format!("({})", items.join(", "))
+}

@@ -1,0 +1,353 @@
+//! Generalised orders of near-integrable splittings (H = A + εB), decided
+//! exactly: the catalogue's SABAₙ, SBABₙ and ABA/ABAH methods against their
+//! published orders, perturbed coefficients, over-claims, other forms and
+//! budgets.
+
+use std::path::Path;
+use std::time::Instant;
+
+use tableau::analysis::{Analysis, check_claim};
+use tableau::claims::Claim;
+use tableau::expr::parse_number;
+use tableau::file::{TableFile, parse_table_file};
+use tableau::near_integrable::{
+    NearError, REPORT_DEGREES, check_near_claim, claim_degrees, near_coefficients, near_orders,
+};
+use tableau::{Number, Table};
+
+/// The published generalised orders: Laskar & Robutel (2001) state
+/// `O(τ^{2n}ε + τ²ε²)` for SABAₙ and SBABₙ; Blanes et al. (2013) name their
+/// methods by theirs.
+const PUBLISHED: [(&str, &[usize]); 14] = [
+    ("saba1", &[2, 2]),
+    ("saba2", &[4, 2]),
+    ("saba3", &[6, 2]),
+    ("saba4", &[8, 2]),
+    ("sbab1", &[2, 2]),
+    ("sbab2", &[4, 2]),
+    ("sbab3", &[6, 2]),
+    ("sbab4", &[8, 2]),
+    ("aba-10-4", &[10, 4]),
+    ("aba-8-6-4", &[8, 6, 4]),
+    ("aba-10-6-4", &[10, 6, 4]),
+    ("abah-8-4-4", &[8, 4, 4]),
+    ("abah-8-6-4", &[8, 6, 4]),
+    ("abah-10-6-4", &[10, 6, 4]),
+];
+
+fn text(id: &str) -> String {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("catalogue")
+        .join(format!("{id}.toml"));
+    std::fs::read_to_string(path).unwrap()
+}
+
+fn entry(id: &str) -> TableFile {
+    parse_table_file(&format!("{id}.toml"), &text(id)).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// The entry's generalised-order claim: its orders and bound.
+fn near_claim(file: &TableFile) -> (Vec<usize>, Option<Number>) {
+    file.claims
+        .iter()
+        .find_map(|c| match c {
+            Claim::NearOrder { orders, bound } => Some((orders.clone(), bound.clone())),
+            _ => None,
+        })
+        .expect("a generalised-order claim")
+}
+
+/// Every claim of every entry holds, the generalised one is the published
+/// order, and the orders decided without a claim (at the report degrees)
+/// are exactly the published ones: each part's first failing condition is
+/// found, one degree above.
+#[test]
+fn published_generalised_orders_hold_and_are_exact() {
+    for (id, published) in PUBLISHED {
+        let file = entry(id);
+        let (orders, bound) = near_claim(&file);
+        assert_eq!(orders, published, "{id}: the claim is the published order");
+        let analysis = Analysis::of(&file.table).unwrap();
+        for claim in &file.claims {
+            check_claim(&file.table, &analysis, claim)
+                .unwrap_or_else(|e| panic!("{id}: `{claim}`: {e}"));
+        }
+        let start = Instant::now();
+        let report = near_orders(&file.table, &REPORT_DEGREES, bound.as_ref()).unwrap();
+        let took = start.elapsed();
+        // (2, 2) and (8, 4, 4) are printed as (2) and (8, 4): the last entry
+        // stands for every higher power of ε.
+        let mut expected = published.to_vec();
+        while expected.len() > 1 && expected[expected.len() - 1] == expected[expected.len() - 2] {
+            expected.pop();
+        }
+        let found: Vec<usize> = report.generalised().iter().map(|g| g.0).collect();
+        assert_eq!(found, expected, "{id}: {}", report.generalised_text());
+        assert!(
+            report.generalised().iter().all(|g| g.1),
+            "{id}: every order exact: {}",
+            report.generalised_text()
+        );
+        println!("{id}: {} in {took:?}", report.generalised_text());
+    }
+}
+
+/// The bound of each decimal entry is the catalogue's rule: ten times the
+/// largest Lyndon coefficient within the claimed degrees, rounded up to a
+/// power of ten; and the coefficients really need it (a thousand times
+/// tighter, the claim fails).
+#[test]
+fn decimal_bounds_follow_the_rule() {
+    for (id, _) in PUBLISHED {
+        let file = entry(id);
+        let (orders, bound) = near_claim(&file);
+        let Some(bound) = bound else {
+            let all = near_coefficients(&file.table, &claim_degrees(&orders)).unwrap();
+            assert!(all.iter().all(|c| c.residual.is_zero()), "{id}: exact");
+            continue;
+        };
+        let all = near_coefficients(&file.table, &claim_degrees(&orders)).unwrap();
+        let largest = all.iter().map(|c| c.residual.abs()).max().unwrap();
+        let ten = &largest * &Number::from(10);
+        assert!(ten < bound, "{id}");
+        assert!(
+            &bound * &Number::ratio(1, 10).unwrap() <= ten,
+            "{id}: the bound is the smallest power of ten above ten times {largest}"
+        );
+        let tight = &bound * &Number::ratio(1, 1000).unwrap();
+        assert!(
+            check_near_claim(&file.table, &orders, Some(&tight)).is_err(),
+            "{id}"
+        );
+    }
+}
+
+/// Changing one published coefficient in its 10th significant digit (the
+/// middle coefficient, a formula, keeps consistency) loses the claim, and the
+/// error names the failing condition: its power of ε and h, its Lyndon word,
+/// its Lie element and its value.
+#[test]
+fn a_perturbed_coefficient_loses_the_claim_naming_the_condition() {
+    for (id, old, new, phrase) in [
+        (
+            "aba-8-6-4",
+            "0.241153427956640098736487795326289649618",
+            "0.241153427856640098736487795326289649618",
+            "order = (8, 6, 4) claimed, but the ε part has order 2 < 8: the εh³ condition fails: the coefficient of A²B in log Φ (the leading word of [A,[A,B]]) is",
+        ),
+        (
+            "aba-10-6-4",
+            "0.2044461531429987806805077839164344779763",
+            "0.2044461531529987806805077839164344779763",
+            "order = (10, 6, 4) claimed, but the ε part has order 2 < 10: the εh³ condition fails: the coefficient of A²B in log Φ",
+        ),
+        (
+            "saba4",
+            "0.2605776340045981552106403648947824089476",
+            "0.2605776340145981552106403648947824089476",
+            "order = (8, 2) (residual < 1e-40) claimed, but the ε part has order 2 < 8: the εh³ condition fails: the coefficient of A²B",
+        ),
+    ] {
+        let t = text(id);
+        assert!(t.contains(old), "{id}");
+        let file = parse_table_file(id, &t.replacen(old, new, 1)).unwrap();
+        let (orders, bound) = near_claim(&file);
+        let e = check_near_claim(&file.table, &orders, bound.as_ref()).unwrap_err();
+        let e = e.replace(" (residual < 1e-40)", "");
+        let phrase = phrase.replace(" (residual < 1e-40)", "");
+        assert!(e.contains(&phrase), "{id}: {e}");
+        assert!(e.contains("≈ "), "{id}: a float approximation: {e}");
+    }
+    // An exact method: SABA₂ with kicks 1/2 ± 1/1000 (still consistent, no
+    // longer symmetric) has order (1, …): [A,B] survives, with coefficient
+    // ½ Σ (aᵢbⱼ before − bᵢaⱼ before) = ½ c₂ (k₂ − k₁) = −√3/3000.
+    let t = text("saba2").replace(
+        "kick = [\"1/2\", \"1/2\"]",
+        "kick = [\"1/2 + 1/1000\", \"1/2 - 1/1000\"]",
+    );
+    let file = parse_table_file("saba2", &t).unwrap();
+    let e = check_near_claim(&file.table, &[4, 2], None).unwrap_err();
+    assert!(
+        e.contains(
+            "the ε part has order 1 < 4: the εh² condition fails: the coefficient of AB in log Φ (the leading word of [A,B]) is -sqrt(3)/3000 ≈ -5.774e-4, not 0"
+        ),
+        "{e}"
+    );
+}
+
+/// Claiming more than holds fails at the first condition past the truth.
+#[test]
+fn over_claims_name_the_first_failing_condition() {
+    let saba3 = entry("saba3");
+    let e = check_near_claim(&saba3.table, &[8, 2], None).unwrap_err();
+    assert!(
+        e.starts_with(
+            "order = (8, 2) claimed, but the ε part has order 6 < 8: the εh⁷ condition fails: the coefficient of A⁶B in log Φ (the leading word of [A,[A,[A,[A,[A,[A,B]]]]]]) is "
+        ),
+        "{e}"
+    );
+    let e = check_near_claim(&saba3.table, &[6, 4], None).unwrap_err();
+    assert!(
+        e.starts_with(
+            "order = (6, 4) claimed, but the ε² part has order 2 < 4: the ε²h³ condition fails: the coefficient of AB² in log Φ (the leading word of [[A,B],B]) is "
+        ),
+        "{e}"
+    );
+    // Through the claim language and the analysis, as `butcher!` and
+    // `symlab check` see it.
+    let aba = entry("aba-8-6-4");
+    let analysis = Analysis::of(&aba.table).unwrap();
+    let claim: Claim = "order = (8, 6, 6) (residual < 1e-38)".parse().unwrap();
+    let e = check_claim(&aba.table, &analysis, &claim)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains(
+            "the ε³ part has order 4 < 6: the ε³h⁵ condition fails: the coefficient of A²B³"
+        ),
+        "{e}"
+    );
+    let claim: Claim = "order = (10, 6, 4) (residual < 1e-38)".parse().unwrap();
+    let e = check_claim(&aba.table, &analysis, &claim)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("the ε part has order 8 < 10: the εh⁹ condition fails: the coefficient of A⁸B"),
+        "{e}"
+    );
+}
+
+/// The generalised orders agree with the classical order the tree analysis
+/// decides, on the exact drift–kick sequences and compositions of the
+/// catalogue: the least `p_j` is the order on separable systems.
+#[test]
+fn the_least_part_is_the_classical_order() {
+    for id in [
+        "leapfrog",
+        "ruth3",
+        "forest-ruth",
+        "candy-rozmus4",
+        "mclachlan-atela2",
+        "yoshida4",
+        "mclachlan-s5",
+        "saba3",
+        "sbab4",
+    ] {
+        let file = entry(id);
+        let analysis = Analysis::of(&file.table).unwrap();
+        let report = near_orders(&file.table, &REPORT_DEGREES, None).unwrap();
+        let least = report.parts.iter().map(|p| p.order).min().unwrap();
+        assert_eq!(
+            least,
+            analysis.order_separable.order,
+            "{id}: {}",
+            report.generalised_text()
+        );
+    }
+}
+
+/// Inconsistent drifts fail every part at the word A; a table of another
+/// form is refused; degrees and budgets are checked before any work.
+#[test]
+fn refusals_and_consistency() {
+    let file = parse_table_file(
+        "t",
+        "name = \"t\"\ndrift = [\"1/2\", \"1/3\"]\nkick = [\"1\"]\n",
+    )
+    .unwrap();
+    let report = near_orders(&file.table, &[4, 2], None).unwrap();
+    for part in &report.parts {
+        assert_eq!(part.order, 0);
+        let f = part.failure.as_ref().unwrap();
+        assert_eq!(f.word, "A");
+        assert_eq!(f.value, Number::ratio(5, 6).unwrap());
+    }
+    let file = parse_table_file(
+        "t",
+        "name = \"t\"\ndrift = [\"1/2\", \"1/2\"]\nkick = [\"2\"]\n",
+    )
+    .unwrap();
+    let e = check_near_claim(&file.table, &[2, 2], None).unwrap_err();
+    assert!(
+        e.contains("the ε part has order 0 < 2: the εh condition fails: the coefficient of B in log Φ (the leading word of B) is 2 ≈ 2.000e0, not 1"),
+        "{e}"
+    );
+
+    let rk4 = tableau::catalogue::load("rk4").unwrap();
+    let e = near_orders(&rk4.table, &[4], None).unwrap_err();
+    assert!(matches!(e, NearError::Form(_)), "{e}");
+    assert!(e.to_string().contains("a Runge–Kutta table"), "{e}");
+    let claim: Claim = "order = (4, 2)".parse().unwrap();
+    let a = Analysis::of(&rk4.table).unwrap();
+    assert!(check_claim(&rk4.table, &a, &claim).is_err());
+
+    let saba2 = entry("saba2");
+    for (degrees, phrase) in [
+        (vec![30], "at most degree 24"),
+        (vec![4, 6], "non-increasing"),
+        (vec![], "nonempty"),
+        (vec![20, 20, 20, 20, 20, 20], "words, more than the 65536"),
+    ] {
+        let e = near_orders(&saba2.table, &degrees, None).unwrap_err();
+        assert!(e.to_string().contains(phrase), "{degrees:?}: {e}");
+    }
+    // 5053 words × 17 flows × degree 20 > 2²⁰ products: refused before the work.
+    let aba = entry("aba-10-6-4");
+    let e = near_orders(&aba.table, &[20, 14, 14, 14], None).unwrap_err();
+    assert!(matches!(e, NearError::Budget(_)), "{e}");
+    assert!(
+        e.to_string()
+            .contains("exact products, more than the 1048576"),
+        "{e}"
+    );
+    assert!(
+        check_near_claim(&saba2.table, &[2, 4], None)
+            .unwrap_err()
+            .contains("non-increasing")
+    );
+    let bound = parse_number("1e-10").unwrap();
+    assert!(check_near_claim(&saba2.table, &[4, 2], Some(&bound)).is_ok());
+}
+
+/// A composition of Störmer–Verlet is analysed as its drift–kick sequence.
+#[test]
+fn compositions_are_drift_kick_sequences() {
+    let y4 = entry("yoshida4");
+    assert!(matches!(y4.table, Table::Composition(_)));
+    let report = near_orders(&y4.table, &[6, 6, 6, 6, 6], None).unwrap();
+    assert_eq!(report.generalised_text(), "(4)");
+}
+
+/// Processing: a kernel `K = χ⁻¹ S χ` built from SABA₃ (`S`, order (6, 2))
+/// and an arbitrary processor `χ = D(1/5) K(1/7) D(−1/3)` has low orders of
+/// its own, and `χ K χ⁻¹ = S` has exactly SABA₃'s: the effective order is
+/// decided on the processed sequence.
+#[test]
+fn a_processor_gives_the_effective_order() {
+    use tableau::near_integrable::processed_orders;
+    let kernel = parse_table_file(
+        "kernel",
+        "name = \"K\"\nlet = { c1 = \"1/2 - sqrt(15)/10\", c2 = \"sqrt(15)/10\" }\n\
+         drift = [\"1/3\", \"c1 - 1/5\", \"c2\", \"c2\", \"c1 + 1/5\", \"-1/3\"]\n\
+         kick = [\"-1/7\", \"5/18\", \"4/9\", \"5/18\", \"1/7\"]\n",
+    )
+    .unwrap();
+    let chi = parse_table_file(
+        "chi",
+        "name = \"χ\"\ndrift = [\"1/5\", \"-1/3\"]\nkick = [\"1/7\"]\n",
+    )
+    .unwrap();
+    let degrees = [8, 4, 4];
+    let own = near_orders(&kernel.table, &degrees, None).unwrap();
+    assert!(own.parts[0].order < 6, "{}", own.generalised_text());
+    let effective = processed_orders(&kernel.table, &chi.table, &degrees, None).unwrap();
+    let saba3 = near_orders(&entry("saba3").table, &degrees, None).unwrap();
+    assert_eq!(effective.generalised_text(), "(6, 2)");
+    assert_eq!(effective.parts, saba3.parts);
+    // A processor of another form is refused.
+    let rk4 = tableau::catalogue::load("rk4").unwrap();
+    assert!(matches!(
+        processed_orders(&kernel.table, &rk4.table, &degrees, None),
+        Err(NearError::Form(_))
+    ));
+}
