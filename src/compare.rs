@@ -33,7 +33,7 @@ use compare::{Method, Problem, Setup};
 const HELP: &str = "\
 runs.csv columns (one row per run):
   problem            problem id
-  method             scheme id (symlab list), gaussN-propagator, or dop853
+  method             scheme id (symlab list), gaussN-propagator, dop853, or rebound:NAME
   order              classical order (8 for dop853)
   symplectic         symplectic for this problem (separable problems: for separable H)
   h                  step size (dop853, logh:ID, adaptive:ID: the average step T/steps)
@@ -75,6 +75,16 @@ mean step; on outer-solar it runs the --methods named (default wh:leapfrog, wh:k
 kahan-li8, stormer-verlet) at h = Jupiter's period / 20 over 10⁷ days (--quick: 10⁵);
 --hard writes hard.csv and hard.md.
 
+rebound:NAME[:KEY=VALUE...] in --methods (outer-solar, kepler, kepler-hard) runs REBOUND's
+integrator NAME through its Python package (not a dependency: `pip install rebound==5.2.2`;
+$SYMLAB_PYTHON names the interpreter, default python3), one process per run, from the same
+initial state; its rows are rebound:..., errors measured against the same reference, time that
+of sim.integrate. NAME: whfast (corrector=0|3|5|7|11|17, kernel=, coordinates=), whckl, whckm,
+whckc, whfast512 (AVX-512), saba1-4, sabacm1-4, sabacl1-4, saba-10-4, saba-8-6-4, saba-10-6-4,
+sabah-8-4-4, sabah-8-6-4, sabah-10-6-4, leapfrog (order=2|4|6|8), mercurius, ias15 and bs
+(tolerances swept). Without Python or rebound they are left out and the run says how to
+install it.
+
 --table FILE.toml (repeatable) adds a table file: its claims are verified exactly (a false
 claim or a malformed file: exit 2), then it is stepped by the run-time interpreter; its
 rows carry one more column, interpreted = true (errors and evaluations compare with
@@ -113,6 +123,8 @@ pub struct CompareArgs {
     problem_file: Option<PathBuf>,
     /// Comma-separated method ids (default: every method that applies):
     /// `symlab list` ids, gaussN-propagator (gyroscopic), dop853,
+    /// rebound:NAME (REBOUND through Python, e.g. rebound:whfast:corrector=11;
+    /// outer-solar, kepler, kepler-hard; see below),
     /// logh:ID (an explicit separable scheme on the logarithmic
     /// Hamiltonian), adaptive:ID and adaptive-implicit:ID (a symmetric
     /// scheme, explicit or implicit, under a reversible step-size controller
@@ -618,6 +630,10 @@ fn hard_methods<P: Problem>(
             Ok(Method::Fixed(f)) => out.push(f),
             Ok(Method::Dop853) => notes.push(format!(
                 "dop853 skipped on {name}: adaptive, it has no step size"
+            )),
+            Ok(Method::Rebound(r)) => notes.push(format!(
+                "{} skipped on {name}: REBOUND runs in the work-precision sweep only",
+                r.id
             )),
             Err(e) if args.methods.is_some() && !e.to_string().starts_with("unknown") => {
                 notes.push(format!("{id} skipped on {name}: {e}"))

@@ -12,6 +12,7 @@ use crate::error::{CompareError, Result};
 use crate::library::propagator_tables;
 use crate::method::{Fixed, Method};
 use crate::problem::{Defaults, Family, Problem, Setup};
+use crate::rebound::Bodies;
 use crate::stepper::PropagatorStepper;
 
 use std::f64::consts::PI;
@@ -137,6 +138,10 @@ impl Problem for Kepler {
     fn step_density(&self) -> Option<integrator_core::adaptive::DistancePower> {
         Some(integrator_core::adaptive::DistancePower::new(1.0))
     }
+    /// A massless body about a unit mass at rest, `G = 1`.
+    fn rebound_bodies(&self, z: &[f64]) -> Option<std::result::Result<Bodies, String>> {
+        Some(Bodies::planar_kepler(z))
+    }
 }
 
 /// The Sun and the five outer planets (HLW I.2.3), masses relative to the
@@ -184,6 +189,12 @@ impl Problem for OuterSolarSystem {
     }
     fn special_ids(&self) -> Vec<String> {
         crate::wisdom_holman::ids()
+    }
+    /// The six bodies in the same units and frame (not moved to the centre
+    /// of mass), velocities `p/m`.
+    fn rebound_bodies(&self, z: &[f64]) -> Option<std::result::Result<Bodies, String>> {
+        use integrator_core::problems::outer_solar::{G, MASSES, NAMES};
+        Some(Bodies::from_momenta(G, &NAMES, &MASSES, z))
     }
 }
 

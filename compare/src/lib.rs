@@ -20,6 +20,10 @@
 //!   [`long_variable::run`]: the same for the time-transformed and adaptive
 //!   methods next to DOP853 over 10⁴ orbits of Kepler e = 0.9 at equal work;
 //! * [`hard::run_case`]: the largest stable step by bisection;
+//! * `rebound:NAME` methods ([`rebound`]): REBOUND's integrators (WHFast,
+//!   its kernels and correctors, SABA, IAS15, …) through its Python package,
+//!   one process per run, beside ours in the same sweep on the problems that
+//!   are point masses (the outer solar system, Kepler);
 //! * [`peer_study::run`]: our schemes (fixed-step, time-transformed,
 //!   reversible adaptive) against DOP853 over 100 and 1000 Kepler orbits at
 //!   e = 0.6 and 0.9.
@@ -86,6 +90,7 @@ pub mod peer_study;
 pub mod plan;
 pub mod plot;
 mod problem;
+pub mod rebound;
 pub mod report;
 pub mod stepper;
 pub mod sweep;

@@ -84,7 +84,9 @@ pub fn pair_methods<P: Problem>(sys: &P) -> Result<Vec<Fixed<P>>> {
     ids.into_iter()
         .map(|id| match Method::by_id(id, sys)? {
             Method::Fixed(f) => Ok(f),
-            Method::Dop853 => Err(CompareError::method(id, "the pairs are fixed-step schemes")),
+            Method::Dop853 | Method::Rebound(_) => {
+                Err(CompareError::method(id, "the pairs are fixed-step schemes"))
+            }
         })
         .collect()
 }

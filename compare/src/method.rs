@@ -1,5 +1,5 @@
 //! The methods of a comparison: fixed-step schemes behind a [`Stepper`],
-//! and the adaptive peer DOP853.
+//! the adaptive peer DOP853, and REBOUND's integrators (`rebound:NAME`).
 //!
 //! A scheme enters by value ([`Method::scheme`]: any `butcher!` type, the
 //! user's or the library's), by id ([`Method::by_id`]: `symlab list`'s ids,
@@ -33,6 +33,10 @@ pub enum Method<P> {
     Fixed(Fixed<P>),
     /// DOP853 from ode_solvers (adaptive; tolerances are swept).
     Dop853,
+    /// A REBOUND integrator through its Python package
+    /// ([`rebound`](crate::rebound)): step counts or tolerances are swept,
+    /// one process per run.
+    Rebound(crate::rebound::ReboundMethod),
 }
 
 /// The symplecticity that matters for problems of type `P`: for separable
@@ -61,6 +65,7 @@ impl<P: Problem> Method<P> {
         match self {
             Method::Fixed(f) => &f.id,
             Method::Dop853 => "dop853",
+            Method::Rebound(r) => &r.id,
         }
     }
 
@@ -146,9 +151,10 @@ impl<P: Problem> Method<P> {
     }
 
     /// The method `id` for `sys`: the problem's own methods first, then the
-    /// scheme library, then `dop853`. The error says why not: an unknown id
-    /// (listing the valid ones), a scheme that cannot step this kind of
-    /// system, a propagator off the linear problem.
+    /// scheme library, then `dop853` and `rebound:NAME`. The error says why
+    /// not: an unknown id (listing the valid ones), a scheme that cannot step
+    /// this kind of system, a propagator off the linear problem, a REBOUND
+    /// method on a problem that is not point masses.
     pub fn by_id(id: &str, sys: &P) -> Result<Self> {
         if let Some(m) = sys.special_method(id) {
             return m;
@@ -166,6 +172,9 @@ impl<P: Problem> Method<P> {
         }
         if id == "dop853" {
             return Self::dop853();
+        }
+        if id.starts_with("rebound:") {
+            return crate::rebound::method(id, sys).map(Method::Rebound);
         }
         let problem = sys.name();
         if id.ends_with("-propagator") && crate::library::is_propagator(id) {
@@ -201,8 +210,13 @@ impl<P: Problem> Method<P> {
         Err(CompareError::method(
             id,
             format!(
-                "unknown method '{id}'; valid methods for {problem}: {}",
-                Self::ids(sys).join(", ")
+                "unknown method '{id}'; valid methods for {problem}: {}{}",
+                Self::ids(sys).join(", "),
+                if sys.rebound_bodies(&sys.start()).is_some() {
+                    "; and REBOUND's through Python, rebound:NAME (e.g. rebound:whfast)"
+                } else {
+                    ""
+                }
             ),
         ))
     }

@@ -364,6 +364,8 @@ pub fn read_runs(path: &Path) -> Result<Vec<Row>> {
         let method = at(1)?.to_string();
         let family = if method == "dop853" {
             Family::Peer
+        } else if crate::rebound::is_rebound(&method) {
+            Family::Rebound
         } else {
             match integrator_core::library::info(method.trim_end_matches("-propagator")) {
                 Some(i) if !i.explicit || method.ends_with("-propagator") => Family::Implicit,
@@ -441,8 +443,9 @@ fn series(rows: &[Row], x: impl Fn(&Row) -> f64, keep: impl Fn(&Row) -> bool) ->
 
 /// `error_vs_time.svg` and `error_vs_evals.svg` (all methods), and the same
 /// split by family (`…_explicit-rk.svg`, `…_splitting.svg`,
-/// `…_implicit.svg`; the peer is drawn in each), whose legends stay
-/// readable. Returns the files written.
+/// `…_implicit.svg`; the peer is drawn in each, REBOUND's integrators —
+/// splittings too — in the splitting plots), whose legends stay readable.
+/// Returns the files written.
 pub fn plots(dir: &Path, rows: &[Row], title: &str, evals_label: &str) -> Result<Vec<String>> {
     let mut written = Vec::new();
     for family in [
@@ -452,7 +455,13 @@ pub fn plots(dir: &Path, rows: &[Row], title: &str, evals_label: &str) -> Result
         Some(Family::Implicit),
     ] {
         let suffix = family.map_or(String::new(), |f| format!("_{}", f.name()));
-        let keep = |r: &Row| family.is_none_or(|f| r.family == f || r.family == Family::Peer);
+        let keep = |r: &Row| {
+            family.is_none_or(|f| {
+                r.family == f
+                    || r.family == Family::Peer
+                    || (f == Family::Splitting && r.family == Family::Rebound)
+            })
+        };
         if family.is_some() && !rows.iter().any(|r| family == Some(r.family)) {
             continue;
         }

@@ -102,6 +102,17 @@ pub trait Problem: OdeSystem + Clone + Send + Sync + Sized + 'static {
     fn step_density(&self) -> Option<integrator_core::adaptive::DistancePower> {
         None
     }
+    /// The problem as REBOUND's point masses from the state `z` (the
+    /// `rebound:` methods, [`rebound`](crate::rebound)); `None` (the
+    /// default): REBOUND cannot run it. An `Err` says why this state cannot
+    /// be given to it exactly.
+    fn rebound_bodies(
+        &self,
+        z: &[f64],
+    ) -> Option<std::result::Result<crate::rebound::Bodies, String>> {
+        let _ = z;
+        None
+    }
 }
 
 /// How the harness treats a problem type: the counting wrapper it runs the
@@ -377,6 +388,8 @@ pub enum Family {
     Splitting,
     Implicit,
     Peer,
+    /// REBOUND's integrators (`rebound:NAME`), run through its Python package.
+    Rebound,
 }
 
 impl Family {
@@ -386,6 +399,7 @@ impl Family {
             Family::Splitting => "splitting",
             Family::Implicit => "implicit",
             Family::Peer => "peer",
+            Family::Rebound => "rebound",
         }
     }
 }

@@ -6,6 +6,7 @@ use std::fmt::Write as _;
 
 use crate::format::{self, MISSING};
 use crate::output::{Reach, ladder, not_bracketed, reach, stats};
+use crate::rebound::is_rebound;
 use crate::sweep::Row;
 
 /// The method id of the peer.
@@ -193,9 +194,14 @@ impl Duel {
 /// undetermined; times within 10 % of each other are a tie.
 ///
 /// Interpreted methods (table files) take no part: their wall times are
-/// those of a loop over the table, not of generated code.
+/// those of a loop over the table, not of generated code. Nor do REBOUND's
+/// (see [`rebound_table`]).
 pub fn duel(rows: &[Row], target: f64) -> Option<Duel> {
-    let generated: Vec<Row> = rows.iter().filter(|r| !r.interpreted).cloned().collect();
+    let generated: Vec<Row> = rows
+        .iter()
+        .filter(|r| !r.interpreted && !is_rebound(&r.method))
+        .cloned()
+        .collect();
     let all = reach(&generated, target);
     let ours = all.iter().find(|r| r.method != PEER).cloned();
     let peer = all.iter().find(|r| r.method == PEER).cloned();
@@ -374,6 +380,96 @@ pub fn peer_section(rows: &[Row]) -> Option<String> {
     }
     let _ = writeln!(s);
     s.push_str(&verdict(&duels, rows));
+    Some(s)
+}
+
+/// Our fastest method, REBOUND's fastest without WHFast512, and WHFast512's
+/// fastest at `target` (each `None` when it does not reach it). Ours are
+/// the generated schemes (not interpreted tables, not DOP853).
+pub fn rebound_fastest(rows: &[Row], target: f64) -> (Option<Reach>, Option<Reach>, Option<Reach>) {
+    let all = reach(rows, target);
+    let interpreted = |m: &str| rows.iter().any(|r| r.method == m && r.interpreted);
+    let w512 = |m: &str| m.starts_with("rebound:whfast512");
+    let ours = all
+        .iter()
+        .find(|r| !is_rebound(&r.method) && r.method != PEER && !interpreted(&r.method))
+        .cloned();
+    let theirs = all
+        .iter()
+        .find(|r| is_rebound(&r.method) && !w512(&r.method))
+        .cloned();
+    let avx = all.iter().find(|r| w512(&r.method)).cloned();
+    (ours, theirs, avx)
+}
+
+/// `ours / theirs` when both times are interpolated (not upper bounds).
+fn time_ratio(ours: &Option<Reach>, theirs: &Option<Reach>) -> String {
+    match (ours, theirs) {
+        (Some(o), Some(t)) if !o.upper_bound && !t.upper_bound => {
+            format::ratio(o.time_s / t.time_s)
+        }
+        _ => MISSING.to_string(),
+    }
+}
+
+/// Our fastest method against REBOUND's at each decade 1e-2 … 1e-12 that
+/// any side reaches: the issue's table, as plain text for the terminal and
+/// Markdown for `report.md`. `ours / REBOUND` below 1: ours is faster.
+pub fn rebound_table(rows: &[Row], version: &str) -> String {
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "\nREBOUND {version} against our fastest method (time to each relative error, interpolated; ≤: an upper bound):\n"
+    );
+    let _ = writeln!(
+        s,
+        "| error | our fastest | ours (ms) | REBOUND's fastest, no AVX-512 | REBOUND (ms) | ours / REBOUND | WHFast512 | WHFast512 (ms) | ours / WHFast512 |"
+    );
+    let _ = writeln!(s, "|---:|---|---:|---|---:|---:|---|---:|---:|");
+    let name = |r: &Option<Reach>| r.as_ref().map_or(MISSING.to_string(), |r| r.method.clone());
+    let mut any = false;
+    for k in 2..=12 {
+        let target = 10f64.powi(-k);
+        let (ours, theirs, avx) = rebound_fastest(rows, target);
+        if ours.is_none() && theirs.is_none() && avx.is_none() {
+            continue;
+        }
+        any = true;
+        let _ = writeln!(
+            s,
+            "| {target:.0e} | {} | {} | {} | {} | {} | {} | {} | {} |",
+            name(&ours),
+            time_cell(ours.as_ref()),
+            name(&theirs),
+            time_cell(theirs.as_ref()),
+            time_ratio(&ours, &theirs),
+            name(&avx),
+            time_cell(avx.as_ref()),
+            time_ratio(&ours, &avx),
+        );
+    }
+    if !any {
+        let _ = writeln!(s, "No method reaches 1e-2 within the sweep.");
+    }
+    s
+}
+
+/// The REBOUND section of `report.md`; `None` without successful REBOUND
+/// runs.
+pub fn rebound_section(rows: &[Row], version: &str) -> Option<String> {
+    if !rows.iter().any(|r| is_rebound(&r.method) && r.ok()) {
+        return None;
+    }
+    let mut s = String::from("## REBOUND against our fastest method\n\n");
+    let _ = writeln!(
+        s,
+        "REBOUND {version} ran through its Python package (compare/peers/rebound_peer.py), one process per \
+         run, from our initial state bit for bit (hexadecimal floats both ways); its final state was measured \
+         here against the same reference. Its time is the median of the timed `sim.integrate` calls after a \
+         warm-up, measured inside Python: building the simulation is not counted, as building our state is \
+         not. WHFast512 (AVX-512) has a column of its own."
+    );
+    s.push_str(&rebound_table(rows, version));
     Some(s)
 }
 

@@ -131,13 +131,20 @@ pub struct WorkPrecision {
     /// right-hand sides.
     pub separable: bool,
     pub rows: Vec<Row>,
+    /// The REBOUND release that ran the `rebound:` methods, if any ran.
+    pub rebound: Option<String>,
+    /// What the sweep left out and why (REBOUND not installed, WHFast512
+    /// without AVX-512), with how to fix it; printed with the summary.
+    pub notes: Vec<String>,
 }
 
 /// Run every method over the sweep (see [`sweep::sweep`]: an observed run,
 /// then a warm-up and `repeats` timed runs, strictly one at a time). A run
 /// that diverges or whose stage solver fails is a row with that status;
 /// the result is an error only for settings out of range or an empty list
-/// of methods.
+/// of methods. REBOUND's methods are probed first: where Python, the
+/// `rebound` package or AVX-512 (WHFast512) is missing they are left out,
+/// and [`WorkPrecision::notes`] says so and how to install REBOUND.
 pub fn work_precision<P: Problem>(
     setup: &Setup<P>,
     methods: &[Method<P>],
@@ -170,9 +177,17 @@ pub fn work_precision<P: Problem>(
             ),
         ));
     }
-    let rows = sweep::sweep(
+    let rebound = crate::rebound::availability(methods.iter().filter_map(|m| match m {
+        Method::Rebound(r) => Some(r),
+        _ => None,
+    }));
+    let run: Vec<&Method<P>> = methods
+        .iter()
+        .filter(|m| !rebound.left_out.iter().any(|id| id == m.id()))
+        .collect();
+    let rows = sweep::sweep_each(
         setup,
-        methods,
+        run.iter().copied(),
         &steps,
         &settings.tolerances,
         settings.repeats,
@@ -192,8 +207,12 @@ pub fn work_precision<P: Problem>(
         run_length,
         settings: settings.clone(),
         steps,
-        methods: methods.iter().map(|m| m.id().to_string()).collect(),
+        methods: run.iter().map(|m| m.id().to_string()).collect(),
         separable: <P::Kind as Kind<P>>::SEPARABLE,
+        rebound: rebound
+            .version
+            .filter(|_| rows.iter().any(|r| crate::rebound::is_rebound(&r.method))),
+        notes: rebound.notes,
         rows,
     })
 }
@@ -202,7 +221,12 @@ impl WorkPrecision {
     /// The head of `report.md`: the problem, the run length, the sweep.
     fn report_head(&self) -> Vec<String> {
         let peer = self.methods.iter().any(|m| m == report::PEER);
-        let fixed = self.methods.len() - usize::from(peer);
+        let rebound = self
+            .methods
+            .iter()
+            .filter(|m| crate::rebound::is_rebound(m))
+            .count();
+        let fixed = self.methods.len() - usize::from(peer) - rebound;
         let first = self.steps[0];
         let last = *self.steps.last().expect("at least one step count");
         let mut head = vec![
@@ -227,6 +251,16 @@ impl WorkPrecision {
                 tols.last().expect("not empty")
             ));
         }
+        if let Some(version) = &self.rebound {
+            head.push(format!(
+                "REBOUND {version} (its Python package, through compare/peers/rebound_peer.py): {rebound} \
+                 method(s), rows `rebound:…`, from our initial state bit for bit, one process per run, only \
+                 `sim.integrate` timed; errors measured here against the same reference"
+            ));
+        }
+        for note in &self.notes {
+            head.push(format!("Left out: {note}"));
+        }
         head.push(format!(
             "Timing: median of {} timed run(s) after one warm-up, one run at a time; {}",
             self.settings.repeats,
@@ -240,22 +274,38 @@ impl WorkPrecision {
         head
     }
 
-    /// `report.md` (see [`report::sweep_report`]).
+    /// `report.md` (see [`report::sweep_report`]), with the REBOUND section
+    /// when REBOUND ran.
     pub fn report(&self) -> String {
-        report::sweep_report(
+        let mut s = report::sweep_report(
             &format!("Work–precision sweep: {}", self.description),
             &self.report_head(),
             &self.rows,
             self.settings.target,
             &self.run_length,
-        )
+        );
+        if let Some(version) = &self.rebound
+            && let Some(section) = report::rebound_section(&self.rows, version)
+        {
+            s.push('\n');
+            s.push_str(&section);
+        }
+        s
     }
 
-    /// The printed summary and time-to-target table.
+    /// The printed summary and time-to-target table, REBOUND against our
+    /// fastest when REBOUND ran, and the notes on what was left out.
     pub fn summary(&self) -> String {
         let what = format!("{}, T = {:.4}", self.description, self.t_end);
-        output::summary(&self.rows, self.settings.target)
-            + &output::time_to_error_table(&self.rows, self.settings.target, &what)
+        let mut s = output::summary(&self.rows, self.settings.target)
+            + &output::time_to_error_table(&self.rows, self.settings.target, &what);
+        if let Some(version) = &self.rebound {
+            s += &report::rebound_table(&self.rows, version);
+        }
+        for note in &self.notes {
+            s += &format!("note: {note}\n");
+        }
+        s
     }
 
     /// `runs.csv`, the plots (when some run succeeded) and `report.md` in

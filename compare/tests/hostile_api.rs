@@ -26,7 +26,7 @@ fn setting(e: CompareError) -> (&'static str, String) {
 fn fixed(id: &str, sys: &Kepler) -> compare::Fixed<Kepler> {
     match Method::by_id(id, sys).unwrap() {
         Method::Fixed(f) => f,
-        Method::Dop853 => unreachable!(),
+        Method::Dop853 | Method::Rebound(_) => unreachable!(),
     }
 }
 

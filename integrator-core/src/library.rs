@@ -131,6 +131,25 @@ macro_rules! __scheme_list {
                 "kahan-li8" => KahanLi8,
                 "mclachlan8" => McLachlan8,
                 "sofroniou-spaletta10" => SofroniouSpaletta10,
+                /// Laskar–Robutel SABA₁–₄ and SBAB₁–₄ for `H = A + εB`,
+                /// generalised orders proven exactly at compile time.
+                "saba1" => Saba1,
+                "saba2" => Saba2,
+                "saba3" => Saba3,
+                "saba4" => Saba4,
+                "sbab1" => Sbab1,
+                "sbab2" => Sbab2,
+                "sbab3" => Sbab3,
+                "sbab4" => Sbab4,
+                /// Blanes–Casas–Farrés–Laskar–Makazaga–Murua (2013) ABA and
+                /// ABAH families, generalised orders proven within their
+                /// stated residual bounds.
+                "aba-10-4" => Aba104,
+                "aba-8-6-4" => Aba864,
+                "aba-10-6-4" => Aba1064,
+                "abah-8-4-4" => Abah844,
+                "abah-8-6-4" => Abah864,
+                "abah-10-6-4" => Abah1064,
             ],
             implicit_pairs: [
                 "lobatto3a3b-3" => LobattoIIIAIIIB3,

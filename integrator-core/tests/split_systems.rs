@@ -117,6 +117,11 @@ macro_rules! splittings {
             $run::<Yoshida6>($($arg),*), $run::<KahanLi6>($($arg),*),
             $run::<McLachlanSS9>($($arg),*), $run::<KahanLi8>($($arg),*),
             $run::<McLachlan8>($($arg),*), $run::<SofroniouSpaletta10>($($arg),*),
+            $run::<Saba1>($($arg),*), $run::<Saba2>($($arg),*), $run::<Saba3>($($arg),*),
+            $run::<Saba4>($($arg),*), $run::<Sbab1>($($arg),*), $run::<Sbab2>($($arg),*),
+            $run::<Sbab3>($($arg),*), $run::<Sbab4>($($arg),*), $run::<Aba104>($($arg),*),
+            $run::<Aba864>($($arg),*), $run::<Aba1064>($($arg),*), $run::<Abah844>($($arg),*),
+            $run::<Abah864>($($arg),*), $run::<Abah1064>($($arg),*),
         ]
     };
 }
