@@ -533,7 +533,9 @@ fn long_outer_solar(args: &CompareArgs) -> Result<()> {
             .with_context(|| format!("--methods {id}"))?
         {
             Method::Fixed(f) => methods.push(f),
-            Method::Dop853 => bail!("--methods {id}: --long runs fixed-step methods"),
+            Method::Dop853 | Method::Rebound(_) => {
+                bail!("--methods {id}: --long runs this library's fixed-step methods")
+            }
         }
     }
     let runs = compare::long::run(&setup, &methods, settings)?;
