@@ -239,7 +239,7 @@ fn add_scaled(d: &mut [f64], e: &mut [f64], h: f64, s: &[f64], compensated: bool
         }
     } else {
         for i in 0..n {
-            d[i] = d[i] + h * s[i];
+            d[i] += h * s[i];
         }
     }
 }
