@@ -17,9 +17,10 @@
 //! ```
 //!
 //! one equation for every conic, monotone in `s`. Its root is found by
-//! Halley's method from a starter (a second-order series in `h` for short
-//! steps; Kepler's equation in the eccentric or hyperbolic anomaly with
-//! Danby's starter for long ones) inside a bracket that every iterate
+//! Halley's method from a starter (a fourth-order series in `h` for short
+//! steps, close enough that the first Halley step usually ends the solve;
+//! Kepler's equation in the eccentric or hyperbolic anomaly with Danby's
+//! starter for long ones) inside a bracket that every iterate
 //! tightens; a Halley step that leaves the bracket is replaced by
 //! bisection, so the solve cannot wander or cycle. It stops when the
 //! correction is below [`KeplerSolver::tolerance`]·|s|, or when `|F(s)|`
@@ -29,7 +30,10 @@
 //! neither within [`KeplerSolver::max_iterations`] is a
 //! [`KeplerError::NotConverged`] with the iteration count and residual.
 //!
-//! For a bound orbit (`β > 0`), `h` is first reduced by whole periods
+//! A short step (`|βh²/r₀²|`, `|η₀h/2r₀²|` and `GM h²/r₀³` all below ½) is
+//! well under a period: its root has the sign of `h`, the initial bracket
+//! is `(0, ±∞)`. Otherwise,
+//! for a bound orbit (`β > 0`), `h` is first reduced by whole periods
 //! `P = 2πGM/β^{3/2}` (towards zero, so the reduction is odd in `h`); the
 //! root then lies in `|s| < 2π/√β` (less than one turn of the eccentric
 //! anomaly), the initial bracket. For `β ≤ 0` the bracket is grown by
@@ -130,9 +134,11 @@ impl KeplerSolver {
         let eta = x[0] * v[0] + x[1] * v[1] + x[2] * v[2];
         let beta = 2.0 * gm / r0 - v2;
         let zeta = gm - beta * r0;
+        let ir0 = 1.0 / r0;
         let orbit = Orbit {
             gm,
             r0,
+            ir0,
             eta,
             beta,
             zeta,
@@ -168,7 +174,19 @@ impl KeplerSolver {
         // The bracket [lo, hi] of the root; F(lo) ≤ 0 ≤ F(hi).
         let (mut lo, mut hi);
         let mut s;
-        if o.beta > 0.0 {
+        if let Some(guess) = o.series_guess(h) {
+            // A short step (the Wisdom–Holman regime): well under a period,
+            // so no reduction, and the root has the sign of h (F is
+            // increasing, F(0) = −h). The series is close enough that the
+            // first Halley step usually ends the solve; the half-open
+            // bracket still catches an iterate that strays.
+            (lo, hi) = if h >= 0.0 {
+                (0.0, f64::INFINITY)
+            } else {
+                (f64::NEG_INFINITY, 0.0)
+            };
+            s = guess;
+        } else if o.beta > 0.0 {
             let sb = o.beta.sqrt();
             let period = 2.0 * PI * o.gm / (o.beta * sb);
             if ht.abs() >= period {
@@ -267,6 +285,12 @@ impl KeplerSolver {
     }
 }
 
+/// The bound on `|βh²/r₀²|`, `|η₀h/2r₀²|` and `GM h²/r₀³` below which a
+/// step is short: there the fourth-order series of `s(h)`
+/// ([`Orbit::series_guess`]) is off by at most a few per cent, from which
+/// Halley's method converges at once, and the step is well under a period.
+const SHORT_STEP: f64 = 0.5;
+
 impl Default for KeplerSolver {
     fn default() -> Self {
         Self {
@@ -291,6 +315,8 @@ pub fn drift(gm: f64, h: f64, x: &mut [f64; 3], v: &mut [f64; 3]) -> Result<(), 
 struct Orbit {
     gm: f64,
     r0: f64,
+    /// `1/r₀`, formed once.
+    ir0: f64,
     eta: f64,
     beta: f64,
     zeta: f64,
@@ -337,6 +363,30 @@ impl Orbit {
         let n0 = g0 + d * b * g1 - e * b * g0;
         let r = self.r0 + self.eta * n1 + self.zeta * n2;
         (s - d, [n0, n1, n2, n3, h], r)
+    }
+
+    /// The series of the root `s(h)` to fourth order in `u = h/r₀`: with
+    /// `F(s)/r₀ = s + p s² + q s³ + t s⁴ + …` (`p = η₀/2r₀`, `q = ζ₀/6r₀`,
+    /// `t = −βη₀/24r₀`),
+    /// `s = u − p u² + (2p² − q) u³ + (5p(q − p²) − t) u⁴`.
+    /// `None` where the step is not short (see [`SHORT_STEP`]).
+    #[inline]
+    fn series_guess(&self, h: f64) -> Option<f64> {
+        let ir0 = self.ir0;
+        let u = h * ir0;
+        let p = 0.5 * self.eta * ir0;
+        let pu = p * u;
+        let bu2 = self.beta * u * u;
+        let short =
+            pu.abs() < SHORT_STEP && bu2.abs() < SHORT_STEP && self.gm * u * u * ir0 < SHORT_STEP;
+        if !short {
+            return None;
+        }
+        let q = self.zeta * ir0 * (1.0 / 6.0);
+        let t = -self.beta * self.eta * ir0 * (1.0 / 24.0);
+        let c3 = 2.0 * p * p - q;
+        let c4 = 5.0 * p * (q - p * p) - t;
+        Some(u * (1.0 + u * (-p + u * (c3 + u * c4))))
     }
 
     /// `s ≈ h/r₀ − η₀h²/(2r₀³)` (the series of `s(h)` to second order),
