@@ -5,8 +5,8 @@
 //! splitting by name.
 
 use compare::builtin;
-use integrator_core::problems::OuterSolarSystem;
 use compare::{Method, Setup};
+use integrator_core::problems::OuterSolarSystem;
 
 /// The error at `t_end` and the evaluations of `n` steps of `id`.
 fn run(setup: &Setup<OuterSolarSystem>, id: &str, n: usize) -> (f64, u64) {

@@ -25,9 +25,9 @@ use anyhow::{Context, Result, anyhow, bail};
 use clap::Args;
 use cloth::scene::GridError;
 use cloth::schedule::{Asked, RunRequest, schedule};
-use cloth::study::stability::{StabilityError, StabilitySettings};
 use cloth::study::energy::{reference_energy, relative_errors};
 use cloth::study::growth::Growth;
+use cloth::study::stability::{StabilityError, StabilitySettings};
 use cloth::{
     EnergyGuard, FrameStats, Method, MinimiseSettings, RunError, RunOptions, RunReport,
     RunSettings, Scene, Simulation, Solver, Vec3,
