@@ -587,7 +587,7 @@ fn long_runs(args: &CompareArgs) -> Result<()> {
         Builtin::Kepler | Builtin::Oscillator | Builtin::HenonHeiles
     ) {
         bail!(
-            "--long runs on kepler, kepler-hard, oscillator, henon-heiles or outer-solar, not on {}",
+            "--long runs on kepler, kepler-hard, oscillator or henon-heiles (and on outer-solar, with the methods named), not on {}",
             problem.name()
         );
     }

@@ -54,6 +54,8 @@ macro_rules! steppable {
             McLachlan4, Pefrl, McLachlanS5, BlanesMoanPrk6, BlanesMoanPrk10,
             BlanesMoanSrkn6b, BlanesMoanSrkn11b, BlanesMoanSrkn14a,
             Yoshida4, Yoshida6, KahanLi6, McLachlanSS9, KahanLi8, McLachlan8, SofroniouSpaletta10,
+            Saba1, Saba2, Saba3, Saba4, Sbab1, Sbab2, Sbab3, Sbab4,
+            Aba104, Aba864, Aba1064, Abah844, Abah864, Abah1064,
         )
     };
 }

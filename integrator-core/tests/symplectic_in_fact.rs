@@ -73,6 +73,20 @@ fn symplectic() -> Vec<(Info, StepFn)> {
         KahanLi8,
         McLachlan8,
         SofroniouSpaletta10,
+        Saba1,
+        Saba2,
+        Saba3,
+        Saba4,
+        Sbab1,
+        Sbab2,
+        Sbab3,
+        Sbab4,
+        Aba104,
+        Aba864,
+        Aba1064,
+        Abah844,
+        Abah864,
+        Abah1064,
     )
 }
 
