@@ -33,7 +33,7 @@ pub const DEFAULT_TARGET: f64 = 1e-8;
 
 /// What a caller asked for; `None` takes the problem's default (or the
 /// quick sweep's). The names are how messages call each value.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, Default)]
 pub struct SweepRequest {
     pub t_end: Option<f64>,
     pub h_min: Option<f64>,
@@ -48,22 +48,6 @@ pub struct SweepRequest {
     /// these are not moved to fit a short end time, and a contradiction
     /// with a given value names both.
     pub from_file: FromFile,
-}
-
-impl Default for SweepRequest {
-    fn default() -> Self {
-        SweepRequest {
-            t_end: None,
-            h_min: None,
-            h_max: None,
-            points: None,
-            repeats: None,
-            target: None,
-            quick: false,
-            names: Names::default(),
-            from_file: FromFile::default(),
-        }
-    }
 }
 
 /// How messages name the values a caller gives.
