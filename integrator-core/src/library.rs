@@ -43,7 +43,9 @@
 //!   separable ones where the pair is symplectic only for those).
 
 use crate::butcher;
-use crate::scheme::{Info, Scheme};
+use crate::scheme::{Info, Scheme, Step};
+use crate::split::Split;
+use crate::system::Separable;
 
 /// The library, written once: `"id" => Type` per scheme, in five groups
 /// (see the [module documentation](self)), each entry with the doc comment
@@ -245,3 +247,62 @@ crate::__scheme_list! { [declare_library] }
 pub fn info(id: &str) -> Option<&'static Info> {
     REGISTRY.iter().find(|(k, _)| *k == id).map(|(_, i)| i)
 }
+
+/// What to do with each library scheme of a kind: a generic method called
+/// once per scheme type, in the list's order, by
+/// [`each_explicit_on_separable`] and [`each_splitting`]. This is how a test
+/// or a study runs "every library scheme that steps my system" with no
+/// list of its own, so adding a table to the library stays one line in
+/// [`__scheme_list!`](crate::__scheme_list).
+///
+/// ```
+/// use integrator_core::library::{SchemeVisitor, each_splitting};
+/// use integrator_core::problems::Kepler;
+/// use integrator_core::{Scheme, Step};
+///
+/// struct Names(Vec<&'static str>);
+/// impl<S: ?Sized> SchemeVisitor<S> for Names {
+///     fn visit<M: Scheme + Step<S> + Default>(&mut self) {
+///         self.0.push(M::INFO.name);
+///     }
+/// }
+/// let mut names = Names(Vec::new());
+/// each_splitting::<Kepler, _>(&mut names);
+/// assert!(names.0.len() > 20);
+/// ```
+pub trait SchemeVisitor<S: ?Sized> {
+    /// Called with one scheme type `M`.
+    fn visit<M: Scheme + Step<S> + Default>(&mut self);
+}
+
+/// Visits and the scheme groups they cover, from the list.
+macro_rules! declare_visits {
+    (
+        explicit_rk: [$($(#[$($ea:tt)*])* $e_id:literal => $e_ty:ident),* $(,)?],
+        implicit_rk: [$($(#[$($ia:tt)*])* $i_id:literal => $i_ty:ident),* $(,)?],
+        explicit_pairs: [$($(#[$($xa:tt)*])* $x_id:literal => $x_ty:ident),* $(,)?],
+        splittings: [$($(#[$($sa:tt)*])* $s_id:literal => $s_ty:ident),* $(,)?],
+        implicit_pairs: [$($(#[$($pa:tt)*])* $p_id:literal => $p_ty:ident),* $(,)?] $(,)?
+    ) => {
+        /// Calls `visitor.visit::<M>()` for every library scheme that steps
+        /// a separable system with explicit code: the explicit Runge–Kutta
+        /// tables, the explicit partitioned pairs and the splittings, in the
+        /// list's order.
+        pub fn each_explicit_on_separable<S: Separable + ?Sized, V: SchemeVisitor<S>>(
+            visitor: &mut V,
+        ) {
+            $(visitor.visit::<$e_ty>();)*
+            $(visitor.visit::<$x_ty>();)*
+            $(visitor.visit::<$s_ty>();)*
+        }
+
+        /// Calls `visitor.visit::<M>()` for every drift–kick sequence and
+        /// composition of the library (the `splittings` group), which step
+        /// every [`Split`] system.
+        pub fn each_splitting<S: Split + ?Sized, V: SchemeVisitor<S>>(visitor: &mut V) {
+            $(visitor.visit::<$s_ty>();)*
+        }
+    };
+}
+
+crate::__scheme_list! { [declare_visits] }

@@ -38,7 +38,7 @@
 
 use integrator_core::library::*;
 use integrator_core::problems::{Kepler, QuarticPendulum};
-use integrator_core::{Info, OdeSystem, Scheme, Step, integrate};
+use integrator_core::{Info, OdeSystem, Scheme, Separable, Step, integrate};
 
 /// Integrates `n` steps of size `h` in place; `false` if the run diverged.
 type Run<S> = fn(&S, &mut [f64], f64, usize) -> bool;
@@ -47,31 +47,19 @@ fn run<M: Scheme + Step<S>, S: OdeSystem>(sys: &S, z: &mut [f64], h: f64, n: usi
     integrate(&M::default(), sys, z, 0.0, h, n, |_, _, _| {}).is_ok()
 }
 
-/// `(INFO, run)` for each listed scheme on the system type `S`.
-macro_rules! schemes {
-    ($S:ty; $($m:ident),* $(,)?) => {
-        vec![$((<$m as Scheme>::INFO, run::<$m, $S> as Run<$S>)),*]
-    };
-}
-
-/// Every scheme of the library that steps separable systems: the explicit
+/// Every scheme of the library that steps separable systems (the explicit
 /// Runge–Kutta tables, the explicit pairs, the drift–kick sequences and the
-/// compositions. `every_steppable_scheme_is_listed` checks this against the
-/// registry.
-macro_rules! steppable {
-    ($S:ty) => {
-        schemes!($S;
-            ExplicitEuler, Heun, Rk4, Rk38, LobattoIIICStar2,
-            SymplecticEulerA, SymplecticEulerB, StormerVerlet,
-            Leapfrog, Ruth3, ForestRuth, CandyRozmus4,
-            McLachlanAtela2, McLachlanAtela3, McLachlanAtela4, McLachlanAtela5, CalvoSanzSerna4,
-            McLachlan4, Pefrl, McLachlanS5, BlanesMoanPrk6, BlanesMoanPrk10,
-            BlanesMoanSrkn6b, BlanesMoanSrkn11b, BlanesMoanSrkn14a,
-            Yoshida4, Yoshida6, KahanLi6, McLachlanSS9, KahanLi8, McLachlan8, SofroniouSpaletta10,
-            Saba1, Saba2, Saba3, Saba4, Sbab1, Sbab2, Sbab3, Sbab4,
-            Aba104, Aba864, Aba1064, Abah844, Abah864, Abah1064,
-        )
-    };
+/// compositions) with its run on `S`, from the library's one list.
+fn steppable<S: Separable>() -> Vec<(Info, Run<S>)> {
+    struct Collect<S>(Vec<(Info, Run<S>)>);
+    impl<S: Separable> SchemeVisitor<S> for Collect<S> {
+        fn visit<M: Scheme + Step<S> + Default>(&mut self) {
+            self.0.push((M::INFO, run::<M, S>));
+        }
+    }
+    let mut all = Collect(Vec::new());
+    each_explicit_on_separable(&mut all);
+    all.0
 }
 
 /// The order on Runge–Kutta–Nyström systems (`T` quadratic, as for Kepler)
@@ -235,7 +223,7 @@ fn check_points(id: &str, m: &Measured) {
 
 #[test]
 fn every_steppable_scheme_is_listed() {
-    let listed: Vec<Info> = steppable!(Kepler).into_iter().map(|(i, _)| i).collect();
+    let listed: Vec<Info> = steppable::<Kepler>().into_iter().map(|(i, _)| i).collect();
     for (id, info) in REGISTRY {
         // Explicit schemes step; implicit ones do not implement Step yet.
         assert_eq!(
@@ -262,7 +250,7 @@ fn order_on_kepler() {
         &z0,
         t_end,
         &exact,
-        steppable!(Kepler),
+        steppable::<Kepler>(),
     );
     assert_eq!(
         ["mclachlan-atela4", "mclachlan-atela5", "calvo-sanz-serna4"].map(rkn_order),
@@ -335,7 +323,7 @@ fn order_with_quartic_kinetic_energy() {
         &z0,
         t_end,
         &exact,
-        steppable!(QuarticPendulum),
+        steppable::<QuarticPendulum>(),
     );
     let mut failures = Vec::new();
     for (id, info, m) in &results {

@@ -42,57 +42,33 @@ macro_rules! schemes {
     };
 }
 
+/// Every library scheme that steps separable systems with explicit code,
+/// from the library's one list.
+fn steppable() -> Vec<(Info, StepFn)> {
+    struct Collect(Vec<(Info, StepFn)>);
+    impl SchemeVisitor<RandomSeparable> for Collect {
+        fn visit<M: Scheme + Step<RandomSeparable> + Default>(&mut self) {
+            self.0.push((M::INFO, one_step::<M>));
+        }
+    }
+    let mut all = Collect(Vec::new());
+    each_explicit_on_separable(&mut all);
+    all.0
+}
+
 /// The schemes verified symplectic for separable systems that step them:
 /// explicit pairs, drift–kick sequences and compositions.
 fn symplectic() -> Vec<(Info, StepFn)> {
-    schemes!(
-        SymplecticEulerA,
-        SymplecticEulerB,
-        StormerVerlet,
-        Leapfrog,
-        Ruth3,
-        ForestRuth,
-        CandyRozmus4,
-        McLachlanAtela2,
-        McLachlanAtela3,
-        McLachlanAtela4,
-        McLachlanAtela5,
-        CalvoSanzSerna4,
-        McLachlan4,
-        Pefrl,
-        McLachlanS5,
-        BlanesMoanPrk6,
-        BlanesMoanPrk10,
-        BlanesMoanSrkn6b,
-        BlanesMoanSrkn11b,
-        BlanesMoanSrkn14a,
-        Yoshida4,
-        Yoshida6,
-        KahanLi6,
-        McLachlanSS9,
-        KahanLi8,
-        McLachlan8,
-        SofroniouSpaletta10,
-        Saba1,
-        Saba2,
-        Saba3,
-        Saba4,
-        Sbab1,
-        Sbab2,
-        Sbab3,
-        Sbab4,
-        Aba104,
-        Aba864,
-        Aba1064,
-        Abah844,
-        Abah864,
-        Abah1064,
-    )
+    let mut sym = steppable();
+    sym.retain(|(info, _)| info.symplectic_separable);
+    sym
 }
 
 /// The explicit Runge–Kutta baselines (not symplectic).
 fn baselines() -> Vec<(Info, StepFn)> {
-    schemes!(ExplicitEuler, Heun, Rk4, Rk38, LobattoIIICStar2)
+    let mut base = steppable();
+    base.retain(|(info, _)| !info.symplectic_separable);
+    base
 }
 
 const TOL: f64 = 1e-11;
