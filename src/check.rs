@@ -656,13 +656,15 @@ pub fn list(args: &ListArgs) -> Result<ExitCode> {
 
 /// What the library scheme of this id steps, as its `Step` impls say: `any
 /// ODE` (Runge–Kutta tables, explicit ones unrolled, implicit ones through
-/// the stage solver: any `OdeSystem`), `separable H` (drift–kick sequences,
-/// compositions, explicit pairs and pairs symplectic only for separable H:
-/// `Separable` systems), `any H` (implicit pairs symplectic for every H:
-/// any `Hamiltonian`), `-` (not in the library).
+/// the stage solver: any `OdeSystem`), `split H` (drift–kick sequences and
+/// compositions: any `Split` system, the exact flows of two parts, separable
+/// H among them), `separable H` (explicit pairs and pairs symplectic only for
+/// separable H: `Separable` systems), `any H` (implicit pairs symplectic for
+/// every H: any `Hamiltonian`), `-` (not in the library).
 pub fn steps(id: &str) -> &'static str {
     match integrator_core::library::info(id) {
         Some(i) if i.form == "rk" => "any ODE",
+        Some(i) if i.form == "drift-kick" || i.form == "composition" => "split H",
         Some(i) if i.separable_only || i.explicit => "separable H",
         Some(_) => "any H",
         None => "-",

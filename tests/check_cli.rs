@@ -376,7 +376,8 @@ fn mismatched_pair_blames_a_hat() {
 
 /// `symlab list` says what each library scheme steps, as the library's own
 /// facts say: never "not yet" (every scheme steps), Runge–Kutta tables any
-/// ODE (implicit ones through the stage solver), pairs and splittings
+/// ODE (implicit ones through the stage solver), drift–kick sequences and
+/// compositions any split system (two parts with exact flows), pairs
 /// separable Hamiltonians unless they are implicit pairs symplectic for every
 /// Hamiltonian.
 #[test]
@@ -392,6 +393,7 @@ fn list_agrees_with_the_library_about_what_steps() {
             .unwrap_or_else(|| panic!("{id} is listed but not in the library"));
         let expected = match (info.form, info.explicit, info.separable_only) {
             ("rk", _, _) => "any ODE",
+            ("drift-kick" | "composition", _, _) => "split H",
             (_, true, _) | (_, _, true) => "separable H",
             _ => "any H",
         };
