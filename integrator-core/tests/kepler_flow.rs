@@ -15,7 +15,7 @@
 mod double_double;
 
 use double_double::Dd;
-use integrator_core::kepler::{KeplerError, KeplerSolver, drift};
+use integrator_core::kepler::{KeplerError, KeplerSolver, LANES, drift};
 use std::f64::consts::PI;
 
 const EPS: f64 = f64::EPSILON;
@@ -576,4 +576,121 @@ fn a_million_orbits() {
                 .all(|x| x.is_finite() && *x < 1e-3)
         );
     }
+}
+
+#[test]
+fn lanes_give_the_scalar_drift_bit_for_bit() {
+    // Every orbit of the accuracy grid and the hyperbolae, four at a time
+    // in mixed groups (different GM, e and phase side by side), at steps
+    // from 10⁻⁵ of a period (the one-evaluation path in every lane, with
+    // 5, 7 or 10 Stumpff terms) to several periods (the scalar fallback),
+    // both ways; and groups of fewer than LANES orbits.
+    let solver = KeplerSolver::default();
+    let mut orbits: Vec<(f64, [f64; 3], [f64; 3], f64)> = Vec::new(); // (gm, x, v, period or 1/n)
+    for c in bound_cases().into_iter().step_by(8) {
+        let (x, v) = state(c.gm, c.a, c.e, c.nu);
+        orbits.push((c.gm, x, v, 2.0 * PI * (c.a.powi(3) / c.gm).sqrt()));
+    }
+    for c in hyperbolic_cases().into_iter().step_by(7) {
+        let (x, v) = state(c.gm, c.a, c.e, c.nu);
+        orbits.push((c.gm, x, v, 1.0));
+    }
+    let mut quick_lanes = 0;
+    let mut compared = 0;
+    for frac in [
+        1e-5, 3e-4, 2e-3, 0.01, 0.03, 0.05, 0.1, 0.3, 1.7, -0.02, -2.5,
+    ] {
+        for used in [LANES, 1, LANES - 1] {
+            for group in orbits.chunks(used) {
+                // One h for the group (the lanes share it), from the
+                // first orbit's period.
+                let h = frac * group[0].3;
+                let mut gm = [1.0; LANES];
+                let mut x = [[0.0; 3]; LANES];
+                let mut v = [[0.0; 3]; LANES];
+                for (l, o) in group.iter().enumerate() {
+                    gm[l] = o.0;
+                    x[l] = o.1;
+                    v[l] = o.2;
+                }
+                let (x_in, v_in) = (x, v);
+                solver
+                    .drift_lanes(&gm, h, &mut x, &mut v, group.len())
+                    .unwrap_or_else(|(l, e)| panic!("lane {l}, h = {h}: {e}"));
+                for (l, o) in group.iter().enumerate() {
+                    let (mut xs, mut vs) = (o.1, o.2);
+                    solver.drift(o.0, h, &mut xs, &mut vs).unwrap();
+                    let bits = |a: &[f64; 3]| a.map(f64::to_bits);
+                    assert_eq!(
+                        (bits(&x[l]), bits(&v[l])),
+                        (bits(&xs), bits(&vs)),
+                        "lane {l}, GM = {}, h = {h}, x = {:?}, v = {:?}",
+                        o.0,
+                        o.1,
+                        o.2
+                    );
+                    compared += 1;
+                    if frac.abs() < 0.05 {
+                        quick_lanes += 1;
+                    }
+                }
+                for l in group.len()..LANES {
+                    assert_eq!((x[l], v[l]), (x_in[l], v_in[l]), "padding lane {l} moved");
+                }
+            }
+        }
+    }
+    println!("{compared} lanes compared, {quick_lanes} at steps under P/20");
+}
+
+#[test]
+fn a_failing_lane_is_named_and_the_lanes_after_it_are_left_alone() {
+    let solver = KeplerSolver::default();
+    let (x0, v0) = state(1.0, 1.0, 0.3, 0.5);
+    let gm = [1.0, 1.0, -2.0, 1.0];
+    let mut x = [x0; LANES];
+    let mut v = [v0; LANES];
+    let err = solver
+        .drift_lanes(&gm, 0.01, &mut x, &mut v, LANES)
+        .unwrap_err();
+    assert_eq!(err.0, 2);
+    assert!(
+        matches!(err.1, KeplerError::BadGm { gm } if gm == -2.0),
+        "{:?}",
+        err.1
+    );
+    let (mut xs, mut vs) = (x0, v0);
+    drift(1.0, 0.01, &mut xs, &mut vs).unwrap();
+    assert_eq!((x[0], v[0]), (xs, vs));
+    assert_eq!((x[1], v[1]), (xs, vs));
+    assert_eq!((x[2], v[2]), (x0, v0));
+    assert_eq!((x[3], v[3]), (x0, v0));
+
+    // A non-finite coordinate in lane 1, and h = 0 (the identity).
+    let mut x = [x0; LANES];
+    let mut v = [v0; LANES];
+    v[1][2] = f64::NAN;
+    let err = solver
+        .drift_lanes(&[1.0; LANES], 0.01, &mut x, &mut v, 3)
+        .unwrap_err();
+    assert!(
+        matches!(
+            err,
+            (
+                1,
+                KeplerError::NonFinite {
+                    what: "v",
+                    index: 2,
+                    ..
+                }
+            )
+        ),
+        "{err:?}"
+    );
+    let mut x = [x0; LANES];
+    let mut v = [v0; LANES];
+    solver
+        .drift_lanes(&[1.0; LANES], 0.0, &mut x, &mut v, LANES)
+        .unwrap();
+    assert_eq!((x, v), ([x0; LANES], [v0; LANES]));
 }

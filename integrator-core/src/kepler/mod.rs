@@ -64,9 +64,11 @@
 //! ```
 
 mod error;
+mod lanes;
 mod stumpff;
 
 pub use error::KeplerError;
+pub use lanes::LANES;
 pub use stumpff::stumpff;
 
 use std::f64::consts::PI;

@@ -1,10 +1,14 @@
 //! Stumpff's functions: [`stumpff`].
 
 /// Below this `|z|` the series is used.
-const SERIES_LIMIT: f64 = 1.0;
+pub(super) const SERIES_LIMIT: f64 = 1.0;
+/// Below this `|z|` five terms of the series reach the last bit.
+pub(super) const SERIES_SHORT: f64 = 1e-2;
+/// Below this `|z|` seven terms do (ten up to [`SERIES_LIMIT`]).
+pub(super) const SERIES_MID: f64 = 0.1;
 
 /// `1/(2k+2)!` for `k = 0 … 9`: the coefficients of `c₂(z) = Σ (−z)ᵏ/(2k+2)!`.
-const C2: [f64; 10] = [
+pub(super) const C2: [f64; 10] = [
     1.0 / 2.0,
     1.0 / 24.0,
     1.0 / 720.0,
@@ -18,7 +22,7 @@ const C2: [f64; 10] = [
 ];
 
 /// `1/(2k+3)!` for `k = 0 … 9`: the coefficients of `c₃(z) = Σ (−z)ᵏ/(2k+3)!`.
-const C3: [f64; 10] = [
+pub(super) const C3: [f64; 10] = [
     1.0 / 6.0,
     1.0 / 120.0,
     1.0 / 5040.0,
@@ -61,9 +65,9 @@ pub fn stumpff(z: f64) -> [f64; 4] {
         // 1/22! at 1). Short Wisdom–Holman steps (|z| ~ 1e-4) take the
         // first branch.
         let m = -z;
-        let (c2, c3) = if a < 1e-2 {
+        let (c2, c3) = if a < SERIES_SHORT {
             series::<5>(m)
-        } else if a < 0.1 {
+        } else if a < SERIES_MID {
             series::<7>(m)
         } else {
             series::<10>(m)
