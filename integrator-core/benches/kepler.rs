@@ -14,7 +14,7 @@ use std::hint::black_box;
 use std::time::Duration;
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
-use integrator_core::kepler::drift;
+use integrator_core::kepler::{KeplerSolver, LANES, drift};
 use integrator_core::problems::OuterSolarSystem;
 use integrator_core::problems::wisdom_holman::{DemocraticHeliocentric, Jacobi};
 
@@ -49,6 +49,34 @@ fn bench(c: &mut Criterion) {
                 })
             });
         }
+    }
+    group.finish();
+
+    // `drift_lanes`: four orbits at once, step P/20 (divide by 4 for the
+    // cost of one drift): four copies of e = 0.05, and the four orbits
+    // above side by side.
+    let mut group = c.benchmark_group("kepler_drift_lanes");
+    group.warm_up_time(Duration::from_millis(300));
+    group.measurement_time(Duration::from_secs(1));
+    let solver = KeplerSolver::default();
+    let same = [state(1.0, 0.05, 1.0); LANES];
+    let mixed = cases.map(|(_, a, e)| state(a, e, 1.0));
+    for (label, orbits) in [("4x_e0.05", same), ("mixed", mixed)] {
+        let x0 = orbits.map(|o| o.0);
+        let v0 = orbits.map(|o| o.1);
+        group.bench_with_input(
+            BenchmarkId::new(label, "P/20"),
+            &(2.0 * PI / 20.0),
+            |b, &h| {
+                b.iter(|| {
+                    let (mut x, mut v) = (x0, v0);
+                    solver
+                        .drift_lanes(&[1.0; LANES], black_box(h), &mut x, &mut v, LANES)
+                        .unwrap();
+                    black_box((x, v))
+                })
+            },
+        );
     }
     group.finish();
 
