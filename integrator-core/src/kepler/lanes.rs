@@ -23,8 +23,8 @@
 //! every lane's result is bit for bit the scalar drift's (tested in
 //! `tests/kepler_flow.rs`), only cheaper.
 
-use super::stumpff::{C2, C3, SERIES_LIMIT, SERIES_MID, SERIES_SHORT};
-use super::{KeplerError, KeplerSolver, SHORT_STEP};
+use super::stumpff::{C2, C3, SERIES_LIMIT, SERIES_MID, SERIES_SHORT, series_head};
+use super::{KeplerError, KeplerSolver, SHORT_STEP, update};
 
 /// The number of orbits [`KeplerSolver::drift_lanes`] takes at once: four
 /// doubles fill an AVX register and two SSE2 registers; more lanes would
@@ -69,13 +69,12 @@ fn series<const N: usize>(m: L, terms: [usize; LANES]) -> (L, L) {
         } else {
             (0.0, 0.0)
         };
-        for k in (0..N - 1).rev() {
+        for k in (2..N - 1).rev() {
             let (p, q) = if k < n { (C2[k], C3[k]) } else { (0.0, 0.0) };
             a = a * m[l] + p;
             b = b * m[l] + q;
         }
-        c2[l] = a;
-        c3[l] = b;
+        (c2[l], c3[l]) = series_head(m[l], a, b);
     }
     (c2, c3)
 }
@@ -247,14 +246,13 @@ impl KeplerSolver {
             let r = r0 + eta * n1 + zeta * n2;
 
             // `drift`'s update.
-            let fm1 = -gm * n2 / r0;
-            let gg = h - gm * n3;
-            let fd = -gm * n1 / (r0 * r);
-            let gdm1 = -gm * n2 / r;
+            let xl = [x[0][l], x[1][l], x[2][l]];
+            let vl = [v[0][l], v[1][l], v[2][l]];
+            let (xo, vo) = update(gm, h, ir0[l], r, n1, n2, n3, &xl, &vl);
             for k in 0..3 {
-                xn[k][l] = x[k][l] + (fm1 * x[k][l] + gg * v[k][l]);
-                vn[k][l] = v[k][l] + (fd * x[k][l] + gdm1 * v[k][l]);
-                ok[l] &= xn[k][l].is_finite() && vn[k][l].is_finite();
+                xn[k][l] = xo[k];
+                vn[k][l] = vo[k];
+                ok[l] &= xo[k].is_finite() && vo[k].is_finite();
             }
         }
         (xn, vn, ok)
