@@ -3,6 +3,7 @@ of integrator-core/benches/kepler.rs (`kepler_drift`), for the comparison
 of issue 21 ("the Kepler flow's cost per call against REBOUND's").
 
     python3 compare/peers/rebound_kepler_bench.py [--calls N] [--repeats R]
+        [--keep DIR [--build-only]] [--run-only DIR]
 
 REBOUND's Python wheel ships its C library (librebound*.so) with the solver
 WHFast calls for every planet and every step,
@@ -31,6 +32,7 @@ a = −1, all starting at true anomaly 1 with z = 0.1 r (the bench's
 import argparse
 import ctypes
 import os
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -114,12 +116,10 @@ int main(int argc, char **argv) {
 """
 
 
-def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--calls", type=int, default=200000)
-    ap.add_argument("--repeats", type=int, default=7)
-    ap.add_argument("--cc", default=os.environ.get("CC", "cc"))
-    args = ap.parse_args()
+def build(d, cc):
+    """Compile the harness into directory `d` beside a copy of REBOUND's
+    library (found through `rebound`), linked by `$ORIGIN`, so that `d`
+    can be moved to another machine of the same architecture."""
     try:
         import rebound
     except ImportError:
@@ -127,18 +127,44 @@ def main():
     lib = rebound.clibrebound._name
     size = ctypes.sizeof(rebound.Particle)
     print("REBOUND %s, %s, particle %d bytes" % (rebound.__version__, lib, size))
+    shutil.copy(lib, os.path.join(d, "librebound.so"))
+    src = os.path.join(d, "harness.c")
+    with open(src, "w") as f:
+        f.write("#include <stdlib.h>\n#define PARTICLE_SIZE %d\n" % size + HARNESS)
+    cmd = [cc, "-O2", "-o", os.path.join(d, "harness"), src, "-L" + d, "-lrebound",
+           "-Wl,-rpath,$ORIGIN", "-lm"]
+    subprocess.run(cmd, check=True)
+
+
+def run(d, calls, repeats):
+    out = subprocess.run([os.path.join(d, "harness"), str(calls), str(repeats)],
+                         check=False, capture_output=True, text=True)
+    sys.stdout.write(out.stdout)
+    sys.stderr.write(out.stderr)
+    return out.returncode
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--calls", type=int, default=200000)
+    ap.add_argument("--repeats", type=int, default=7)
+    ap.add_argument("--cc", default=os.environ.get("CC", "cc"))
+    ap.add_argument("--keep", metavar="DIR",
+                    help="build into DIR and keep it (harness and library), then run")
+    ap.add_argument("--build-only", action="store_true", help="with --keep: do not run")
+    ap.add_argument("--run-only", metavar="DIR", help="run a harness built with --keep")
+    args = ap.parse_args()
+    if args.run_only:
+        sys.exit(run(args.run_only, args.calls, args.repeats))
+    if args.keep:
+        os.makedirs(args.keep, exist_ok=True)
+        build(args.keep, args.cc)
+        if not args.build_only:
+            sys.exit(run(args.keep, args.calls, args.repeats))
+        return
     with tempfile.TemporaryDirectory() as d:
-        src = os.path.join(d, "harness.c")
-        exe = os.path.join(d, "harness")
-        with open(src, "w") as f:
-            f.write("#include <stdlib.h>\n#define PARTICLE_SIZE %d\n" % size + HARNESS)
-        cmd = [args.cc, "-O2", "-o", exe, src, lib, "-Wl,-rpath," + os.path.dirname(lib), "-lm"]
-        subprocess.run(cmd, check=True)
-        out = subprocess.run([exe, str(args.calls), str(args.repeats)], check=False,
-                             capture_output=True, text=True)
-        sys.stdout.write(out.stdout)
-        sys.stderr.write(out.stderr)
-        sys.exit(out.returncode)
+        build(d, args.cc)
+        sys.exit(run(d, args.calls, args.repeats))
 
 
 if __name__ == "__main__":
