@@ -296,13 +296,14 @@ impl KeplerSolver {
 /// (measured, with the Stumpff series' coefficient roundings already
 /// compensated: +0.002 to +0.004 ulp of energy per step at h = P/16 for
 /// e = 0.3 to 0.7); through the identity the Wronskian is 1 up to the
-/// rounding of one division, of either sign. Where `|ḟ g| ≤ ½` (every
-/// step well under a period) `|f ġ| ≥ ½`, and the smaller of `|f|`, `|ġ|`
-/// is solved from the larger, `ġ − 1 = (ḟ g − (f − 1))/f` or
-/// `f − 1 = (ḟ g − (ġ − 1))/ġ`: a divisor of at least `1/√2` and a
-/// numerator of terms at most `~2`, so the result keeps the relative
-/// accuracy of the direct form. Elsewhere (long steps, where `f` or `ġ`
-/// may pass through zero) the direct forms are kept.
+/// rounding of one division, of either sign. Where `|ḟ g| ≤ 2` and the
+/// larger of `|f|`, `|ġ|` is at least ½ (every step well under a period,
+/// where both are near 1), the smaller is solved from the larger,
+/// `ġ − 1 = (ḟ g − (f − 1))/f` or `f − 1 = (ḟ g − (ġ − 1))/ġ`: a divisor of
+/// at least ½ and a numerator of a few terms of size at most ~3, so the
+/// result keeps the relative accuracy of the direct form to a small
+/// factor. Elsewhere (long steps, where `f` and `ġ` may both pass near
+/// zero) the direct forms are kept.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
 fn update(
@@ -316,21 +317,33 @@ fn update(
     x: &[f64; 3],
     v: &[f64; 3],
 ) -> ([f64; 3], [f64; 3]) {
+    // The identity's quotient is written over `r` (`a = −ḟ g r`), so that
+    // its division runs beside `1/r` instead of after it, and the choices
+    // are selects, not branches (which of |f|, |ġ| is larger changes from
+    // step to step, and a mispredicted branch costs more than the
+    // arithmetic of both sides).
     let ir = 1.0 / r;
-    let mut fm1 = -gm * g2 * ir0;
+    let gm_g2 = gm * g2;
+    let fm1_direct = -gm_g2 * ir0;
     let gg = h - gm * g3;
+    let a = gm * g1 * ir0 * gg;
     let fd = -gm * g1 * ir0 * ir;
-    let mut gdm1 = -gm * g2 * ir;
-    let fdg = fd * gg;
-    let (f, gd) = (1.0 + fm1, 1.0 + gdm1);
-    if fdg.abs() <= 2.0 && f.abs().max(gd.abs()) >= 0.5 {
-        if f.abs() >= gd.abs() {
-            // |f| ≥ |ġ| (both increments are negative for a short step).
-            gdm1 = (fdg - fm1) / (1.0 + fm1);
-        } else {
-            fm1 = (fdg - gdm1) / (1.0 + gdm1);
-        }
-    }
+    let gdm1_direct = -gm_g2 * ir;
+    // f·r and ġ·r.
+    let f_r = (1.0 + fm1_direct) * r;
+    let gd_r = r - gm_g2;
+    let identity = a.abs() <= 2.0 * r && f_r.abs().max(gd_r.abs()) >= 0.5 * r;
+    let big_f = f_r.abs() >= gd_r.abs();
+    // ġ − 1 = −(a + (f − 1) r)/(f r), or f − 1 = (GM G₂ − a)/(ġ r).
+    let num = if big_f {
+        -(a + fm1_direct * r)
+    } else {
+        gm_g2 - a
+    };
+    let den = if big_f { f_r } else { gd_r };
+    let q = num / den;
+    let fm1 = if identity && !big_f { q } else { fm1_direct };
+    let gdm1 = if identity && big_f { q } else { gdm1_direct };
     let mut xn = [0.0; 3];
     let mut vn = [0.0; 3];
     for k in 0..3 {
