@@ -8,9 +8,8 @@
 //! hyperbola with e = 1.5, a = −1 (steps in units of 1/n). Steps P/400 (about
 //! a Wisdom–Holman step of 10 days on Jupiter, P/433), P/20 (the
 //! Wisdom–Holman regime's long end) and 3P (reduced by whole periods
-//! first). Each
-//! call drifts the same starting state, so the cost does not wander with
-//! the phase.
+//! first). Each call drifts the same starting state, so the cost does not
+//! wander with the phase.
 
 use std::f64::consts::PI;
 use std::hint::black_box;
