@@ -521,8 +521,9 @@ fn the_rounding_error_grows_like_rounding_error() {
     // such a bias, a few thousandths of an ulp per step, and the fitted
     // exponents were 0.81 (energy) and 1.76 (phase), with RMS(ΔE)/n at 10⁵
     // orbits 0.0062 ulp; measured now, 0.58, 1.54 and 0.0010 (the
-    // remaining ~0.001 ulp per step: near-circular orbits repeat nearly
-    // the same scalar arithmetic every step, so its roundings correlate).
+    // remaining ~0.001 ulp per step is largest at e = 0, where every step
+    // repeats nearly the same scalar arithmetic, so that its roundings
+    // correlate: the likely cause, not a proven one).
     // The test bounds the exponents near the random walk's and that bias
     // bound below 0.003 ulp, so the bias cannot come back unnoticed.
     let g = growth(0.1 / 1.618033988749895, 5.0);
