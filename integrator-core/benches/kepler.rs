@@ -1,20 +1,22 @@
 //! The cost of the exact Kepler drift per call, and of a Wisdom–Holman step
 //! on the outer solar system, for comparison with REBOUND's WHFast
-//! (`reb_whfast_kepler_solver`, the same orbits and steps).
+//! (`reb_integrator_whfast_kepler_solver`, timed on the same orbits and
+//! steps by `compare/peers/rebound_kepler_bench.py`).
 //!
 //! `cargo bench -p integrator-core --bench kepler`. Orbits: GM = 1, a = 1
 //! (period P = 2π), e = 0.05, 0.5, 0.9, starting at true anomaly 1; a
-//! hyperbola with e = 1.5, a = −1 (steps in units of 1/n). Steps P/20 (the
-//! Wisdom–Holman regime) and 3P (reduced by whole periods first). Each
-//! call drifts the same starting state, so the cost does not wander with
-//! the phase.
+//! hyperbola with e = 1.5, a = −1 (steps in units of 1/n). Steps P/400 (about
+//! a Wisdom–Holman step of 10 days on Jupiter, P/433), P/20 (the
+//! Wisdom–Holman regime's long end) and 3P (reduced by whole periods
+//! first). Each call drifts the same starting state, so the cost does not
+//! wander with the phase.
 
 use std::f64::consts::PI;
 use std::hint::black_box;
 use std::time::Duration;
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
-use integrator_core::kepler::drift;
+use integrator_core::kepler::{KeplerSolver, LANES, drift};
 use integrator_core::problems::OuterSolarSystem;
 use integrator_core::problems::wisdom_holman::{DemocraticHeliocentric, Jacobi};
 
@@ -40,7 +42,11 @@ fn bench(c: &mut Criterion) {
     ];
     for (name, a, e) in cases {
         let (x0, v0) = state(a, e, 1.0);
-        for (label, h) in [("P/20", 2.0 * PI / 20.0), ("3P", 3.0 * 2.0 * PI)] {
+        for (label, h) in [
+            ("P/400", 2.0 * PI / 400.0),
+            ("P/20", 2.0 * PI / 20.0),
+            ("3P", 3.0 * 2.0 * PI),
+        ] {
             group.bench_with_input(BenchmarkId::new(name, label), &h, |b, &h| {
                 b.iter(|| {
                     let (mut x, mut v) = (x0, v0);
@@ -48,6 +54,50 @@ fn bench(c: &mut Criterion) {
                     black_box((x, v))
                 })
             });
+        }
+    }
+    group.finish();
+
+    // `drift_lanes`: four orbits at once, steps P/400 (one evaluation, the
+    // regime of a Wisdom–Holman step on the outer solar system) and P/20
+    // (divide by 4 for the cost of one drift): four copies of e = 0.05,
+    // and the four orbits above side by side; each beside the same four
+    // drifts one by one (`_scalar`).
+    let mut group = c.benchmark_group("kepler_drift_lanes");
+    group.warm_up_time(Duration::from_millis(300));
+    group.measurement_time(Duration::from_secs(1));
+    let solver = KeplerSolver::default();
+    let same = [state(1.0, 0.05, 1.0); LANES];
+    let mixed = cases.map(|(_, a, e)| state(a, e, 1.0));
+    for (label, orbits) in [("4x_e0.05", same), ("mixed", mixed)] {
+        let x0 = orbits.map(|o| o.0);
+        let v0 = orbits.map(|o| o.1);
+        for (step, h) in [("P/400", 2.0 * PI / 400.0), ("P/20", 2.0 * PI / 20.0)] {
+            group.bench_with_input(BenchmarkId::new(label, step), &h, |b, &h| {
+                b.iter(|| {
+                    let (mut x, mut v) = (x0, v0);
+                    solver
+                        .drift_lanes(&[1.0; LANES], black_box(h), &mut x, &mut v, LANES)
+                        .unwrap();
+                    black_box((x, v))
+                })
+            });
+            // The same four drifts one by one, for the comparison.
+            group.bench_with_input(
+                BenchmarkId::new(format!("{label}_scalar"), step),
+                &h,
+                |b, &h| {
+                    b.iter(|| {
+                        let (mut x, mut v) = (x0, v0);
+                        for l in 0..LANES {
+                            solver
+                                .drift(1.0, black_box(h), &mut x[l], &mut v[l])
+                                .unwrap();
+                        }
+                        black_box((x, v))
+                    })
+                },
+            );
         }
     }
     group.finish();

@@ -15,7 +15,7 @@
 mod double_double;
 
 use double_double::Dd;
-use integrator_core::kepler::{KeplerError, KeplerSolver, drift};
+use integrator_core::kepler::{KeplerError, KeplerSolver, LANES, drift};
 use std::f64::consts::PI;
 
 const EPS: f64 = f64::EPSILON;
@@ -515,13 +515,17 @@ fn the_rounding_error_grows_like_rounding_error() {
     // steps never fall back on the same phases) over 10⁵ orbits. Unbiased
     // rounding makes the energy a random walk, |ΔE| ~ t^½, and the phase,
     // which integrates the mean motion's error, ~ t^{3/2}; a systematic
-    // error of b ulps per step adds b·n, and its phase b·n². Measured here,
-    // the energy exponent is ≈ 0.8: on top of the random walk there is a
-    // bias of a few hundredths of an ulp per step (0.03 at e = 0.5), which
-    // overtakes the walk after ~10⁴ steps. The test bounds exactly that:
-    // the exponents lie between the random walk's and the systematic law's
-    // (they must not exceed the latter), and the bias per step, RMS(ΔE)/n
-    // at 10⁵ orbits, is below 0.05 ulp of the energy's terms.
+    // error of b ulps per step adds b·n, and its phase b·n². Before the
+    // Stumpff series compensated its coefficients' rounding and f or ġ
+    // came from the Wronskian identity (see `kepler::update`), there was
+    // such a bias, a few thousandths of an ulp per step, and the fitted
+    // exponents were 0.81 (energy) and 1.76 (phase), with RMS(ΔE)/n at 10⁵
+    // orbits 0.0062 ulp; measured now, 0.58, 1.54 and 0.0010 (the
+    // remaining ~0.001 ulp per step is largest at e = 0, where every step
+    // repeats nearly the same scalar arithmetic, so that its roundings
+    // correlate: the likely cause, not a proven one).
+    // The test bounds the exponents near the random walk's and that bias
+    // bound below 0.003 ulp, so the bias cannot come back unnoticed.
     let g = growth(0.1 / 1.618033988749895, 5.0);
     println!(
         "energy RMS {}, fitted exponent {:.3}",
@@ -537,17 +541,17 @@ fn the_rounding_error_grows_like_rounding_error() {
     let bias = g.energy.last().unwrap() / n / EPS;
     println!("energy bias per step ≤ {bias:.4} ulp");
     assert!(
-        (0.4..=1.05).contains(&g.energy_exponent),
-        "energy error grows like t^{:.3}: neither rounding's random walk (½) nor a bias (1)",
+        (0.4..=0.7).contains(&g.energy_exponent),
+        "energy error grows like t^{:.3}, not like rounding's random walk (½)",
         g.energy_exponent
     );
     assert!(
-        (1.3..=2.05).contains(&g.phase_exponent),
-        "phase error grows like t^{:.3}: neither rounding's t^{{3/2}} nor a bias's t²",
+        (1.3..=1.7).contains(&g.phase_exponent),
+        "phase error grows like t^{:.3}, not like rounding's t^{{3/2}}",
         g.phase_exponent
     );
     assert!(
-        bias < 0.05,
+        bias < 0.003,
         "a systematic energy error of {bias:.4} ulp per step"
     );
 }
@@ -574,6 +578,168 @@ fn a_million_orbits() {
                 .iter()
                 .chain(&g.phase)
                 .all(|x| x.is_finite() && *x < 1e-3)
+        );
+    }
+}
+
+#[test]
+fn lanes_give_the_scalar_drift_bit_for_bit() {
+    // Every orbit of the accuracy grid and the hyperbolae, four at a time
+    // in mixed groups (different GM, e and phase side by side), at steps
+    // from 10⁻⁵ of a period (the one-evaluation path in every lane, with
+    // 5, 7 or 10 Stumpff terms) to several periods (the scalar fallback),
+    // both ways; and groups of fewer than LANES orbits.
+    let solver = KeplerSolver::default();
+    let mut orbits: Vec<(f64, [f64; 3], [f64; 3], f64)> = Vec::new(); // (gm, x, v, period or 1/n)
+    for c in bound_cases().into_iter().step_by(8) {
+        let (x, v) = state(c.gm, c.a, c.e, c.nu);
+        orbits.push((c.gm, x, v, 2.0 * PI * (c.a.powi(3) / c.gm).sqrt()));
+    }
+    for c in hyperbolic_cases().into_iter().step_by(7) {
+        let (x, v) = state(c.gm, c.a, c.e, c.nu);
+        orbits.push((c.gm, x, v, 1.0));
+    }
+    let mut quick_lanes = 0;
+    let mut compared = 0;
+    for frac in [
+        1e-5, 3e-4, 2e-3, 0.01, 0.03, 0.05, 0.1, 0.3, 1.7, -0.02, -2.5,
+    ] {
+        for used in [LANES, 1, LANES - 1] {
+            for group in orbits.chunks(used) {
+                // One h for the group (the lanes share it), from the
+                // first orbit's period.
+                let h = frac * group[0].3;
+                let mut gm = [1.0; LANES];
+                let mut x = [[0.0; 3]; LANES];
+                let mut v = [[0.0; 3]; LANES];
+                for (l, o) in group.iter().enumerate() {
+                    gm[l] = o.0;
+                    x[l] = o.1;
+                    v[l] = o.2;
+                }
+                let (x_in, v_in) = (x, v);
+                solver
+                    .drift_lanes(&gm, h, &mut x, &mut v, group.len())
+                    .unwrap_or_else(|(l, e)| panic!("lane {l}, h = {h}: {e}"));
+                for (l, o) in group.iter().enumerate() {
+                    let (mut xs, mut vs) = (o.1, o.2);
+                    solver.drift(o.0, h, &mut xs, &mut vs).unwrap();
+                    let bits = |a: &[f64; 3]| a.map(f64::to_bits);
+                    assert_eq!(
+                        (bits(&x[l]), bits(&v[l])),
+                        (bits(&xs), bits(&vs)),
+                        "lane {l}, GM = {}, h = {h}, x = {:?}, v = {:?}",
+                        o.0,
+                        o.1,
+                        o.2
+                    );
+                    compared += 1;
+                    if frac.abs() < 0.05 {
+                        quick_lanes += 1;
+                    }
+                }
+                for l in group.len()..LANES {
+                    assert_eq!((x[l], v[l]), (x_in[l], v_in[l]), "padding lane {l} moved");
+                }
+            }
+        }
+    }
+    println!("{compared} lanes compared, {quick_lanes} at steps under P/20");
+}
+
+#[test]
+fn a_failing_lane_is_named_and_the_lanes_after_it_are_left_alone() {
+    let solver = KeplerSolver::default();
+    let (x0, v0) = state(1.0, 1.0, 0.3, 0.5);
+    let gm = [1.0, 1.0, -2.0, 1.0];
+    let mut x = [x0; LANES];
+    let mut v = [v0; LANES];
+    let err = solver
+        .drift_lanes(&gm, 0.01, &mut x, &mut v, LANES)
+        .unwrap_err();
+    assert_eq!(err.0, 2);
+    assert!(
+        matches!(err.1, KeplerError::BadGm { gm } if gm == -2.0),
+        "{:?}",
+        err.1
+    );
+    let (mut xs, mut vs) = (x0, v0);
+    drift(1.0, 0.01, &mut xs, &mut vs).unwrap();
+    assert_eq!((x[0], v[0]), (xs, vs));
+    assert_eq!((x[1], v[1]), (xs, vs));
+    assert_eq!((x[2], v[2]), (x0, v0));
+    assert_eq!((x[3], v[3]), (x0, v0));
+
+    // A non-finite coordinate in lane 1, and h = 0 (the identity).
+    let mut x = [x0; LANES];
+    let mut v = [v0; LANES];
+    v[1][2] = f64::NAN;
+    let err = solver
+        .drift_lanes(&[1.0; LANES], 0.01, &mut x, &mut v, 3)
+        .unwrap_err();
+    assert!(
+        matches!(
+            err,
+            (
+                1,
+                KeplerError::NonFinite {
+                    what: "v",
+                    index: 2,
+                    ..
+                }
+            )
+        ),
+        "{err:?}"
+    );
+    let mut x = [x0; LANES];
+    let mut v = [v0; LANES];
+    solver
+        .drift_lanes(&[1.0; LANES], 0.0, &mut x, &mut v, LANES)
+        .unwrap();
+    assert_eq!((x, v), ([x0; LANES], [v0; LANES]));
+}
+
+#[test]
+#[ignore = "a diagnostic: KEP_BIAS_STEPS=… cargo test -p integrator-core --test kepler_flow energy_bias -- --ignored --nocapture"]
+fn energy_bias_per_step() {
+    // The signed mean over many orbits of the energy change after n
+    // steps, divided by n: a systematic error per step, with its standard
+    // error (the spread of the runs / √runs / n).
+    let n: usize = std::env::var("KEP_BIAS_STEPS")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(100_000);
+    for frac in [0.1 / 1.618033988749895, 1.0 / 433.0] {
+        let mut d = Vec::new();
+        for e in [0.0, 0.05, 0.1, 0.2, 0.3, 0.5, 0.7, 0.9] {
+            for j in 0..8 {
+                let nu = 0.37 + 0.77 * j as f64;
+                let (x0, v0) = state(1.0, 1.0, e, nu);
+                let (e0, scale) = energy(1.0, &x0, &v0);
+                let (mut x, mut v) = (x0, v0);
+                for _ in 0..n {
+                    drift(1.0, frac * 2.0 * PI, &mut x, &mut v).unwrap();
+                }
+                d.push((energy(1.0, &x, &v).0 - e0) / scale / EPS);
+            }
+            let last = &d[d.len() - 8..];
+            let m = last.iter().sum::<f64>() / 8.0;
+            println!(
+                "  e = {e}: mean {:+.5} ulp/step, runs {:?}",
+                m / n as f64,
+                last.iter().map(|x| x.round()).collect::<Vec<_>>()
+            );
+        }
+        let runs = d.len() as f64;
+        let mean = d.iter().sum::<f64>() / runs;
+        let sd = (d.iter().map(|x| (x - mean) * (x - mean)).sum::<f64>() / (runs - 1.0)).sqrt();
+        println!(
+            "h = P/{:.1}, {n} steps, {runs} runs: bias per step {:+.5} ± {:.5} ulp, spread {:.1} ulp (random walk √n = {:.0})",
+            1.0 / frac,
+            mean / n as f64,
+            sd / runs.sqrt() / n as f64,
+            sd,
+            (n as f64).sqrt()
         );
     }
 }

@@ -460,3 +460,103 @@ fn work_precision() {
         }
     }
 }
+
+/// The energy-error samples of a long run, the `compare --long`
+/// convention: the largest `|E − E₀|/|E₀|` over log-spaced windows of
+/// steps (20 per decade), and the least-squares slope of its logarithm
+/// against `log t` over the last two decades of time.
+fn windowed_growth(errors: &[f64], h: f64) -> (Vec<(usize, f64)>, f64) {
+    let n = errors.len();
+    let mut ends: Vec<usize> = Vec::new();
+    for j in 0.. {
+        let b = 10f64.powf(j as f64 / 20.0).round() as usize;
+        if b >= n {
+            break;
+        }
+        if ends.last() != Some(&b) {
+            ends.push(b);
+        }
+    }
+    ends.push(n);
+    let mut samples = Vec::new();
+    let mut start = 0;
+    for &end in &ends {
+        let w = errors[start..end].iter().cloned().fold(0.0, f64::max);
+        samples.push((end, w));
+        start = end;
+    }
+    let t_last = n as f64 * h;
+    let pts: Vec<(f64, f64)> = samples
+        .iter()
+        .filter(|s| s.0 as f64 * h >= t_last / 100.0 && s.1 > 0.0)
+        .map(|s| ((s.0 as f64 * h).ln(), s.1.ln()))
+        .collect();
+    let m = pts.len() as f64;
+    let (mx, my) = (
+        pts.iter().map(|p| p.0).sum::<f64>() / m,
+        pts.iter().map(|p| p.1).sum::<f64>() / m,
+    );
+    let sxy: f64 = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
+    let sxx: f64 = pts.iter().map(|p| (p.0 - mx) * (p.0 - mx)).sum();
+    (samples, sxy / sxx)
+}
+
+#[test]
+#[ignore = "a measurement (10⁷ days of the outer solar system, issue 21): cargo test -p integrator-core --test wisdom_holman ten_million_days -- --ignored --nocapture; then python3 compare/peers/rebound_long.py PATH (the path it prints) for REBOUND's WHFast on the same state"]
+fn outer_solar_ten_million_days() {
+    // Wisdom–Holman (Jacobi, leapfrog kernel, no corrector) at Jupiter's
+    // period / 20 for 10⁷ days (about 27 000 years), the energy error at
+    // every step. It also writes the initial state (decimal, exact
+    // round-trip) for the REBOUND side.
+    use integrator_core::problems::outer_solar::{G, MASSES};
+    let h: f64 = 4332.59 / 20.0;
+    let n = (1e7 / h).ceil() as usize;
+    let z0 = OuterSolarSystem.initial_state();
+    let jac = Jacobi::outer_solar();
+    let e0 = jac.energy(&z0);
+    let mut w = vec![0.0; z0.len()];
+    jac.from_inertial(&z0, &mut w).unwrap();
+    let mut z = vec![0.0; z0.len()];
+    let mut errors = Vec::with_capacity(n);
+    for _ in 0..n {
+        jac.step(h, &mut w).unwrap();
+        jac.to_inertial(&w, &mut z).unwrap();
+        errors.push(((jac.energy(&z) - e0) / e0).abs());
+    }
+    let (samples, exponent) = windowed_growth(&errors, h);
+    let max = errors.iter().cloned().fold(0.0, f64::max);
+    println!(
+        "ours, WH Jacobi h = {h} days, {n} steps: max |ΔE/E| {max:.3e}, final {:.3e}, growth exponent over the last two decades {exponent:.3}",
+        errors[n - 1]
+    );
+    for (end, e) in samples.iter().step_by(10) {
+        println!("  t = {:.4e} days: window max {e:.3e}", *end as f64 * h);
+    }
+    let nb = MASSES.len();
+    let f = |v: &[f64]| {
+        v.iter()
+            .map(|x| format!("\"{x:?}\""))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let pos: Vec<String> = (0..nb)
+        .map(|i| format!("[{}]", f(&z0[3 * i..3 * i + 3])))
+        .collect();
+    let vel: Vec<String> = (0..nb)
+        .map(|i| {
+            let v: Vec<f64> = (0..3).map(|k| z0[3 * nb + 3 * i + k] / MASSES[i]).collect();
+            format!("[{}]", f(&v))
+        })
+        .collect();
+    let json = format!(
+        "{{\"G\": \"{G:?}\", \"h\": \"{h:?}\", \"steps\": {n}, \"masses\": [{}], \"positions\": [{}], \"velocities\": [{}], \"ours\": {{\"max\": \"{max:?}\", \"final\": \"{:?}\", \"exponent\": \"{exponent:?}\"}}}}",
+        f(&MASSES),
+        pos.join(", "),
+        vel.join(", "),
+        errors[n - 1]
+    );
+    let path = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("outer_solar_long.json");
+    std::fs::write(&path, json).unwrap();
+    println!("wrote {}", path.display());
+    assert!(max < 1e-4 && exponent.is_finite());
+}

@@ -5,7 +5,7 @@
 #![allow(clippy::needless_range_loop)]
 
 use super::{Bodies, WhError, get3, set3};
-use crate::kepler::drift;
+use crate::kepler::{KeplerSolver, LANES};
 
 /// Wisdom–Holman in democratic heliocentric coordinates (Duncan, Levison &
 /// Lee 1998, the coordinates of SyMBA).
@@ -158,18 +158,43 @@ impl DemocraticHeliocentric {
         for k in 0..3 {
             q[k] += p[k] * v0;
         }
-        for i in 1..n {
-            let mut x = get3(q, i);
-            let mut v = get3(p, i).map(|c| c / m[i]);
-            drift(gm, h, &mut x, &mut v).map_err(|source| WhError::Kepler {
-                part: "Kepler",
-                body: i,
-                name: self.bodies.name(i),
-                step: None,
-                source: Box::new(source),
-            })?;
-            set3(q, i, x);
-            set3(p, i, v.map(|c| c * m[i]));
+        // The planets in groups of LANES, drifted side by side (the same
+        // bits as one by one, see `KeplerSolver::drift_lanes`).
+        let solver = KeplerSolver::default();
+        let gms = [gm; LANES];
+        let mut first = 1;
+        while first < n {
+            let used = (n - first).min(LANES);
+            let mut x = [[0.0; 3]; LANES];
+            let mut v = [[0.0; 3]; LANES];
+            for l in 0..used {
+                let i = first + l;
+                x[l] = get3(q, i);
+                v[l] = get3(p, i).map(|c| c / m[i]);
+            }
+            let done = solver.drift_lanes(&gms, h, &mut x, &mut v, used);
+            // Lanes before a failing one have been drifted: store them, so
+            // that the state is what drifting body by body would leave.
+            let stored = match &done {
+                Ok(()) => used,
+                Err((l, _)) => *l,
+            };
+            for l in 0..stored {
+                let i = first + l;
+                set3(q, i, x[l]);
+                set3(p, i, v[l].map(|c| c * m[i]));
+            }
+            if let Err((l, source)) = done {
+                let i = first + l;
+                return Err(WhError::Kepler {
+                    part: "Kepler",
+                    body: i,
+                    name: self.bodies.name(i),
+                    step: None,
+                    source: Box::new(source),
+                });
+            }
+            first += used;
         }
         Ok(())
     }

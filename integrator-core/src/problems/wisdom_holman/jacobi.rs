@@ -5,7 +5,7 @@
 #![allow(clippy::needless_range_loop)]
 
 use super::{Bodies, WhError, get3, set3, with_scratch};
-use crate::kepler::drift;
+use crate::kepler::{KeplerSolver, LANES};
 
 /// Wisdom–Holman in Jacobi coordinates (Wisdom & Holman 1991; the form of
 /// WHFast, Rein & Tamayo 2015).
@@ -154,21 +154,46 @@ impl Jacobi {
         for k in 0..3 {
             q[k] += h * p[k] * v0;
         }
-        for i in 1..n {
-            let mr = self.reduced[i];
-            let mut x = get3(q, i);
-            let mut v = get3(p, i).map(|c| c / mr);
-            drift(self.bodies.g * self.interior[i], h, &mut x, &mut v).map_err(|source| {
-                WhError::Kepler {
+        // The planets in groups of LANES, drifted side by side (the same
+        // bits as one by one, see `KeplerSolver::drift_lanes`).
+        let solver = KeplerSolver::default();
+        let mut first = 1;
+        while first < n {
+            let used = (n - first).min(LANES);
+            let mut gm = [1.0; LANES];
+            let mut x = [[0.0; 3]; LANES];
+            let mut v = [[0.0; 3]; LANES];
+            for l in 0..used {
+                let i = first + l;
+                let mr = self.reduced[i];
+                gm[l] = self.bodies.g * self.interior[i];
+                x[l] = get3(q, i);
+                v[l] = get3(p, i).map(|c| c / mr);
+            }
+            let done = solver.drift_lanes(&gm, h, &mut x, &mut v, used);
+            // Lanes before a failing one have been drifted: store them, so
+            // that the state is what drifting body by body would leave.
+            let stored = match &done {
+                Ok(()) => used,
+                Err((l, _)) => *l,
+            };
+            for l in 0..stored {
+                let i = first + l;
+                let mr = self.reduced[i];
+                set3(q, i, x[l]);
+                set3(p, i, v[l].map(|c| c * mr));
+            }
+            if let Err((l, source)) = done {
+                let i = first + l;
+                return Err(WhError::Kepler {
                     part: "Kepler",
                     body: i,
                     name: self.bodies.name(i),
                     step: None,
                     source: Box::new(source),
-                }
-            })?;
-            set3(q, i, x);
-            set3(p, i, v.map(|c| c * mr));
+                });
+            }
+            first += used;
         }
         Ok(())
     }
