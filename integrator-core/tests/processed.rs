@@ -296,3 +296,52 @@ fn a_failing_corrector_flow_names_the_part_and_step() {
     .unwrap_err();
     assert!(matches!(e, StepError::Solve { step: 2, .. }), "{e}");
 }
+
+integrator_core::butcher! {
+    /// The catalogue's leapfrog with the corrector of order 5, claims
+    /// checked at compile time as the file states them.
+    LeapfrogC5 { from: "leapfrog-c5" }
+}
+
+integrator_core::butcher! {
+    /// The same method written inline: the leapfrog kernel named, the
+    /// order-3 corrector's Z operators spelled out.
+    LeapfrogC3 {
+        let a = sqrt(7/40);
+        let b = -1/96*sqrt(40/7);
+        claims: [symplectic, order = 2, order = (4, 2)],
+        kernel: "leapfrog",
+        corrector_drift: [a, -2*a, a - a, 2*a, -a],
+        corrector_kick: [-b, b, b, -b],
+    }
+}
+
+/// A `butcher!` processed scheme carries its corrector (the catalogue's,
+/// rounded as `Sequence::from_splitting` rounds it) and its proven effective
+/// order; its `Step` is the kernel's (`ORDER` 2), and `processed()` steps
+/// as the kernel with the corrector does.
+#[test]
+fn butcher_declares_processed_schemes() {
+    use integrator_core::Scheme;
+    assert_eq!(LeapfrogC5::EFFECTIVE_ORDER, &[6, 2]);
+    assert_eq!(LeapfrogC3::EFFECTIVE_ORDER, &[4, 2]);
+    assert_eq!(LeapfrogC5::ORDER, 2);
+    assert_eq!(LeapfrogC5::INFO.order, 2);
+    assert_eq!(LeapfrogC5::CORRECTOR, corrector("leapfrog-c5").ops());
+    assert_eq!(LeapfrogC3::CORRECTOR, corrector("leapfrog-c3").ops());
+    let sys = Forced { eps: 0.2 };
+    let (mut a, mut b) = ([0.3, 0.9], [0.3, 0.9]);
+    processed::integrate(
+        &LeapfrogC5.processed(),
+        &sys,
+        &mut a,
+        0.0,
+        0.1,
+        50,
+        |_, _, _| {},
+    )
+    .unwrap();
+    let by_hand = Processed::new(Leapfrog, corrector("leapfrog-c5"));
+    processed::integrate(&by_hand, &sys, &mut b, 0.0, 0.1, 50, |_, _, _| {}).unwrap();
+    assert_eq!(a, b);
+}
