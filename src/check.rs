@@ -113,8 +113,8 @@ fn run_here(args: &CheckArgs) -> Result<ExitCode> {
             v["near_integrable"] = near_json(n);
         }
         if let (Some(chi), Some(c)) = (&tf.corrector, tf.corrector_table()) {
-            let effective = tableau::near_integrable::processed_sequence(&tf.table, &c)
-                .map_or(0, |s| s.len());
+            let effective =
+                tableau::near_integrable::processed_sequence(&tf.table, &c).map_or(0, |s| s.len());
             v["processed"] = json!({
                 "kernel": tf.kernel,
                 "corrector_drift": chi.drift.iter().map(|x| x.to_string()).collect::<Vec<_>>(),

@@ -697,16 +697,28 @@ fn processed_methods_print_their_effective_orders() {
         out.contains("  H = A + εB   effective generalised order (18, 2): error O(εh¹⁸ + ε²h²)"),
         "{out}"
     );
-    assert!(out.contains("ε part: order 18; the εh¹⁹ condition fails: the coefficient of A¹⁸B"), "{out}");
+    assert!(
+        out.contains("ε part: order 18; the εh¹⁹ condition fails: the coefficient of A¹⁸B"),
+        "{out}"
+    );
     assert!(out.contains("ε² part: order 2; the ε²h³ condition fails: the coefficient of AB² in log Φ (the leading word of [[A,B],B]) is 1/24"), "{out}");
-    assert!(out.contains("proof: log Φ (Φ = χ K χ⁻¹) in the free algebra"), "{out}");
+    assert!(
+        out.contains("proof: log Φ (Φ = χ K χ⁻¹) in the free algebra"),
+        "{out}"
+    );
     assert!(out.contains("    ✓ order = (18, 2)\n"), "{out}");
     assert!(out.contains("    ✓ order = 2\n"), "{out}");
 
     let v = check_json(&["--builtin", "whckc-c11"]);
-    assert_eq!(v["near_integrable"]["orders"], serde_json::json!([12, 4, 3]));
+    assert_eq!(
+        v["near_integrable"]["orders"],
+        serde_json::json!([12, 4, 3])
+    );
     assert_eq!(v["processed"]["kernel"], serde_json::Value::Null);
-    assert_eq!(v["processed"]["corrector_kick"].as_array().unwrap().len(), 20);
+    assert_eq!(
+        v["processed"]["corrector_kick"].as_array().unwrap().len(),
+        20
+    );
 
     // A user's file: the leapfrog kernel with the order-3 corrector, claiming
     // one order too many.
