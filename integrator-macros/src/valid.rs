@@ -286,12 +286,17 @@ fn matrix(
     }
 }
 
+/// A table as built: the table (a processed method's kernel), its name, the
+/// claims and source of a catalogue file it was read `from`, and the
+/// corrector of such a file.
+type Built = (Table, String, Vec<Claim>, Option<String>, Option<Splitting>);
+
 fn build_table(
     input: &Input,
     fields: &BTreeMap<String, &Field>,
     env: &BTreeMap<String, Number>,
     errs: &mut Errors,
-) -> Option<(Table, String, Vec<Claim>, Option<String>, Option<Splitting>)> {
+) -> Option<Built> {
     let has = |k: &str| fields.contains_key(k);
     let name = input.name.to_string();
     if let Some(f) = fields.get("from") {
