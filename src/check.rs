@@ -112,11 +112,25 @@ fn run_here(args: &CheckArgs) -> Result<ExitCode> {
         if let Some(n) = &near {
             v["near_integrable"] = near_json(n);
         }
+        if let (Some(chi), Some(c)) = (&tf.corrector, tf.corrector_table()) {
+            let effective =
+                tableau::near_integrable::processed_sequence(&tf.table, &c).map_or(0, |s| s.len());
+            v["processed"] = json!({
+                "kernel": tf.kernel,
+                "corrector_drift": chi.drift.iter().map(|x| x.to_string()).collect::<Vec<_>>(),
+                "corrector_kick": chi.kick.iter().map(|x| x.to_string()).collect::<Vec<_>>(),
+                "effective_flows": effective,
+            });
+        }
         println!("{}", serde_json::to_string_pretty(&v)?);
     } else {
         let mut text = readable(&origin, &tf, &analysis);
+        let mut rows = processed_rows(&tf);
         if let Some(n) = &near {
-            text = insert_before_claims(&text, &near_readable(n));
+            rows.extend(near_readable(n));
+        }
+        if !rows.is_empty() {
+            text = insert_before_claims(&text, &rows);
         }
         print!("{text}");
     }
@@ -131,12 +145,16 @@ struct Near {
     bound: Option<tableau::Number>,
     result: Result<tableau::near_integrable::NearReport, tableau::near_integrable::NearError>,
     time: std::time::Duration,
+    /// The orders are a processed method's effective ones (`χ K χ⁻¹`).
+    processed: bool,
 }
 
 /// Decide the generalised orders when the table claims one or `asked`; a
 /// Runge–Kutta table or pair is left alone unless asked (then the refusal
 /// is reported). The degrees are the report's, raised to one past each
-/// claimed order, so a claim's next condition is shown.
+/// claimed order, so a claim's next condition is shown. For a processed
+/// method (a kernel with a corrector) the orders are the effective method's
+/// (`χ K χ⁻¹`), always decided.
 fn near_integrable(tf: &TableFile, asked: bool) -> Option<Near> {
     use tableau::claims::Claim;
     use tableau::near_integrable::{REPORT_DEGREES, claim_degrees, near_orders};
@@ -144,6 +162,9 @@ fn near_integrable(tf: &TableFile, asked: bool) -> Option<Near> {
         Claim::NearOrder { orders, bound } => Some((orders.clone(), bound.clone())),
         _ => None,
     });
+    if let Some(chi) = tf.corrector_table() {
+        return Some(processed_near(tf, &chi, claim));
+    }
     if claim.is_none() && !asked {
         return None;
     }
@@ -170,7 +191,90 @@ fn near_integrable(tf: &TableFile, asked: bool) -> Option<Near> {
         bound,
         result,
         time: start.elapsed(),
+        processed: false,
     })
+}
+
+/// The effective generalised orders of a processed method. A corrector
+/// makes the sequence long (the order-17 one has 63 flows each way), so the
+/// degrees are those a claim needs, each one past the claimed order (so its
+/// next condition is shown) and the classical order's for every power of ε
+/// it bounds; without a claim, the report's degrees narrowed until they fit
+/// the budget.
+fn processed_near(
+    tf: &TableFile,
+    chi: &tableau::Table,
+    claim: Option<(Vec<usize>, Option<tableau::Number>)>,
+) -> Near {
+    use tableau::near_integrable::{REPORT_DEGREES, claim_degrees, processed_orders};
+    let (candidates, bound) = match claim {
+        Some((orders, bound)) => {
+            let mut degrees: Vec<usize> = claim_degrees(&orders).iter().map(|d| d + 1).collect();
+            let last = *orders.last().expect("a claim has an order");
+            while degrees.len() < last + 1 {
+                degrees.push(last + 1);
+            }
+            for j in (0..degrees.len() - 1).rev() {
+                degrees[j] = degrees[j].max(degrees[j + 1]);
+            }
+            (vec![degrees], bound)
+        }
+        None => (
+            vec![
+                REPORT_DEGREES.to_vec(),
+                vec![12, 6, 6, 6, 6, 6],
+                vec![12, 4, 4, 4],
+            ],
+            None,
+        ),
+    };
+    let start = std::time::Instant::now();
+    let mut result = None;
+    let mut degrees = Vec::new();
+    for d in candidates {
+        let r = processed_orders(&tf.table, chi, &d, bound.as_ref());
+        let beyond = matches!(r, Err(tableau::near_integrable::NearError::Budget(_)));
+        degrees = d;
+        result = Some(r);
+        if !beyond {
+            break;
+        }
+    }
+    Near {
+        degrees,
+        bound,
+        result: result.expect("at least one candidate"),
+        time: start.elapsed(),
+        processed: true,
+    }
+}
+
+/// The rows saying what a processed method is and how its orders are read.
+fn processed_rows(tf: &TableFile) -> Vec<String> {
+    let Some(chi) = &tf.corrector else {
+        return Vec::new();
+    };
+    let kernel = match &tf.kernel {
+        Some(id) => format!("builtin:{id}"),
+        None => "the table above".to_string(),
+    };
+    let flows = chi.normal_form().len();
+    let effective = tf
+        .corrector_table()
+        .and_then(|c| tableau::near_integrable::processed_sequence(&tf.table, &c).ok())
+        .map_or(0, |s| s.len());
+    vec![
+        format!(
+            "  {:<13}kernel K = {kernel} (the rows above are its own), corrector χ of {} drifts and {} kicks ({flows} flows); stepped as χ Kⁿ χ⁻¹: χ⁻¹ once on entry, χ only at output",
+            "processed",
+            chi.drift.len(),
+            chi.kick.len(),
+        ),
+        format!(
+            "{:15}effective method χ K χ⁻¹: one drift–kick sequence of {effective} flows; its orders below and the claims are that method's (each output is exactly its n steps)",
+            ""
+        ),
+    ]
 }
 
 /// `ε`, `ε²`, …
@@ -202,8 +306,9 @@ fn near_readable(n: &Near) -> Vec<String> {
         " (≥: every condition up to the degree examined holds)"
     };
     out.push(format!(
-        "  {:<13}generalised order {}: error O({}){at_limit}, drifts the flow of A, kicks that of εB",
+        "  {:<13}{}generalised order {}: error O({}){at_limit}, drifts the flow of A, kicks that of εB",
         "H = A + εB",
+        if n.processed { "effective " } else { "" },
         report.generalised_text(),
         terms.join(" + ")
     ));
@@ -229,8 +334,9 @@ fn near_readable(n: &Near) -> Vec<String> {
     };
     let degrees: Vec<String> = n.degrees.iter().map(usize::to_string).collect();
     out.push(format!(
-        "{:15}proof: log Φ in the free algebra on {{A, B}} truncated to degree ≤ ({}) for 1, 2, … letters B ({} words); {} Lyndon coefficients tested, {how}",
+        "{:15}proof: log Φ{} in the free algebra on {{A, B}} truncated to degree ≤ ({}) for 1, 2, … letters B ({} words); {} Lyndon coefficients tested, {how}",
         "",
+        if n.processed { " (Φ = χ K χ⁻¹)" } else { "" },
         degrees.join(", "),
         report.words,
         report.conditions
@@ -618,10 +724,17 @@ pub fn list(args: &ListArgs) -> Result<ExitCode> {
             ),
         });
     }
-    // A catalogue file not (yet) in the library's list is still listed.
+    // A catalogue file not (yet) in the library's list is still listed; a
+    // processed method (a kernel with a corrector, not one scheme of the
+    // library) is listed apart, after the table (readable output only).
+    let mut processed = Vec::new();
     for entry in catalogue::entries() {
         if !rows.iter().any(|r| r.0 == entry.id) {
             let tf = entry.load()?;
+            if tf.corrector.is_some() {
+                processed.push((entry.id, tf.name));
+                continue;
+            }
             rows.push((
                 entry.id.to_string(),
                 form_name(&tf.table),
@@ -649,6 +762,14 @@ pub fn list(args: &ListArgs) -> Result<ExitCode> {
         println!("{:w$}  {:<12} {:<12} name", "id", "form", "steps");
         for (id, form, name, _) in &rows {
             println!("{id:w$}  {form:<12} {:<12} {name}", steps(id));
+        }
+        if !processed.is_empty() {
+            println!(
+                "\nprocessed methods (kernel + corrector, stepped χ Kⁿ χ⁻¹; `symlab check --builtin ID`, `compare --methods wh:ID`):"
+            );
+            for (id, name) in &processed {
+                println!("{id:w$}  {name}");
+            }
         }
     }
     Ok(ExitCode::SUCCESS)
@@ -857,7 +978,7 @@ pub fn readable(origin: &str, tf: &TableFile, a: &Analysis) -> String {
         .claims
         .iter()
         .map(|c| {
-            let verdict = analysis::check_claim(&tf.table, a, c).map_err(|e| e.to_string());
+            let verdict = analysis::check_file_claim(tf, a, c).map_err(|e| e.to_string());
             (c.to_string(), verdict)
         })
         .collect();

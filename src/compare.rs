@@ -130,7 +130,9 @@ pub struct CompareArgs {
     /// scheme, explicit or implicit, under a reversible step-size controller
     /// with the inverse distance as step density: kepler, kepler-hard),
     /// wh:ID (a drift–kick sequence or composition on the Wisdom–Holman
-    /// split, Kepler flows and interaction kicks: outer-solar).
+    /// split, Kepler flows and interaction kicks, or a processed method of
+    /// the catalogue, e.g. wh:leapfrog-c11, its corrector at output only:
+    /// outer-solar).
     #[arg(long, value_delimiter = ',', value_name = "ID,...")]
     methods: Option<Vec<String>>,
     /// A table file (TOML, as for `symlab check`) to add to the sweep: its

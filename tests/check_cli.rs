@@ -681,3 +681,62 @@ fn near_integrable_orders_are_printed_with_their_proof() {
     assert_eq!(code, 0);
     assert!(rk.contains("H = A + εB   not decided: a near-integrable (generalised) order is a property of a drift–kick sequence or a composition"), "{rk}");
 }
+
+/// A processed method (kernel + corrector): `symlab check` says what it is,
+/// prints the effective generalised orders of `χ K χ⁻¹` with their proof
+/// and first failing conditions, and checks the claims against the
+/// effective method; an over-claim in a user's file is a ✗ naming the
+/// condition.
+#[test]
+fn processed_methods_print_their_effective_orders() {
+    let (code, out, err) = symlab(&["check", "--builtin", "leapfrog-c17"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        out.contains("  processed    kernel K = builtin:leapfrog (the rows above are its own), corrector χ of 33 drifts and 32 kicks (63 flows); stepped as χ Kⁿ χ⁻¹"),
+        "{out}"
+    );
+    assert!(
+        out.contains("  H = A + εB   effective generalised order (18, 2): error O(εh¹⁸ + ε²h²)"),
+        "{out}"
+    );
+    assert!(
+        out.contains("ε part: order 18; the εh¹⁹ condition fails: the coefficient of A¹⁸B"),
+        "{out}"
+    );
+    assert!(out.contains("ε² part: order 2; the ε²h³ condition fails: the coefficient of AB² in log Φ (the leading word of [[A,B],B]) is 1/24"), "{out}");
+    assert!(
+        out.contains("proof: log Φ (Φ = χ K χ⁻¹) in the free algebra"),
+        "{out}"
+    );
+    assert!(out.contains("    ✓ order = (18, 2)\n"), "{out}");
+    assert!(out.contains("    ✓ order = 2\n"), "{out}");
+
+    let v = check_json(&["--builtin", "whckc-c11"]);
+    assert_eq!(
+        v["near_integrable"]["orders"],
+        serde_json::json!([12, 4, 3])
+    );
+    assert_eq!(v["processed"]["kernel"], serde_json::Value::Null);
+    assert_eq!(
+        v["processed"]["corrector_kick"].as_array().unwrap().len(),
+        20
+    );
+
+    // A user's file: the leapfrog kernel with the order-3 corrector, claiming
+    // one order too many.
+    let dir = std::env::temp_dir().join(format!("symlab-processed-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let text = std::fs::read_to_string("tableau/catalogue/leapfrog-c3.toml")
+        .unwrap()
+        .replace("\"order = (4, 2)\"", "\"order = (6, 2)\"");
+    let path = dir.join("over.toml");
+    std::fs::write(&path, text).unwrap();
+    let (code, out, err) = symlab(&["check", path.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        out.contains("    ✗ order = (6, 2): order = (6, 2) claimed, but the ε part has order 4 < 6: the εh⁵ condition fails: the coefficient of A⁴B in log Φ (the leading word of [A,[A,[A,[A,B]]]]) is"),
+        "{out}"
+    );
+    assert!(out.contains("effective generalised order (4, 2)"), "{out}");
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -56,6 +56,23 @@ macro_rules! library {
             })
         }
 
+        /// A processed method `wh:ID` (a catalogue file with a corrector)
+        /// whose kernel is the library splitting `kernel`: the kernel's
+        /// `butcher!` step, the corrector `chi` at output only. `None` for a
+        /// `kernel` that is not a splitting of the library.
+        pub fn wh_processed<P: Problem>(
+            id: &str,
+            kernel: &str,
+            chi: integrator_core::processed::Sequence,
+            order: usize,
+            split: &integrator_core::problems::wisdom_holman::Jacobi,
+        ) -> Option<crate::method::Method<P>> {
+            Some(match kernel {
+                $($sid => crate::wisdom_holman::processed(id, $sty, chi, order, false, split),)*
+                _ => return None,
+            })
+        }
+
         /// The time-transformed variant `logh:ID` of an explicit separable
         /// scheme on a separable problem, `None` for any other id.
         pub fn logh_stepper<P>(id: &str) -> Option<Box<dyn Stepper<P>>>

@@ -6,6 +6,17 @@
 //! classical Wisdom–Holman map; `wh:ID` for a near-integrable table (SABA,
 //! ABA(8,6,4), …) is the method its authors designed.
 //!
+//! A processed method of the catalogue (a kernel with a corrector `χ`,
+//! e.g. `wh:leapfrog-c11`, the Wisdom–Holman map with the corrector of
+//! order 11) runs as `χ Kⁿ χ⁻¹` ([`integrator_core::processed`]): `χ⁻¹` on
+//! the Jacobi state once after the conversion, `χ` on a copy before each
+//! conversion back for an observation (and once at the end of a timed
+//! run), never on the carried state. Its kernel is the library's
+//! `butcher!` scheme where the file names one (`kernel = "leapfrog"`), else
+//! the file's sequence stepped at run time (marked interpreted). The row's
+//! order is the effective classical order the file claims and `tableau`
+//! proves.
+//!
 //! The problem's state stays the inertial `z = [x; p]`: a run converts it to
 //! Jacobi coordinates before the first step and back for every observation
 //! and at the end, so errors are measured as for every other method. The
@@ -29,6 +40,7 @@
 use std::cell::Cell;
 
 use integrator_core::problems::wisdom_holman::Jacobi;
+use integrator_core::processed::{Processed, Sequence};
 use integrator_core::scheme::SplitWorkspace;
 use integrator_core::split::{FlowError, PartBuffers, Split, StateSpace};
 use integrator_core::{Scheme, Step};
@@ -216,8 +228,212 @@ where
     })
 }
 
+/// A processed method on the Jacobi split: [`Processed`] with the
+/// conversions, as a [`Stepper`] of the inertial state.
+pub struct ProcessedStepper<M> {
+    method: Processed<M>,
+    split: Jacobi,
+}
+
+impl<M> ProcessedStepper<M>
+where
+    M: for<'a> Step<Counting<'a>, Workspace = SplitWorkspace>,
+{
+    fn run_observed(
+        &self,
+        counting: &Counting<'_>,
+        z: &mut [f64],
+        h: f64,
+        n: usize,
+        compensated: bool,
+        observe: &mut dyn FnMut(usize, f64, &[f64]) -> bool,
+    ) -> Status {
+        if !(h.is_finite() && h != 0.0) {
+            return failed(0, format!("step size h = {h} must be finite and nonzero"));
+        }
+        let mut w = vec![0.0; z.len()];
+        if let Err(e) = self.split.from_inertial_checked(z, &mut w) {
+            return failed(0, e);
+        }
+        let mut chi_ws = SplitWorkspace::new(counting.buffer_len());
+        if let Err(e) = self.method.enter(counting, h, &mut w, &mut chi_ws) {
+            return failed(0, format!("the corrector's inverse on entry: {e}"));
+        }
+        if !observe(0, 0.0, z) {
+            return Status::Stopped { step: 0 };
+        }
+        let mut out = vec![0.0; w.len()];
+        let mut ws = self.method.kernel().workspace(counting);
+        ws.set_compensated(compensated);
+        for k in 0..n {
+            let t = k as f64 * h;
+            if let Err(e) =
+                self.method
+                    .kernel()
+                    .step_reusing(counting, t, h, &mut w, &mut ws, k > 0)
+            {
+                return failed(k + 1, e);
+            }
+            if let Err(e) = self.method.output(counting, h, &w, &mut out, &mut chi_ws) {
+                return failed(k + 1, format!("the corrector at output: {e}"));
+            }
+            if let Err(e) = self.split.to_inertial(&out, z) {
+                return failed(k + 1, e);
+            }
+            if z.iter().any(|x| !x.is_finite()) {
+                return Status::Diverged { step: k + 1 };
+            }
+            if !observe(k + 1, (k + 1) as f64 * h, z) {
+                return Status::Stopped { step: k + 1 };
+            }
+        }
+        Status::Ok
+    }
+}
+
+impl<P, M> Stepper<P> for ProcessedStepper<M>
+where
+    P: Problem,
+    M: Step<Jacobi, Workspace = SplitWorkspace>
+        + for<'a> Step<Counting<'a>, Workspace = SplitWorkspace>
+        + Send
+        + Sync,
+{
+    fn observed(
+        &self,
+        _sys: &P,
+        z: &mut [f64],
+        h: f64,
+        n: usize,
+        compensated: bool,
+        observe: &mut dyn FnMut(usize, f64, &[f64]) -> bool,
+    ) -> Outcome {
+        let counting = Counting {
+            split: &self.split,
+            kicks: Cell::new(0),
+        };
+        let status = self.run_observed(&counting, z, h, n, compensated, observe);
+        Outcome {
+            status,
+            evals: counting.kicks.get(),
+            newton_iterations: 0,
+            fixed_point_iterations: 0,
+            factorizations: 0,
+            steps: None,
+        }
+    }
+
+    /// Converted twice and corrected twice (`χ⁻¹` after the conversion in,
+    /// `χ` before the conversion out), as REBOUND's WHFast with a corrector
+    /// and its safe mode off.
+    fn bare(&self, _sys: &P, z: &mut [f64], h: f64, n: usize) -> bool {
+        let mut w = vec![0.0; z.len()];
+        if self.split.from_inertial(z, &mut w).is_err() {
+            return false;
+        }
+        let mut chi_ws = SplitWorkspace::new(self.split.buffer_len());
+        if self
+            .method
+            .enter(&self.split, h, &mut w, &mut chi_ws)
+            .is_err()
+        {
+            return false;
+        }
+        let mut ws = Step::<Jacobi>::workspace(self.method.kernel(), &self.split);
+        for k in 0..n {
+            let t = k as f64 * h;
+            if self
+                .method
+                .kernel()
+                .step_reusing(&self.split, t, h, &mut w, &mut ws, k > 0)
+                .is_err()
+            {
+                return false;
+            }
+        }
+        let mut out = vec![0.0; w.len()];
+        self.method
+            .output(&self.split, h, &w, &mut out, &mut chi_ws)
+            .is_ok()
+            && self.split.to_inertial(&out, z).is_ok()
+            && z.iter().all(|x| x.is_finite())
+    }
+}
+
+/// The row of a processed `wh:ID`: `kernel` with the corrector `chi`, of the
+/// effective classical `order`; `interpreted` when the kernel is a sequence
+/// stepped at run time.
+pub(crate) fn processed<P, M>(
+    id: &str,
+    kernel: M,
+    chi: Sequence,
+    order: usize,
+    interpreted: bool,
+    split: &Jacobi,
+) -> Method<P>
+where
+    P: Problem,
+    M: Step<Jacobi, Workspace = SplitWorkspace>
+        + for<'a> Step<Counting<'a>, Workspace = SplitWorkspace>
+        + Send
+        + Sync
+        + 'static,
+{
+    Method::Fixed(Fixed {
+        id: id.to_string(),
+        order,
+        symplectic: true,
+        family: Family::Splitting,
+        interpreted,
+        stepper: Box::new(ProcessedStepper {
+            method: Processed::new(kernel, chi),
+            split: split.clone(),
+        }),
+    })
+}
+
+/// The catalogue's processed method `base` as `wh:ID` (`None` when `base`
+/// is not a processed method of the catalogue): the corrector as doubles,
+/// the kernel the library's scheme of the id it names, else its sequence.
+fn processed_method<P: Problem>(id: &str, base: &str, split: &Jacobi) -> Option<Method<P>> {
+    let file = tableau::catalogue::load(base).ok()?;
+    let corrector = file.corrector.as_ref()?;
+    let chi = Sequence::from_splitting(corrector);
+    // The effective classical order, as claimed (and proven: the catalogue's
+    // claims are checked by tableau's tests); the kernel's where none is.
+    let order = file
+        .claims
+        .iter()
+        .find_map(|c| match c {
+            tableau::claims::Claim::Order { p, .. } => Some(*p),
+            _ => None,
+        })
+        .unwrap_or(2);
+    if let Some(kernel) = &file.kernel
+        && let Some(m) = crate::library::wh_processed(id, kernel, chi.clone(), order, split)
+    {
+        return Some(m);
+    }
+    let kernel = match &file.table {
+        tableau::Table::Splitting(s) => Sequence::from_splitting(s),
+        tableau::Table::Composition(c) => Sequence::from_splitting(&c.to_splitting()),
+        _ => return None,
+    };
+    Some(processed(id, kernel, chi, order, true, split))
+}
+
+/// The ids of the catalogue's processed methods (a kernel with a corrector).
+pub fn processed_ids() -> Vec<&'static str> {
+    tableau::catalogue::entries()
+        .iter()
+        .filter(|e| e.load().is_ok_and(|f| f.corrector.is_some()))
+        .map(|e| e.id)
+        .collect()
+}
+
 /// `wh:ID` on `split`, or an error naming the id: `ID` must be a splitting
-/// of the library (`symlab list`: a drift–kick sequence or composition).
+/// of the library (`symlab list`: a drift–kick sequence or composition) or
+/// a processed method of the catalogue (a kernel with a corrector).
 pub fn method<P: Problem>(id: &str, split: &Jacobi) -> Result<Method<P>> {
     let Some(base) = id.strip_prefix(PREFIX) else {
         return Err(CompareError::method(
@@ -225,21 +441,27 @@ pub fn method<P: Problem>(id: &str, split: &Jacobi) -> Result<Method<P>> {
             format!("method '{id}' is not a Wisdom–Holman id ({PREFIX}ID)"),
         ));
     };
-    crate::library::wh_method(id, base, split).ok_or_else(|| {
-        CompareError::method(
-            id,
-            format!(
-                "method '{id}': '{base}' is not a splitting of the library; Wisdom–Holman steps a drift–kick sequence or composition: {}",
-                crate::library::SPLITTING_IDS.join(", ")
-            ),
-        )
-    })
+    crate::library::wh_method(id, base, split)
+        .or_else(|| processed_method(id, base, split))
+        .ok_or_else(|| {
+            CompareError::method(
+                id,
+                format!(
+                    "method '{id}': '{base}' is neither a splitting of the library nor a processed method of the catalogue; Wisdom–Holman steps a drift–kick sequence or composition: {}; or a kernel with its corrector: {}",
+                    crate::library::SPLITTING_IDS.join(", "),
+                    processed_ids().join(", ")
+                ),
+            )
+        })
 }
 
-/// Every `wh:ID`.
+/// Every `wh:ID`: the library's splittings, then the catalogue's processed
+/// methods.
 pub fn ids() -> Vec<String> {
     crate::library::SPLITTING_IDS
         .iter()
+        .copied()
+        .chain(processed_ids())
         .map(|id| format!("{PREFIX}{id}"))
         .collect()
 }

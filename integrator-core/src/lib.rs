@@ -47,6 +47,7 @@ pub mod library;
 pub mod linear;
 pub mod minimise;
 pub mod problems;
+pub mod processed;
 pub mod scheme;
 pub mod search;
 pub mod split;

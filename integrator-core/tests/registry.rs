@@ -73,6 +73,12 @@ fn the_registry_is_the_list_in_order() {
 #[test]
 fn every_catalogue_table_is_listed_and_every_other_id_is_generated() {
     for entry in tableau::catalogue::entries() {
+        // A processed method (a kernel with a corrector) is not one scheme:
+        // its kernel is a scheme of the list (or its sequence, stepped at run
+        // time) and `integrator_core::processed` applies the corrector.
+        if entry.load().unwrap().corrector.is_some() {
+            continue;
+        }
         let times = REGISTRY.iter().filter(|(id, _)| *id == entry.id).count();
         assert_eq!(
             times, 1,

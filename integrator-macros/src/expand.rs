@@ -24,11 +24,13 @@ use crate::valid::Verified;
 /// The scheme type of a verified table.
 pub fn expand(input: &Input, v: &Verified) -> TokenStream {
     let a = &v.analysis;
+    // A processed method's order claims are its effective method's; its
+    // `Step` is the kernel's, whose own order `ORDER` states.
     let order = v
         .claims
         .iter()
         .find_map(|c| match c {
-            tableau::claims::Claim::Order { p, .. } => Some(*p),
+            tableau::claims::Claim::Order { p, .. } if v.corrector.is_none() => Some(*p),
             _ => None,
         })
         .unwrap_or(a.claimed_order_report().order);
@@ -61,6 +63,13 @@ pub fn expand(input: &Input, v: &Verified) -> TokenStream {
         Form::Prk => "prk",
         Form::DriftKick => "drift-kick",
         Form::Composition => "composition",
+    };
+    let coefficients = match &v.corrector {
+        Some(chi) => {
+            let extra = corrector_items(v, chi);
+            quote!(#coefficients #extra)
+        }
+        None => coefficients,
     };
     let (step_impl, evaluations) = step_code(&input.name, v, &rounded);
     let facts = Facts {
@@ -146,6 +155,47 @@ fn step_code(name: &syn::Ident, v: &Verified, rounded: &F64Rounded) -> (TokenStr
     }
 }
 
+/// The items of a processed method: the corrector `χ` as the flows in the
+/// order applied (each coefficient the double nearest its exact value, the
+/// normal form merged exactly first), the claimed effective generalised
+/// order, and `processed()`, the scheme with its corrector for
+/// `integrator_core::processed`.
+fn corrector_items(v: &Verified, chi: &Splitting) -> TokenStream {
+    let flows = chi.normal_form().into_iter().map(|(op, x)| {
+        let x = x.to_f64();
+        match op {
+            Op::Drift => quote!((::integrator_core::Part::A, #x)),
+            Op::Kick => quote!((::integrator_core::Part::B, #x)),
+        }
+    });
+    let effective: Vec<usize> = v
+        .claims
+        .iter()
+        .find_map(|c| match c {
+            tableau::claims::Claim::NearOrder { orders, .. } => Some(orders.clone()),
+            _ => None,
+        })
+        .unwrap_or_default();
+    quote! {
+        /// The corrector χ, applied at output only (χ⁻¹ once on entry): its
+        /// flows in the order applied (`A` a drift, `B` a kick) with their
+        /// coefficients, each the double nearest its exact value.
+        pub const CORRECTOR: &'static [(::integrator_core::Part, f64)] = &[#(#flows),*];
+        /// The effective generalised order `(p₁, p₂, …)` of χ K χ⁻¹ claimed
+        /// and proven at compile time (empty when none is claimed); `ORDER`
+        /// is the kernel's own.
+        pub const EFFECTIVE_ORDER: &'static [usize] = &[#(#effective),*];
+        /// This kernel with its corrector, stepped as χ Kⁿ χ⁻¹ by
+        /// `integrator_core::processed`.
+        pub fn processed(self) -> ::integrator_core::processed::Processed<Self> {
+            ::integrator_core::processed::Processed::new(
+                self,
+                ::integrator_core::processed::Sequence::new(Self::CORRECTOR.iter().copied()),
+            )
+        }
+    }
+}
+
 /// `Some(b)` when the exact table is a composition of implicit midpoint
 /// steps ([`tableau::midpoint::composition_weights`], exact equality of the
 /// entries), with the weights as rounded for stepping; `None` otherwise.
@@ -180,6 +230,9 @@ fn summary(v: &Verified) -> String {
         v.name,
         facts.join(", ")
     );
+    if v.corrector.is_some() {
+        s.push_str(" A processed method: the kernel steps, the corrector `CORRECTOR` is applied at output only (`processed()`); the order claims are the effective method's.");
+    }
     if v.analysis.separable_only() {
         s.push_str(" Steps separable Hamiltonians only.");
     }

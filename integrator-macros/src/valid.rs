@@ -22,10 +22,26 @@ pub struct Verified {
     pub name: String,
     /// The literature source, for tables read `from` the catalogue.
     pub source: Option<String>,
+    /// For a processed method: the corrector `χ` (applied at output, `χ⁻¹`
+    /// on entry); `table` is then the kernel.
+    pub corrector: Option<Splitting>,
 }
 
 const KEYS: &[&str] = &[
-    "claims", "a", "b", "c", "a_hat", "b_hat", "c_hat", "drift", "kick", "compose", "from",
+    "claims",
+    "a",
+    "b",
+    "c",
+    "a_hat",
+    "b_hat",
+    "c_hat",
+    "drift",
+    "kick",
+    "compose",
+    "from",
+    "kernel",
+    "corrector_drift",
+    "corrector_kick",
 ];
 
 pub fn validate(input: &Input) -> Result<Verified, Error> {
@@ -74,8 +90,9 @@ pub fn validate(input: &Input) -> Result<Verified, Error> {
     }
 
     let table = build_table(input, &fields, &env, &mut errs);
+    let inline_corrector = build_corrector(&fields, &env, &mut errs);
     errs.finish()?;
-    let Some((table, name, file_claims, source)) = table else {
+    let Some((table, name, file_claims, source, file_corrector)) = table else {
         return Err(Error::new(
             input.name.span(),
             "no table: give `a` and `b`, `drift` and `kick`, `compose`, or `from`",
@@ -110,9 +127,37 @@ pub fn validate(input: &Input) -> Result<Verified, Error> {
             ),
         ));
     }
+    let corrector = inline_corrector.or(file_corrector);
+    if let Some(chi) = &corrector {
+        let span = fields
+            .get("corrector_drift")
+            .map_or(input.name.span(), |f| f.span());
+        if !matches!(table, Table::Splitting(_) | Table::Composition(_)) {
+            return Err(Error::new(
+                span,
+                "a corrector processes a kernel that is a drift–kick sequence or composition (`drift`/`kick`, `compose` or `kernel: \"ID\"`), not a Runge–Kutta table or pair",
+            ));
+        }
+        if let Err(e) = Table::Splitting(chi.clone()).check_shape() {
+            return Err(Error::new(span, format!("the corrector: {}", e.message)));
+        }
+    }
     let mut errs = Errors::default();
     for (claim, span) in claims.iter().zip(&claim_spans) {
-        if let Err(e) = analysis::check_claim(&table, &analysis, claim) {
+        // A processed method's order and symmetry claims are about the
+        // effective method χ K χ⁻¹, as `symlab check` decides them.
+        let processed = corrector.as_ref().and_then(|chi| {
+            tableau::near_integrable::check_processed_claim(
+                &table,
+                &Table::Splitting(chi.clone()),
+                claim,
+            )
+        });
+        let verdict = match processed {
+            Some(v) => v,
+            None => analysis::check_claim(&table, &analysis, claim).map_err(|e| e.to_string()),
+        };
+        if let Err(e) = verdict {
             errs.push(*span, e);
         }
     }
@@ -123,7 +168,36 @@ pub fn validate(input: &Input) -> Result<Verified, Error> {
         claims,
         name,
         source,
+        corrector,
     })
+}
+
+/// `corrector_drift` and `corrector_kick`, both or neither.
+fn build_corrector(
+    fields: &BTreeMap<String, &Field>,
+    env: &BTreeMap<String, Number>,
+    errs: &mut Errors,
+) -> Option<Splitting> {
+    let (d, k) = (fields.get("corrector_drift"), fields.get("corrector_kick"));
+    match (d, k) {
+        (None, None) => None,
+        (Some(_), Some(_)) => Some(Splitting {
+            drift: vector(d, env, errs)?,
+            kick: vector(k, env, errs)?,
+        }),
+        (Some(f), None) | (None, Some(f)) => {
+            let missing = if d.is_some() {
+                "corrector_kick"
+            } else {
+                "corrector_drift"
+            };
+            errs.push(
+                f.span(),
+                format!("missing field `{missing}`: a corrector is a drift–kick sequence (write `{missing}: []` for none)"),
+            );
+            None
+        }
+    }
 }
 
 /// The span for a shape error's field path such as `a[1]` or `b_hat`.
@@ -212,12 +286,17 @@ fn matrix(
     }
 }
 
+/// A table as built: the table (a processed method's kernel), its name, the
+/// claims and source of a catalogue file it was read `from`, and the
+/// corrector of such a file.
+type Built = (Table, String, Vec<Claim>, Option<String>, Option<Splitting>);
+
 fn build_table(
     input: &Input,
     fields: &BTreeMap<String, &Field>,
     env: &BTreeMap<String, Number>,
     errs: &mut Errors,
-) -> Option<(Table, String, Vec<Claim>, Option<String>)> {
+) -> Option<Built> {
     let has = |k: &str| fields.contains_key(k);
     let name = input.name.to_string();
     if let Some(f) = fields.get("from") {
@@ -239,7 +318,46 @@ fn build_table(
             return None;
         }
         return match tableau::catalogue::load(&id.value()) {
-            Ok(tf) => Some((tf.table, tf.name, tf.claims, tf.source)),
+            Ok(tf) => Some((tf.table, tf.name, tf.claims, tf.source, tf.corrector)),
+            Err(e) => {
+                errs.push(id.span(), e);
+                None
+            }
+        };
+    }
+    if let Some(f) = fields.get("kernel") {
+        let Value::Str(id) = &f.value else {
+            errs.push(
+                f.value.span(),
+                "`kernel` names a catalogue drift–kick sequence or composition: `kernel: \"leapfrog\"`",
+            );
+            return None;
+        };
+        if let Some(other) = [
+            "a", "b", "c", "a_hat", "b_hat", "c_hat", "drift", "kick", "compose",
+        ]
+        .iter()
+        .find(|k| has(k))
+        {
+            errs.push(
+                fields[*other].span(),
+                "`kernel` names the kernel, so the table gives none inline",
+            );
+            return None;
+        }
+        if !has("corrector_drift") && !has("corrector_kick") {
+            errs.push(
+                f.span(),
+                "`kernel` is the kernel of a processed method and needs `corrector_drift` and `corrector_kick`",
+            );
+            return None;
+        }
+        return match tableau::catalogue::load(&id.value()) {
+            Ok(tf) if tf.corrector.is_some() => {
+                errs.push(id.span(), format!("builtin:{} is itself a processed method; a kernel is a drift–kick sequence or composition", id.value()));
+                None
+            }
+            Ok(tf) => Some((tf.table, name, Vec::new(), None, None)),
             Err(e) => {
                 errs.push(id.span(), e);
                 None
@@ -278,7 +396,7 @@ fn build_table(
             },
         };
         if !pair {
-            return Some((Table::Rk(q), name, Vec::new(), None));
+            return Some((Table::Rk(q), name, Vec::new(), None, None));
         }
         let p = Rk {
             a: matrix(fields.get("a_hat"), env, errs)?,
@@ -289,7 +407,7 @@ fn build_table(
                 None
             },
         };
-        return Some((Table::Prk(Prk { q, p }), name, Vec::new(), None));
+        return Some((Table::Prk(Prk { q, p }), name, Vec::new(), None, None));
     }
     if split {
         require("drift", errs);
@@ -298,7 +416,7 @@ fn build_table(
             drift: vector(fields.get("drift"), env, errs)?,
             kick: vector(fields.get("kick"), env, errs)?,
         };
-        return Some((Table::Splitting(s), name, Vec::new(), None));
+        return Some((Table::Splitting(s), name, Vec::new(), None, None));
     }
     if comp {
         let gamma = vector(fields.get("compose"), env, errs)?;
@@ -306,6 +424,7 @@ fn build_table(
             Table::Composition(Composition { gamma }),
             name,
             Vec::new(),
+            None,
             None,
         ));
     }

@@ -14,6 +14,23 @@
 //! # compose = [...]                         instead of a, b: a composition of Störmer–Verlet
 //! ```
 //!
+//! **Processed methods.** A drift–kick sequence or composition (the kernel
+//! `K`) with a corrector `χ`, stepped as `χ Kⁿ χ⁻¹`: `χ⁻¹` once on entry,
+//! `K` every step, `χ` only at output (Wisdom, Holman & Touma 1996;
+//! Blanes–Casas processing). The kernel is written inline (`drift`/`kick`
+//! or `compose`) or named from the catalogue, and the corrector is a
+//! drift–kick sequence, its coefficients typically summing to zero:
+//!
+//! ```toml
+//! kernel = "leapfrog"                  # a catalogue id (or inline drift/kick/compose)
+//! corrector_drift = ["a", "-2*a", "a"] # χ, the map applied at output, in the order applied
+//! corrector_kick = ["-b", "b"]
+//! claims = ["order = (4, 2)"]          # the effective orders, of χ K χ⁻¹
+//! ```
+//!
+//! Every order claim of such a file is about the effective method `χ K χ⁻¹`
+//! (see [`crate::near_integrable::check_processed_claim`]).
+//!
 //! Entries are strings in the grammar of [`crate::expr`] or TOML integers.
 //! TOML floats are refused: a binary float is not the decimal its author
 //! wrote. A `let` binding may use other bindings, in any order; a cycle is an
@@ -41,7 +58,21 @@ pub struct TableFile {
     pub source: Option<String>,
     /// The claims, in the order written.
     pub claims: Vec<Claim>,
+    /// The table; for a processed method, its kernel `K`.
     pub table: Table,
+    /// For a processed method: the catalogue id its kernel was read from
+    /// (`kernel = "leapfrog"`), `None` for an inline kernel.
+    pub kernel: Option<String>,
+    /// For a processed method: the corrector `χ` (applied at output; `χ⁻¹`
+    /// once on entry), a drift–kick sequence.
+    pub corrector: Option<Splitting>,
+}
+
+impl TableFile {
+    /// The corrector as a table, for a processed method.
+    pub fn corrector_table(&self) -> Option<Table> {
+        self.corrector.clone().map(Table::Splitting)
+    }
 }
 
 /// Why a table file was refused: the file (as the caller named it), the
@@ -68,9 +99,23 @@ impl fmt::Display for FileError {
 impl std::error::Error for FileError {}
 
 /// The top-level keys of a table file.
-pub const KEYS: [&str; 13] = [
-    "name", "source", "claims", "let", "a", "b", "c", "a_hat", "b_hat", "c_hat", "drift", "kick",
+pub const KEYS: [&str; 16] = [
+    "name",
+    "source",
+    "claims",
+    "let",
+    "a",
+    "b",
+    "c",
+    "a_hat",
+    "b_hat",
+    "c_hat",
+    "drift",
+    "kick",
     "compose",
+    "kernel",
+    "corrector_drift",
+    "corrector_kick",
 ];
 
 /// The deepest chain of `let` bindings referring to one another.
@@ -169,15 +214,21 @@ pub fn parse_table_file(file: &str, text: &str) -> Result<TableFile, FileError> 
     if let Some(v) = fields.get("let") {
         cx.lets = cx.lets(v)?;
     }
-    let table = cx.table(&fields)?;
+    let (table, kernel) = match fields.get("kernel") {
+        Some(v) => (cx.named_kernel(&fields, v)?, Some(cx.string("kernel", v)?)),
+        None => (cx.table(&fields)?, None),
+    };
     table
         .check_shape()
         .map_err(|e| cx.err(Some(e.field), e.message))?;
+    let corrector = cx.corrector(&fields, &table, kernel.is_some())?;
     Ok(TableFile {
         name,
         source,
         claims,
         table,
+        kernel,
+        corrector,
     })
 }
 
@@ -555,6 +606,102 @@ impl Cx<'_> {
                 ),
             )),
         }
+    }
+
+    /// `kernel = "ID"`: the catalogue's drift–kick sequence or composition
+    /// `ID`, and no inline table beside it.
+    fn named_kernel(
+        &self,
+        fields: &BTreeMap<&str, &Value<'_>>,
+        v: &Value<'_>,
+    ) -> Result<Table, FileError> {
+        let id = self.string("kernel", v)?;
+        let inline: Vec<&str> = [
+            "a", "b", "c", "a_hat", "b_hat", "c_hat", "drift", "kick", "compose",
+        ]
+        .into_iter()
+        .filter(|k| fields.contains_key(k))
+        .collect();
+        if let Some(k) = inline.first() {
+            return Err(self.field_err(
+                k,
+                format!(
+                    "`kernel = \"{id}\"` names the kernel, so the file gives no table of its own (`{k}`); write the kernel inline with `drift`/`kick` instead, or drop `{k}`"
+                ),
+            ));
+        }
+        if !fields.contains_key("corrector_drift") && !fields.contains_key("corrector_kick") {
+            return Err(self.field_err(
+                "kernel",
+                "`kernel` is the kernel of a processed method and needs a corrector: `corrector_drift` and `corrector_kick`",
+            ));
+        }
+        let tf = crate::catalogue::load(&id).map_err(|e| self.field_err("kernel", e.message))?;
+        if tf.corrector.is_some() {
+            return Err(self.field_err(
+                "kernel",
+                format!(
+                    "builtin:{id} is itself a processed method; a kernel is a drift–kick sequence or composition"
+                ),
+            ));
+        }
+        match tf.table {
+            t @ (Table::Splitting(_) | Table::Composition(_)) => Ok(t),
+            _ => Err(self.field_err(
+                "kernel",
+                format!(
+                    "builtin:{id} is not a drift–kick sequence or composition; a processed method's kernel is a product of the flows of A and B"
+                ),
+            )),
+        }
+    }
+
+    /// `corrector_drift` and `corrector_kick`: the corrector of a processed
+    /// method, whose kernel is a drift–kick sequence or composition.
+    fn corrector(
+        &self,
+        fields: &BTreeMap<&str, &Value<'_>>,
+        table: &Table,
+        named: bool,
+    ) -> Result<Option<Splitting>, FileError> {
+        let (d, k) = (fields.get("corrector_drift"), fields.get("corrector_kick"));
+        let (d, k) = match (d, k) {
+            (None, None) => return Ok(None),
+            (Some(d), Some(k)) => (d, k),
+            (Some(_), None) | (None, Some(_)) => {
+                let (given, missing) = if d.is_some() {
+                    ("corrector_drift", "corrector_kick")
+                } else {
+                    ("corrector_kick", "corrector_drift")
+                };
+                return Err(self.field_err(
+                    missing,
+                    format!(
+                        "missing: `{given}` is given, so `{missing}` is needed too (a corrector is a drift–kick sequence; write `{missing} = []` for none)"
+                    ),
+                ));
+            }
+        };
+        if !named && !matches!(table, Table::Splitting(_) | Table::Composition(_)) {
+            return Err(self.field_err(
+                "corrector_drift",
+                "a corrector processes a kernel that is a drift–kick sequence or composition (`drift`/`kick`, `compose` or `kernel = \"ID\"`), not a Runge–Kutta table or pair",
+            ));
+        }
+        let s = Splitting {
+            drift: self.vector("corrector_drift", d)?,
+            kick: self.vector("corrector_kick", k)?,
+        };
+        Table::Splitting(s.clone()).check_shape().map_err(|e| {
+            let field = e.field.replacen("drift", "corrector_drift", 1);
+            let field = if field == e.field {
+                e.field.replacen("kick", "corrector_kick", 1)
+            } else {
+                field
+            };
+            self.err(Some(field), e.message)
+        })?;
+        Ok(Some(s))
     }
 
     fn one_form(&self, fields: &BTreeMap<&str, &Value<'_>>) -> Result<Table, FileError> {

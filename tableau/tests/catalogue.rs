@@ -5,7 +5,7 @@ use std::collections::BTreeSet;
 use std::path::Path;
 
 use tableau::Table;
-use tableau::analysis::{Analysis, check_claim};
+use tableau::analysis::{Analysis, check_claim, check_file_claim};
 use tableau::catalogue::{self, entries, find};
 use tableau::claims::Claim;
 
@@ -132,7 +132,7 @@ fn every_claim_verifies() {
             }
         };
         for claim in &file.claims {
-            if let Err(err) = check_claim(&file.table, &analysis, claim) {
+            if let Err(err) = check_file_claim(&file, &analysis, claim) {
                 failures.push(format!("{}: claim `{claim}`: {err}", e.id));
             }
         }
@@ -254,6 +254,11 @@ fn rkn_order_of_every_explicit_symplectic_entry() {
     let mut gains = Vec::new();
     for e in entries() {
         let file = catalogue::load(e.id).unwrap();
+        // A processed method's order is its effective method's, not its
+        // kernel's (tests/near_integrable.rs).
+        if file.corrector.is_some() {
+            continue;
+        }
         let a = Analysis::of(&file.table).unwrap();
         if !(a.symplectic_separable && a.explicit_separable) || file.table.to_prk().is_none() {
             continue;

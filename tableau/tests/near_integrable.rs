@@ -318,18 +318,20 @@ fn compositions_are_drift_kick_sequences() {
     assert_eq!(report.generalised_text(), "(4)");
 }
 
-/// Processing: a kernel `K = χ⁻¹ S χ` built from SABA₃ (`S`, order (6, 2))
-/// and an arbitrary processor `χ = D(1/5) K(1/7) D(−1/3)` has low orders of
-/// its own, and `χ K χ⁻¹ = S` has exactly SABA₃'s: the effective order is
-/// decided on the processed sequence.
+/// Processing: a kernel `K = χ⁻¹ S χ` (as maps, `χ` applied first) built
+/// from SABA₃ (`S`, order (6, 2)) and an arbitrary corrector `χ = D(1/5)
+/// K(1/7) D(−1/3)` has low orders of its own, and the processed method `χ K
+/// χ⁻¹ = S` (`χ⁻¹` applied on entry, `χ` at output) has exactly SABA₃'s:
+/// the effective order is decided on the processed sequence. Conjugating
+/// the other way round (`χ⁻¹ K χ`) is another method, of low order.
 #[test]
 fn a_processor_gives_the_effective_order() {
-    use tableau::near_integrable::processed_orders;
+    use tableau::near_integrable::{processed_orders, processed_sequence};
     let kernel = parse_table_file(
         "kernel",
         "name = \"K\"\nlet = { c1 = \"1/2 - sqrt(15)/10\", c2 = \"sqrt(15)/10\" }\n\
-         drift = [\"1/3\", \"c1 - 1/5\", \"c2\", \"c2\", \"c1 + 1/5\", \"-1/3\"]\n\
-         kick = [\"-1/7\", \"5/18\", \"4/9\", \"5/18\", \"1/7\"]\n",
+         drift = [\"1/5\", \"c1 - 1/3\", \"c2\", \"c2\", \"c1 + 1/3\", \"-1/5\"]\n\
+         kick = [\"1/7\", \"5/18\", \"4/9\", \"5/18\", \"-1/7\"]\n",
     )
     .unwrap();
     let chi = parse_table_file(
@@ -344,10 +346,238 @@ fn a_processor_gives_the_effective_order() {
     let saba3 = near_orders(&entry("saba3").table, &degrees, None).unwrap();
     assert_eq!(effective.generalised_text(), "(6, 2)");
     assert_eq!(effective.parts, saba3.parts);
+    // The processed sequence is SABA₃'s, flow for flow.
+    let Table::Splitting(s) = &entry("saba3").table else {
+        unreachable!()
+    };
+    let ops: Vec<(u8, Number)> = s
+        .normal_form()
+        .into_iter()
+        .map(|(op, x)| (u8::from(op == tableau::table::Op::Kick), x))
+        .collect();
+    assert_eq!(processed_sequence(&kernel.table, &chi.table).unwrap(), ops);
+    // χ⁻¹ K χ: χ applied on entry instead of at output.
+    let chi_inverse = parse_table_file(
+        "chi_inverse",
+        "name = \"χ⁻¹\"\ndrift = [\"1/3\", \"-1/5\"]\nkick = [\"-1/7\"]\n",
+    )
+    .unwrap();
+    let wrong = processed_orders(&kernel.table, &chi_inverse.table, &degrees, None).unwrap();
+    assert!(wrong.parts[0].order < 6, "{}", wrong.generalised_text());
     // A processor of another form is refused.
     let rk4 = tableau::catalogue::load("rk4").unwrap();
     assert!(matches!(
         processed_orders(&kernel.table, &rk4.table, &degrees, None),
         Err(NearError::Form(_))
     ));
+}
+
+/// The processed methods of the catalogue: the Wisdom–Holman leapfrog
+/// kernel with the correctors of order 3, 5, 7, 11 and 17, and the
+/// composition kernel WHCKC with those of order 11 and 17 (Wisdom, Holman &
+/// Touma 1996; Wisdom 2006; as REBOUND offers them), with their effective
+/// generalised orders.
+const PROCESSED: [(&str, &[usize]); 7] = [
+    ("leapfrog-c3", &[4, 2]),
+    ("leapfrog-c5", &[6, 2]),
+    ("leapfrog-c7", &[8, 2]),
+    ("leapfrog-c11", &[12, 2]),
+    ("leapfrog-c17", &[18, 2]),
+    ("whckc-c11", &[12, 4, 3]),
+    ("whckc-c17", &[18, 4, 3]),
+];
+
+/// A corrector of order `n` removes the kernel's `ε` errors up to `εhⁿ`:
+/// the effective `p₁` is `n + 1` exactly (the `εh^{n+2}` condition fails),
+/// while the kernel alone has order 2 in every part; the `ε²` part is
+/// untouched with the leapfrog kernel (`[[A,B],B]`, coefficient 1/24) and of
+/// order 4 with WHCKC. Every claim of each file holds (checked as `symlab
+/// check` and `butcher!` check them), and every order is exact: each part's
+/// first failing condition is found one degree above.
+#[test]
+fn correctors_give_their_published_effective_orders() {
+    use tableau::analysis::check_file_claim;
+    use tableau::near_integrable::processed_orders;
+    for (id, published) in PROCESSED {
+        let file = entry(id);
+        let chi = file.corrector_table().expect("a processed method");
+        assert_eq!(near_claim(&file).0, published, "{id}");
+        let analysis = Analysis::of(&file.table).unwrap();
+        for claim in &file.claims {
+            check_file_claim(&file, &analysis, claim)
+                .unwrap_or_else(|e| panic!("{id}: `{claim}`: {e}"));
+        }
+        let degrees: Vec<usize> = [published[0] + 1, 5, 5, 5].to_vec();
+        let kernel = near_orders(&file.table, &degrees, None).unwrap();
+        assert_eq!(kernel.generalised_text(), "(2)", "{id}: the kernel alone");
+        let start = Instant::now();
+        let report = processed_orders(&file.table, &chi, &degrees, None).unwrap();
+        let found: Vec<usize> = report.generalised().iter().map(|g| g.0).collect();
+        assert_eq!(found, published, "{id}: {}", report.generalised_text());
+        assert!(report.generalised().iter().all(|g| g.1), "{id}: exact");
+        let first = report.parts[0].failure.as_ref().unwrap();
+        assert_eq!(first.degree, published[0] + 1, "{id}");
+        if id.starts_with("leapfrog") {
+            let second = report.parts[1].failure.as_ref().unwrap();
+            assert_eq!(
+                (second.word.as_str(), second.value.clone()),
+                ("AB²", Number::ratio(1, 24).unwrap())
+            );
+        }
+        println!(
+            "{id}: effective {} in {:?}",
+            report.generalised_text(),
+            start.elapsed()
+        );
+    }
+}
+
+/// The exact `b`s (`r·sqrt(40/7)`) are REBOUND's 50-digit decimals to
+/// within 1e-50, compared exactly; and a corrector whose `b` is REBOUND's
+/// decimal cut to 16 digits (what a double holds) keeps its `p₁` only up to
+/// a residual, so the exact form is what makes the claim exact.
+#[test]
+fn exact_corrector_coefficients_are_rebounds_decimals() {
+    let cases = [
+        (
+            "leapfrog-c3",
+            "b1",
+            "-0.024900596027799867499350357910273437184309981229127",
+        ),
+        (
+            "leapfrog-c5",
+            "b2",
+            "0.041500993379666445832250596517122395307183302048545",
+        ),
+        (
+            "leapfrog-c7",
+            "b1",
+            "0.0024926811426922105779030593952776964450539008582219",
+        ),
+        (
+            "leapfrog-c11",
+            "b5",
+            "0.072593394748842738674253180742744961827622366521517",
+        ),
+        (
+            "leapfrog-c17",
+            "b1",
+            "-0.0000043347415473373580190650223498124944896789841432241",
+        ),
+        (
+            "leapfrog-c17",
+            "b8",
+            "0.093056103771425958591541059067553547100903397724386",
+        ),
+    ];
+    let tol = parse_number("1e-50").unwrap();
+    for (id, name, decimal) in cases {
+        let t = text(id);
+        let line = t
+            .lines()
+            .find(|l| l.starts_with(&format!("let.{name} = ")))
+            .unwrap_or_else(|| panic!("{id}: let.{name}"));
+        let expr = line.split('"').nth(1).unwrap();
+        let exact = parse_number(expr).unwrap();
+        let diff = (&exact - &parse_number(decimal).unwrap()).abs();
+        assert!(diff < tol, "{id} {name}: {exact} vs {decimal}");
+    }
+    // Cut to 16 digits, leapfrog-c5's b2 breaks the exact (6, 2) claim at εh³.
+    let t = text("leapfrog-c5").replace(
+        "let.b2 = \"5/288*sqrt(40/7)\"",
+        "let.b2 = \"0.04150099337966645\"",
+    );
+    let file = parse_table_file("cut.toml", &t).unwrap();
+    let analysis = Analysis::of(&file.table).unwrap();
+    let claim: Claim = "order = (6, 2)".parse().unwrap();
+    let e = tableau::analysis::check_file_claim(&file, &analysis, &claim)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("order = (6, 2) claimed, but the ε part has order 2 < 6: the εh³ condition fails: the coefficient of A²B in log Φ (the leading word of [A,[A,B]])"),
+        "{e}"
+    );
+    assert!(
+        e.contains("the effective order of the processed method χ K χ⁻¹"),
+        "{e}"
+    );
+}
+
+/// An over-claim of a processed file is an error naming the failing
+/// condition of the effective method; `order_rkn` is refused; a kernel
+/// named from the catalogue that is not a sequence, a corrector with one
+/// list, a corrector beside a Runge–Kutta table and a named kernel beside
+/// an inline one are errors naming the field.
+#[test]
+fn processed_files_refuse_over_claims_and_bad_shapes() {
+    use tableau::analysis::check_file_claim;
+    let file = entry("leapfrog-c3");
+    let analysis = Analysis::of(&file.table).unwrap();
+    let over: Claim = "order = (6, 2)".parse().unwrap();
+    let e = check_file_claim(&file, &analysis, &over)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.starts_with("order = (6, 2) claimed, but the ε part has order 4 < 6: the εh⁵ condition fails: the coefficient of A⁴B in log Φ (the leading word of [A,[A,[A,[A,B]]]]) is"),
+        "{e}"
+    );
+    let classical: Claim = "order = 3".parse().unwrap();
+    let e = check_file_claim(&file, &analysis, &classical)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("the ε² part has order 2 < 3: the ε²h³ condition fails"),
+        "{e}"
+    );
+    let rkn: Claim = "order_rkn = 2".parse().unwrap();
+    assert!(
+        check_file_claim(&file, &analysis, &rkn)
+            .unwrap_err()
+            .to_string()
+            .contains("not decided for a processed method")
+    );
+    let sym: Claim = "symmetric".parse().unwrap();
+    assert!(
+        check_file_claim(&file, &analysis, &sym)
+            .unwrap_err()
+            .to_string()
+            .contains("not a palindrome")
+    );
+    let bad = |body: &str| {
+        parse_table_file("bad.toml", &format!("name = \"x\"\n{body}"))
+            .unwrap_err()
+            .to_string()
+    };
+    let e = bad("kernel = \"rk4\"\ncorrector_drift = [\"1\"]\ncorrector_kick = []\n");
+    assert!(
+        e.contains("field kernel") && e.contains("not a drift–kick sequence"),
+        "{e}"
+    );
+    let e = bad("kernel = \"leapfrgo\"\ncorrector_drift = [\"1\"]\ncorrector_kick = []\n");
+    assert!(e.contains("field kernel") && e.contains("leapfrog"), "{e}");
+    let e = bad("kernel = \"leapfrog\"\n");
+    assert!(e.contains("needs a corrector"), "{e}");
+    let e = bad("drift = [\"1\"]\nkick = []\ncorrector_drift = [\"1\"]\n");
+    assert!(e.contains("field corrector_kick: missing"), "{e}");
+    let e = bad("a = [[\"0\"]]\nb = [\"1\"]\ncorrector_drift = [\"1\"]\ncorrector_kick = []\n");
+    assert!(
+        e.contains("field corrector_drift") && e.contains("not a Runge–Kutta table"),
+        "{e}"
+    );
+    let e = bad(
+        "kernel = \"leapfrog\"\ndrift = [\"1\"]\nkick = []\ncorrector_drift = [\"1\"]\ncorrector_kick = []\n",
+    );
+    assert!(
+        e.contains("field drift") && e.contains("names the kernel"),
+        "{e}"
+    );
+    let e = bad("kernel = \"leapfrog-c3\"\ncorrector_drift = [\"1\"]\ncorrector_kick = []\n");
+    assert!(e.contains("itself a processed method"), "{e}");
+    let e = bad(
+        "kernel = \"leapfrog\"\ncorrector_drift = [\"1\", \"2\", \"3\"]\ncorrector_kick = [\"1\"]\n",
+    );
+    assert!(
+        e.contains("field corrector_kick") && e.contains("differ by at most one"),
+        "{e}"
+    );
 }

@@ -292,6 +292,27 @@ pub fn check_claim(table: &Table, analysis: &Analysis, claim: &Claim) -> Result<
     }
 }
 
+/// Check one claim of a table file: [`check_claim`] on its table, except
+/// for a processed method (a kernel with a corrector), whose order and
+/// symmetry claims are about the effective method `χ K χ⁻¹`
+/// ([`crate::near_integrable::check_processed_claim`]); its `symplectic`
+/// and `explicit` claims are the kernel's (the corrector, a drift–kick
+/// sequence, is both). `analysis` is the analysis of the file's table (the
+/// kernel).
+pub fn check_file_claim(
+    file: &crate::file::TableFile,
+    analysis: &Analysis,
+    claim: &Claim,
+) -> Result<(), ClaimError> {
+    if let Some(chi) = file.corrector_table()
+        && let Some(verdict) =
+            crate::near_integrable::check_processed_claim(&file.table, &chi, claim)
+    {
+        return verdict.map_err(ClaimError);
+    }
+    check_claim(&file.table, analysis, claim)
+}
+
 fn check_symplectic(a: &Analysis) -> Result<(), ClaimError> {
     if a.symplectic_separable {
         return Ok(());

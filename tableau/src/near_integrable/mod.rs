@@ -218,30 +218,30 @@ fn ops_of(table: &Table) -> Result<Vec<(u8, Number)>, NearError> {
         .collect())
 }
 
-/// The effective generalised orders of a kernel `K` with a processor
-/// (corrector) `χ`, applied as `χ Kⁿ χ⁻¹` with `χ` only at output (Wisdom,
-/// Holman & Touma 1996; Blanes–Casas processing): `χ Kⁿ χ⁻¹ = (χ K χ⁻¹)ⁿ`,
-/// so the effective method is `χ K χ⁻¹`, whose logarithm is
-/// `exp(ad_{log χ}) log K`. Both are drift–kick sequences (a composition is
-/// taken as its sequence) and `χ⁻¹` is `χ`'s sequence reversed with every
-/// coefficient negated, so `χ K χ⁻¹` is one drift–kick sequence — `χ`'s
-/// flows, `K`'s, then `χ⁻¹`'s, in the order applied — and its orders are
-/// decided exactly as [`near_orders`] decides any sequence's. The processor
-/// need not be consistent (its drifts and kicks typically sum to zero).
-pub fn processed_orders(
+/// The drift–kick sequence of a processed method `χ Kⁿ χ⁻¹` per step, as
+/// applied: `χ⁻¹`'s flows, then the kernel `K`'s, then the corrector `χ`'s,
+/// neighbours of the same letter merged (`exp(xX) exp(yX) = exp((x + y)X)`)
+/// and what cancels dropped.
+///
+/// **Why this is the effective method.** The corrector `χ` is applied only
+/// at output and its inverse once on entry (Wisdom, Holman & Touma 1996;
+/// Blanes–Casas processing), so `n` steps give `χ Kⁿ χ⁻¹ = (χ K χ⁻¹)ⁿ`
+/// (maps composed right to left: `χ⁻¹` first): the output after `n` steps
+/// is exactly what `n` steps of the one method `χ K χ⁻¹` would give, and
+/// its errors are that method's. `χ⁻¹` is `χ`'s sequence reversed with
+/// every coefficient negated (the flows are exact, `φ_{−x} = φ_x⁻¹`), so
+/// `χ K χ⁻¹` is one drift–kick sequence and its orders are decided exactly
+/// as any sequence's. The corrector need not be consistent (its drifts and
+/// kicks typically sum to zero).
+pub fn processed_sequence(
     kernel: &Table,
-    processor: &Table,
-    degrees: &[usize],
-    bound: Option<&Number>,
-) -> Result<NearReport, NearError> {
+    corrector: &Table,
+) -> Result<Vec<(u8, Number)>, NearError> {
     let k = ops_of(kernel)?;
-    let chi = ops_of(processor)?;
-    let inverse: Vec<(u8, Number)> = chi.iter().rev().map(|(l, x)| (*l, -x)).collect();
-    let mut ops: Vec<(u8, Number)> = chi;
+    let chi = ops_of(corrector)?;
+    let mut ops: Vec<(u8, Number)> = chi.iter().rev().map(|(l, x)| (*l, -x)).collect();
     ops.extend(k);
-    ops.extend(inverse);
-    // Merge neighbours of the same letter (exp(xX) exp(yX) = exp((x + y)X)),
-    // dropping what cancels, so `χ χ⁻¹` vanishes where they meet.
+    ops.extend(chi);
     let mut merged: Vec<(u8, Number)> = Vec::with_capacity(ops.len());
     for (l, x) in ops {
         match merged.last_mut() {
@@ -255,7 +255,87 @@ pub fn processed_orders(
             _ => merged.push((l, x)),
         }
     }
-    decide_ops(&merged, degrees, bound)
+    Ok(merged)
+}
+
+/// [`processed_sequence`] as a drift–kick table (a kick-first sequence gets
+/// a leading zero drift, as table files write it).
+pub fn processed_table(kernel: &Table, corrector: &Table) -> Result<Table, NearError> {
+    let ops = processed_sequence(kernel, corrector)?;
+    let mut drift = Vec::new();
+    let mut kick = Vec::new();
+    if ops.first().is_some_and(|(l, _)| *l == 1) {
+        drift.push(Number::zero());
+    }
+    for (l, x) in ops {
+        if l == 0 {
+            drift.push(x);
+        } else {
+            kick.push(x);
+        }
+    }
+    Ok(Table::Splitting(Splitting { drift, kick }))
+}
+
+/// The effective generalised orders of a kernel `K` with a corrector
+/// (processor) `χ`, applied as `χ Kⁿ χ⁻¹` with `χ` only at output: the
+/// orders of the one sequence `χ K χ⁻¹` ([`processed_sequence`]), decided
+/// exactly as [`near_orders`] decides any sequence's.
+pub fn processed_orders(
+    kernel: &Table,
+    corrector: &Table,
+    degrees: &[usize],
+    bound: Option<&Number>,
+) -> Result<NearReport, NearError> {
+    decide_ops(&processed_sequence(kernel, corrector)?, degrees, bound)
+}
+
+/// Check one claim of a processed method (kernel `K`, corrector `χ`): the
+/// order claims are about the effective method `χ K χ⁻¹`, the method whose
+/// errors the corrected output has — `order = (p₁, p₂, …)` its generalised
+/// order, `order = p` its classical order (every Lie term of degree ≤ `p`
+/// vanishes, decided on the same truncated algebra); `symmetric` means the
+/// effective sequence is a palindrome; `symplectic` and `explicit` hold for
+/// every drift–kick sequence and are the kernel's (checked by the caller on
+/// the kernel, `None` here). `order_rkn` is not decided for a processed
+/// method (an error, never accepted unchecked).
+pub fn check_processed_claim(
+    kernel: &Table,
+    corrector: &Table,
+    claim: &crate::claims::Claim,
+) -> Option<Result<(), String>> {
+    use crate::claims::Claim;
+    let what = "of the processed method χ K χ⁻¹ (corrector χ at output only, χ⁻¹ once on entry)";
+    let effective = match processed_table(kernel, corrector) {
+        Ok(t) => t,
+        Err(e) => return Some(Err(format!("{e}"))),
+    };
+    Some(match claim {
+        Claim::NearOrder { orders, bound } => check_near_claim(&effective, orders, bound.as_ref())
+            .map(|_| ())
+            .map_err(|e| format!("{e} (the effective order {what})")),
+        Claim::Order { p, bound } => check_near_claim(&effective, &[*p], bound.as_ref())
+            .map(|_| ())
+            .map_err(|e| format!("order = {p} {what} (classical: every Lie term): {e}")),
+        Claim::OrderRkn { .. } => Err(format!(
+            "order_rkn is not decided for a processed method; claim the effective orders {what} as `order = p` or `order = (p1, p2, …)`"
+        )),
+        Claim::Symmetric => {
+            let ops = match &effective {
+                Table::Splitting(s) => s.normal_form(),
+                _ => unreachable!("processed_table builds a sequence"),
+            };
+            let n = ops.len();
+            if (0..n).all(|i| ops[i] == ops[n - 1 - i]) {
+                Ok(())
+            } else {
+                Err(format!(
+                    "not symmetric: the drift–kick sequence {what} ({n} flows) is not a palindrome"
+                ))
+            }
+        }
+        Claim::Symplectic | Claim::Explicit => return None,
+    })
 }
 
 /// Decide the order of every part `j = 1..=degrees.len()` up to degree
