@@ -1,6 +1,6 @@
 //! `symlab.cloth.run`: a cloth scene stepped by the `cloth` crate, the
 //! positions of every particle at each frame returned as NumPy arrays.
-use numpy::{PyArray1, PyArray3, PyArrayMethods};
+use numpy::{PyArray1, PyArrayMethods};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -87,7 +87,6 @@ pub fn cloth_run<'py>(
         "positions",
         PyArray1::from_vec(py, out.positions).reshape([n, out.particles, 3])?,
     )?;
-    let _: Option<Bound<'_, PyArray3<f64>>> = None;
     d.set_item("time", PyArray1::from_vec(py, out.time))?;
     d.set_item("energy", PyArray1::from_vec(py, out.energy))?;
     d.set_item("max_strain", PyArray1::from_vec(py, out.strain))?;
