@@ -76,7 +76,7 @@ def dask_sweep():
                "sofroniou-spaletta10", "yoshida6", "blanes-moan6", "dop853"]
     ids = {t["id"] for t in symlab.list_tables()} | {"dop853"}
     methods = [m for m in methods if m in ids]
-    s = {"t_end": 20 * math.pi, "h_min": 1e-3, "h_max": 0.05, "points": 12, "repeats": 3}
+    s = {"t_end": 200 * math.pi, "h_min": 1e-3, "h_max": 0.05, "points": 12, "repeats": 3}
     t = time.perf_counter()
     local = symlab.compare("kepler", methods, s, as_frame=False)
     t_local = time.perf_counter() - t
