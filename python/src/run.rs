@@ -230,10 +230,10 @@ impl OnSetup for IntegrateJob {
     }
 }
 
-fn traj_to_py(
-    py: Python<'_>,
-    tr: Traj,
-) -> PyResult<(Bound<'_, PyArray1<f64>>, Bound<'_, PyArray2<f64>>)> {
+/// `(t, y)` as NumPy arrays.
+type TimesStates<'py> = (Bound<'py, PyArray1<f64>>, Bound<'py, PyArray2<f64>>);
+
+fn traj_to_py(py: Python<'_>, tr: Traj) -> PyResult<TimesStates<'_>> {
     let rows = tr.t.len();
     let t = PyArray1::from_vec(py, tr.t);
     let y = PyArray1::from_vec(py, tr.y).reshape([rows, tr.dim])?;
@@ -259,7 +259,7 @@ fn traj_to_py(
 /// (2, 4)
 #[pyfunction]
 #[pyo3(signature = (scheme, problem, y0, t0, h, n, *, every = None))]
-#[allow(clippy::too_many_arguments, clippy::type_complexity)]
+#[allow(clippy::too_many_arguments)]
 pub fn integrate<'py>(
     py: Python<'py>,
     scheme: &Bound<'py, PyAny>,
@@ -269,7 +269,7 @@ pub fn integrate<'py>(
     h: f64,
     n: usize,
     every: Option<usize>,
-) -> PyResult<(Bound<'py, PyArray1<f64>>, Bound<'py, PyArray2<f64>>)> {
+) -> PyResult<TimesStates<'py>> {
     check_step(h, n)?;
     if !t0.is_finite() {
         return Err(PyValueError::new_err(format!(
@@ -460,7 +460,7 @@ pub fn integrate_ensemble<'py>(
             }
         }
     };
-    Ok(PyArray1::from_vec(py, out).reshape([m, dim])?)
+    PyArray1::from_vec(py, out).reshape([m, dim])
 }
 
 // ---------------------------------------------------------------------------
@@ -801,9 +801,10 @@ pub fn sweep_plan<'py>(
 /// The setups made in this process, by problem and end time: a worker
 /// runs many points of one sweep, and a reference (outer-solar: a long
 /// accurate integration) is computed once.
-fn setups() -> &'static Mutex<HashMap<(String, u64), Arc<dyn Any + Send + Sync>>> {
-    static CACHE: OnceLock<Mutex<HashMap<(String, u64), Arc<dyn Any + Send + Sync>>>> =
-        OnceLock::new();
+type SetupCache = Mutex<HashMap<(String, u64), Arc<dyn Any + Send + Sync>>>;
+
+fn setups() -> &'static SetupCache {
+    static CACHE: OnceLock<SetupCache> = OnceLock::new();
     CACHE.get_or_init(|| Mutex::new(HashMap::new()))
 }
 
