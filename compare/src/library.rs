@@ -68,7 +68,15 @@ macro_rules! library {
             split: &integrator_core::problems::wisdom_holman::Jacobi,
         ) -> Option<crate::method::Method<P>> {
             Some(match kernel {
-                $($sid => crate::wisdom_holman::processed(id, $sty, chi, order, false, split),)*
+                $($sid => crate::wisdom_holman::processed(
+                    id,
+                    $sty,
+                    integrator_core::processed::Sequence::from_catalogue($sid),
+                    chi,
+                    order,
+                    false,
+                    split,
+                ),)*
                 _ => return None,
             })
         }

@@ -17,6 +17,15 @@
 //! order is the effective classical order the file claims and `tableau`
 //! proves.
 //!
+//! The timed run steps the method's drift–kick sequence (the catalogue's
+//! table of the id, or the processed method's kernel) with the last flow of
+//! each step merged with the first of the next
+//! ([`Sequence::steps_merged`]): `wh:leapfrog` makes one Kepler drift per
+//! step, as Wisdom–Holman codes do between outputs. The observed run (errors,
+//! energy, kicks) synchronises after every step, so it steps the `butcher!`
+//! scheme unmerged; the two are the same map up to rounding (tested in
+//! `tests/wisdom_holman.rs`).
+//!
 //! The problem's state stays the inertial `z = [x; p]`: a run converts it to
 //! Jacobi coordinates before the first step and back for every observation
 //! and at the end, so errors are measured as for every other method. The
@@ -58,12 +67,59 @@ pub const PREFIX: &str = "wh:";
 pub struct WhStepper<M> {
     scheme: M,
     split: Jacobi,
+    /// The scheme's sequence for the timed run, merged across steps; `None`
+    /// where the catalogue has no table of the id (the timed run then steps
+    /// the scheme).
+    timed: Option<Sequence>,
 }
 
 impl<M> WhStepper<M> {
-    pub fn new(scheme: M, split: Jacobi) -> Self {
-        WhStepper { scheme, split }
+    /// `scheme` on `split`; `id` (without the `wh:` prefix) names its table
+    /// in the catalogue, whose sequence the timed run steps merged.
+    pub fn new(id: &str, scheme: M, split: Jacobi) -> Self {
+        WhStepper {
+            scheme,
+            split,
+            timed: Sequence::from_catalogue(id),
+        }
     }
+}
+
+/// The timed run of a `wh:` row: converted in, `χ⁻¹` (processed methods),
+/// `n` steps of `kernel` merged across steps, `χ`, converted out — as
+/// REBOUND's WHFast with its safe mode off.
+fn bare_merged(
+    split: &Jacobi,
+    kernel: &Sequence,
+    processed: Option<&Processed<Sequence>>,
+    z: &mut [f64],
+    h: f64,
+    n: usize,
+) -> bool {
+    let mut w = vec![0.0; z.len()];
+    if split.from_inertial(z, &mut w).is_err() {
+        return false;
+    }
+    let mut ws = SplitWorkspace::new(split.buffer_len());
+    if let Some(p) = processed
+        && p.enter(split, h, &mut w, &mut ws).is_err()
+    {
+        return false;
+    }
+    if kernel.steps_merged(split, h, n, &mut w, &mut ws).is_err() {
+        return false;
+    }
+    let out = match processed {
+        Some(p) => {
+            let mut out = vec![0.0; w.len()];
+            if p.output(split, h, &w, &mut out, &mut ws).is_err() {
+                return false;
+            }
+            out
+        }
+        None => w,
+    };
+    split.to_inertial(&out, z).is_ok() && z.iter().all(|x| x.is_finite())
 }
 
 /// The split with its interaction kicks counted: one kick is one N-body
@@ -188,6 +244,9 @@ where
     }
 
     fn bare(&self, _sys: &P, z: &mut [f64], h: f64, n: usize) -> bool {
+        if let Some(seq) = &self.timed {
+            return bare_merged(&self.split, seq, None, z, h, n);
+        }
         let mut w = vec![0.0; z.len()];
         if self.split.from_inertial(z, &mut w).is_err() {
             return false;
@@ -224,7 +283,11 @@ where
         symplectic: M::INFO.symplectic_separable,
         family: Family::Splitting,
         interpreted: false,
-        stepper: Box::new(WhStepper::new(scheme, split.clone())),
+        stepper: Box::new(WhStepper::new(
+            id.strip_prefix(PREFIX).unwrap_or(id),
+            scheme,
+            split.clone(),
+        )),
     })
 }
 
@@ -233,6 +296,9 @@ where
 pub struct ProcessedStepper<M> {
     method: Processed<M>,
     split: Jacobi,
+    /// The kernel's sequence with the corrector, for the timed run (merged
+    /// across steps); `None` where the kernel has no table in the catalogue.
+    timed: Option<Processed<Sequence>>,
 }
 
 impl<M> ProcessedStepper<M>
@@ -327,6 +393,9 @@ where
     /// `χ` before the conversion out), as REBOUND's WHFast with a corrector
     /// and its safe mode off.
     fn bare(&self, _sys: &P, z: &mut [f64], h: f64, n: usize) -> bool {
+        if let Some(p) = &self.timed {
+            return bare_merged(&self.split, p.kernel(), Some(p), z, h, n);
+        }
         let mut w = vec![0.0; z.len()];
         if self.split.from_inertial(z, &mut w).is_err() {
             return false;
@@ -366,6 +435,7 @@ where
 pub(crate) fn processed<P, M>(
     id: &str,
     kernel: M,
+    kernel_sequence: Option<Sequence>,
     chi: Sequence,
     order: usize,
     interpreted: bool,
@@ -386,6 +456,7 @@ where
         family: Family::Splitting,
         interpreted,
         stepper: Box::new(ProcessedStepper {
+            timed: kernel_sequence.map(|k| Processed::new(k, chi.clone())),
             method: Processed::new(kernel, chi),
             split: split.clone(),
         }),
@@ -419,7 +490,15 @@ fn processed_method<P: Problem>(id: &str, base: &str, split: &Jacobi) -> Option<
         tableau::Table::Composition(c) => Sequence::from_splitting(&c.to_splitting()),
         _ => return None,
     };
-    Some(processed(id, kernel, chi, order, true, split))
+    Some(processed(
+        id,
+        kernel.clone(),
+        Some(kernel),
+        chi,
+        order,
+        true,
+        split,
+    ))
 }
 
 /// The ids of the catalogue's processed methods (a kernel with a corrector).

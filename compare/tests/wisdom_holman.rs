@@ -28,15 +28,20 @@ fn run(setup: &Setup<OuterSolarSystem>, id: &str, n: usize) -> (f64, u64) {
     );
     assert!(out.status.is_ok(), "{id}: {:?}", out.status);
     assert_eq!(last, n, "{id}: every step observed");
-    // The timed path ends in the same state.
+    // The timed path merges the last drift of each step with the first of
+    // the next: the same map up to rounding, so it ends where the observed
+    // run does to a few ulps per step, never by the method's own error.
     let mut bare = setup.z0.clone();
     assert!(
         f.stepper
             .bare(&setup.sys, &mut bare, setup.t_end / n as f64, n)
     );
-    assert_eq!(
-        bare, z,
-        "{id}: the timed run's end differs from the observed run's"
+    let norm = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
+    let diff: Vec<f64> = bare.iter().zip(&z).map(|(a, b)| a - b).collect();
+    let rel = norm(&diff) / norm(&z);
+    assert!(
+        rel < 1e-14 * n as f64,
+        "{id}: the timed run's end differs from the observed run's by {rel:e} (relative)"
     );
     (setup.error(&z), out.evals)
 }

@@ -223,6 +223,96 @@ fn a_run_time_kernel_steps_like_the_compiled_one() {
     );
 }
 
+/// `steps_merged` is `n` applications of the sequence up to rounding where
+/// the last flow of a step and the first of the next are of one part (one
+/// flow less per step), the same bits where they are not, and an error names
+/// the step of the failing flow.
+#[test]
+fn merged_steps_are_the_same_map_with_one_flow_less_per_step() {
+    /// Counts the flows of each part (a rotation and a constant kick).
+    struct Counted {
+        inner: Forced,
+        a: std::cell::Cell<usize>,
+        b: std::cell::Cell<usize>,
+    }
+    impl StateSpace for Counted {
+        fn state_len(&self) -> usize {
+            2
+        }
+    }
+    impl Split for Counted {
+        fn flow_a(&self, h: f64, z: &mut [f64], b: PartBuffers<'_>, r: bool) -> Result<(), FlowError> {
+            self.a.set(self.a.get() + 1);
+            self.inner.flow_a(h, z, b, r)
+        }
+        fn flow_b(&self, h: f64, z: &mut [f64], b: PartBuffers<'_>, r: bool) -> Result<(), FlowError> {
+            self.b.set(self.b.get() + 1);
+            if !z[0].is_finite() || z[0] > 1e3 {
+                return Err(FlowError::failed("q out of range"));
+            }
+            self.inner.flow_b(h, z, b, r)
+        }
+    }
+    let sys = Counted {
+        inner: Forced { eps: 0.2 },
+        a: 0.into(),
+        b: 0.into(),
+    };
+    let n = 1000;
+    for id in ["leapfrog", "aba-8-6-4", "kahan-li8"] {
+        let seq = Sequence::from_catalogue(id).unwrap();
+        assert!(seq.merges(), "{id} starts and ends with a drift");
+        let mut ws = SplitWorkspace::new(2);
+        let (mut plain, mut merged) = ([0.3, 0.9], [0.3, 0.9]);
+        for _ in 0..n {
+            seq.apply(&sys, 0.01, &mut plain, &mut ws).unwrap();
+        }
+        let plain_drifts = sys.a.replace(0);
+        seq.steps_merged(&sys, 0.01, n, &mut merged, &mut ws).unwrap();
+        assert_eq!(sys.a.replace(0), plain_drifts - (n - 1), "{id}: one drift less per step");
+        let diff = (plain[0] - merged[0]).hypot(plain[1] - merged[1]);
+        assert!(diff < 1e-13, "{id}: {plain:?} against {merged:?} ({diff:e})");
+    }
+    // A sequence that starts with a kick and ends with a drift merges nothing.
+    let seq = Sequence::new([(Part::B, 0.5), (Part::A, 1.0)]);
+    assert!(!seq.merges());
+    let mut ws = SplitWorkspace::new(2);
+    let (mut plain, mut merged) = ([0.3, 0.9], [0.3, 0.9]);
+    for _ in 0..10 {
+        seq.apply(&sys, 0.1, &mut plain, &mut ws).unwrap();
+    }
+    seq.steps_merged(&sys, 0.1, 10, &mut merged, &mut ws).unwrap();
+    assert_eq!(plain, merged);
+    // Drifts move q by h; kicks fail beyond q = 2. With D(½) K D(½) and
+    // h = 1 the kicks see q = 0.5, 1.5, 2.5: the third step fails.
+    struct Shift;
+    impl StateSpace for Shift {
+        fn state_len(&self) -> usize {
+            2
+        }
+    }
+    impl Split for Shift {
+        fn flow_a(&self, h: f64, z: &mut [f64], _: PartBuffers<'_>, _: bool) -> Result<(), FlowError> {
+            z[0] += h;
+            Ok(())
+        }
+        fn flow_b(&self, h: f64, z: &mut [f64], _: PartBuffers<'_>, _: bool) -> Result<(), FlowError> {
+            if z[0] > 2.0 {
+                return Err(FlowError::failed(format!("q = {} beyond 2", z[0])));
+            }
+            z[1] += h;
+            Ok(())
+        }
+    }
+    let leapfrog = Sequence::from_catalogue("leapfrog").unwrap();
+    let mut z = [0.0, 0.0];
+    let (step, e) = leapfrog
+        .steps_merged(&Shift, 1.0, 5, &mut z, &mut ws)
+        .unwrap_err();
+    assert_eq!(step, 3, "{e}");
+    assert!(e.to_string().contains("part B"), "{e}");
+}
+
 /// A flow that fails inside `χ⁻¹` on entry is an error at step 0 naming the
 /// part; inside `χ` at an output, at that step.
 #[test]
