@@ -74,7 +74,6 @@ macro_rules! library {
                     integrator_core::processed::Sequence::from_catalogue($sid),
                     chi,
                     order,
-                    false,
                     split,
                 ),)*
                 _ => return None,

@@ -13,7 +13,7 @@
 //! conversion back for an observation (and once at the end of a timed
 //! run), never on the carried state. Its kernel is the library's
 //! `butcher!` scheme where the file names one (`kernel = "leapfrog"`), else
-//! the file's sequence stepped at run time (marked interpreted). The row's
+//! the file's sequence stepped at run time. The row's
 //! order is the effective classical order the file claims and `tableau`
 //! proves.
 //!
@@ -430,15 +430,14 @@ where
 }
 
 /// The row of a processed `wh:ID`: `kernel` with the corrector `chi`, of the
-/// effective classical `order`; `interpreted` when the kernel is a sequence
-/// stepped at run time.
+/// effective classical `order`; `kernel_sequence` the kernel's drift–kick
+/// sequence for the timed run (merged across steps).
 pub(crate) fn processed<P, M>(
     id: &str,
     kernel: M,
     kernel_sequence: Option<Sequence>,
     chi: Sequence,
     order: usize,
-    interpreted: bool,
     split: &Jacobi,
 ) -> Method<P>
 where
@@ -454,7 +453,7 @@ where
         order,
         symplectic: true,
         family: Family::Splitting,
-        interpreted,
+        interpreted: false,
         stepper: Box::new(ProcessedStepper {
             timed: kernel_sequence.map(|k| Processed::new(k, chi.clone())),
             method: Processed::new(kernel, chi),
@@ -490,15 +489,9 @@ fn processed_method<P: Problem>(id: &str, base: &str, split: &Jacobi) -> Option<
         tableau::Table::Composition(c) => Sequence::from_splitting(&c.to_splitting()),
         _ => return None,
     };
-    Some(processed(
-        id,
-        kernel.clone(),
-        Some(kernel),
-        chi,
-        order,
-        true,
-        split,
-    ))
+    // Not marked interpreted: every `wh:` row's timed run steps its
+    // sequence (merged across steps), so their times compare.
+    Some(processed(id, kernel.clone(), Some(kernel), chi, order, split))
 }
 
 /// The ids of the catalogue's processed methods (a kernel with a corrector).
