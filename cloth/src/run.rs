@@ -458,14 +458,16 @@ impl Simulation {
         settings.options.check()?;
         let on_frame: &mut OnFrame<'_> = &mut on_frame;
         let name = method.name();
+        /// The run with the method's scheme or table, once the dispatch
+        /// ([`with_scheme`], [`with_table`]) has found its type.
+        struct Drive<'a, 'f> {
+            sim: &'a mut Simulation,
+            settings: &'a RunSettings,
+            on_frame: &'a mut OnFrame<'f>,
+        }
         match method.mechanism() {
             Mechanism::Explicit => {
-                struct Explicit<'a, 'f> {
-                    sim: &'a mut Simulation,
-                    settings: &'a RunSettings,
-                    on_frame: &'a mut OnFrame<'f>,
-                }
-                impl SchemeVisitor for Explicit<'_, '_> {
+                impl SchemeVisitor for Drive<'_, '_> {
                     type Output = Result<RunReport, RunError>;
                     fn visit<S: Step<ClothModel> + Scheme>(self, scheme: S) -> Self::Output {
                         // Only explicit schemes come here; the branch keeps
@@ -482,23 +484,15 @@ impl Simulation {
                         }
                     }
                 }
-                with_scheme(
-                    method,
-                    Explicit {
-                        sim: self,
-                        settings,
-                        on_frame,
-                    },
-                )
-                .expect("every explicit method is a library scheme")
+                let drive = Drive {
+                    sim: self,
+                    settings,
+                    on_frame,
+                };
+                with_scheme(method, drive).expect("every explicit method is a library scheme")
             }
             Mechanism::StageSolver => {
-                struct Stage<'a, 'f> {
-                    sim: &'a mut Simulation,
-                    settings: &'a RunSettings,
-                    on_frame: &'a mut OnFrame<'f>,
-                }
-                impl TableVisitor for Stage<'_, '_> {
+                impl TableVisitor for Drive<'_, '_> {
                     type Output = Result<RunReport, RunError>;
                     fn visit<const S: usize>(
                         self,
@@ -518,15 +512,13 @@ impl Simulation {
                         )
                     }
                 }
-                with_table(
-                    method,
-                    Stage {
-                        sim: self,
-                        settings,
-                        on_frame,
-                    },
-                )
-                .ok_or_else(|| MethodError::NotSteppable(method.id().to_string()))?
+                let drive = Drive {
+                    sim: self,
+                    settings,
+                    on_frame,
+                };
+                with_table(method, drive)
+                    .ok_or_else(|| MethodError::NotSteppable(method.id().to_string()))?
             }
             Mechanism::Minimisation(_) | Mechanism::DiscreteGradient => {
                 let minimise = settings.solvers.minimise;

@@ -50,10 +50,10 @@ macro_rules! library {
             base: &str,
             split: &integrator_core::problems::wisdom_holman::Jacobi,
         ) -> Option<crate::method::Method<P>> {
-            Some(match base {
+            match base {
                 $($sid => crate::wisdom_holman::fixed(id, $sty, split),)*
-                _ => return None,
-            })
+                _ => None,
+            }
         }
 
         /// A processed method `wh:ID` (a catalogue file with a corrector)
@@ -71,7 +71,7 @@ macro_rules! library {
                 $($sid => crate::wisdom_holman::processed(
                     id,
                     $sty,
-                    integrator_core::processed::Sequence::from_catalogue($sid),
+                    integrator_core::processed::Sequence::from_catalogue($sid)?,
                     chi,
                     order,
                     split,

@@ -62,36 +62,12 @@ use crate::stepper::{Outcome, Status, Stepper, Workspace};
 /// The prefix of the Wisdom–Holman method ids.
 pub const PREFIX: &str = "wh:";
 
-/// A splitting `M` on the Jacobi split of an N-body problem, as a
-/// [`Stepper`] of the problem's inertial state.
-pub struct WhStepper<M> {
-    scheme: M,
-    split: Jacobi,
-    /// The scheme's sequence for the timed run, merged across steps; `None`
-    /// where the catalogue has no table of the id (the timed run then steps
-    /// the scheme).
-    timed: Option<Sequence>,
-}
-
-impl<M> WhStepper<M> {
-    /// `scheme` on `split`; `id` (without the `wh:` prefix) names its table
-    /// in the catalogue, whose sequence the timed run steps merged.
-    pub fn new(id: &str, scheme: M, split: Jacobi) -> Self {
-        WhStepper {
-            scheme,
-            split,
-            timed: Sequence::from_catalogue(id),
-        }
-    }
-}
-
-/// The timed run of a `wh:` row: converted in, `χ⁻¹` (processed methods),
-/// `n` steps of `kernel` merged across steps, `χ`, converted out — as
-/// REBOUND's WHFast with its safe mode off.
+/// The timed run of a `wh:` row: converted in, `χ⁻¹` (the identity for a
+/// plain splitting), `n` steps of the kernel's sequence merged across steps,
+/// `χ`, converted out — as REBOUND's WHFast with its safe mode off.
 fn bare_merged(
     split: &Jacobi,
-    kernel: &Sequence,
-    processed: Option<&Processed<Sequence>>,
+    method: &Processed<Sequence>,
     z: &mut [f64],
     h: f64,
     n: usize,
@@ -101,25 +77,18 @@ fn bare_merged(
         return false;
     }
     let mut ws = SplitWorkspace::new(split.buffer_len());
-    if let Some(p) = processed
-        && p.enter(split, h, &mut w, &mut ws).is_err()
+    if method.enter(split, h, &mut w, &mut ws).is_err()
+        || method
+            .kernel()
+            .steps_merged(split, h, n, &mut w, &mut ws)
+            .is_err()
     {
         return false;
     }
-    if kernel.steps_merged(split, h, n, &mut w, &mut ws).is_err() {
-        return false;
-    }
-    let out = match processed {
-        Some(p) => {
-            let mut out = vec![0.0; w.len()];
-            if p.output(split, h, &w, &mut out, &mut ws).is_err() {
-                return false;
-            }
-            out
-        }
-        None => w,
-    };
-    split.to_inertial(&out, z).is_ok() && z.iter().all(|x| x.is_finite())
+    let mut out = vec![0.0; w.len()];
+    method.output(split, h, &w, &mut out, &mut ws).is_ok()
+        && split.to_inertial(&out, z).is_ok()
+        && z.iter().all(|x| x.is_finite())
 }
 
 /// The split with its interaction kicks counted: one kick is one N-body
@@ -164,144 +133,57 @@ fn failed(step: usize, reason: impl ToString) -> Status {
     }
 }
 
-impl<M> WhStepper<M>
-where
-    M: for<'a> Step<Counting<'a>, Workspace = SplitWorkspace>,
-{
-    fn run_observed(
-        &self,
-        counting: &Counting<'_>,
-        z: &mut [f64],
-        h: f64,
-        n: usize,
-        compensated: bool,
-        observe: &mut dyn FnMut(usize, f64, &[f64]) -> bool,
-    ) -> Status {
-        if !(h.is_finite() && h != 0.0) {
-            return failed(0, format!("step size h = {h} must be finite and nonzero"));
-        }
-        let mut w = vec![0.0; z.len()];
-        if let Err(e) = self.split.from_inertial_checked(z, &mut w) {
-            return failed(0, e);
-        }
-        if !observe(0, 0.0, z) {
-            return Status::Stopped { step: 0 };
-        }
-        let mut ws = self.scheme.workspace(counting);
-        ws.set_compensated(compensated);
-        for k in 0..n {
-            let t = k as f64 * h;
-            if let Err(e) = self
-                .scheme
-                .step_reusing(counting, t, h, &mut w, &mut ws, k > 0)
-            {
-                return failed(k + 1, e);
-            }
-            if let Err(e) = self.split.to_inertial(&w, z) {
-                return failed(k + 1, e);
-            }
-            if z.iter().any(|x| !x.is_finite()) {
-                return Status::Diverged { step: k + 1 };
-            }
-            if !observe(k + 1, (k + 1) as f64 * h, z) {
-                return Status::Stopped { step: k + 1 };
-            }
-        }
-        Status::Ok
-    }
-}
-
-impl<P, M> Stepper<P> for WhStepper<M>
-where
-    P: Problem,
-    M: Step<Jacobi, Workspace = SplitWorkspace>
-        + for<'a> Step<Counting<'a>, Workspace = SplitWorkspace>
-        + Send
-        + Sync,
-{
-    fn observed(
-        &self,
-        _sys: &P,
-        z: &mut [f64],
-        h: f64,
-        n: usize,
-        compensated: bool,
-        observe: &mut dyn FnMut(usize, f64, &[f64]) -> bool,
-    ) -> Outcome {
-        let counting = Counting {
-            split: &self.split,
-            kicks: Cell::new(0),
-        };
-        let status = self.run_observed(&counting, z, h, n, compensated, observe);
-        Outcome {
-            status,
-            evals: counting.kicks.get(),
-            newton_iterations: 0,
-            fixed_point_iterations: 0,
-            factorizations: 0,
-            steps: None,
-        }
-    }
-
-    fn bare(&self, _sys: &P, z: &mut [f64], h: f64, n: usize) -> bool {
-        if let Some(seq) = &self.timed {
-            return bare_merged(&self.split, seq, None, z, h, n);
-        }
-        let mut w = vec![0.0; z.len()];
-        if self.split.from_inertial(z, &mut w).is_err() {
-            return false;
-        }
-        let mut ws = Step::<Jacobi>::workspace(&self.scheme, &self.split);
-        for k in 0..n {
-            let t = k as f64 * h;
-            if self
-                .scheme
-                .step_reusing(&self.split, t, h, &mut w, &mut ws, k > 0)
-                .is_err()
-            {
-                return false;
-            }
-        }
-        self.split.to_inertial(&w, z).is_ok() && z.iter().all(|x| x.is_finite())
-    }
-}
-
 /// The facts of a `wh:ID` row: the splitting's verified order (for general
-/// parts `A`, `B`: see [`integrator_core::split`]) and symplecticity.
-pub(crate) fn fixed<P, M>(id: &str, scheme: M, split: &Jacobi) -> Method<P>
+/// parts `A`, `B`: see [`integrator_core::split`]) and symplecticity; stepped
+/// as a processed method with no corrector (`χ` the identity). `None` where
+/// the catalogue has no table of the id (every library splitting has one).
+pub(crate) fn fixed<P, M>(id: &str, scheme: M, split: &Jacobi) -> Option<Method<P>>
 where
     P: Problem,
     M: Scheme
         + Step<Jacobi, Workspace = SplitWorkspace>
         + for<'a> Step<Counting<'a>, Workspace = SplitWorkspace>
         + Send
-        + Sync,
+        + Sync
+        + 'static,
 {
-    Method::Fixed(Fixed {
+    let sequence = Sequence::from_catalogue(id.strip_prefix(PREFIX).unwrap_or(id))?;
+    let identity = Sequence::new([]);
+    Some(Method::Fixed(Fixed {
         id: id.to_string(),
         order: M::INFO.order,
         symplectic: M::INFO.symplectic_separable,
         family: Family::Splitting,
         interpreted: false,
-        stepper: Box::new(WhStepper::new(
-            id.strip_prefix(PREFIX).unwrap_or(id),
-            scheme,
-            split.clone(),
-        )),
-    })
+        stepper: Box::new(WhStepper::new(scheme, sequence, identity, split)),
+    }))
 }
 
-/// A processed method on the Jacobi split: [`Processed`] with the
-/// conversions, as a [`Stepper`] of the inertial state.
-pub struct ProcessedStepper<M> {
+/// A `wh:` method on the Jacobi split of an N-body problem, as a
+/// [`Stepper`] of the problem's inertial state: a kernel `M` (a `butcher!`
+/// splitting, or a sequence) with a corrector `χ` at output only
+/// ([`Processed`]; the identity for a plain splitting), and the conversions.
+pub struct WhStepper<M> {
     method: Processed<M>,
     split: Jacobi,
     /// The kernel's sequence with the corrector, for the timed run (merged
-    /// across steps); `None` where the kernel has no table in the catalogue.
-    timed: Option<Processed<Sequence>>,
+    /// across steps).
+    timed: Processed<Sequence>,
 }
 
-impl<M> ProcessedStepper<M>
+impl<M> WhStepper<M> {
+    /// `kernel`, whose drift–kick sequence is `sequence`, processed by
+    /// `chi` on `split`.
+    pub fn new(kernel: M, sequence: Sequence, chi: Sequence, split: &Jacobi) -> Self {
+        WhStepper {
+            timed: Processed::new(sequence, chi.clone()),
+            method: Processed::new(kernel, chi),
+            split: split.clone(),
+        }
+    }
+}
+
+impl<M> WhStepper<M>
 where
     M: for<'a> Step<Counting<'a>, Workspace = SplitWorkspace>,
 {
@@ -357,7 +239,7 @@ where
     }
 }
 
-impl<P, M> Stepper<P> for ProcessedStepper<M>
+impl<P, M> Stepper<P> for WhStepper<M>
 where
     P: Problem,
     M: Step<Jacobi, Workspace = SplitWorkspace>
@@ -390,42 +272,10 @@ where
     }
 
     /// Converted twice and corrected twice (`χ⁻¹` after the conversion in,
-    /// `χ` before the conversion out), as REBOUND's WHFast with a corrector
-    /// and its safe mode off.
+    /// `χ` before the conversion out), the drifts merged across steps, as
+    /// REBOUND's WHFast with a corrector and its safe mode off.
     fn bare(&self, _sys: &P, z: &mut [f64], h: f64, n: usize) -> bool {
-        if let Some(p) = &self.timed {
-            return bare_merged(&self.split, p.kernel(), Some(p), z, h, n);
-        }
-        let mut w = vec![0.0; z.len()];
-        if self.split.from_inertial(z, &mut w).is_err() {
-            return false;
-        }
-        let mut chi_ws = SplitWorkspace::new(self.split.buffer_len());
-        if self
-            .method
-            .enter(&self.split, h, &mut w, &mut chi_ws)
-            .is_err()
-        {
-            return false;
-        }
-        let mut ws = Step::<Jacobi>::workspace(self.method.kernel(), &self.split);
-        for k in 0..n {
-            let t = k as f64 * h;
-            if self
-                .method
-                .kernel()
-                .step_reusing(&self.split, t, h, &mut w, &mut ws, k > 0)
-                .is_err()
-            {
-                return false;
-            }
-        }
-        let mut out = vec![0.0; w.len()];
-        self.method
-            .output(&self.split, h, &w, &mut out, &mut chi_ws)
-            .is_ok()
-            && self.split.to_inertial(&out, z).is_ok()
-            && z.iter().all(|x| x.is_finite())
+        bare_merged(&self.split, &self.timed, z, h, n)
     }
 }
 
@@ -435,7 +285,7 @@ where
 pub(crate) fn processed<P, M>(
     id: &str,
     kernel: M,
-    kernel_sequence: Option<Sequence>,
+    kernel_sequence: Sequence,
     chi: Sequence,
     order: usize,
     split: &Jacobi,
@@ -454,11 +304,7 @@ where
         symplectic: true,
         family: Family::Splitting,
         interpreted: false,
-        stepper: Box::new(ProcessedStepper {
-            timed: kernel_sequence.map(|k| Processed::new(k, chi.clone())),
-            method: Processed::new(kernel, chi),
-            split: split.clone(),
-        }),
+        stepper: Box::new(WhStepper::new(kernel, kernel_sequence, chi, split)),
     })
 }
 
@@ -491,7 +337,7 @@ fn processed_method<P: Problem>(id: &str, base: &str, split: &Jacobi) -> Option<
     };
     // Not marked interpreted: every `wh:` row's timed run steps its
     // sequence (merged across steps), so their times compare.
-    Some(processed(id, kernel.clone(), Some(kernel), chi, order, split))
+    Some(processed(id, kernel.clone(), kernel, chi, order, split))
 }
 
 /// The ids of the catalogue's processed methods (a kernel with a corrector).

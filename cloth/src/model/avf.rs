@@ -607,13 +607,7 @@ impl ClothModel {
     }
 
     fn avf_jacobian_into(&self, q: &[f64], q1: &[f64], values: &mut [f64], project: bool) {
-        let jac = self.jac();
-        assert_eq!(
-            values.len(),
-            jac.pattern.len(),
-            "values must match the Jacobian pattern"
-        );
-        values.fill(0.0);
+        let jac = self.cleared_values(values);
         let q3 = self.chunks(q);
         let p3 = self.chunks(q1);
         for (s, loc) in self.ff.iter().zip(&jac.ff) {

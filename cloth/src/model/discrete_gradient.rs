@@ -62,13 +62,7 @@ impl ClothModel {
         values: &mut [f64],
         project: bool,
     ) {
-        let jac = self.jac();
-        assert_eq!(
-            values.len(),
-            jac.pattern.len(),
-            "values must match the Jacobian pattern"
-        );
-        values.fill(0.0);
+        let jac = self.cleared_values(values);
         let q3 = self.chunks(q);
         let x3 = self.chunks(xbar);
         let block = |d: Vector3<f64>, dm: Vector3<f64>, kl: f64, rest: f64| -> Matrix3<f64> {

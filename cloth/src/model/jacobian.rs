@@ -116,6 +116,19 @@ pub(super) fn spring_block(d: &Vector3<f64>, kl: f64, rest: f64, definite: bool)
 }
 
 impl ClothModel {
+    /// The layout, with `values` (one per entry of its pattern) zeroed for
+    /// an assembly: the start of every Jacobian-like matrix of the model.
+    pub(super) fn cleared_values(&self, values: &mut [f64]) -> &JacobianLayout {
+        let jac = self.jac();
+        assert_eq!(
+            values.len(),
+            jac.pattern.len(),
+            "values must match the Jacobian pattern"
+        );
+        values.fill(0.0);
+        jac
+    }
+
     /// The sparse layout of the force Jacobian, built on first use: only
     /// implicit methods (and tests) need it, and it costs about 50 times the
     /// memory of the springs (on a 2048 × 2048 grid, about 8 GB), so an
@@ -195,13 +208,7 @@ impl ClothModel {
     }
 
     fn jacobian_into(&self, q: &[f64], values: &mut [f64], definite: bool, project: bool) {
-        let jac = self.jac();
-        assert_eq!(
-            values.len(),
-            jac.pattern.len(),
-            "values must match the Jacobian pattern"
-        );
-        values.fill(0.0);
+        let jac = self.cleared_values(values);
         let q3 = self.chunks(q);
         for (s, loc) in self.ff.iter().zip(&jac.ff) {
             let d = Vector3::from(q3[s.b as usize]) - Vector3::from(q3[s.a as usize]);
