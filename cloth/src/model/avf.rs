@@ -156,7 +156,7 @@
 
 use nalgebra::{Matrix3, Vector3};
 
-use super::{ClothModel, add_block, spring_block};
+use super::{ClothModel, spring_block};
 
 /// Gauss–Legendre on `[0, 1]`: the nodes below `½` (the others are
 /// `1 − ξ`) and their weights, 12 points.
@@ -607,25 +607,8 @@ impl ClothModel {
     }
 
     fn avf_jacobian_into(&self, q: &[f64], q1: &[f64], values: &mut [f64], project: bool) {
-        let jac = self.cleared_values(values);
-        let q3 = self.chunks(q);
-        let p3 = self.chunks(q1);
-        for (s, loc) in self.ff.iter().zip(&jac.ff) {
-            let (a, b) = (s.a as usize, s.b as usize);
-            let d = Vector3::from(q3[b]) - Vector3::from(q3[a]);
-            let d1 = Vector3::from(p3[b]) - Vector3::from(p3[a]);
-            let k = spring_avf_block(d, d1, s.kl, s.rest, project);
-            add_block(values, [loc[0], loc[1]], &k, -1.0);
-            add_block(values, [loc[2], loc[3]], &k, 1.0);
-            add_block(values, [loc[4], loc[5]], &k, 1.0);
-            add_block(values, [loc[6], loc[7]], &k, -1.0);
-        }
-        for (s, &loc) in self.fp.iter().zip(&jac.fp) {
-            let pin = Vector3::from(s.pin);
-            let d = pin - Vector3::from(q3[s.a as usize]);
-            let d1 = pin - Vector3::from(p3[s.a as usize]);
-            let k = spring_avf_block(d, d1, s.kl, s.rest, project);
-            add_block(values, loc, &k, -1.0);
-        }
+        self.add_spring_blocks(q, q1, values, |d, d1, kl, rest| {
+            spring_avf_block(d, d1, kl, rest, project)
+        });
     }
 }

@@ -4,7 +4,7 @@
 
 use nalgebra::{Matrix3, Vector3};
 
-use super::{ClothModel, add_block};
+use super::ClothModel;
 
 impl ClothModel {
     /// The discrete gradient force of the springs and gravity between the
@@ -62,9 +62,6 @@ impl ClothModel {
         values: &mut [f64],
         project: bool,
     ) {
-        let jac = self.cleared_values(values);
-        let q3 = self.chunks(q);
-        let x3 = self.chunks(xbar);
         let block = |d: Vector3<f64>, dm: Vector3<f64>, kl: f64, rest: f64| -> Matrix3<f64> {
             let d1 = 2.0 * dm - d;
             let (l0, l1) = (d.norm(), d1.norm());
@@ -88,20 +85,6 @@ impl ClothModel {
             }
             k
         };
-        for (s, loc) in self.ff.iter().zip(&jac.ff) {
-            let d = Vector3::from(q3[s.b as usize]) - Vector3::from(q3[s.a as usize]);
-            let dm = Vector3::from(x3[s.b as usize]) - Vector3::from(x3[s.a as usize]);
-            let k = block(d, dm, s.kl, s.rest);
-            add_block(values, [loc[0], loc[1]], &k, -1.0);
-            add_block(values, [loc[2], loc[3]], &k, 1.0);
-            add_block(values, [loc[4], loc[5]], &k, 1.0);
-            add_block(values, [loc[6], loc[7]], &k, -1.0);
-        }
-        for (s, &loc) in self.fp.iter().zip(&jac.fp) {
-            let pin = Vector3::from(s.pin);
-            let d = pin - Vector3::from(q3[s.a as usize]);
-            let dm = pin - Vector3::from(x3[s.a as usize]);
-            add_block(values, loc, &block(d, dm, s.kl, s.rest), -1.0);
-        }
+        self.add_spring_blocks(q, xbar, values, block);
     }
 }

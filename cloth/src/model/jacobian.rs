@@ -129,6 +129,39 @@ impl ClothModel {
         jac
     }
 
+    /// `values` ← the 3×3 block `block(d, d₁, k/L, L)` of every spring at
+    /// its places in the pattern, from zero: `d` the spring's vector at `q`,
+    /// `d₁` at `q1` (a pinned end is its pin). The assembly of every
+    /// two-configuration matrix (the average vector field's, the discrete
+    /// gradient's); colliders add theirs afterwards where they have any.
+    pub(super) fn add_spring_blocks(
+        &self,
+        q: &[f64],
+        q1: &[f64],
+        values: &mut [f64],
+        block: impl Fn(Vector3<f64>, Vector3<f64>, f64, f64) -> Matrix3<f64>,
+    ) {
+        let jac = self.cleared_values(values);
+        let q3 = self.chunks(q);
+        let p3 = self.chunks(q1);
+        for (s, loc) in self.ff.iter().zip(&jac.ff) {
+            let (a, b) = (s.a as usize, s.b as usize);
+            let d = Vector3::from(q3[b]) - Vector3::from(q3[a]);
+            let d1 = Vector3::from(p3[b]) - Vector3::from(p3[a]);
+            let k = block(d, d1, s.kl, s.rest);
+            add_block(values, [loc[0], loc[1]], &k, -1.0);
+            add_block(values, [loc[2], loc[3]], &k, 1.0);
+            add_block(values, [loc[4], loc[5]], &k, 1.0);
+            add_block(values, [loc[6], loc[7]], &k, -1.0);
+        }
+        for (s, &loc) in self.fp.iter().zip(&jac.fp) {
+            let pin = Vector3::from(s.pin);
+            let d = pin - Vector3::from(q3[s.a as usize]);
+            let d1 = pin - Vector3::from(p3[s.a as usize]);
+            add_block(values, loc, &block(d, d1, s.kl, s.rest), -1.0);
+        }
+    }
+
     /// The sparse layout of the force Jacobian, built on first use: only
     /// implicit methods (and tests) need it, and it costs about 50 times the
     /// memory of the springs (on a 2048 × 2048 grid, about 8 GB), so an
