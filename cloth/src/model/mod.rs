@@ -28,7 +28,7 @@ mod springs;
 mod stability;
 
 use colliders::Penalty;
-use jacobian::{JacobianLayout, add_block, spring_block};
+use jacobian::{JacobianLayout, spring_block};
 pub(crate) use springs::{PinSpring, Spring};
 pub use stability::{STABILITY_WORK, Stability};
 
