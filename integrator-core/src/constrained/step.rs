@@ -1,0 +1,543 @@
+//! One step of a Lobatto IIIA–IIIB pair on a constrained system: the
+//! position step (stages and their multipliers, by Newton's method with a
+//! dense LU) and the velocity step (the last multiplier, a projection onto
+//! the tangent space).
+
+// The Newton matrix is assembled by block indices.
+#![allow(clippy::needless_range_loop)]
+
+use super::dense_lu::DenseLu;
+use super::error::{ConstrainedError, Where};
+use super::system::{Constrained, inf_norm};
+use super::table::{LobattoPair, lobatto3a3b3, rattle};
+
+/// When the Newton iteration stops.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct NewtonSettings {
+    /// The iteration cap; reaching it is an error
+    /// ([`ConstrainedError::NotConverged`]), never a silent acceptance.
+    pub max_iterations: usize,
+    /// Stop when the last correction of every stage position is below
+    /// `tolerance·ε·‖q‖∞` and that of every stage momentum below
+    /// `tolerance·ε·‖p‖∞` (the momentum scale includes the step's change of
+    /// momentum): the round-off of the state, hence of the constraints.
+    pub tolerance: f64,
+    /// How far the initial state may be off the manifold, in units of
+    /// `ε·scale` of each residual (see
+    /// [`Residual::scale`](super::Residual::scale)).
+    pub start_tolerance: f64,
+}
+
+impl Default for NewtonSettings {
+    fn default() -> Self {
+        NewtonSettings {
+            max_iterations: 50,
+            tolerance: 16.0,
+            start_tolerance: 64.0,
+        }
+    }
+}
+
+/// A Lobatto IIIA–IIIB pair applied to a [`Constrained`] system: RATTLE
+/// for `S = 2`, order 4 for `S = 3`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ConstrainedPair<const S: usize> {
+    pub pair: LobattoPair<S>,
+    pub settings: NewtonSettings,
+}
+
+impl ConstrainedPair<2> {
+    /// RATTLE (Andersen 1983), the s = 2 pair: with `λ = Λ₁` and `μ = Λ₂`,
+    ///
+    /// ```text
+    /// p½ = p₀ − h/2 (∇V(q₀) + G(q₀)ᵀλ)
+    /// q₁ = q₀ + h M⁻¹ p½,                 g(q₁) = 0          (position step: λ)
+    /// p₁ = p½ − h/2 (∇V(q₁) + G(q₁)ᵀμ),   G(q₁) M⁻¹ p₁ = 0   (velocity step: μ)
+    /// ```
+    pub fn rattle() -> Self {
+        ConstrainedPair {
+            pair: rattle(),
+            settings: NewtonSettings::default(),
+        }
+    }
+}
+
+impl ConstrainedPair<3> {
+    /// The s = 3 pair, order 4.
+    pub fn lobatto3a3b3() -> Self {
+        ConstrainedPair {
+            pair: lobatto3a3b3(),
+            settings: NewtonSettings::default(),
+        }
+    }
+}
+
+/// What one step needs besides the state, made once per run. It carries
+/// the multipliers of the last step (the warm start of the next) and counts
+/// the steps, so that errors name the step.
+pub struct ConstrainedWorkspace {
+    d: usize,
+    m: usize,
+    s: usize,
+    minv: Vec<f64>,
+    q0: Vec<f64>,
+    p0: Vec<f64>,
+    /// Stage positions `Q_k`, `s × d` (`Q₀ = q₀`).
+    qs: Vec<f64>,
+    /// Scaled multipliers `ν_k = h²Λ_k`, `s × m` (the last is set by the
+    /// velocity step).
+    nu: Vec<f64>,
+    /// `∇V(Q_k)`, `s × d`.
+    grad: Vec<f64>,
+    /// `G(Q_k)`, `s × m × d`.
+    gq: Vec<f64>,
+    /// Stage momenta `P_k`, `s × d`.
+    ps: Vec<f64>,
+    gval: Vec<f64>,
+    curv: Vec<f64>,
+    /// Newton residual, correction.
+    r: Vec<f64>,
+    /// `curvature` was provided at the last stage (`None`: not asked yet).
+    curvature: Option<bool>,
+    lu: DenseLu,
+    lu_m: DenseLu,
+    rhs_m: Vec<f64>,
+    /// Physical multipliers `Λ_k` of the last step (`s × m`), if any.
+    last_lambda: Option<Vec<f64>>,
+    /// Steps taken with this workspace.
+    pub steps: usize,
+    /// Newton iterations of the last step.
+    pub iterations: usize,
+    /// Newton iterations of all steps.
+    pub total_iterations: usize,
+}
+
+impl ConstrainedWorkspace {
+    /// The multipliers `Λ₁ … Λ_s` of the last step, `s × m` row-major.
+    pub fn multipliers(&self) -> Option<&[f64]> {
+        self.last_lambda.as_deref()
+    }
+
+    /// Forget the last step's multipliers (the next step starts cold).
+    pub fn reset(&mut self) {
+        self.last_lambda = None;
+        self.steps = 0;
+    }
+}
+
+impl<const S: usize> ConstrainedPair<S> {
+    /// The pair with other Newton settings.
+    pub fn with_settings(mut self, settings: NewtonSettings) -> Self {
+        self.settings = settings;
+        self
+    }
+
+    /// A workspace for `sys`.
+    pub fn workspace<Sys: Constrained + ?Sized>(&self, sys: &Sys) -> ConstrainedWorkspace {
+        let (d, m) = (sys.dof(), sys.constraints());
+        let n = (S - 1) * (d + m);
+        let mut minv = vec![0.0; d];
+        sys.inverse_mass(&mut minv);
+        ConstrainedWorkspace {
+            d,
+            m,
+            s: S,
+            minv,
+            q0: vec![0.0; d],
+            p0: vec![0.0; d],
+            qs: vec![0.0; S * d],
+            nu: vec![0.0; S * m],
+            grad: vec![0.0; S * d],
+            gq: vec![0.0; S * m * d],
+            ps: vec![0.0; S * d],
+            gval: vec![0.0; m],
+            curv: vec![0.0; d * d],
+            r: vec![0.0; n],
+            curvature: None,
+            lu: DenseLu::new(n),
+            lu_m: DenseLu::new(m),
+            rhs_m: vec![0.0; m],
+            last_lambda: None,
+            steps: 0,
+            iterations: 0,
+            total_iterations: 0,
+        }
+    }
+
+    /// One step of size `h` from `z = [q₀; p₀]` at time `t` (used only in
+    /// messages), in place. `z` must be on the manifold (see
+    /// [`check_start`](super::check_start)). Errors name the step (counted
+    /// by `ws`) and `t`; `z` is unchanged when the step fails.
+    ///
+    /// The unknowns of the position step are the stage positions
+    /// `Q₂ … Q_s` and the scaled multipliers `νₖ = h²Λₖ`, `k = 1 … s−1`
+    /// (scaled so that the Newton matrix stays `O(1)` as `h → 0`); with
+    /// `α = AÂ` and `cᵢ = Σⱼ aᵢⱼ` the equations are
+    ///
+    /// ```text
+    /// Qᵢ − q₀ − h cᵢ M⁻¹p₀ + Σₖ αᵢₖ M⁻¹ (h²∇V(Qₖ) + G(Qₖ)ᵀνₖ) = 0,   g(Qᵢ) = 0,   i = 2 … s,
+    /// ```
+    ///
+    /// (the stage momenta `Pⱼ = p₀ − Σₖ âⱼₖ (h∇V(Qₖ) + G(Qₖ)ᵀνₖ/h)`
+    /// eliminated). The velocity step then fixes `Λ_s` by
+    /// `G(q₁)M⁻¹p₁ = 0`: one solve with `G M⁻¹ Gᵀ`, plus one refinement.
+    pub fn step<Sys: Constrained + ?Sized>(
+        &self,
+        sys: &Sys,
+        t: f64,
+        h: f64,
+        z: &mut [f64],
+        ws: &mut ConstrainedWorkspace,
+    ) -> Result<(), ConstrainedError> {
+        let place = Where::Step {
+            step: ws.steps + 1,
+            t,
+        };
+        let (d, m) = (ws.d, ws.m);
+        if z.len() != 2 * d || ws.s != S {
+            return Err(ConstrainedError::Dimension {
+                expected: 2 * d,
+                got: z.len(),
+            });
+        }
+        self.position_step(sys, h, z, ws)
+            .map_err(|e| e.at(place))?;
+        self.velocity_step(sys, h, ws).map_err(|e| e.at(place))?;
+        let q1 = &ws.qs[(S - 1) * d..S * d];
+        if let Some(i) = q1.iter().chain(&ws.p0).position(|x| !x.is_finite()) {
+            return Err(ConstrainedError::Diverged {
+                where_: place,
+                detail: format!("z[{i}] is not finite after the step"),
+            });
+        }
+        // The new state; `ws.p0` holds p₁ after the velocity step.
+        z[..d].copy_from_slice(q1);
+        z[d..].copy_from_slice(&ws.p0);
+        // Physical multipliers for the warm start of the next step.
+        let mut lam = ws.last_lambda.take().unwrap_or_else(|| vec![0.0; S * m]);
+        let h2 = h * h;
+        for (l, nu) in lam.iter_mut().zip(&ws.nu).take((S - 1) * m) {
+            *l = nu / h2;
+        }
+        for l in 0..m {
+            lam[(S - 1) * m + l] = ws.nu[(S - 1) * m + l] / h2;
+        }
+        ws.last_lambda = Some(lam);
+        ws.steps += 1;
+        ws.total_iterations += ws.iterations;
+        Ok(())
+    }
+
+    /// Evaluate `∇V` and `G` at stage `k`.
+    fn evaluate_stage<Sys: Constrained + ?Sized>(sys: &Sys, ws: &mut ConstrainedWorkspace, k: usize) {
+        let (d, m) = (ws.d, ws.m);
+        let q = &ws.qs[k * d..(k + 1) * d];
+        sys.grad_potential(q, &mut ws.grad[k * d..(k + 1) * d]);
+        sys.constraint_jacobian(q, &mut ws.gq[k * m * d..(k + 1) * m * d]);
+    }
+
+    /// `Fₖ = h²∇V(Qₖ) + G(Qₖ)ᵀνₖ`, component `a`.
+    #[inline]
+    fn scaled_force(ws: &ConstrainedWorkspace, h2: f64, k: usize, a: usize) -> f64 {
+        let (d, m) = (ws.d, ws.m);
+        let mut f = h2 * ws.grad[k * d + a];
+        for l in 0..m {
+            f += ws.gq[k * m * d + l * d + a] * ws.nu[k * m + l];
+        }
+        f
+    }
+
+    fn position_step<Sys: Constrained + ?Sized>(
+        &self,
+        sys: &Sys,
+        h: f64,
+        z: &[f64],
+        ws: &mut ConstrainedWorkspace,
+    ) -> Result<(), ConstrainedError> {
+        let (d, m) = (ws.d, ws.m);
+        let h2 = h * h;
+        let alpha = self.pair.a_a_hat();
+        let c = self.pair.c();
+        let a_hat = self.pair.a_hat;
+        let nq = (S - 1) * d;
+        let n = nq + (S - 1) * m;
+        let start = Where::Start;
+        ws.q0.copy_from_slice(&z[..d]);
+        ws.p0.copy_from_slice(&z[d..]);
+        for k in 0..S {
+            ws.qs[k * d..(k + 1) * d].copy_from_slice(&z[..d]);
+        }
+        Self::evaluate_stage(sys, ws, 0);
+
+        // Warm start: the last step's multipliers moved on by one step
+        // (Λₖ + Λ_s − Λ₁, a linear extrapolation in time); cold: zero.
+        match &ws.last_lambda {
+            Some(lam) => {
+                for k in 0..S - 1 {
+                    for l in 0..m {
+                        let shift = lam[(S - 1) * m + l] - lam[l];
+                        ws.nu[k * m + l] = h2 * (lam[k * m + l] + shift);
+                    }
+                }
+            }
+            None => ws.nu.fill(0.0),
+        }
+        // Predicted stages: the equations with ∇V and G frozen at q₀.
+        for i in 1..S {
+            for a in 0..d {
+                let mut f = 0.0;
+                for k in 0..S - 1 {
+                    let mut fk = h2 * ws.grad[a];
+                    for l in 0..m {
+                        fk += ws.gq[l * d + a] * ws.nu[k * m + l];
+                    }
+                    f += alpha[i][k] * fk;
+                }
+                ws.qs[i * d + a] = ws.q0[a] + h * c[i] * ws.minv[a] * ws.p0[a] - ws.minv[a] * f;
+            }
+        }
+
+        let tol = self.settings.tolerance;
+        let mut correction = f64::INFINITY;
+        ws.iterations = 0;
+        let mut converged = false;
+        while ws.iterations < self.settings.max_iterations {
+            ws.iterations += 1;
+            for k in 1..S {
+                Self::evaluate_stage(sys, ws, k);
+            }
+            // Residual: R rows, then the constraint rows.
+            for i in 1..S {
+                for a in 0..d {
+                    let mut f = 0.0;
+                    for k in 0..S - 1 {
+                        f += alpha[i][k] * Self::scaled_force(ws, h2, k, a);
+                    }
+                    ws.r[(i - 1) * d + a] = ws.qs[i * d + a]
+                        - ws.q0[a]
+                        - h * c[i] * ws.minv[a] * ws.p0[a]
+                        + ws.minv[a] * f;
+                }
+                sys.constraint(&ws.qs[i * d..(i + 1) * d], &mut ws.gval);
+                ws.r[nq + (i - 1) * m..nq + i * m].copy_from_slice(&ws.gval);
+            }
+            if let Some(i) = ws.r.iter().position(|x| !x.is_finite()) {
+                return Err(ConstrainedError::Diverged {
+                    where_: start,
+                    detail: format!(
+                        "Newton iteration {}: residual {i} is not finite",
+                        ws.iterations
+                    ),
+                });
+            }
+            // Newton matrix.
+            ws.lu.clear();
+            for i in 1..S {
+                for a in 0..d {
+                    ws.lu.set((i - 1) * d + a, (i - 1) * d + a, 1.0);
+                }
+                for k in 0..S - 1 {
+                    let al = alpha[i][k];
+                    if al == 0.0 {
+                        continue;
+                    }
+                    // ∂/∂νₖ: αᵢₖ M⁻¹ G(Qₖ)ᵀ.
+                    for a in 0..d {
+                        for l in 0..m {
+                            let g = ws.gq[k * m * d + l * d + a];
+                            ws.lu
+                                .set((i - 1) * d + a, nq + k * m + l, al * ws.minv[a] * g);
+                        }
+                    }
+                    // ∂/∂Qₖ (k ≥ 1): αᵢₖ M⁻¹ (h²∇²V + Σ νₗ∇²gₗ), when provided.
+                    if k >= 1 && ws.curvature != Some(false) {
+                        let lam: Vec<f64> =
+                            ws.nu[k * m..(k + 1) * m].iter().map(|x| x / h2).collect();
+                        let has =
+                            sys.curvature(&ws.qs[k * d..(k + 1) * d], &lam, &mut ws.curv);
+                        ws.curvature = Some(has);
+                        if has {
+                            for a in 0..d {
+                                for e in 0..d {
+                                    let v = al * ws.minv[a] * h2 * ws.curv[a * d + e];
+                                    let (row, col) = ((i - 1) * d + a, (k - 1) * d + e);
+                                    let old = if row == col { 1.0 } else { 0.0 };
+                                    ws.lu.set(row, col, old + v);
+                                }
+                            }
+                        }
+                    }
+                }
+                // ∂g(Qᵢ)/∂Qᵢ = G(Qᵢ).
+                for l in 0..m {
+                    for a in 0..d {
+                        ws.lu.set(
+                            nq + (i - 1) * m + l,
+                            (i - 1) * d + a,
+                            ws.gq[i * m * d + l * d + a],
+                        );
+                    }
+                }
+            }
+            if let Some(k) = ws.lu.factor(4.0 * n as f64 * f64::EPSILON) {
+                return Err(ConstrainedError::Degenerate {
+                    where_: start,
+                    detail: format!(
+                        "the Newton matrix of the stage equations is singular at pivot {k} of {n} \
+                         in iteration {} (G(Qᵢ) M⁻¹ G(Qₖ)ᵀ has lost rank)",
+                        ws.iterations
+                    ),
+                });
+            }
+            for x in ws.r.iter_mut() {
+                *x = -*x;
+            }
+            ws.lu.solve(&mut ws.r);
+            if let Some(i) = ws.r.iter().position(|x| !x.is_finite()) {
+                return Err(ConstrainedError::Diverged {
+                    where_: start,
+                    detail: format!(
+                        "Newton iteration {}: correction {i} is not finite",
+                        ws.iterations
+                    ),
+                });
+            }
+            // Apply the correction and measure it in units of round-off.
+            let mut dq: f64 = 0.0;
+            for i in 1..S {
+                for a in 0..d {
+                    let dx = ws.r[(i - 1) * d + a];
+                    ws.qs[i * d + a] += dx;
+                    dq = dq.max(dx.abs());
+                }
+            }
+            let mut dp: f64 = 0.0;
+            for j in 0..S {
+                for a in 0..d {
+                    let mut x = 0.0;
+                    for k in 0..S - 1 {
+                        for l in 0..m {
+                            x += a_hat[j][k] * ws.gq[k * m * d + l * d + a] * ws.r[nq + k * m + l];
+                        }
+                    }
+                    dp = dp.max((x / h).abs());
+                }
+            }
+            for k in 0..S - 1 {
+                for l in 0..m {
+                    ws.nu[k * m + l] += ws.r[nq + k * m + l];
+                }
+            }
+            self.stage_momenta(ws, h);
+            let qscale = inf_norm(&ws.qs);
+            let mut pscale = inf_norm(&ws.p0);
+            for j in 0..S {
+                for a in 0..d {
+                    pscale = pscale.max((ws.ps[j * d + a] - ws.p0[a]).abs());
+                }
+            }
+            let eps = f64::EPSILON;
+            correction = (dq / (eps * qscale)).max(if dp == 0.0 { 0.0 } else { dp / (eps * pscale) });
+            if !correction.is_finite() && !(dq == 0.0 && dp == 0.0) {
+                correction = f64::INFINITY;
+            }
+            if dq == 0.0 && dp == 0.0 {
+                correction = 0.0;
+            }
+            if correction <= tol {
+                converged = true;
+                break;
+            }
+        }
+        if !converged {
+            return Err(ConstrainedError::NotConverged {
+                where_: start,
+                iterations: ws.iterations,
+                correction,
+            });
+        }
+        // ∇V and G at the converged stages, for the momenta.
+        for k in 1..S {
+            Self::evaluate_stage(sys, ws, k);
+        }
+        Ok(())
+    }
+
+    /// `Pⱼ = p₀ − Σₖ âⱼₖ (h∇V(Qₖ) + G(Qₖ)ᵀνₖ/h)` (k < s: the last column
+    /// of `Â` vanishes).
+    fn stage_momenta(&self, ws: &mut ConstrainedWorkspace, h: f64) {
+        let d = ws.d;
+        let h2 = h * h;
+        for j in 0..S {
+            for a in 0..d {
+                let mut f = 0.0;
+                for k in 0..S - 1 {
+                    f += self.pair.a_hat[j][k] * Self::scaled_force(ws, h2, k, a);
+                }
+                ws.ps[j * d + a] = ws.p0[a] - f / h;
+            }
+        }
+    }
+
+    /// `p̃ = p₀ − Σₖ<s bₖ(h∇V(Qₖ) + G(Qₖ)ᵀνₖ/h) − b_s h∇V(Q_s)`, then
+    /// `p₁ = p̃ − G(q₁)ᵀμ` with `μ = h b_s Λ_s` from
+    /// `(G M⁻¹ Gᵀ) μ = G M⁻¹ p̃` (the projection onto the tangent space in
+    /// the metric `M⁻¹`), refined once. Leaves `p₁` in `ws.p0` and `ν_s`.
+    fn velocity_step<Sys: Constrained + ?Sized>(
+        &self,
+        _sys: &Sys,
+        h: f64,
+        ws: &mut ConstrainedWorkspace,
+    ) -> Result<(), ConstrainedError> {
+        let (d, m) = (ws.d, ws.m);
+        let h2 = h * h;
+        let b = self.pair.b;
+        let mut pt = ws.p0.clone();
+        for a in 0..d {
+            let mut f = 0.0;
+            for k in 0..S - 1 {
+                f += b[k] * Self::scaled_force(ws, h2, k, a);
+            }
+            f += b[S - 1] * h2 * ws.grad[(S - 1) * d + a];
+            pt[a] -= f / h;
+        }
+        let g1 = &ws.gq[(S - 1) * m * d..S * m * d];
+        ws.lu_m.clear();
+        for l in 0..m {
+            for k in 0..m {
+                let mut x = 0.0;
+                for a in 0..d {
+                    x += g1[l * d + a] * ws.minv[a] * g1[k * d + a];
+                }
+                ws.lu_m.set(l, k, x);
+            }
+        }
+        if let Some(k) = ws.lu_m.factor(4.0 * m as f64 * f64::EPSILON) {
+            return Err(ConstrainedError::Degenerate {
+                where_: Where::Start,
+                detail: format!(
+                    "G(q₁) M⁻¹ G(q₁)ᵀ is singular at pivot {k} of {m} in the velocity step"
+                ),
+            });
+        }
+        let mut mu = vec![0.0; m];
+        for _round in 0..2 {
+            for l in 0..m {
+                ws.rhs_m[l] = (0..d).map(|a| g1[l * d + a] * ws.minv[a] * pt[a]).sum();
+            }
+            ws.lu_m.solve(&mut ws.rhs_m);
+            for a in 0..d {
+                pt[a] -= (0..m).map(|l| g1[l * d + a] * ws.rhs_m[l]).sum::<f64>();
+            }
+            for l in 0..m {
+                mu[l] += ws.rhs_m[l];
+            }
+        }
+        // μ = h b_s Λ_s, stored as ν_s = h²Λ_s = h μ / b_s.
+        for l in 0..m {
+            ws.nu[(S - 1) * m + l] = h * mu[l] / b[S - 1];
+        }
+        ws.p0.copy_from_slice(&pt);
+        Ok(())
+    }
+}
