@@ -19,8 +19,11 @@ pub struct NewtonSettings {
     pub max_iterations: usize,
     /// Stop when the last correction of every stage position is below
     /// `tolerance·ε·‖q‖∞` and that of every stage momentum below
-    /// `tolerance·ε·‖p‖∞` (the momentum scale includes the step's change of
-    /// momentum): the round-off of the state, hence of the constraints.
+    /// `tolerance·ε·max(‖p‖∞, ‖Δp‖∞, m‖q‖∞/h)` (`Δp` the step's change of
+    /// momentum; `m‖q‖/h` because the multipliers are fixed through the
+    /// positions): the round-off of the state, hence of the constraints. A
+    /// correction that stops shrinking while below `4·tolerance` has reached
+    /// the floor of rounding and is accepted too.
     pub tolerance: f64,
     /// How far the initial state may be off the manifold, in units of
     /// `ε·scale` of each residual (see
@@ -80,6 +83,7 @@ pub struct ConstrainedWorkspace {
     m: usize,
     s: usize,
     minv: Vec<f64>,
+    max_minv: f64,
     q0: Vec<f64>,
     p0: Vec<f64>,
     /// Stage positions `Q_k`, `s × d` (`Q₀ = q₀`).
@@ -142,6 +146,7 @@ impl<const S: usize> ConstrainedPair<S> {
             d,
             m,
             s: S,
+            max_minv: minv.iter().fold(0.0, |a: f64, &b| a.max(b)),
             minv,
             q0: vec![0.0; d],
             p0: vec![0.0; d],
@@ -429,6 +434,12 @@ impl<const S: usize> ConstrainedPair<S> {
                 }
             }
             self.stage_momenta(ws, h);
+            // The scales of round-off. Momenta are resolved only to the
+            // rounding of the positions divided by the step (the
+            // multipliers of an index-3 problem are fixed through positions,
+            // `O(ε/h²)`), so a momentum correction is at round-off when it is
+            // below `ε` times the larger of `‖p‖` (with the step's change of
+            // momentum) and `m‖q‖/h`.
             let qscale = inf_norm(&ws.qs);
             let mut pscale = inf_norm(&ws.p0);
             for j in 0..S {
@@ -436,15 +447,18 @@ impl<const S: usize> ConstrainedPair<S> {
                     pscale = pscale.max((ws.ps[j * d + a] - ws.p0[a]).abs());
                 }
             }
+            pscale = pscale.max(qscale / (h.abs() * ws.max_minv));
             let eps = f64::EPSILON;
-            correction = (dq / (eps * qscale)).max(if dp == 0.0 { 0.0 } else { dp / (eps * pscale) });
-            if !correction.is_finite() && !(dq == 0.0 && dp == 0.0) {
-                correction = f64::INFINITY;
-            }
+            let previous = correction;
+            correction = (dq / (eps * qscale)).max(dp / (eps * pscale));
             if dq == 0.0 && dp == 0.0 {
                 correction = 0.0;
             }
-            if correction <= tol {
+            // Converged: the correction is below the tolerance, or it stopped
+            // shrinking while within four times the tolerance (the floor of
+            // rounding in evaluating the residual: more iterations only
+            // stir the last bits).
+            if correction <= tol || (correction <= 4.0 * tol && correction > 0.5 * previous) {
                 converged = true;
                 break;
             }
