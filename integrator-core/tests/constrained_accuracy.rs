@@ -59,12 +59,30 @@ fn constraints_hold_to_round_off_after_every_step() {
     let rattle = ConstrainedPair::rattle();
     let lob3 = ConstrainedPair::lobatto3a3b3();
     let cases = [
-        ("sphere, RATTLE", worst_residuals(&rattle, &sp, &zs, 0.05, 2000)),
-        ("sphere, s = 3", worst_residuals(&lob3, &sp, &zs, 0.05, 2000)),
-        ("planar chain of 10, RATTLE", worst_residuals(&rattle, &c2, &z2, 2e-3, 1000)),
-        ("planar chain of 10, s = 3", worst_residuals(&lob3, &c2, &z2, 2e-3, 1000)),
-        ("spatial chain of 4, RATTLE", worst_residuals(&rattle, &c3, &z3, 5e-3, 1000)),
-        ("spatial chain of 4, s = 3", worst_residuals(&lob3, &c3, &z3, 5e-3, 1000)),
+        (
+            "sphere, RATTLE",
+            worst_residuals(&rattle, &sp, &zs, 0.05, 2000),
+        ),
+        (
+            "sphere, s = 3",
+            worst_residuals(&lob3, &sp, &zs, 0.05, 2000),
+        ),
+        (
+            "planar chain of 10, RATTLE",
+            worst_residuals(&rattle, &c2, &z2, 2e-3, 1000),
+        ),
+        (
+            "planar chain of 10, s = 3",
+            worst_residuals(&lob3, &c2, &z2, 2e-3, 1000),
+        ),
+        (
+            "spatial chain of 4, RATTLE",
+            worst_residuals(&rattle, &c3, &z3, 5e-3, 1000),
+        ),
+        (
+            "spatial chain of 4, s = 3",
+            worst_residuals(&lob3, &c3, &z3, 5e-3, 1000),
+        ),
     ];
     for (name, (wp, wv)) in cases {
         println!("{name}: worst |g| {wp:.2} ε·scale, worst |G M⁻¹ p| {wv:.2} ε·scale");
@@ -108,14 +126,22 @@ fn rattle_read_from_the_table_is_the_textbook_rattle() {
     let mut z = z0.clone();
     let mut y = z0.clone();
     let mut worst: f64 = 0.0;
-    integrate_constrained(&ConstrainedPair::rattle(), &sys, &mut z, 0.0, h, 200, |k, _, z| {
-        if k > 0 {
-            textbook_rattle(&sys, h, &mut y);
-            for i in 0..6 {
-                worst = worst.max((z[i] - y[i]).abs());
+    integrate_constrained(
+        &ConstrainedPair::rattle(),
+        &sys,
+        &mut z,
+        0.0,
+        h,
+        200,
+        |k, _, z| {
+            if k > 0 {
+                textbook_rattle(&sys, h, &mut y);
+                for i in 0..6 {
+                    worst = worst.max((z[i] - y[i]).abs());
+                }
             }
-        }
-    })
+        },
+    )
     .unwrap();
     println!("RATTLE (table) against textbook RATTLE, 200 steps: max |Δz| = {worst:.2e}");
     // Both are the same map; the difference is rounding, amplified along the
@@ -149,7 +175,9 @@ fn reference(sys: &SphericalPendulum, z0: &[f64], t: f64, n: usize) -> Vec<f64> 
 }
 
 fn max_diff(a: &[f64], b: &[f64]) -> f64 {
-    a.iter().zip(b).fold(0.0, |w: f64, (x, y)| w.max((x - y).abs()))
+    a.iter()
+        .zip(b)
+        .fold(0.0, |w: f64, (x, y)| w.max((x - y).abs()))
 }
 
 /// Least-squares slope of `log err` against `log h`.
@@ -193,18 +221,56 @@ fn orders_two_and_four_on_the_spherical_pendulum() {
     let finer = reference(&sys, &z0, t, 80_000);
     let ref_err = max_diff(&exact, &finer);
     let mut z = z0.clone();
-    integrate_constrained(&ConstrainedPair::lobatto3a3b3(), &sys, &mut z, 0.0, t / 4000.0, 4000, |_, _, _| {}).unwrap();
+    integrate_constrained(
+        &ConstrainedPair::lobatto3a3b3(),
+        &sys,
+        &mut z,
+        0.0,
+        t / 4000.0,
+        4000,
+        |_, _, _| {},
+    )
+    .unwrap();
     let pair_err = max_diff(&exact, &z);
-    println!("reference: RK4 40000 vs 80000 steps {ref_err:.2e}; s = 3 pair at h = 5e-4 {pair_err:.2e}");
+    println!(
+        "reference: RK4 40000 vs 80000 steps {ref_err:.2e}; s = 3 pair at h = 5e-4 {pair_err:.2e}"
+    );
     assert!(ref_err < 1e-12, "{ref_err}");
     assert!(pair_err < 1e-11, "{pair_err}");
 
-    let (h2, e2) = errors(&ConstrainedPair::rattle(), &sys, &z0, t, &exact, &[40, 80, 160, 320, 640]);
-    let (h4, e4) = errors(&ConstrainedPair::lobatto3a3b3(), &sys, &z0, t, &exact, &[20, 40, 80, 160, 320]);
+    let (h2, e2) = errors(
+        &ConstrainedPair::rattle(),
+        &sys,
+        &z0,
+        t,
+        &exact,
+        &[40, 80, 160, 320, 640],
+    );
+    let (h4, e4) = errors(
+        &ConstrainedPair::lobatto3a3b3(),
+        &sys,
+        &z0,
+        t,
+        &exact,
+        &[20, 40, 80, 160, 320],
+    );
     let (s2, s4) = (slope(&h2, &e2), slope(&h4, &e4));
-    let fmt = |v: &[f64]| v.iter().map(|x| format!("{x:.3e}")).collect::<Vec<_>>().join(" ");
-    println!("RATTLE: h {}\n        err {}\n        slope {s2:.3}", fmt(&h2), fmt(&e2));
-    println!("s = 3:  h {}\n        err {}\n        slope {s4:.3}", fmt(&h4), fmt(&e4));
+    let fmt = |v: &[f64]| {
+        v.iter()
+            .map(|x| format!("{x:.3e}"))
+            .collect::<Vec<_>>()
+            .join(" ")
+    };
+    println!(
+        "RATTLE: h {}\n        err {}\n        slope {s2:.3}",
+        fmt(&h2),
+        fmt(&e2)
+    );
+    println!(
+        "s = 3:  h {}\n        err {}\n        slope {s4:.3}",
+        fmt(&h4),
+        fmt(&e4)
+    );
     assert!((s2 - 2.0).abs() < 0.1, "RATTLE slope {s2}");
     assert!((s4 - 4.0).abs() < 0.15, "s = 3 slope {s4}");
 }
@@ -248,13 +314,85 @@ fn energy_stays_bounded_over_long_runs() {
     let angles: Vec<f64> = (0..5).map(|i| 0.3 + 0.1 * (i as f64).sin()).collect();
     let z2 = c2.state(&angles, &[0.0; 5]);
     let runs = [
-        ("sphere, RATTLE, h = 0.05, 2·10⁵ steps", energy_run(&ConstrainedPair::rattle(), &sp, &zs, 0.05, 200_000)),
-        ("sphere, s = 3, h = 0.1, 5·10⁴ steps", energy_run(&ConstrainedPair::lobatto3a3b3(), &sp, &zs, 0.1, 50_000)),
-        ("planar chain of 5, RATTLE, h = 2e-3, 10⁵ steps", energy_run(&ConstrainedPair::rattle(), &c2, &z2, 2e-3, 100_000)),
+        (
+            "sphere, RATTLE, h = 0.05, 2·10⁵ steps",
+            energy_run(&ConstrainedPair::rattle(), &sp, &zs, 0.05, 200_000),
+        ),
+        (
+            "sphere, s = 3, h = 0.1, 5·10⁴ steps",
+            energy_run(&ConstrainedPair::lobatto3a3b3(), &sp, &zs, 0.1, 50_000),
+        ),
+        (
+            "planar chain of 5, RATTLE, h = 2e-3, 10⁵ steps",
+            energy_run(&ConstrainedPair::rattle(), &c2, &z2, 2e-3, 100_000),
+        ),
     ];
     for (name, (first, all, trend)) in runs {
-        println!("{name}: max |ΔH| first tenth {first:.3e}, whole run {all:.3e}, linear trend over the run {trend:.3e}");
-        assert!(all <= 1.5 * first, "{name}: the energy error grows: {first} → {all}");
-        assert!(trend <= 0.1 * all, "{name}: the energy drifts: trend {trend} of {all}");
+        println!(
+            "{name}: max |ΔH| first tenth {first:.3e}, whole run {all:.3e}, linear trend over the run {trend:.3e}"
+        );
+        assert!(
+            all <= 1.5 * first,
+            "{name}: the energy error grows: {first} → {all}"
+        );
+        assert!(
+            trend <= 0.1 * all,
+            "{name}: the energy drifts: trend {trend} of {all}"
+        );
+    }
+}
+
+/// Newton iterations per step, warm-started from the last step's
+/// multipliers against every step started cold (the same states).
+fn iterations_per_step<S: Constrained, const K: usize>(
+    method: &ConstrainedPair<K>,
+    sys: &S,
+    z0: &[f64],
+    h: f64,
+    n: usize,
+) -> (f64, f64) {
+    let (mut warm, mut cold) = (method.workspace(sys), method.workspace(sys));
+    let mut z = z0.to_vec();
+    let mut cold_total = 0;
+    for k in 0..n {
+        let mut y = z.clone();
+        cold.reset();
+        method.step(sys, 0.0, h, &mut y, &mut cold).unwrap();
+        cold_total += cold.iterations;
+        method
+            .step(sys, k as f64 * h, h, &mut z, &mut warm)
+            .unwrap();
+    }
+    (
+        warm.total_iterations as f64 / n as f64,
+        cold_total as f64 / n as f64,
+    )
+}
+
+#[test]
+fn the_warm_start_saves_newton_iterations() {
+    let (sp, zs) = sphere();
+    let (c2, z2) = chain(2, 10);
+    let cases = [
+        (
+            "sphere, RATTLE, h = 0.05",
+            iterations_per_step(&ConstrainedPair::rattle(), &sp, &zs, 0.05, 400),
+        ),
+        (
+            "sphere, s = 3, h = 0.05",
+            iterations_per_step(&ConstrainedPair::lobatto3a3b3(), &sp, &zs, 0.05, 400),
+        ),
+        (
+            "chain of 10, RATTLE, h = 2e-3",
+            iterations_per_step(&ConstrainedPair::rattle(), &c2, &z2, 2e-3, 400),
+        ),
+        (
+            "chain of 10, s = 3, h = 2e-3",
+            iterations_per_step(&ConstrainedPair::lobatto3a3b3(), &c2, &z2, 2e-3, 400),
+        ),
+    ];
+    for (name, (warm, cold)) in cases {
+        println!("{name}: Newton iterations per step {warm:.2} warm, {cold:.2} cold");
+        assert!(warm < cold, "{name}: warm {warm}, cold {cold}");
     }
 }

@@ -28,7 +28,10 @@ fn an_initial_state_off_the_manifold_names_the_constraint() {
     let e = run(&ConstrainedPair::rattle(), &sys, &mut z, 0.0, 1e-3, 10);
     let msg = e.to_string();
     println!("{msg}");
-    assert!(matches!(e, ConstrainedError::OffManifold { constraint: 3, .. }), "{e:?}");
+    assert!(
+        matches!(e, ConstrainedError::OffManifold { constraint: 3, .. }),
+        "{e:?}"
+    );
     assert!(msg.contains("link 4 (bob 3 – bob 4)"), "{msg}");
 
     // A momentum with a radial component on the sphere.
@@ -39,7 +42,10 @@ fn an_initial_state_off_the_manifold_names_the_constraint() {
     }
     let e = run(&ConstrainedPair::lobatto3a3b3(), &sp, &mut z, 0.0, 1e-2, 10);
     println!("{e}");
-    assert!(matches!(e, ConstrainedError::OffTangent { constraint: 0, .. }), "{e:?}");
+    assert!(
+        matches!(e, ConstrainedError::OffTangent { constraint: 0, .. }),
+        "{e:?}"
+    );
     assert!(e.to_string().contains("the rod"), "{e}");
 }
 
@@ -51,8 +57,21 @@ fn a_zero_length_link_is_a_degenerate_constraint_named_at_the_start() {
     let mut z = sys.state(&[0.3, 0.0, 0.5], &[0.0; 3]);
     let e = run(&ConstrainedPair::rattle(), &sys, &mut z, 0.0, 1e-3, 10);
     println!("{e}");
-    assert!(matches!(e, ConstrainedError::Degenerate { where_: Where::Start, .. }), "{e:?}");
-    assert!(e.to_string().contains("link 2 (bob 1 – bob 2) has a zero gradient"), "{e}");
+    assert!(
+        matches!(
+            e,
+            ConstrainedError::Degenerate {
+                where_: Where::Start,
+                ..
+            }
+        ),
+        "{e:?}"
+    );
+    assert!(
+        e.to_string()
+            .contains("link 2 (bob 1 – bob 2) has a zero gradient"),
+        "{e}"
+    );
 }
 
 /// Two constraints with dependent gradients (a spherical pendulum whose rod
@@ -111,7 +130,14 @@ fn an_absurd_step_fails_with_the_step_and_time_and_leaves_the_state() {
         },
         {
             let mut z = z0.clone();
-            let e = run(&ConstrainedPair::lobatto3a3b3(), &sys, &mut z, 2.5, 100.0, 3);
+            let e = run(
+                &ConstrainedPair::lobatto3a3b3(),
+                &sys,
+                &mut z,
+                2.5,
+                100.0,
+                3,
+            );
             ("s = 3", e, z)
         },
     ] {
@@ -138,13 +164,31 @@ fn the_iteration_cap_is_an_error_never_accepted() {
         max_iterations: 1,
         ..NewtonSettings::default()
     };
-    let e = run(&ConstrainedPair::lobatto3a3b3().with_settings(one), &sys, &mut z, 0.0, 0.01, 5);
+    let e = run(
+        &ConstrainedPair::lobatto3a3b3().with_settings(one),
+        &sys,
+        &mut z,
+        0.0,
+        0.01,
+        5,
+    );
     println!("{e}");
     assert!(
-        matches!(e, ConstrainedError::NotConverged { where_: Where::Step { step: 1, .. }, iterations: 1, .. }),
+        matches!(
+            e,
+            ConstrainedError::NotConverged {
+                where_: Where::Step { step: 1, .. },
+                iterations: 1,
+                ..
+            }
+        ),
         "{e:?}"
     );
-    assert!(e.to_string().contains("did not converge in 1 Newton iterations"), "{e}");
+    assert!(
+        e.to_string()
+            .contains("did not converge in 1 Newton iterations"),
+        "{e}"
+    );
 }
 
 #[test]
@@ -153,18 +197,33 @@ fn malformed_input_is_named() {
     let z = sys.state(1.0, 0.0, 0.5, 0.3);
     let r = ConstrainedPair::rattle();
     let mut short = z[..5].to_vec();
-    assert!(matches!(run(&r, &sys, &mut short, 0.0, 0.1, 1), ConstrainedError::Dimension { expected: 6, got: 5 }));
+    assert!(matches!(
+        run(&r, &sys, &mut short, 0.0, 0.1, 1),
+        ConstrainedError::Dimension {
+            expected: 6,
+            got: 5
+        }
+    ));
     for h in [0.0, f64::NAN, f64::INFINITY] {
         let mut zz = z.clone();
-        assert!(matches!(run(&r, &sys, &mut zz, 0.0, h, 1), ConstrainedError::StepSize(_)));
+        assert!(matches!(
+            run(&r, &sys, &mut zz, 0.0, h, 1),
+            ConstrainedError::StepSize(_)
+        ));
     }
     let mut nan = z.clone();
     nan[4] = f64::NAN;
-    assert!(matches!(run(&r, &sys, &mut nan, 0.0, 0.1, 1), ConstrainedError::NonFiniteInitial { index: 4, .. }));
+    assert!(matches!(
+        run(&r, &sys, &mut nan, 0.0, 0.1, 1),
+        ConstrainedError::NonFiniteInitial { index: 4, .. }
+    ));
     let heavy = SphericalPendulum::new(1.0, 0.0, 9.81);
     let mut zz = z.clone();
     let e = run(&r, &heavy, &mut zz, 0.0, 0.1, 1);
-    assert!(matches!(e, ConstrainedError::Mass { index: 0, .. }), "{e:?}");
+    assert!(
+        matches!(e, ConstrainedError::Mass { index: 0, .. }),
+        "{e:?}"
+    );
 
     let e = PendulumChain::new(2, vec![1.0, 1.0], vec![1.0, -1.0], 9.81).unwrap_err();
     assert_eq!(e.field, "masses[1]");

@@ -75,10 +75,9 @@ impl ConstrainedError {
     /// with [`Where::Start`] and placed by the caller that knows the step).
     pub(crate) fn at(self, w: Where) -> Self {
         match self {
-            ConstrainedError::Degenerate { detail, .. } => ConstrainedError::Degenerate {
-                where_: w,
-                detail,
-            },
+            ConstrainedError::Degenerate { detail, .. } => {
+                ConstrainedError::Degenerate { where_: w, detail }
+            }
             ConstrainedError::NotConverged {
                 iterations,
                 correction,
@@ -88,10 +87,9 @@ impl ConstrainedError {
                 iterations,
                 correction,
             },
-            ConstrainedError::Diverged { detail, .. } => ConstrainedError::Diverged {
-                where_: w,
-                detail,
-            },
+            ConstrainedError::Diverged { detail, .. } => {
+                ConstrainedError::Diverged { where_: w, detail }
+            }
             other => other,
         }
     }

@@ -23,7 +23,9 @@ pub struct NewtonSettings {
     /// momentum; `m‖q‖/h` because the multipliers are fixed through the
     /// positions): the round-off of the state, hence of the constraints. A
     /// correction that stops shrinking while below `4·tolerance` has reached
-    /// the floor of rounding and is accepted too.
+    /// the floor of rounding and is accepted too, and so is one whose
+    /// contraction `θ` predicts less than one unit of round-off for the rest
+    /// of the iteration (`θ/(1 − θ)·correction ≤ 1`).
     pub tolerance: f64,
     /// How far the initial state may be off the manifold, in units of
     /// `ε·scale` of each residual (see
@@ -98,7 +100,10 @@ pub struct ConstrainedWorkspace {
     /// Stage momenta `P_k`, `s × d`.
     ps: Vec<f64>,
     gval: Vec<f64>,
+    lam: Vec<f64>,
     curv: Vec<f64>,
+    pt: Vec<f64>,
+    mu: Vec<f64>,
     /// Newton residual, correction.
     r: Vec<f64>,
     /// `curvature` was provided at the last stage (`None`: not asked yet).
@@ -156,7 +161,10 @@ impl<const S: usize> ConstrainedPair<S> {
             gq: vec![0.0; S * m * d],
             ps: vec![0.0; S * d],
             gval: vec![0.0; m],
+            lam: vec![0.0; m],
             curv: vec![0.0; d * d],
+            pt: vec![0.0; d],
+            mu: vec![0.0; m],
             r: vec![0.0; n],
             curvature: None,
             lu: DenseLu::new(n),
@@ -205,8 +213,7 @@ impl<const S: usize> ConstrainedPair<S> {
                 got: z.len(),
             });
         }
-        self.position_step(sys, h, z, ws)
-            .map_err(|e| e.at(place))?;
+        self.position_step(sys, h, z, ws).map_err(|e| e.at(place))?;
         self.velocity_step(sys, h, ws).map_err(|e| e.at(place))?;
         let q1 = &ws.qs[(S - 1) * d..S * d];
         if let Some(i) = q1.iter().chain(&ws.p0).position(|x| !x.is_finite()) {
@@ -234,7 +241,11 @@ impl<const S: usize> ConstrainedPair<S> {
     }
 
     /// Evaluate `∇V` and `G` at stage `k`.
-    fn evaluate_stage<Sys: Constrained + ?Sized>(sys: &Sys, ws: &mut ConstrainedWorkspace, k: usize) {
+    fn evaluate_stage<Sys: Constrained + ?Sized>(
+        sys: &Sys,
+        ws: &mut ConstrainedWorkspace,
+        k: usize,
+    ) {
         let (d, m) = (ws.d, ws.m);
         let q = &ws.qs[k * d..(k + 1) * d];
         sys.grad_potential(q, &mut ws.grad[k * d..(k + 1) * d]);
@@ -318,10 +329,9 @@ impl<const S: usize> ConstrainedPair<S> {
                     for k in 0..S - 1 {
                         f += alpha[i][k] * Self::scaled_force(ws, h2, k, a);
                     }
-                    ws.r[(i - 1) * d + a] = ws.qs[i * d + a]
-                        - ws.q0[a]
-                        - h * c[i] * ws.minv[a] * ws.p0[a]
-                        + ws.minv[a] * f;
+                    ws.r[(i - 1) * d + a] =
+                        ws.qs[i * d + a] - ws.q0[a] - h * c[i] * ws.minv[a] * ws.p0[a]
+                            + ws.minv[a] * f;
                 }
                 sys.constraint(&ws.qs[i * d..(i + 1) * d], &mut ws.gval);
                 ws.r[nq + (i - 1) * m..nq + i * m].copy_from_slice(&ws.gval);
@@ -356,10 +366,10 @@ impl<const S: usize> ConstrainedPair<S> {
                     }
                     // ∂/∂Qₖ (k ≥ 1): αᵢₖ M⁻¹ (h²∇²V + Σ νₗ∇²gₗ), when provided.
                     if k >= 1 && ws.curvature != Some(false) {
-                        let lam: Vec<f64> =
-                            ws.nu[k * m..(k + 1) * m].iter().map(|x| x / h2).collect();
-                        let has =
-                            sys.curvature(&ws.qs[k * d..(k + 1) * d], &lam, &mut ws.curv);
+                        for l in 0..m {
+                            ws.lam[l] = ws.nu[k * m + l] / h2;
+                        }
+                        let has = sys.curvature(&ws.qs[k * d..(k + 1) * d], &ws.lam, &mut ws.curv);
                         ws.curvature = Some(has);
                         if has {
                             for a in 0..d {
@@ -458,7 +468,19 @@ impl<const S: usize> ConstrainedPair<S> {
             // shrinking while within four times the tolerance (the floor of
             // rounding in evaluating the residual: more iterations only
             // stir the last bits).
-            if correction <= tol || (correction <= 4.0 * tol && correction > 0.5 * previous) {
+            //
+            // Or: the contraction θ = correction/previous predicts that the
+            // rest of the iteration would move the state by less than one
+            // unit of round-off, θ/(1 − θ)·correction ≤ 1 (the stopping rule
+            // of Hairer & Wanner, Solving ODEs II, IV.8, with the tolerance
+            // at round-off); it saves the confirming iteration of a
+            // quadratically converging Newton.
+            let theta = correction / previous;
+            let predicted = theta / (1.0 - theta) * correction;
+            if correction <= tol
+                || (correction <= 4.0 * tol && correction > 0.5 * previous)
+                || (previous.is_finite() && theta < 1.0 && predicted <= 1.0)
+            {
                 converged = true;
                 break;
             }
@@ -506,14 +528,13 @@ impl<const S: usize> ConstrainedPair<S> {
         let (d, m) = (ws.d, ws.m);
         let h2 = h * h;
         let b = self.pair.b;
-        let mut pt = ws.p0.clone();
         for a in 0..d {
             let mut f = 0.0;
             for k in 0..S - 1 {
                 f += b[k] * Self::scaled_force(ws, h2, k, a);
             }
             f += b[S - 1] * h2 * ws.grad[(S - 1) * d + a];
-            pt[a] -= f / h;
+            ws.pt[a] = ws.p0[a] - f / h;
         }
         let g1 = &ws.gq[(S - 1) * m * d..S * m * d];
         ws.lu_m.clear();
@@ -534,24 +555,25 @@ impl<const S: usize> ConstrainedPair<S> {
                 ),
             });
         }
-        let mut mu = vec![0.0; m];
+        ws.mu.fill(0.0);
+        // The projection, then once more on its own rounding residual.
         for _round in 0..2 {
             for l in 0..m {
-                ws.rhs_m[l] = (0..d).map(|a| g1[l * d + a] * ws.minv[a] * pt[a]).sum();
+                ws.rhs_m[l] = (0..d).map(|a| g1[l * d + a] * ws.minv[a] * ws.pt[a]).sum();
             }
             ws.lu_m.solve(&mut ws.rhs_m);
             for a in 0..d {
-                pt[a] -= (0..m).map(|l| g1[l * d + a] * ws.rhs_m[l]).sum::<f64>();
+                ws.pt[a] -= (0..m).map(|l| g1[l * d + a] * ws.rhs_m[l]).sum::<f64>();
             }
             for l in 0..m {
-                mu[l] += ws.rhs_m[l];
+                ws.mu[l] += ws.rhs_m[l];
             }
         }
         // μ = h b_s Λ_s, stored as ν_s = h²Λ_s = h μ / b_s.
         for l in 0..m {
-            ws.nu[(S - 1) * m + l] = h * mu[l] / b[S - 1];
+            ws.nu[(S - 1) * m + l] = h * ws.mu[l] / b[S - 1];
         }
-        ws.p0.copy_from_slice(&pt);
+        ws.p0.copy_from_slice(&ws.pt);
         Ok(())
     }
 }

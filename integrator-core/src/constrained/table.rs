@@ -62,7 +62,10 @@ impl<const S: usize> LobattoPair<S> {
             return fail(format!("it has {S} stage(s); the Lobatto pairs have s ≥ 2"));
         }
         if let Some(j) = (0..S).find(|&j| a[0][j] != 0.0) {
-            return fail(format!("A[0][{j}] = {} (the first row of A must vanish)", a[0][j]));
+            return fail(format!(
+                "A[0][{j}] = {} (the first row of A must vanish)",
+                a[0][j]
+            ));
         }
         if let Some(j) = (0..S).find(|&j| a[S - 1][j] != b[j]) {
             return fail(format!(

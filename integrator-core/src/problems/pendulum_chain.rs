@@ -55,10 +55,16 @@ impl PendulumChain {
             );
         }
         if let Some(i) = lengths.iter().position(|l| !(l.is_finite() && *l >= 0.0)) {
-            return err(format!("lengths[{i}]"), format!("{} (must be finite and ≥ 0)", lengths[i]));
+            return err(
+                format!("lengths[{i}]"),
+                format!("{} (must be finite and ≥ 0)", lengths[i]),
+            );
         }
         if let Some(i) = masses.iter().position(|m| !(m.is_finite() && *m > 0.0)) {
-            return err(format!("masses[{i}]"), format!("{} (must be positive and finite)", masses[i]));
+            return err(
+                format!("masses[{i}]"),
+                format!("{} (must be positive and finite)", masses[i]),
+            );
         }
         if !gravity.is_finite() {
             return err("gravity".into(), format!("{gravity} (must be finite)"));

@@ -87,8 +87,8 @@ impl SphericalPendulum {
         let (st, ct) = y[0].sin_cos();
         out[0] = y[2] / ml2;
         out[1] = y[3] / (ml2 * st * st);
-        out[2] = y[3] * y[3] * ct / (ml2 * st * st * st)
-            - self.mass * self.gravity * self.length * st;
+        out[2] =
+            y[3] * y[3] * ct / (ml2 * st * st * st) - self.mass * self.gravity * self.length * st;
         out[3] = 0.0;
     }
 }
