@@ -1,7 +1,8 @@
 //! Per-step cost of the constrained Lobatto IIIA–IIIB pairs (dense Newton
 //! with faer's LU, warm-started): a planar pendulum chain of 10 links
 //! (d = 20, m = 10; Newton systems of size 30 for RATTLE, 60 for s = 3) and
-//! the spherical pendulum. Each iteration is one step continuing the run,
+//! the spherical pendulum; the s = 3 pair also with `curvature: false`
+//! (simplified Newton on the multipliers alone, size 20). Each iteration is one step continuing the run,
 //! at h = 2e-3 (chain) and 0.01 (sphere).
 //!
 //! `cargo bench -p integrator-core --bench constrained`.
@@ -10,7 +11,7 @@ use std::hint::black_box;
 use std::time::Duration;
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use integrator_core::constrained::{Constrained, ConstrainedPair};
+use integrator_core::constrained::{Constrained, ConstrainedPair, NewtonSettings};
 use integrator_core::problems::{PendulumChain, SphericalPendulum};
 
 fn one<S: Constrained, const K: usize>(
@@ -55,6 +56,18 @@ fn bench(c: &mut Criterion) {
         c,
         "constrained/chain10/lobatto3a3b3",
         ConstrainedPair::lobatto3a3b3(),
+        &chain,
+        zc.clone(),
+        2e-3,
+    );
+    let simplified = NewtonSettings {
+        curvature: false,
+        ..NewtonSettings::default()
+    };
+    one(
+        c,
+        "constrained/chain10/lobatto3a3b3-simplified",
+        ConstrainedPair::lobatto3a3b3().with_settings(simplified),
         &chain,
         zc,
         2e-3,

@@ -248,3 +248,26 @@ fn a_table_without_the_lobatto_structure_is_refused_naming_the_entry() {
     println!("{e}");
     assert!(e.to_string().contains("A[0][0]"), "{e}");
 }
+
+#[test]
+fn a_workspace_made_for_another_system_or_pair_is_refused() {
+    let sphere = SphericalPendulum::new(1.0, 1.0, 9.81);
+    let chain = PendulumChain::uniform(2, 3, 1.0, 9.81).unwrap();
+    let mut z = sphere.state(1.0, 0.0, 0.5, 0.3);
+    let rattle = ConstrainedPair::rattle();
+    let mut ws = rattle.workspace(&chain);
+    let e = rattle
+        .step(&sphere, 0.0, 0.01, &mut z, &mut ws)
+        .unwrap_err();
+    assert!(matches!(e, ConstrainedError::Workspace { .. }), "{e:?}");
+    let mut ws = rattle.workspace(&sphere);
+    let e = ConstrainedPair::lobatto3a3b3()
+        .step(&sphere, 0.0, 0.01, &mut z, &mut ws)
+        .unwrap_err();
+    println!("{e}");
+    assert!(e.to_string().contains("made for 2 stages"), "{e}");
+    let e = rattle
+        .step(&sphere, 0.0, f64::NAN, &mut z, &mut ws)
+        .unwrap_err();
+    assert!(matches!(e, ConstrainedError::StepSize(_)), "{e:?}");
+}

@@ -8,6 +8,9 @@ pub enum ConstrainedError {
     Dimension { expected: usize, got: usize },
     #[error("the system has {m} constraints for {d} coordinates (need 1 ≤ m ≤ d)")]
     ConstraintCount { m: usize, d: usize },
+    /// A workspace used with another pair or system than it was made for.
+    #[error("the workspace does not fit: {detail}")]
+    Workspace { detail: String },
     #[error("step size h = {0} must be finite and nonzero")]
     StepSize(f64),
     #[error("initial state is not finite: z[{index}] = {value}")]

@@ -31,6 +31,15 @@ pub struct NewtonSettings {
     /// `ε·scale` of each residual (see
     /// [`Residual::scale`](super::Residual::scale)).
     pub start_tolerance: f64,
+    /// Use the system's [`curvature`](super::Constrained::curvature), where
+    /// it provides one, for Newton's method proper on the full system of
+    /// stages and multipliers (size `(s−1)(d + m)`). Off, or without it, the
+    /// `O(h²)` curvature blocks are dropped and the stages eliminated: a
+    /// simplified Newton iteration on the multipliers alone (size
+    /// `(s−1)m`), more iterations of a smaller solve, the same result to
+    /// round-off. RATTLE (s = 2) always takes the smaller solve, which is
+    /// exact Newton there.
+    pub curvature: bool,
 }
 
 impl Default for NewtonSettings {
@@ -39,6 +48,7 @@ impl Default for NewtonSettings {
             max_iterations: 50,
             tolerance: 16.0,
             start_tolerance: 64.0,
+            curvature: true,
         }
     }
 }
@@ -111,6 +121,8 @@ pub struct ConstrainedWorkspace {
     lu: DenseLu,
     lu_m: DenseLu,
     rhs_m: Vec<f64>,
+    lu_red: DenseLu,
+    rhs_red: Vec<f64>,
     /// Physical multipliers `Λ_k` of the last step (`s × m`), if any.
     last_lambda: Option<Vec<f64>>,
     /// Steps taken with this workspace.
@@ -170,6 +182,8 @@ impl<const S: usize> ConstrainedPair<S> {
             lu: DenseLu::new(n),
             lu_m: DenseLu::new(m),
             rhs_m: vec![0.0; m],
+            lu_red: DenseLu::new((S - 1) * m),
+            rhs_red: vec![0.0; (S - 1) * m],
             last_lambda: None,
             steps: 0,
             iterations: 0,
@@ -207,11 +221,24 @@ impl<const S: usize> ConstrainedPair<S> {
             t,
         };
         let (d, m) = (ws.d, ws.m);
-        if z.len() != 2 * d || ws.s != S {
+        if ws.s != S || sys.dof() != d || sys.constraints() != m {
+            return Err(ConstrainedError::Workspace {
+                detail: format!(
+                    "made for {} stages, {d} coordinates and {m} constraints; asked for {S}, {} and {}",
+                    ws.s,
+                    sys.dof(),
+                    sys.constraints()
+                ),
+            });
+        }
+        if z.len() != 2 * d {
             return Err(ConstrainedError::Dimension {
                 expected: 2 * d,
                 got: z.len(),
             });
+        }
+        if h == 0.0 || !h.is_finite() {
+            return Err(ConstrainedError::StepSize(h));
         }
         self.position_step(sys, h, z, ws).map_err(|e| e.at(place))?;
         self.velocity_step(sys, h, ws).map_err(|e| e.at(place))?;
@@ -228,11 +255,8 @@ impl<const S: usize> ConstrainedPair<S> {
         // Physical multipliers for the warm start of the next step.
         let mut lam = ws.last_lambda.take().unwrap_or_else(|| vec![0.0; S * m]);
         let h2 = h * h;
-        for (l, nu) in lam.iter_mut().zip(&ws.nu).take((S - 1) * m) {
+        for (l, nu) in lam.iter_mut().zip(&ws.nu) {
             *l = nu / h2;
-        }
-        for l in 0..m {
-            lam[(S - 1) * m + l] = ws.nu[(S - 1) * m + l] / h2;
         }
         ws.last_lambda = Some(lam);
         ws.steps += 1;
@@ -276,7 +300,6 @@ impl<const S: usize> ConstrainedPair<S> {
         let c = self.pair.c();
         let a_hat = self.pair.a_hat;
         let nq = (S - 1) * d;
-        let n = nq + (S - 1) * m;
         let start = Where::Start;
         ws.q0.copy_from_slice(&z[..d]);
         ws.p0.copy_from_slice(&z[d..]);
@@ -313,6 +336,15 @@ impl<const S: usize> ConstrainedPair<S> {
             }
         }
 
+        // The curvature enters the Newton matrix only for s ≥ 3; without it
+        // the stage corrections are eliminated and Newton runs on the
+        // multipliers alone.
+        if S >= 3 && self.settings.curvature && ws.curvature.is_none() {
+            ws.lam.fill(0.0);
+            let has = sys.curvature(&ws.q0, &ws.lam, &mut ws.curv);
+            ws.curvature = Some(has);
+        }
+        let reduced = S == 2 || !self.settings.curvature || ws.curvature == Some(false);
         let tol = self.settings.tolerance;
         let mut correction = f64::INFINITY;
         ws.iterations = 0;
@@ -345,69 +377,12 @@ impl<const S: usize> ConstrainedPair<S> {
                     ),
                 });
             }
-            // Newton matrix.
-            ws.lu.clear();
-            for i in 1..S {
-                for a in 0..d {
-                    ws.lu.set((i - 1) * d + a, (i - 1) * d + a, 1.0);
-                }
-                for k in 0..S - 1 {
-                    let al = alpha[i][k];
-                    if al == 0.0 {
-                        continue;
-                    }
-                    // ∂/∂νₖ: αᵢₖ M⁻¹ G(Qₖ)ᵀ.
-                    for a in 0..d {
-                        for l in 0..m {
-                            let g = ws.gq[k * m * d + l * d + a];
-                            ws.lu
-                                .set((i - 1) * d + a, nq + k * m + l, al * ws.minv[a] * g);
-                        }
-                    }
-                    // ∂/∂Qₖ (k ≥ 1): αᵢₖ M⁻¹ (h²∇²V + Σ νₗ∇²gₗ), when provided.
-                    if k >= 1 && ws.curvature != Some(false) {
-                        for l in 0..m {
-                            ws.lam[l] = ws.nu[k * m + l] / h2;
-                        }
-                        let has = sys.curvature(&ws.qs[k * d..(k + 1) * d], &ws.lam, &mut ws.curv);
-                        ws.curvature = Some(has);
-                        if has {
-                            for a in 0..d {
-                                for e in 0..d {
-                                    let v = al * ws.minv[a] * h2 * ws.curv[a * d + e];
-                                    let (row, col) = ((i - 1) * d + a, (k - 1) * d + e);
-                                    let old = if row == col { 1.0 } else { 0.0 };
-                                    ws.lu.set(row, col, old + v);
-                                }
-                            }
-                        }
-                    }
-                }
-                // ∂g(Qᵢ)/∂Qᵢ = G(Qᵢ).
-                for l in 0..m {
-                    for a in 0..d {
-                        ws.lu.set(
-                            nq + (i - 1) * m + l,
-                            (i - 1) * d + a,
-                            ws.gq[i * m * d + l * d + a],
-                        );
-                    }
-                }
+            // The Newton correction, into `ws.r`.
+            if reduced {
+                self.reduced_correction(ws, &alpha)?;
+            } else {
+                self.full_correction(sys, ws, h2, &alpha)?;
             }
-            if let Some(k) = ws.lu.factor(4.0 * n as f64 * f64::EPSILON) {
-                return Err(ConstrainedError::Degenerate {
-                    where_: start,
-                    detail: format!(
-                        "the Newton matrix of the stage equations is singular at pivot {k} of {n} \
-                         in iteration {} (G(Qᵢ) M⁻¹ G(Qₖ)ᵀ has lost rank)",
-                        ws.iterations
-                    ),
-                });
-            }
-            for x in ws.r.iter_mut() {
-                *x = -*x;
-            }
-            ws.lu.solve(&mut ws.r);
             if let Some(i) = ws.r.iter().position(|x| !x.is_finite()) {
                 return Err(ConstrainedError::Diverged {
                     where_: start,
@@ -496,6 +471,154 @@ impl<const S: usize> ConstrainedPair<S> {
         for k in 1..S {
             Self::evaluate_stage(sys, ws, k);
         }
+        Ok(())
+    }
+
+    /// The full Newton matrix (size `(s−1)(d + m)`, with the curvature
+    /// blocks) factorised by faer's dense LU; the correction replaces the
+    /// residual in `ws.r`.
+    fn full_correction<Sys: Constrained + ?Sized>(
+        &self,
+        sys: &Sys,
+        ws: &mut ConstrainedWorkspace,
+        h2: f64,
+        alpha: &[[f64; S]; S],
+    ) -> Result<(), ConstrainedError> {
+        let (d, m) = (ws.d, ws.m);
+        let nq = (S - 1) * d;
+        let n = nq + (S - 1) * m;
+        let start = Where::Start;
+        // Newton matrix.
+        ws.lu.clear();
+        for i in 1..S {
+            for a in 0..d {
+                ws.lu.set((i - 1) * d + a, (i - 1) * d + a, 1.0);
+            }
+            for k in 0..S - 1 {
+                let al = alpha[i][k];
+                if al == 0.0 {
+                    continue;
+                }
+                // ∂/∂νₖ: αᵢₖ M⁻¹ G(Qₖ)ᵀ.
+                for a in 0..d {
+                    for l in 0..m {
+                        let g = ws.gq[k * m * d + l * d + a];
+                        ws.lu
+                            .set((i - 1) * d + a, nq + k * m + l, al * ws.minv[a] * g);
+                    }
+                }
+                // ∂/∂Qₖ (k ≥ 1): αᵢₖ M⁻¹ (h²∇²V + Σ νₗ∇²gₗ), when provided.
+                if k >= 1 && ws.curvature != Some(false) {
+                    for l in 0..m {
+                        ws.lam[l] = ws.nu[k * m + l] / h2;
+                    }
+                    let has = sys.curvature(&ws.qs[k * d..(k + 1) * d], &ws.lam, &mut ws.curv);
+                    ws.curvature = Some(has);
+                    if has {
+                        for a in 0..d {
+                            for e in 0..d {
+                                let v = al * ws.minv[a] * h2 * ws.curv[a * d + e];
+                                let (row, col) = ((i - 1) * d + a, (k - 1) * d + e);
+                                let old = if row == col { 1.0 } else { 0.0 };
+                                ws.lu.set(row, col, old + v);
+                            }
+                        }
+                    }
+                }
+            }
+            // ∂g(Qᵢ)/∂Qᵢ = G(Qᵢ).
+            for l in 0..m {
+                for a in 0..d {
+                    ws.lu.set(
+                        nq + (i - 1) * m + l,
+                        (i - 1) * d + a,
+                        ws.gq[i * m * d + l * d + a],
+                    );
+                }
+            }
+        }
+        if let Some(k) = ws.lu.factor(4.0 * n as f64 * f64::EPSILON) {
+            return Err(ConstrainedError::Degenerate {
+                where_: start,
+                detail: format!(
+                    "the Newton matrix of the stage equations is singular at pivot {k} of {n} \
+                     in iteration {} (G(Qᵢ) M⁻¹ G(Qₖ)ᵀ has lost rank)",
+                    ws.iterations
+                ),
+            });
+        }
+        for x in ws.r.iter_mut() {
+            *x = -*x;
+        }
+        ws.lu.solve(&mut ws.r);
+        Ok(())
+    }
+
+    /// The Newton correction when `∂Rᵢ/∂Qₖ = δᵢₖI` (RATTLE, where the
+    /// curvature never enters, or a system without curvature): the stage
+    /// corrections are eliminated,
+    /// `ΔQᵢ = −Rᵢ − Σₖ αᵢₖ M⁻¹G(Qₖ)ᵀΔνₖ`, leaving the multiplier system
+    /// `Σₖ αᵢₖ G(Qᵢ)M⁻¹G(Qₖ)ᵀ Δνₖ = g(Qᵢ) − G(Qᵢ)Rᵢ` of size `(s−1)m`
+    /// (for RATTLE, `½ G(q₁)M⁻¹G(q₀)ᵀ Δλ`: Newton on the multipliers).
+    fn reduced_correction(
+        &self,
+        ws: &mut ConstrainedWorkspace,
+        alpha: &[[f64; S]; S],
+    ) -> Result<(), ConstrainedError> {
+        let (d, m) = (ws.d, ws.m);
+        let nq = (S - 1) * d;
+        let nr = (S - 1) * m;
+        ws.lu_red.clear();
+        for i in 1..S {
+            for k in 0..S - 1 {
+                let al = alpha[i][k];
+                if al == 0.0 {
+                    continue;
+                }
+                for l in 0..m {
+                    let gi = &ws.gq[i * m * d + l * d..i * m * d + (l + 1) * d];
+                    for e in 0..m {
+                        let gk = &ws.gq[k * m * d + e * d..k * m * d + (e + 1) * d];
+                        let x: f64 = (0..d).map(|a| gi[a] * ws.minv[a] * gk[a]).sum();
+                        ws.lu_red.set((i - 1) * m + l, k * m + e, al * x);
+                    }
+                }
+            }
+        }
+        if let Some(k) = ws.lu_red.factor(4.0 * nr as f64 * f64::EPSILON) {
+            return Err(ConstrainedError::Degenerate {
+                where_: Where::Start,
+                detail: format!(
+                    "the multiplier matrix αᵢₖ G(Qᵢ) M⁻¹ G(Qₖ)ᵀ is singular at pivot {k} of {nr} \
+                     in iteration {} (the step may be too large for the constraints to turn)",
+                    ws.iterations
+                ),
+            });
+        }
+        for i in 1..S {
+            for l in 0..m {
+                let gi = &ws.gq[i * m * d + l * d..i * m * d + (l + 1) * d];
+                let gr: f64 = (0..d).map(|a| gi[a] * ws.r[(i - 1) * d + a]).sum();
+                ws.rhs_red[(i - 1) * m + l] = ws.r[nq + (i - 1) * m + l] - gr;
+            }
+        }
+        ws.lu_red.solve(&mut ws.rhs_red);
+        for i in 1..S {
+            for a in 0..d {
+                let mut x = 0.0;
+                for k in 0..S - 1 {
+                    let al = alpha[i][k];
+                    if al == 0.0 {
+                        continue;
+                    }
+                    for e in 0..m {
+                        x += al * ws.gq[k * m * d + e * d + a] * ws.rhs_red[k * m + e];
+                    }
+                }
+                ws.r[(i - 1) * d + a] = -ws.r[(i - 1) * d + a] - ws.minv[a] * x;
+            }
+        }
+        ws.r[nq..].copy_from_slice(&ws.rhs_red);
         Ok(())
     }
 
