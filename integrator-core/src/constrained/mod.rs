@@ -23,10 +23,15 @@
 //! ([`table`]).
 //!
 //! The stage equations are solved by Newton's method with a dense faer LU
-//! ([`ConstrainedPair::step`]): for small systems (a spherical pendulum, a
-//! pendulum chain) the whole Newton matrix is small. The iteration stops at
-//! round-off; its cap is an error that names the step and time, as are a
-//! singular matrix and a non-finite value.
+//! ([`ConstrainedPair::step`]), warm-started from the last step's
+//! multipliers: for RATTLE, and wherever the curvature
+//! `∇²V + Σλₗ∇²gₗ` is not used, on the multipliers alone (the stages
+//! eliminated, size `(s−1)m`); otherwise on stages and multipliers together
+//! (size `(s−1)(d + m)`), quadratically convergent. Dense is right for small
+//! systems (a spherical pendulum, a pendulum chain); the cloth's thousands
+//! of edge constraints need the sparse solve of the `cloth` crate. The
+//! iteration stops at round-off; its cap is an error that names the step
+//! and time, as are a singular matrix and a non-finite value.
 //!
 //! ```
 //! use integrator_core::constrained::{ConstrainedPair, constrained_energy, integrate_constrained};
