@@ -25,7 +25,14 @@ fn chain(dim: usize, n: usize) -> (PendulumChain, Vec<f64>) {
     let sys = PendulumChain::uniform(dim, n, 1.0, 9.81).unwrap();
     let angles: Vec<f64> = (0..n).map(|i| 0.3 + 0.9 * (i as f64 * 0.7).sin()).collect();
     let rates: Vec<f64> = (0..n).map(|i| 0.5 * (i as f64 * 1.3).cos()).collect();
-    let z = sys.state(&angles, &rates);
+    let mut z = sys.state(&angles, &rates);
+    if dim == 3 {
+        // The links lie in the x–z plane, so momenta along y are tangent:
+        // give the spatial chain motion out of that plane.
+        for i in 0..n {
+            z[n * 3 + i * 3 + 1] = 0.2 * (i as f64 + 1.0).sin();
+        }
+    }
     (sys, z)
 }
 
