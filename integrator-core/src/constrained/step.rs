@@ -107,6 +107,11 @@ pub struct ConstrainedWorkspace {
     grad: Vec<f64>,
     /// `G(Q_k)`, `s × m × d`.
     gq: Vec<f64>,
+    /// The columns where each row of `G(Q_k)` is nonzero (`s × m` lists),
+    /// so that products with `G` cost its nonzeros, not `m·d`.
+    nz: Vec<Vec<usize>>,
+    /// `Fₖ = h²∇V(Qₖ) + G(Qₖ)ᵀνₖ`, `s × d`.
+    force: Vec<f64>,
     /// Stage momenta `P_k`, `s × d`.
     ps: Vec<f64>,
     gval: Vec<f64>,
@@ -171,6 +176,8 @@ impl<const S: usize> ConstrainedPair<S> {
             nu: vec![0.0; S * m],
             grad: vec![0.0; S * d],
             gq: vec![0.0; S * m * d],
+            nz: vec![Vec::new(); S * m],
+            force: vec![0.0; S * d],
             ps: vec![0.0; S * d],
             gval: vec![0.0; m],
             lam: vec![0.0; m],
@@ -274,17 +281,30 @@ impl<const S: usize> ConstrainedPair<S> {
         let q = &ws.qs[k * d..(k + 1) * d];
         sys.grad_potential(q, &mut ws.grad[k * d..(k + 1) * d]);
         sys.constraint_jacobian(q, &mut ws.gq[k * m * d..(k + 1) * m * d]);
+        for l in 0..m {
+            let row = &ws.gq[k * m * d + l * d..k * m * d + (l + 1) * d];
+            let nz = &mut ws.nz[k * m + l];
+            nz.clear();
+            nz.extend((0..d).filter(|&a| row[a] != 0.0));
+        }
     }
 
-    /// `Fₖ = h²∇V(Qₖ) + G(Qₖ)ᵀνₖ`, component `a`.
-    #[inline]
-    fn scaled_force(ws: &ConstrainedWorkspace, h2: f64, k: usize, a: usize) -> f64 {
+    /// `Fₖ = h²∇V(Qₖ) + G(Qₖ)ᵀνₖ` for `k < s` into `ws.force`.
+    fn forces(ws: &mut ConstrainedWorkspace, h2: f64) {
         let (d, m) = (ws.d, ws.m);
-        let mut f = h2 * ws.grad[k * d + a];
-        for l in 0..m {
-            f += ws.gq[k * m * d + l * d + a] * ws.nu[k * m + l];
+        for k in 0..S - 1 {
+            let f = &mut ws.force[k * d..(k + 1) * d];
+            for (fa, ga) in f.iter_mut().zip(&ws.grad[k * d..(k + 1) * d]) {
+                *fa = h2 * ga;
+            }
+            for l in 0..m {
+                let nu = ws.nu[k * m + l];
+                let row = &ws.gq[k * m * d + l * d..k * m * d + (l + 1) * d];
+                for &a in &ws.nz[k * m + l] {
+                    f[a] += row[a] * nu;
+                }
+            }
         }
-        f
     }
 
     fn position_step<Sys: Constrained + ?Sized>(
@@ -355,11 +375,12 @@ impl<const S: usize> ConstrainedPair<S> {
                 Self::evaluate_stage(sys, ws, k);
             }
             // Residual: R rows, then the constraint rows.
+            Self::forces(ws, h2);
             for i in 1..S {
                 for a in 0..d {
                     let mut f = 0.0;
                     for k in 0..S - 1 {
-                        f += alpha[i][k] * Self::scaled_force(ws, h2, k, a);
+                        f += alpha[i][k] * ws.force[k * d + a];
                     }
                     ws.r[(i - 1) * d + a] =
                         ws.qs[i * d + a] - ws.q0[a] - h * c[i] * ws.minv[a] * ws.p0[a]
@@ -579,7 +600,10 @@ impl<const S: usize> ConstrainedPair<S> {
                     let gi = &ws.gq[i * m * d + l * d..i * m * d + (l + 1) * d];
                     for e in 0..m {
                         let gk = &ws.gq[k * m * d + e * d..k * m * d + (e + 1) * d];
-                        let x: f64 = (0..d).map(|a| gi[a] * ws.minv[a] * gk[a]).sum();
+                        let x: f64 = ws.nz[i * m + l]
+                            .iter()
+                            .map(|&a| gi[a] * ws.minv[a] * gk[a])
+                            .sum();
                         ws.lu_red.set((i - 1) * m + l, k * m + e, al * x);
                     }
                 }
@@ -598,24 +622,32 @@ impl<const S: usize> ConstrainedPair<S> {
         for i in 1..S {
             for l in 0..m {
                 let gi = &ws.gq[i * m * d + l * d..i * m * d + (l + 1) * d];
-                let gr: f64 = (0..d).map(|a| gi[a] * ws.r[(i - 1) * d + a]).sum();
+                let gr: f64 = ws.nz[i * m + l]
+                    .iter()
+                    .map(|&a| gi[a] * ws.r[(i - 1) * d + a])
+                    .sum();
                 ws.rhs_red[(i - 1) * m + l] = ws.r[nq + (i - 1) * m + l] - gr;
             }
         }
         ws.lu_red.solve(&mut ws.rhs_red);
+        // ΔQᵢ = −Rᵢ − M⁻¹ Σₖ αᵢₖ G(Qₖ)ᵀΔνₖ, accumulated in ws.pt.
         for i in 1..S {
-            for a in 0..d {
-                let mut x = 0.0;
-                for k in 0..S - 1 {
-                    let al = alpha[i][k];
-                    if al == 0.0 {
-                        continue;
-                    }
-                    for e in 0..m {
-                        x += al * ws.gq[k * m * d + e * d + a] * ws.rhs_red[k * m + e];
+            ws.pt.fill(0.0);
+            for k in 0..S - 1 {
+                let al = alpha[i][k];
+                if al == 0.0 {
+                    continue;
+                }
+                for e in 0..m {
+                    let x = al * ws.rhs_red[k * m + e];
+                    let row = &ws.gq[k * m * d + e * d..k * m * d + (e + 1) * d];
+                    for &a in &ws.nz[k * m + e] {
+                        ws.pt[a] += row[a] * x;
                     }
                 }
-                ws.r[(i - 1) * d + a] = -ws.r[(i - 1) * d + a] - ws.minv[a] * x;
+            }
+            for a in 0..d {
+                ws.r[(i - 1) * d + a] = -ws.r[(i - 1) * d + a] - ws.minv[a] * ws.pt[a];
             }
         }
         ws.r[nq..].copy_from_slice(&ws.rhs_red);
@@ -626,12 +658,12 @@ impl<const S: usize> ConstrainedPair<S> {
     /// of `Â` vanishes).
     fn stage_momenta(&self, ws: &mut ConstrainedWorkspace, h: f64) {
         let d = ws.d;
-        let h2 = h * h;
+        Self::forces(ws, h * h);
         for j in 0..S {
             for a in 0..d {
                 let mut f = 0.0;
                 for k in 0..S - 1 {
-                    f += self.pair.a_hat[j][k] * Self::scaled_force(ws, h2, k, a);
+                    f += self.pair.a_hat[j][k] * ws.force[k * d + a];
                 }
                 ws.ps[j * d + a] = ws.p0[a] - f / h;
             }
@@ -651,22 +683,24 @@ impl<const S: usize> ConstrainedPair<S> {
         let (d, m) = (ws.d, ws.m);
         let h2 = h * h;
         let b = self.pair.b;
+        Self::forces(ws, h2);
         for a in 0..d {
             let mut f = 0.0;
             for k in 0..S - 1 {
-                f += b[k] * Self::scaled_force(ws, h2, k, a);
+                f += b[k] * ws.force[k * d + a];
             }
             f += b[S - 1] * h2 * ws.grad[(S - 1) * d + a];
             ws.pt[a] = ws.p0[a] - f / h;
         }
         let g1 = &ws.gq[(S - 1) * m * d..S * m * d];
+        let nz1 = &ws.nz[(S - 1) * m..S * m];
         ws.lu_m.clear();
         for l in 0..m {
             for k in 0..m {
-                let mut x = 0.0;
-                for a in 0..d {
-                    x += g1[l * d + a] * ws.minv[a] * g1[k * d + a];
-                }
+                let x: f64 = nz1[l]
+                    .iter()
+                    .map(|&a| g1[l * d + a] * ws.minv[a] * g1[k * d + a])
+                    .sum();
                 ws.lu_m.set(l, k, x);
             }
         }
@@ -682,11 +716,17 @@ impl<const S: usize> ConstrainedPair<S> {
         // The projection, then once more on its own rounding residual.
         for _round in 0..2 {
             for l in 0..m {
-                ws.rhs_m[l] = (0..d).map(|a| g1[l * d + a] * ws.minv[a] * ws.pt[a]).sum();
+                ws.rhs_m[l] = nz1[l]
+                    .iter()
+                    .map(|&a| g1[l * d + a] * ws.minv[a] * ws.pt[a])
+                    .sum();
             }
             ws.lu_m.solve(&mut ws.rhs_m);
-            for a in 0..d {
-                ws.pt[a] -= (0..m).map(|l| g1[l * d + a] * ws.rhs_m[l]).sum::<f64>();
+            for l in 0..m {
+                let x = ws.rhs_m[l];
+                for &a in &nz1[l] {
+                    ws.pt[a] -= g1[l * d + a] * x;
+                }
             }
             for l in 0..m {
                 ws.mu[l] += ws.rhs_m[l];
