@@ -13,6 +13,8 @@
 //! | [`Fpu`] stiff FPU chain, `ω = 50` | `Separable` | numerical reference | `H`, `Σ Iⱼ` (adiabatic) |
 //! | [`OuterSolarSystem`] Sun and five outer planets (HLW I.2.3) | `Separable` | numerical reference | `H`, angular momentum |
 //! | [`wisdom_holman`]: any N-body problem split for Wisdom–Holman (Jacobi, democratic heliocentric) | inherent flows of the parts | Kepler part exact ([`kepler`](crate::kepler)) | `H` |
+//! | [`SphericalPendulum`] on `|q|² = L²` in ℝ³ | [`Constrained`](crate::constrained::Constrained) | local-coordinate ODE ([`local_rhs`](SphericalPendulum::local_rhs)) | `H`, `L₃` |
+//! | [`PendulumChain`] `n` rods, plane or space | `Constrained` | — | `H` |
 //! | [`gyroscopic`](crate::linear::gyroscopic) `Mq̈ + Gq̇ + Kq = f` | `OdeSystem` | matrix exponential | quadratic energy |
 //!
 //! The exact flows implement [`ExactFlow`]; they are exact up to a few
@@ -27,7 +29,9 @@ mod nonseparable;
 mod oscillator;
 pub mod outer_solar;
 mod pendulum;
+mod pendulum_chain;
 mod random;
+mod spherical_pendulum;
 pub mod wisdom_holman;
 
 pub use elliptic::{carlson_rf, complete_k, incomplete_f, jacobi};
@@ -38,7 +42,9 @@ pub use nonseparable::NonSeparable;
 pub use oscillator::Oscillator;
 pub use outer_solar::OuterSolarSystem;
 pub use pendulum::{Pendulum, QuarticPendulum};
+pub use pendulum_chain::{ChainError, PendulumChain};
 pub use random::{RandomSeparable, SplitMix64};
+pub use spherical_pendulum::SphericalPendulum;
 
 /// A problem whose flow is known in closed form.
 pub trait ExactFlow {
