@@ -6,7 +6,8 @@ use std::sync::OnceLock;
 use nalgebra::Vector3;
 
 use super::colliders::penalties;
-use super::springs::grid_springs;
+use super::springs::{directions, grid_springs};
+use super::stencil::Stencil;
 use super::{ClothModel, Family, PINNED, PinSpring, Spring};
 use crate::scene::{Scene, SceneError};
 
@@ -48,6 +49,9 @@ impl ClothModel {
                 ),
             });
         }
+        let stencil = Stencil::new(nx, ny, &directions(dx, dy, scene.spring_families()), |f| {
+            stiffness(scene, f)
+        });
         let colliders = penalties(&scene.colliders, mass);
         let gravity = Vector3::from(scene.gravity);
         let model = ClothModel {
@@ -64,6 +68,7 @@ impl ClothModel {
             ff: springs.ff,
             fp: springs.fp,
             pp_strain: springs.pp_strain,
+            stencil,
             family_counts: springs.family_counts,
             colliders,
             jac: OnceLock::new(),
@@ -171,6 +176,18 @@ fn free_lists(scene: &Scene) -> (Vec<u32>, Vec<u32>) {
     (free_index, free_ids)
 }
 
+/// The stiffness `k` of a spring family (N per unit strain; 0 where the
+/// scene has none of that family).
+fn stiffness(scene: &Scene, family: Family) -> f64 {
+    let m = &scene.material;
+    match family {
+        Family::Stretch => m.stretch,
+        Family::Shear => m.shear,
+        Family::Bend => m.bend,
+    }
+    .unwrap_or(0.0)
+}
+
 /// The grid's springs into free–free and free–pinned lists (springs between
 /// two pins only count towards `pp_strain` and the family counts).
 fn sort_springs(
@@ -181,12 +198,6 @@ fn sort_springs(
     free_index: &[u32],
 ) -> GridSprings {
     let (nx, ny) = (scene.cloth.nx, scene.cloth.ny);
-    let m = &scene.material;
-    let stiffness = |f: Family| match f {
-        Family::Stretch => m.stretch,
-        Family::Shear => m.shear,
-        Family::Bend => m.bend,
-    };
     let mut ff = Vec::with_capacity(scene.spring_count());
     let mut fp = Vec::new();
     let mut pp_strain: f64 = 0.0;
@@ -199,7 +210,7 @@ fn sort_springs(
         dy,
         scene.spring_families(),
         |a, b, family, rest| {
-            let k = stiffness(family).unwrap_or(0.0);
+            let k = stiffness(scene, family);
             family_counts[family as usize] += 1;
             let kl = k / rest;
             let apart = (start[b] - start[a]).norm();

@@ -182,25 +182,21 @@ impl integrator_core::Separable for ClothModel {
         }
     }
 
+    /// The stencil kernel ([`super::stencil`]): the springs' forces as
+    /// [`force_and_scale`](ClothModel::force_and_scale) computes them from
+    /// the lists, to round-off, in vectorised loops.
     fn force(&self, q: &[f64], out: &mut [f64]) {
         let n = self.free_count();
+        self.stencil.force(
+            q,
+            out,
+            &self.free_index,
+            &self.free_ids,
+            &self.start,
+            self.weight,
+        );
         let q3 = &q.as_chunks::<3>().0[..n];
         let f3 = &mut out.as_chunks_mut::<3>().0[..n];
-        f3.fill(self.weight);
-        for s in &self.ff {
-            let (a, b) = (s.a as usize, s.b as usize);
-            let d = Vector3::from(q3[b]) - Vector3::from(q3[a]);
-            let l = d.norm();
-            let fd = d * (s.kl - s.kl * s.rest / l);
-            f3[a] = (Vector3::from(f3[a]) + fd).into();
-            f3[b] = (Vector3::from(f3[b]) - fd).into();
-        }
-        for s in &self.fp {
-            let a = s.a as usize;
-            let d = Vector3::from(s.pin) - Vector3::from(q3[a]);
-            let l = d.norm();
-            f3[a] = (Vector3::from(f3[a]) + d * (s.kl - s.kl * s.rest / l)).into();
-        }
         for c in &self.colliders {
             for (f, x) in f3.iter_mut().zip(q3) {
                 *f = (Vector3::from(*f) + c.force(&Vector3::from(*x))).into();

@@ -26,6 +26,7 @@ mod forces;
 mod jacobian;
 mod springs;
 mod stability;
+mod stencil;
 
 use colliders::Penalty;
 use jacobian::{JacobianLayout, spring_block};
@@ -100,6 +101,9 @@ pub struct ClothModel {
     fp: Vec<PinSpring>,
     /// The largest `|ℓ − L|/L` among springs between two pinned particles.
     pp_strain: f64,
+    /// The same springs as stencil loops over the grid: the explicit
+    /// force kernel ([`stencil`]).
+    stencil: stencil::Stencil,
     family_counts: [usize; 3],
     colliders: Vec<Penalty>,
     /// Built on first use ([`ClothModel::jac`]).

@@ -37,22 +37,8 @@ pub(super) fn grid_springs(
     families: [bool; 3],
     mut each: impl FnMut(usize, usize, Family, f64),
 ) {
-    let diag = dx.hypot(dy);
-    let mut dirs: Vec<(isize, isize, Family, f64)> = Vec::new();
-    if families[0] {
-        dirs.extend([(1, 0, Family::Stretch, dx), (0, 1, Family::Stretch, dy)]);
-    }
-    if families[1] {
-        dirs.extend([(1, 1, Family::Shear, diag), (-1, 1, Family::Shear, diag)]);
-    }
-    if families[2] {
-        dirs.extend([
-            (2, 0, Family::Bend, 2.0 * dx),
-            (0, 2, Family::Bend, 2.0 * dy),
-        ]);
-    }
     let id = |i: usize, j: usize| j * nx + i;
-    for (di, dj, family, rest) in dirs {
+    for (di, dj, family, rest) in directions(dx, dy, families) {
         let is: Vec<usize> = (0..nx)
             .filter(|&i| {
                 let ib = i as isize + di;
@@ -76,4 +62,31 @@ pub(super) fn grid_springs(
             }
         }
     }
+}
+
+/// The spring directions of a grid with spacing `dx`, `dy` and the
+/// families present: `(di, dj, family, rest length)`, a spring joining
+/// particle `(i, j)` to `(i + di, j + dj)` wherever both exist. The one
+/// place that knows the grid's stencil (the spring lists and the stencil
+/// kernel both read it).
+pub(super) fn directions(
+    dx: f64,
+    dy: f64,
+    families: [bool; 3],
+) -> Vec<(isize, isize, Family, f64)> {
+    let diag = dx.hypot(dy);
+    let mut dirs = Vec::new();
+    if families[0] {
+        dirs.extend([(1, 0, Family::Stretch, dx), (0, 1, Family::Stretch, dy)]);
+    }
+    if families[1] {
+        dirs.extend([(1, 1, Family::Shear, diag), (-1, 1, Family::Shear, diag)]);
+    }
+    if families[2] {
+        dirs.extend([
+            (2, 0, Family::Bend, 2.0 * dx),
+            (0, 2, Family::Bend, 2.0 * dy),
+        ]);
+    }
+    dirs
 }

@@ -1,0 +1,263 @@
+//! The spring force of the explicit step as stencil loops over the grid.
+//!
+//! Why: the spring lists ([`Spring`](super::Spring), free–free and
+//! free–pinned) are walked one spring at a time with indirect loads and
+//! stores, which no compiler vectorises. On the grid every spring family is
+//! a fixed offset (`(i, j) → (i + di, j + dj)`, [`super::springs::directions`])
+//! with one `k/L` and one rest length, so the same forces come from loops
+//! over contiguous runs of particles: positions copied once per evaluation
+//! into three coordinate arrays of the whole grid (pinned particles at
+//! their fixed places, so pins need no special case), then per direction
+//! and row the tension `d·(k/L − k/L·L/|d|)` of every spring of the row into
+//! a row buffer, added to the first ends and subtracted from the second.
+//! Each of these loops is straight-line arithmetic over slices, which the
+//! compiler vectorises; the forces are gathered back to the free particles.
+//!
+//! The tensions are the same expressions as the list loop's; only the order
+//! in which a particle's contributions are summed differs, so the forces
+//! agree to round-off (tested against the list loop).
+//!
+//! With [`Stencil::BANDS`] bands of rows the work splits over threads
+//! (rayon): each band accumulates into its own force arrays (a spring of
+//! one band may end in the next), summed at the gather. The scratch is
+//! allocated with the model; the single-band path allocates nothing, the
+//! parallel one only what rayon's job queue takes now and then.
+
+use std::sync::{Mutex, TryLockError};
+
+use rayon::prelude::*;
+
+use super::Family;
+
+/// One spring direction of the grid with its constants.
+#[derive(Clone, Copy, Debug)]
+struct Direction {
+    di: isize,
+    dj: usize,
+    kl: f64,
+    rest: f64,
+}
+
+/// The grid's spring directions, with the scratch of an evaluation.
+#[derive(Debug)]
+pub(super) struct Stencil {
+    nx: usize,
+    ny: usize,
+    dirs: Vec<Direction>,
+    /// Allocated with the model, so that an evaluation allocates nothing.
+    /// An evaluation holds the lock; one that finds it held (the same model
+    /// evaluated on two threads at once) works in a scratch of its own.
+    scratch: Mutex<Scratch>,
+}
+
+impl Clone for Stencil {
+    fn clone(&self) -> Stencil {
+        Stencil {
+            nx: self.nx,
+            ny: self.ny,
+            dirs: self.dirs.clone(),
+            scratch: Mutex::new(Scratch::new(self.nx, self.ny)),
+        }
+    }
+}
+
+/// The grid's coordinates, and per band its force arrays and the row
+/// buffer of tensions.
+#[derive(Debug)]
+struct Scratch {
+    pos: [Vec<f64>; 3],
+    bands: Vec<Band>,
+}
+
+#[derive(Debug)]
+struct Band {
+    force: [Vec<f64>; 3],
+    row: [Vec<f64>; 3],
+}
+
+impl Scratch {
+    fn new(nx: usize, ny: usize) -> Scratch {
+        let n = nx * ny;
+        let bands = if n >= Stencil::PARALLEL_FROM {
+            Stencil::BANDS
+        } else {
+            1
+        };
+        Scratch {
+            pos: std::array::from_fn(|_| vec![0.0; n]),
+            bands: (0..bands)
+                .map(|_| Band {
+                    force: std::array::from_fn(|_| vec![0.0; n]),
+                    row: std::array::from_fn(|_| vec![0.0; nx]),
+                })
+                .collect(),
+        }
+    }
+}
+
+impl Stencil {
+    /// Row bands evaluated in parallel where the grid is large enough to
+    /// pay for the threads' hand-over (two: this project's machines have
+    /// two cores; more bands would cost the extra force arrays' sum).
+    pub(super) const BANDS: usize = 2;
+    /// Below this many particles one thread does all the rows.
+    pub(super) const PARALLEL_FROM: usize = 48 * 48;
+
+    /// The stencil of an `nx × ny` grid: `dirs` as
+    /// [`directions`](super::springs::directions) gives them, with the
+    /// stiffness `k` of each family (`k/L` is formed as the spring lists
+    /// form it).
+    pub(super) fn new(
+        nx: usize,
+        ny: usize,
+        dirs: &[(isize, isize, Family, f64)],
+        stiffness: impl Fn(Family) -> f64,
+    ) -> Stencil {
+        let dirs = dirs
+            .iter()
+            .map(|&(di, dj, family, rest)| Direction {
+                di,
+                dj: dj as usize,
+                kl: stiffness(family) / rest,
+                rest,
+            })
+            .collect();
+        Stencil {
+            nx,
+            ny,
+            dirs,
+            scratch: Mutex::new(Scratch::new(nx, ny)),
+        }
+    }
+
+    /// The springs' force on every free particle plus `weight`, into `out`
+    /// (`[fx, fy, fz]` per free particle): `free_index` maps a particle id
+    /// to its free index or [`super::PINNED`], `start` holds the pinned
+    /// particles' positions, `q` the free ones'.
+    pub(super) fn force(
+        &self,
+        q: &[f64],
+        out: &mut [f64],
+        free_index: &[u32],
+        free_ids: &[u32],
+        start: &[nalgebra::Vector3<f64>],
+        weight: [f64; 3],
+    ) {
+        let mut own;
+        let mut guard = match self.scratch.try_lock() {
+            Ok(g) => Some(g),
+            // A panic elsewhere left the scratch mid-evaluation: it is
+            // rewritten from the start, so it is as good as new.
+            Err(TryLockError::Poisoned(p)) => Some(p.into_inner()),
+            Err(TryLockError::WouldBlock) => None,
+        };
+        let scratch = match guard.as_deref_mut() {
+            Some(s) => s,
+            None => {
+                own = Scratch::new(self.nx, self.ny);
+                &mut own
+            }
+        };
+        let Scratch { pos, bands } = scratch;
+        // The grid's positions, pinned particles where they stay.
+        let q3 = q.as_chunks::<3>().0;
+        let [px, py, pz] = pos;
+        for (k, &f) in free_index.iter().enumerate() {
+            let x = if f == super::PINNED {
+                let s = &start[k];
+                [s.x, s.y, s.z]
+            } else {
+                q3[f as usize]
+            };
+            (px[k], py[k], pz[k]) = (x[0], x[1], x[2]);
+        }
+        let pos = [&px[..], &py[..], &pz[..]];
+        if bands.len() == 1 || rayon::current_num_threads() == 1 {
+            self.band(&pos, 0..self.ny, &mut bands[0]);
+            for b in &mut bands[1..] {
+                for c in b.force.iter_mut() {
+                    c.fill(0.0);
+                }
+            }
+        } else {
+            let rows = self.ny.div_ceil(bands.len());
+            bands.par_iter_mut().enumerate().for_each(|(b, buf)| {
+                let j0 = (b * rows).min(self.ny);
+                let j1 = ((b + 1) * rows).min(self.ny);
+                self.band(&pos, j0..j1, buf);
+            });
+        }
+        // Gather to the free particles, with the weight.
+        let f3 = &mut out.as_chunks_mut::<3>().0[..free_ids.len()];
+        for (f, &id) in f3.iter_mut().zip(free_ids) {
+            let id = id as usize;
+            let mut g = weight;
+            for b in bands.iter() {
+                g[0] += b.force[0][id];
+                g[1] += b.force[1][id];
+                g[2] += b.force[2][id];
+            }
+            *f = g;
+        }
+    }
+
+    /// The tensions of the springs that start in rows `rows`, accumulated
+    /// into `buf.force` (zeroed first) at both ends.
+    fn band(&self, pos: &[&[f64]; 3], rows: std::ops::Range<usize>, buf: &mut Band) {
+        let nx = self.nx;
+        for c in buf.force.iter_mut() {
+            c.fill(0.0);
+        }
+        let Band { force, row } = buf;
+        let [fx, fy, fz] = force;
+        let [tx, ty, tz] = row;
+        let [px, py, pz] = *pos;
+        for d in &self.dirs {
+            // Starting columns whose partner column exists.
+            let i0 = (-d.di).max(0) as usize;
+            let i1 = nx - d.di.max(0) as usize;
+            if i0 >= i1 {
+                continue;
+            }
+            let len = i1 - i0;
+            let off = d.dj * nx;
+            let (kl, klr) = (d.kl, d.kl * d.rest);
+            for j in rows.clone() {
+                if j + d.dj >= self.ny {
+                    break;
+                }
+                let a = j * nx + i0;
+                let b = (a + off).wrapping_add_signed(d.di);
+                let (tx, ty, tz) = (&mut tx[..len], &mut ty[..len], &mut tz[..len]);
+                let (ax, ay, az) = (&px[a..a + len], &py[a..a + len], &pz[a..a + len]);
+                let (bx, by, bz) = (&px[b..b + len], &py[b..b + len], &pz[b..b + len]);
+                for i in 0..len {
+                    let (dx, dy, dz) = (bx[i] - ax[i], by[i] - ay[i], bz[i] - az[i]);
+                    let l = (dx * dx + dy * dy + dz * dz).sqrt();
+                    let s = kl - klr / l;
+                    (tx[i], ty[i], tz[i]) = (dx * s, dy * s, dz * s);
+                }
+                add(&mut fx[a..a + len], tx);
+                add(&mut fy[a..a + len], ty);
+                add(&mut fz[a..a + len], tz);
+                sub(&mut fx[b..b + len], tx);
+                sub(&mut fy[b..b + len], ty);
+                sub(&mut fz[b..b + len], tz);
+            }
+        }
+    }
+}
+
+#[inline(always)]
+fn add(f: &mut [f64], t: &[f64]) {
+    for (f, t) in f.iter_mut().zip(t) {
+        *f += t;
+    }
+}
+
+#[inline(always)]
+fn sub(f: &mut [f64], t: &[f64]) {
+    for (f, t) in f.iter_mut().zip(t) {
+        *f -= t;
+    }
+}
