@@ -4,7 +4,9 @@
 //! drift–kick–drift, once, reusing the last velocity), on n × n grids with
 //! all three spring families. The throughput is in springs, so criterion's
 //! `thrpt` is springs per second: ns/spring = 10⁹/thrpt. Also the force
-//! evaluation alone.
+//! evaluation alone: the stencil kernel (on the default rayon pool, and on
+//! one thread) and the spring lists it replaced (`force_and_scale`, which
+//! walks them one spring at a time and tracks the force scale besides).
 
 use std::hint::black_box;
 
@@ -86,6 +88,21 @@ fn springs(c: &mut Criterion) {
         group.bench_function(BenchmarkId::from_parameter(format!("{n}x{n}")), |b| {
             b.iter(|| model.force(black_box(&z[..model.dof()]), &mut f))
         });
+        // The stencil kernel on one thread (a rayon pool of one).
+        let one = rayon::ThreadPoolBuilder::new()
+            .num_threads(1)
+            .build()
+            .unwrap();
+        group.bench_function(
+            BenchmarkId::from_parameter(format!("{n}x{n}-one-thread")),
+            |b| one.install(|| b.iter(|| model.force(black_box(&z[..model.dof()]), &mut f))),
+        );
+        // The spring lists walked one spring at a time (the kernel before
+        // the stencil, with the force scale's bookkeeping on top).
+        group.bench_function(
+            BenchmarkId::from_parameter(format!("{n}x{n}-spring-lists")),
+            |b| b.iter(|| model.force_and_scale(black_box(&z[..model.dof()]), &mut f)),
+        );
     }
     group.finish();
 }

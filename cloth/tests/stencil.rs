@@ -58,7 +58,13 @@ fn perturbed(model: &ClothModel) -> Vec<f64> {
 fn the_stencil_force_is_the_spring_lists_force_to_round_off() {
     let cases = [
         (9, 7, "edges = [\"top\"]", false, false),
-        (12, 12, "corners = [\"top-left\", \"top-right\"]", true, false),
+        (
+            12,
+            12,
+            "corners = [\"top-left\", \"top-right\"]",
+            true,
+            false,
+        ),
         (5, 16, "", true, true),
         (40, 30, "edges = [\"top\"]", true, true),
         (64, 64, "edges = [\"top\"]", false, false),

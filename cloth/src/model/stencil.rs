@@ -100,6 +100,10 @@ impl Stencil {
     /// pay for the threads' hand-over (two: this project's machines have
     /// two cores; more bands would cost the extra force arrays' sum).
     pub(super) const BANDS: usize = 2;
+    const _TWO: () = assert!(
+        Stencil::BANDS == 2,
+        "the gather's band table has two entries"
+    );
     /// Below this many particles one thread does all the rows.
     pub(super) const PARALLEL_FROM: usize = 48 * 48;
 
@@ -172,41 +176,63 @@ impl Stencil {
             (px[k], py[k], pz[k]) = (x[0], x[1], x[2]);
         }
         let pos = [&px[..], &py[..], &pz[..]];
-        if bands.len() == 1 || rayon::current_num_threads() == 1 {
-            self.band(&pos, 0..self.ny, &mut bands[0]);
-            for b in &mut bands[1..] {
-                for c in b.force.iter_mut() {
-                    c.fill(0.0);
-                }
-            }
+        // Small grids never touch rayon (its pool starts threads on first
+        // use, which allocates).
+        let used = if bands.len() == 1 || rayon::current_num_threads() == 1 {
+            1
         } else {
-            let rows = self.ny.div_ceil(bands.len());
+            bands.len()
+        };
+        if used == 1 {
+            self.band(&pos, 0..self.ny, &mut bands[0]);
+        } else {
             bands.par_iter_mut().enumerate().for_each(|(b, buf)| {
-                let j0 = (b * rows).min(self.ny);
-                let j1 = ((b + 1) * rows).min(self.ny);
-                self.band(&pos, j0..j1, buf);
+                self.band(&pos, self.rows(b, used), buf);
             });
         }
-        // Gather to the free particles, with the weight.
+        // Gather to the free particles, with the weight: each band's force
+        // where it wrote (the rows its springs start in and reach).
         let f3 = &mut out.as_chunks_mut::<3>().0[..free_ids.len()];
+        let nx = self.nx;
+        let mut written = [0..0, 0..0];
+        for (b, w) in written.iter_mut().enumerate().take(used) {
+            *w = self.written(&self.rows(b, used));
+        }
         for (f, &id) in f3.iter_mut().zip(free_ids) {
             let id = id as usize;
+            let j = id / nx;
             let mut g = weight;
-            for b in bands.iter() {
-                g[0] += b.force[0][id];
-                g[1] += b.force[1][id];
-                g[2] += b.force[2][id];
+            for (band, w) in bands[..used].iter().zip(&written) {
+                if w.contains(&j) {
+                    g[0] += band.force[0][id];
+                    g[1] += band.force[1][id];
+                    g[2] += band.force[2][id];
+                }
             }
             *f = g;
         }
+    }
+
+    /// The rows a band starting springs in `rows` writes: its own and the
+    /// rows its springs reach below it.
+    fn written(&self, rows: &std::ops::Range<usize>) -> std::ops::Range<usize> {
+        let reach = self.dirs.iter().map(|d| d.dj).max().unwrap_or(0);
+        rows.start..(rows.end + reach).min(self.ny)
+    }
+
+    /// The rows of band `b` of `bands`.
+    fn rows(&self, b: usize, bands: usize) -> std::ops::Range<usize> {
+        let per = self.ny.div_ceil(bands);
+        (b * per).min(self.ny)..((b + 1) * per).min(self.ny)
     }
 
     /// The tensions of the springs that start in rows `rows`, accumulated
     /// into `buf.force` (zeroed first) at both ends.
     fn band(&self, pos: &[&[f64]; 3], rows: std::ops::Range<usize>, buf: &mut Band) {
         let nx = self.nx;
+        let written = self.written(&rows);
         for c in buf.force.iter_mut() {
-            c.fill(0.0);
+            c[written.start * nx..written.end * nx].fill(0.0);
         }
         let Band { force, row } = buf;
         let [fx, fy, fz] = force;
