@@ -4,13 +4,15 @@
 //! from the unknowns and enter the forces as constant positions. Springs are
 //! precomputed into two flat lists, free–free and free–pinned, ordered so
 //! that consecutive springs rarely share a particle (no store-to-load
-//! dependency between them), and the force loop allocates nothing.
+//! dependency between them), which the Jacobians, the energy and the
+//! implicit methods walk; the explicit force runs as stencil loops over the
+//! grid instead (`stencil.rs`). No force evaluation allocates.
 
 //!
 //! By stage: `build.rs` makes the model of a scene (particles and pins,
 //! springs, colliders, the check of the initial state), `springs.rs` lays out
 //! the grid's springs, `colliders.rs` holds the penalty, `forces.rs` the
-//! energy and the force kernel, `jacobian.rs` the sparse force Jacobian;
+//! energy and the forces, `stencil.rs` the explicit force kernel, `jacobian.rs` the sparse force Jacobian;
 //! `avf.rs`, `discrete_gradient.rs` and `stability.rs` serve the methods that
 //! need more than the force.
 
