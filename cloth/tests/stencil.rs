@@ -3,7 +3,7 @@
 //! force (`force_and_scale`): the same forces to round-off, on grids with
 //! pins along an edge, at two corners and none, with and without bend
 //! springs, square and not, a collider, and grids large enough for the
-//! parallel bands.
+//! parallel bands (256² particles and more).
 
 use cloth::{ClothModel, Scene};
 use integrator_core::Separable;
@@ -69,6 +69,15 @@ fn the_stencil_force_is_the_spring_lists_force_to_round_off() {
         (40, 30, "edges = [\"top\"]", true, true),
         (64, 64, "edges = [\"top\"]", false, false),
         (70, 50, "corners = [\"top-left\"]", true, false),
+        // Two bands on two threads (from 256² particles).
+        (300, 220, "edges = [\"top\"]", true, true),
+        (
+            257,
+            259,
+            "corners = [\"top-left\", \"top-right\"]",
+            true,
+            false,
+        ),
     ];
     for (nx, ny, pins, bend, collider) in cases {
         let model = ClothModel::new(&scene(nx, ny, pins, bend, collider)).unwrap();
@@ -104,7 +113,7 @@ fn the_stencil_force_is_the_spring_lists_force_to_round_off() {
 /// scratch taken and works in its own) get what one thread gets.
 #[test]
 fn concurrent_evaluations_of_one_model_agree() {
-    let model = ClothModel::new(&scene(64, 64, "edges = [\"top\"]", true, false)).unwrap();
+    let model = ClothModel::new(&scene(300, 220, "edges = [\"top\"]", true, false)).unwrap();
     let q = perturbed(&model);
     let mut alone = vec![0.0; q.len()];
     model.force(&q, &mut alone);

@@ -100,12 +100,14 @@ impl Stencil {
     /// pay for the threads' hand-over (two: this project's machines have
     /// two cores; more bands would cost the extra force arrays' sum).
     pub(super) const BANDS: usize = 2;
-    const _TWO: () = assert!(
-        Stencil::BANDS == 2,
-        "the gather's band table has two entries"
-    );
-    /// Below this many particles one thread does all the rows.
-    pub(super) const PARALLEL_FROM: usize = 48 * 48;
+    /// Below this many particles one thread does all the rows. Measured
+    /// (README, cloth section): at 64² the hand-over of the three parallel
+    /// phases (positions, bands, gather) to rayon's second thread cost more
+    /// than it saved; at 128² the force alone gained 1.27×, but whole steps
+    /// lost (the second thread goes to sleep during the drift and is woken
+    /// for every force). So two threads are used only from 256² on, where
+    /// a band is four times the work; that size was not measured.
+    pub(super) const PARALLEL_FROM: usize = 256 * 256;
 
     /// The stencil of an `nx × ny` grid: `dirs` as
     /// [`directions`](super::springs::directions) gives them, with the
@@ -163,19 +165,6 @@ impl Stencil {
             }
         };
         let Scratch { pos, bands } = scratch;
-        // The grid's positions, pinned particles where they stay.
-        let q3 = q.as_chunks::<3>().0;
-        let [px, py, pz] = pos;
-        for (k, &f) in free_index.iter().enumerate() {
-            let x = if f == super::PINNED {
-                let s = &start[k];
-                [s.x, s.y, s.z]
-            } else {
-                q3[f as usize]
-            };
-            (px[k], py[k], pz[k]) = (x[0], x[1], x[2]);
-        }
-        let pos = [&px[..], &py[..], &pz[..]];
         // Small grids never touch rayon (its pool starts threads on first
         // use, which allocates).
         let used = if bands.len() == 1 || rayon::current_num_threads() == 1 {
@@ -183,6 +172,32 @@ impl Stencil {
         } else {
             bands.len()
         };
+        // The grid's positions, pinned particles where they stay; in two
+        // halves on two threads where the bands are.
+        let q3 = q.as_chunks::<3>().0;
+        let scatter = |k0: usize, px: &mut [f64], py: &mut [f64], pz: &mut [f64]| {
+            let ids = &free_index[k0..k0 + px.len()];
+            for (k, &f) in ids.iter().enumerate() {
+                let x = if f == super::PINNED {
+                    let s = &start[k0 + k];
+                    [s.x, s.y, s.z]
+                } else {
+                    q3[f as usize]
+                };
+                (px[k], py[k], pz[k]) = (x[0], x[1], x[2]);
+            }
+        };
+        let [px, py, pz] = pos;
+        if used == 1 {
+            scatter(0, px, py, pz);
+        } else {
+            let mid = px.len() / 2;
+            let (px0, px1) = px.split_at_mut(mid);
+            let (py0, py1) = py.split_at_mut(mid);
+            let (pz0, pz1) = pz.split_at_mut(mid);
+            rayon::join(|| scatter(0, px0, py0, pz0), || scatter(mid, px1, py1, pz1));
+        }
+        let pos = [&px[..], &py[..], &pz[..]];
         if used == 1 {
             self.band(&pos, 0..self.ny, &mut bands[0]);
         } else {
@@ -191,25 +206,37 @@ impl Stencil {
             });
         }
         // Gather to the free particles, with the weight: each band's force
-        // where it wrote (the rows its springs start in and reach).
-        let f3 = &mut out.as_chunks_mut::<3>().0[..free_ids.len()];
+        // where it wrote (the particle ids of the rows its springs start in
+        // and reach).
         let nx = self.nx;
-        let mut written = [0..0, 0..0];
+        let mut written: [std::ops::Range<usize>; Self::BANDS] = std::array::from_fn(|_| 0..0);
         for (b, w) in written.iter_mut().enumerate().take(used) {
-            *w = self.written(&self.rows(b, used));
+            let rows = self.written(&self.rows(b, used));
+            *w = rows.start * nx..rows.end * nx;
         }
-        for (f, &id) in f3.iter_mut().zip(free_ids) {
-            let id = id as usize;
-            let j = id / nx;
-            let mut g = weight;
-            for (band, w) in bands[..used].iter().zip(&written) {
-                if w.contains(&j) {
-                    g[0] += band.force[0][id];
-                    g[1] += band.force[1][id];
-                    g[2] += band.force[2][id];
+        let bands = &bands[..used];
+        let gather = |f3: &mut [[f64; 3]], ids: &[u32]| {
+            for (f, &id) in f3.iter_mut().zip(ids) {
+                let id = id as usize;
+                let mut g = weight;
+                for (band, w) in bands.iter().zip(&written) {
+                    if w.contains(&id) {
+                        g[0] += band.force[0][id];
+                        g[1] += band.force[1][id];
+                        g[2] += band.force[2][id];
+                    }
                 }
+                *f = g;
             }
-            *f = g;
+        };
+        let f3 = &mut out.as_chunks_mut::<3>().0[..free_ids.len()];
+        if used == 1 {
+            gather(f3, free_ids);
+        } else {
+            let mid = f3.len() / 2;
+            let (f0, f1) = f3.split_at_mut(mid);
+            let (i0, i1) = free_ids.split_at(mid);
+            rayon::join(|| gather(f0, i0), || gather(f1, i1));
         }
     }
 
@@ -226,9 +253,42 @@ impl Stencil {
         (b * per).min(self.ny)..((b + 1) * per).min(self.ny)
     }
 
+    /// [`band_body`](Self::band_body) compiled for the widest vectors the
+    /// CPU has (AVX-512, AVX2, else the target's baseline, SSE2 on
+    /// x86-64): the same loops, so the same bits on every path (vector
+    /// square roots and divisions round as the scalar ones do, and Rust
+    /// never fuses a multiply and an add on its own).
+    fn band(&self, pos: &[&[f64]; 3], rows: std::ops::Range<usize>, buf: &mut Band) {
+        #[cfg(target_arch = "x86_64")]
+        {
+            if std::arch::is_x86_feature_detected!("avx512f") {
+                // SAFETY: the CPU has AVX-512F, checked just above.
+                return unsafe { self.band_avx512(pos, rows, buf) };
+            }
+            if std::arch::is_x86_feature_detected!("avx2") {
+                // SAFETY: the CPU has AVX2, checked just above.
+                return unsafe { self.band_avx2(pos, rows, buf) };
+            }
+        }
+        self.band_body(pos, rows, buf)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx512f")]
+    fn band_avx512(&self, pos: &[&[f64]; 3], rows: std::ops::Range<usize>, buf: &mut Band) {
+        self.band_body(pos, rows, buf)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    fn band_avx2(&self, pos: &[&[f64]; 3], rows: std::ops::Range<usize>, buf: &mut Band) {
+        self.band_body(pos, rows, buf)
+    }
+
     /// The tensions of the springs that start in rows `rows`, accumulated
     /// into `buf.force` (zeroed first) at both ends.
-    fn band(&self, pos: &[&[f64]; 3], rows: std::ops::Range<usize>, buf: &mut Band) {
+    #[inline(always)]
+    fn band_body(&self, pos: &[&[f64]; 3], rows: std::ops::Range<usize>, buf: &mut Band) {
         let nx = self.nx;
         let written = self.written(&rows);
         for c in buf.force.iter_mut() {
