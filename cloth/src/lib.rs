@@ -220,8 +220,9 @@ pub mod study;
 
 pub use method::{
     AVERAGE_VECTOR_FIELD, Conserves, DISCRETE_GRADIENT, Mechanism, Method, MethodError, Minimised,
+    RATTLE,
 };
-pub use model::{ClothModel, Energy, Family, STABILITY_WORK, Stability};
+pub use model::{CONSTRAINT_TOLERANCE, ClothModel, Energy, Family, STABILITY_WORK, Stability};
 pub use output::{
     ENERGY_CSV_HEADER, OutputError, write_energy_csv, write_energy_csv_to, write_obj, write_obj_to,
 };
@@ -233,7 +234,7 @@ pub use scene::{
     ClothSpec, Collider, MAX_FRAMES, MAX_PARTICLES, MAX_STEPS, Material, Plane, Scene, SceneError,
     SimulationSpec,
 };
-pub use step::{MinimiseSettings, Solver, SolverStats, StageSettings};
+pub use step::{MinimiseSettings, RattleSettings, Solver, SolverStats, StageSettings};
 
 /// Nalgebra's 3-vector of `f64`, as used for positions and momenta.
 pub type Vec3 = nalgebra::Vector3<f64>;
