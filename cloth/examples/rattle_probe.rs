@@ -2,7 +2,7 @@
 //! went, the energy error, the constraint residuals.
 //!
 //! `cargo run --release -p cloth --example rattle_probe -- SCENE.toml [substeps] [frames] [seq]`
-//! (`seq`: one core for the per-edge loops and the factorisation).
+//! (`par`: both cores for the per-edge loops and the factorisation).
 
 use cloth::{Method, RunSettings, Scene, Simulation, SolverStats};
 
@@ -19,7 +19,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     if let Some(f) = args.get(3) {
         scene.simulation.frames = f.parse()?;
     }
-    let parallel = args.get(4).is_none_or(|s| s != "seq");
+    let parallel = args.get(4).is_some_and(|s| s == "par");
     let mut sim = Simulation::new(&scene)?;
     let mut settings = RunSettings::from_scene(&scene);
     settings.solvers.rattle.parallel = parallel;

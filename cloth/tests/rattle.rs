@@ -328,7 +328,7 @@ fn a_solve_that_cannot_converge_is_an_error_naming_the_step_and_time() {
 }
 
 #[test]
-fn the_parallel_loops_give_the_same_bits() {
+fn the_parallel_loops_agree_to_round_off() {
     // Large enough for the per-edge loops to be split (more than 2048 edges).
     let scene = hanging(40, 6, 2);
     let run = |parallel: bool| {
