@@ -905,7 +905,14 @@ fn the_inextensible_scene_runs_with_rattle_and_names_it() {
     assert_ne!(code, 0);
     assert!(stderr.contains("rattle"), "{stderr}");
     let (code, _, stderr) = symlab(&[
-        "cloth", "scenes/paper.toml", "--frames", "1", "--out", out, "--method", "rattle",
+        "cloth",
+        "scenes/paper.toml",
+        "--frames",
+        "1",
+        "--out",
+        out,
+        "--method",
+        "rattle",
     ]);
     assert_ne!(code, 0);
     assert!(stderr.contains("inextensible"), "{stderr}");
