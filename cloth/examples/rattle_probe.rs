@@ -1,7 +1,7 @@
 //! RATTLE on an inextensible scene: per-frame stepping time and where it
 //! went, the energy error, the constraint residuals.
 //!
-//! `cargo run --release -p cloth --example rattle_probe -- SCENE.toml [substeps] [frames] [seq]`
+//! `cargo run --release -p cloth --example rattle_probe -- SCENE.toml [substeps] [frames] [seq|par] [refactor_every]`
 //! (`par`: both cores for the per-edge loops and the factorisation).
 
 use cloth::{Method, RunSettings, Scene, Simulation, SolverStats};
@@ -23,6 +23,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut sim = Simulation::new(&scene)?;
     let mut settings = RunSettings::from_scene(&scene);
     settings.solvers.rattle.parallel = parallel;
+    if let Some(k) = args.get(5) {
+        settings.solvers.rattle.refactor_every = k.parse()?;
+    }
     let n = 3 * sim.model.free_count();
     let (mut worst_g, mut worst_v) = (0.0f64, 0.0f64);
     let report = sim.run(&Method::parse("rattle")?, &settings, |f| {
@@ -76,11 +79,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             1e3 * t.solve / frames
         );
         println!(
-            "  iterations per step {:.2} (max {}), Cholesky {}, LU {}, max residual {:.2e} (tol {:.2e})",
+            "  iterations per step {:.2} (max {}), Cholesky {}, LU {}, pcg {} (failed {}), max residual {:.2e} (tol {:.2e})",
             s.iterations_per_step(),
             s.max_iterations,
             s.factorizations,
             s.lu_factorizations,
+            s.pcg_iterations,
+            s.pcg_failures,
             s.max_residual,
             cloth::CONSTRAINT_TOLERANCE
         );

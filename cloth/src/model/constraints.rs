@@ -122,6 +122,11 @@ impl EdgeConstraints {
         self.edges.len()
     }
 
+    /// The longest rest length.
+    pub(crate) fn max_rest(&self) -> f64 {
+        self.edges.iter().map(|e| e.rest).fold(0.0, f64::max)
+    }
+
     /// The edge vectors `d_c = x_a − x_b` at `q`.
     pub(crate) fn edge_vectors(&self, q: &[f64], d: &mut [[f64; 3]], parallel: bool) {
         let q3 = q.as_chunks::<3>().0;
