@@ -357,7 +357,7 @@ impl RattleStepper {
     /// itself, is at the round-off of computing `b`:
     /// `‖r‖∞ ≤ 64·ε·2·L_max·‖p̃‖∞`. `false` (and nothing kept) when it is not
     /// within [`RattleSettings::max_pcg`] iterations: the caller factorises.
-    fn pcg(&mut self, _m: f64, _half: f64) -> bool {
+    fn pcg(&mut self) -> bool {
         let par = self.settings.parallel;
         let c = &*self.constraints;
         let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
@@ -467,7 +467,7 @@ impl RattleStepper {
             && (self.settings.refactor_every == 0
                 || self.since_factor + 1 < self.settings.refactor_every)
             && self.solved > 0
-            && self.pcg(model.particle_mass(), half);
+            && self.pcg();
         let t5 = Instant::now();
         let mut factorizing = 0.0;
         if reuse {
