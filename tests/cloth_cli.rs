@@ -860,3 +860,61 @@ fn every_listed_method_and_energy_scheme_runs_and_the_summary_names_kind_and_ord
     assert!(failures.is_empty(), "{}", failures.join("\n"));
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// The inextensible sheet (warp and weft as length constraints) runs with
+/// RATTLE and says so: the method with its kind and order, the constraints,
+/// and what the constraint solver did.
+#[test]
+fn the_inextensible_scene_runs_with_rattle_and_names_it() {
+    let dir = temp_dir("inextensible");
+    let out = dir.to_str().unwrap();
+    let (code, stdout, stderr) = symlab(&[
+        "cloth",
+        "scenes/paper64-inextensible.toml",
+        "--frames",
+        "3",
+        "--out",
+        out,
+        "--render",
+        "none",
+    ]);
+    assert_eq!(code, 0, "stderr: {stderr}");
+    for needle in [
+        "method       rattle (RATTLE",
+        "implicit, order 2, symplectic (constraint solve",
+        "8001 length constraints (warp and weft, inextensible)",
+        "tension waves: ℓ/√(|g|·L)",
+        "constraints  RATTLE:",
+        "time split   forces",
+        "steps        18 over 3 frames",
+    ] {
+        assert!(stdout.contains(needle), "missing {needle:?} in\n{stdout}");
+    }
+    // A spring method on it, and rattle on a spring scene: refused, naming
+    // what to use.
+    let (code, _, stderr) = symlab(&[
+        "cloth",
+        "scenes/paper64-inextensible.toml",
+        "--frames",
+        "1",
+        "--out",
+        out,
+        "--method",
+        "stormer-verlet",
+    ]);
+    assert_ne!(code, 0);
+    assert!(stderr.contains("rattle"), "{stderr}");
+    let (code, _, stderr) = symlab(&[
+        "cloth",
+        "scenes/paper.toml",
+        "--frames",
+        "1",
+        "--out",
+        out,
+        "--method",
+        "rattle",
+    ]);
+    assert_ne!(code, 0);
+    assert!(stderr.contains("inextensible"), "{stderr}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

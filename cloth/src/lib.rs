@@ -112,6 +112,7 @@
 //!   resolution.
 //! * **Energy**: `H = ½pᵀM⁻¹p + V`, `V` = springs + gravity (`−Σ m g·x`) +
 //!   colliders, over terms that depend on the free particles. No damping.
+//!   The length constraints of an inextensible scene store no energy.
 //!
 //! # Scene files
 //!
@@ -131,7 +132,7 @@
 //!
 //! [material]
 //! density = 0.01378              # kg/m²
-//! stretch = 50.75                # N per unit strain; each family optional
+//! stretch = 50.75                # N per unit strain, or "inextensible"; each family optional
 //! shear = 50.75
 //! bend = 1.0
 //!
@@ -151,8 +152,16 @@
 //! frame_rate = 60.0              # optional, Hz
 //! substeps = 100                 # steps per frame
 //! frames = 300
-//! method = "symplectic-euler-a"  # any id of Method::all() (symlab list, avf, discrete-gradient)
+//! method = "symplectic-euler-a"  # any id of Method::all() (symlab list, avf, discrete-gradient, rattle)
 //! ```
+//!
+//! `stretch = "inextensible"` makes the warp and weft edges holonomic
+//! length constraints `|x_a − x_b|² = L²` instead of springs (shear and bend
+//! stay springs); such a scene is stepped by `rattle` (RATTLE: the
+//! constrained Störmer–Verlet step, [`step::rattle`]) and only by it. It must
+//! start on its constraints (`prestretch = 1`), no two pins of one edge may
+//! be apart by other than its length, and no straight line of edges may be
+//! held taut between two pins; each is an error naming the field.
 //!
 //! Unknown keys, missing fields, non-positive sizes or density, negative
 //! stiffness, a resolution below 2, a pin outside the grid, an unknown
@@ -220,8 +229,9 @@ pub mod study;
 
 pub use method::{
     AVERAGE_VECTOR_FIELD, Conserves, DISCRETE_GRADIENT, Mechanism, Method, MethodError, Minimised,
+    RATTLE,
 };
-pub use model::{ClothModel, Energy, Family, STABILITY_WORK, Stability};
+pub use model::{CONSTRAINT_TOLERANCE, ClothModel, Energy, Family, STABILITY_WORK, Stability};
 pub use output::{
     ENERGY_CSV_HEADER, OutputError, write_energy_csv, write_energy_csv_to, write_obj, write_obj_to,
 };
@@ -233,7 +243,7 @@ pub use scene::{
     ClothSpec, Collider, MAX_FRAMES, MAX_PARTICLES, MAX_STEPS, Material, Plane, Scene, SceneError,
     SimulationSpec,
 };
-pub use step::{MinimiseSettings, Solver, SolverStats, StageSettings};
+pub use step::{MinimiseSettings, RattleSettings, Solver, SolverStats, StageSettings};
 
 /// Nalgebra's 3-vector of `f64`, as used for positions and momenta.
 pub type Vec3 = nalgebra::Vector3<f64>;

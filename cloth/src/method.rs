@@ -40,6 +40,10 @@ pub enum Mechanism {
     Minimisation(Minimised),
     /// Gonzalez's discrete gradient (Newton with a sparse LU).
     DiscreteGradient,
+    /// RATTLE on the inextensible cloth's constraint manifold: simplified
+    /// Newton on the multipliers with a sparse Cholesky of `G·M⁻¹·Gᵀ`
+    /// ([`crate::step::rattle`]).
+    Constrained,
 }
 
 impl Mechanism {
@@ -51,6 +55,7 @@ impl Mechanism {
             Mechanism::StageSolver => "sparse stage solver",
             Mechanism::Minimisation(_) => "energy minimisation",
             Mechanism::DiscreteGradient => "discrete gradient (Newton)",
+            Mechanism::Constrained => "constraint solve: simplified Newton, sparse Cholesky",
         }
     }
 }
@@ -126,6 +131,10 @@ pub const AVERAGE_VECTOR_FIELD: &str = "avf";
 /// The id of Gonzalez's energy–momentum conserving discrete gradient.
 pub const DISCRETE_GRADIENT: &str = "discrete-gradient";
 
+/// The id of RATTLE, the constrained Störmer–Verlet step of the
+/// inextensible cloth (`material.stretch = "inextensible"`).
+pub const RATTLE: &str = "rattle";
+
 impl Method {
     /// A library scheme, its mechanism read off its facts: explicit, a
     /// composition of midpoint steps (a minimisation), or the stage solver.
@@ -177,14 +186,31 @@ impl Method {
         info: None,
     };
 
+    /// RATTLE ([`RATTLE`]): the Lobatto IIIA–IIIB pair with two stages
+    /// (Störmer–Verlet) applied to the constrained Hamiltonian system of the
+    /// inextensible cloth. Implicit in the multipliers (a constraint solve
+    /// per step); symplectic on the constraint manifold, symmetric
+    /// (time-reversible), order 2 (Leimkuhler & Skeel 1994; Jay 1996).
+    /// Steps only inextensible scenes, which only it steps.
+    pub const RATTLE: Method = Method {
+        id: RATTLE,
+        name: "RATTLE (constrained Störmer–Verlet, Lobatto IIIA–IIIB s = 2)",
+        mechanism: Mechanism::Constrained,
+        order: 2,
+        symmetric: true,
+        conserves: Conserves::SymplecticForm,
+        info: None,
+    };
+
     /// Every method that steps cloth: the library's explicit schemes, its
-    /// implicit tables and pairs, then [`Method::AVF`] and [`Method::GONZALEZ`].
+    /// implicit tables and pairs, then [`Method::AVF`], [`Method::GONZALEZ`]
+    /// and [`Method::RATTLE`].
     pub fn all() -> &'static [Method] {
         ALL
     }
 
     /// The method named `id` (a catalogue id as `symlab list` prints it,
-    /// `avf` or `discrete-gradient`).
+    /// `avf`, `discrete-gradient` or `rattle`).
     pub fn parse(id: &str) -> Result<Method, MethodError> {
         let id = id.trim();
         match ALL.iter().find(|m| m.id == id) {
@@ -207,6 +233,7 @@ impl Method {
             Mechanism::Explicit => 0,
             Mechanism::StageSolver => 1,
             Mechanism::Minimisation(Minimised::Midpoint(_)) => 2,
+            Mechanism::Constrained => 4,
             _ => 3,
         };
         let names = [
@@ -214,6 +241,7 @@ impl Method {
             "implicit (sparse Newton stage solver)",
             "midpoint family (energy minimisation)",
             "energy-conserving",
+            "constrained (inextensible scenes)",
         ];
         names
             .iter()
@@ -252,8 +280,9 @@ impl Method {
     pub fn explicit(&self) -> bool {
         self.mechanism == Mechanism::Explicit
     }
-    /// The library's facts of the scheme (`None` for `avf` and
-    /// `discrete-gradient`, which have no table).
+    /// The library's facts of the scheme (`None` for `avf`,
+    /// `discrete-gradient` and `rattle`, which have no table of their own
+    /// in the library's scheme list).
     pub fn info(&self) -> Option<&'static Info> {
         self.info
     }
@@ -291,7 +320,7 @@ impl Method {
                 mechanism: Mechanism::StageSolver,
                 ..self
             }),
-            Mechanism::Minimisation(_) | Mechanism::DiscreteGradient => {
+            Mechanism::Minimisation(_) | Mechanism::DiscreteGradient | Mechanism::Constrained => {
                 Err(MethodError::NotSteppable(self.id.to_string()))
             }
             _ => Ok(self),
@@ -335,6 +364,7 @@ macro_rules! cloth_facts {
             $(Method::of($p_id, &<$p_ty as Scheme>::INFO),)*
             Method::AVF,
             Method::GONZALEZ,
+            Method::RATTLE,
         ];
     };
 }

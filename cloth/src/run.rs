@@ -50,9 +50,10 @@ use crate::model::{ClothModel, Energy};
 use crate::scene::{Scene, SceneError};
 use crate::step::dispatch::{SchemeVisitor, TableVisitor, with_scheme, with_table};
 use crate::step::minimise::MinimiseError;
+use crate::step::rattle::RattleError;
 use crate::step::{
-    ClothStepper, MinimiseSettings, MinimiseStepper, Refused, SchemeStepper, SolverStats,
-    StageSettings, StageStepper, StepError,
+    ClothStepper, MinimiseSettings, MinimiseStepper, RattleSettings, RattleStepper, Refused,
+    SchemeStepper, SolverStats, StageSettings, StageStepper, StepError,
 };
 
 /// What a frame callback may fail with; it stops the run.
@@ -144,6 +145,8 @@ pub struct SolverSettings {
     /// The sparse stage solver's: [`crate::step::stage::cloth_settings`] by
     /// default.
     pub stage: StageSettings,
+    /// RATTLE's constraint solver (`rattle`, inextensible scenes).
+    pub rattle: RattleSettings,
 }
 
 impl Default for SolverSettings {
@@ -151,6 +154,7 @@ impl Default for SolverSettings {
         SolverSettings {
             minimise: MinimiseSettings::default(),
             stage: crate::step::stage::cloth_settings(),
+            rattle: RattleSettings::default(),
         }
     }
 }
@@ -188,6 +192,10 @@ impl RunSettings {
     }
     pub fn with_stage(mut self, stage: StageSettings) -> RunSettings {
         self.solvers.stage = stage;
+        self
+    }
+    pub fn with_rattle(mut self, rattle: RattleSettings) -> RunSettings {
+        self.solvers.rattle = rattle;
         self
     }
 }
@@ -362,6 +370,14 @@ pub enum RunError {
         #[source]
         source: MinimiseError,
     },
+    #[error("{method}: step {step} (t = {time} s) failed: {source}")]
+    Constraint {
+        method: &'static str,
+        step: usize,
+        time: f64,
+        #[source]
+        source: RattleError,
+    },
     /// The energy guard stopped the run ([`RunSettings::guard`]).
     #[error("{0}")]
     Blowup(Box<Blowup>),
@@ -389,6 +405,7 @@ impl RunError {
             RunError::Diverged { .. }
                 | RunError::Solve { .. }
                 | RunError::Minimise { .. }
+                | RunError::Constraint { .. }
                 | RunError::Blowup(_)
         )
     }
@@ -456,6 +473,9 @@ impl Simulation {
         F: FnMut(&Frame<'_>) -> Result<(), CallbackError>,
     {
         settings.options.check()?;
+        if let Some(why) = crate::scene::method_mismatch(method, self.model.is_inextensible()) {
+            return Err(RunError::Options(format!("method: {why}")));
+        }
         let on_frame: &mut OnFrame<'_> = &mut on_frame;
         let name = method.name();
         /// The run with the method's scheme or table, once the dispatch
@@ -520,6 +540,15 @@ impl Simulation {
                 with_table(method, drive)
                     .ok_or_else(|| MethodError::NotSteppable(method.id().to_string()))?
             }
+            Mechanism::Constrained => {
+                let (rattle, h) = (settings.solvers.rattle, settings.options.step_size());
+                self.drive(
+                    name,
+                    &|sim: &Simulation| Ok(RattleStepper::new(&sim.model, h, rattle)?),
+                    settings,
+                    on_frame,
+                )
+            }
             Mechanism::Minimisation(_) | Mechanism::DiscreteGradient => {
                 let minimise = settings.solvers.minimise;
                 self.drive(
@@ -549,6 +578,13 @@ impl Simulation {
         F: FnMut(&Frame<'_>) -> Result<(), CallbackError>,
     {
         settings.options.check()?;
+        if self.model.is_inextensible() {
+            return Err(RunError::Options(format!(
+                "method: {} steps the spring model; an inextensible material is stepped by {}",
+                S::INFO.name,
+                crate::method::RATTLE
+            )));
+        }
         let on_frame: &mut OnFrame<'_> = &mut on_frame;
         if let Some(weights) = S::INFO.midpoint_weights {
             let minimise = settings.solvers.minimise;
@@ -674,6 +710,12 @@ impl Simulation {
                     source,
                 }),
                 Err(StepError::Minimise(source)) => Some(RunError::Minimise {
+                    method,
+                    step: self.steps + 1,
+                    time: t,
+                    source,
+                }),
+                Err(StepError::Constraint(source)) => Some(RunError::Constraint {
                     method,
                     step: self.steps + 1,
                     time: t,

@@ -105,7 +105,10 @@ fn what_is_not_a_splitting_is_refused_by_name() {
     // Every id listed is built (its timed run needs the catalogue's table of
     // the splitting or kernel).
     for id in compare::wisdom_holman::ids() {
-        assert!(Method::by_id(&id, &sys).is_ok(), "{id} listed but not built");
+        assert!(
+            Method::by_id(&id, &sys).is_ok(),
+            "{id} listed but not built"
+        );
     }
 }
 

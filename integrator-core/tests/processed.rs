@@ -241,11 +241,23 @@ fn merged_steps_are_the_same_map_with_one_flow_less_per_step() {
         }
     }
     impl Split for Counted {
-        fn flow_a(&self, h: f64, z: &mut [f64], b: PartBuffers<'_>, r: bool) -> Result<(), FlowError> {
+        fn flow_a(
+            &self,
+            h: f64,
+            z: &mut [f64],
+            b: PartBuffers<'_>,
+            r: bool,
+        ) -> Result<(), FlowError> {
             self.a.set(self.a.get() + 1);
             self.inner.flow_a(h, z, b, r)
         }
-        fn flow_b(&self, h: f64, z: &mut [f64], b: PartBuffers<'_>, r: bool) -> Result<(), FlowError> {
+        fn flow_b(
+            &self,
+            h: f64,
+            z: &mut [f64],
+            b: PartBuffers<'_>,
+            r: bool,
+        ) -> Result<(), FlowError> {
             self.b.set(self.b.get() + 1);
             if !z[0].is_finite() || z[0] > 1e3 {
                 return Err(FlowError::failed("q out of range"));
@@ -268,10 +280,18 @@ fn merged_steps_are_the_same_map_with_one_flow_less_per_step() {
             seq.apply(&sys, 0.01, &mut plain, &mut ws).unwrap();
         }
         let plain_drifts = sys.a.replace(0);
-        seq.steps_merged(&sys, 0.01, n, &mut merged, &mut ws).unwrap();
-        assert_eq!(sys.a.replace(0), plain_drifts - (n - 1), "{id}: one drift less per step");
+        seq.steps_merged(&sys, 0.01, n, &mut merged, &mut ws)
+            .unwrap();
+        assert_eq!(
+            sys.a.replace(0),
+            plain_drifts - (n - 1),
+            "{id}: one drift less per step"
+        );
         let diff = (plain[0] - merged[0]).hypot(plain[1] - merged[1]);
-        assert!(diff < 1e-13, "{id}: {plain:?} against {merged:?} ({diff:e})");
+        assert!(
+            diff < 1e-13,
+            "{id}: {plain:?} against {merged:?} ({diff:e})"
+        );
     }
     // A sequence that starts with a kick and ends with a drift merges nothing.
     let seq = Sequence::new([(Part::B, 0.5), (Part::A, 1.0)]);
@@ -281,7 +301,8 @@ fn merged_steps_are_the_same_map_with_one_flow_less_per_step() {
     for _ in 0..10 {
         seq.apply(&sys, 0.1, &mut plain, &mut ws).unwrap();
     }
-    seq.steps_merged(&sys, 0.1, 10, &mut merged, &mut ws).unwrap();
+    seq.steps_merged(&sys, 0.1, 10, &mut merged, &mut ws)
+        .unwrap();
     assert_eq!(plain, merged);
     // Drifts move q by h; kicks fail beyond q = 2. With D(½) K D(½) and
     // h = 1 the kicks see q = 0.5, 1.5, 2.5: the third step fails.
@@ -292,11 +313,23 @@ fn merged_steps_are_the_same_map_with_one_flow_less_per_step() {
         }
     }
     impl Split for Shift {
-        fn flow_a(&self, h: f64, z: &mut [f64], _: PartBuffers<'_>, _: bool) -> Result<(), FlowError> {
+        fn flow_a(
+            &self,
+            h: f64,
+            z: &mut [f64],
+            _: PartBuffers<'_>,
+            _: bool,
+        ) -> Result<(), FlowError> {
             z[0] += h;
             Ok(())
         }
-        fn flow_b(&self, h: f64, z: &mut [f64], _: PartBuffers<'_>, _: bool) -> Result<(), FlowError> {
+        fn flow_b(
+            &self,
+            h: f64,
+            z: &mut [f64],
+            _: PartBuffers<'_>,
+            _: bool,
+        ) -> Result<(), FlowError> {
             if z[0] > 2.0 {
                 return Err(FlowError::failed(format!("q = {} beyond 2", z[0])));
             }

@@ -60,11 +60,19 @@ impl Summary<'_> {
         );
         let _ = writeln!(
             s,
-            "  grid         {nx} × {ny} particles ({} free, {} pinned), {} springs ({})",
+            "  grid         {nx} × {ny} particles ({} free, {} pinned), {} springs ({}){}",
             model.free_count(),
             model.pinned_count(),
             model.spring_count(),
-            families.join(", ")
+            families.join(", "),
+            if model.is_inextensible() {
+                format!(
+                    ", {} length constraints (warp and weft, inextensible)",
+                    model.constraint_count()
+                )
+            } else {
+                String::new()
+            }
         );
     }
 
@@ -111,6 +119,14 @@ impl Summary<'_> {
             self.opts.substeps,
             fixed(self.opts.frame_rate, 4),
         );
+        if let Some(wave) = self.model.tension_wave_step() {
+            let _ = writeln!(
+                s,
+                "               tension waves: ℓ/√(|g|·L) = {} s, h/(ℓ/√(|g|·L)) = {}",
+                sci(wave, 4),
+                fixed(r.h / wave, 3)
+            );
+        }
         if let Some(note) = self.note {
             let _ = writeln!(s, "               ({note})");
         }
@@ -220,6 +236,30 @@ impl Summary<'_> {
                     st.symbolic_factorizations,
                     st.jacobian_evaluations,
                     st.failures
+                );
+            }
+            SolverStats::Constrained(st) => {
+                let t = st.seconds;
+                let total = (t.forces + t.constraints + t.factorize + t.solve).max(1e-300);
+                let pc = |x: f64| fixed(100.0 * x / total, 3);
+                let _ = writeln!(
+                    s,
+                    "  constraints  RATTLE: {} simplified Newton iterations per step (at most {} in one solve), {} Cholesky of G·Gᵀ ({} per step, 1 symbolic), {} LU refreshes of G(q')·G(q)ᵀ, residual ≤ {} (tolerance {} = 32·ε, as max|g|/(L(L + ‖q‖∞)))",
+                    fixed(st.iterations_per_step(), 2),
+                    st.max_iterations,
+                    st.factorizations,
+                    fixed(st.factorizations as f64 / st.steps.max(1) as f64, 3),
+                    st.lu_factorizations,
+                    sci(st.max_residual, 2),
+                    sci(cloth::CONSTRAINT_TOLERANCE, 2)
+                );
+                let _ = writeln!(
+                    s,
+                    "  time split   forces {} %, constraint loops {} %, factorisation {} %, solves {} %",
+                    pc(t.forces),
+                    pc(t.constraints),
+                    pc(t.factorize),
+                    pc(t.solve)
                 );
             }
             SolverStats::None => {}

@@ -1,11 +1,12 @@
 //! Building the model of a scene, step by step: the particles and pins, the
 //! springs, the colliders, then the check of the initial state.
 
-use std::sync::OnceLock;
+use std::sync::{Arc, OnceLock};
 
 use nalgebra::Vector3;
 
 use super::colliders::penalties;
+use super::constraints::{self, Gram};
 use super::springs::{directions, grid_springs};
 use super::stencil::Stencil;
 use super::{ClothModel, Family, PINNED, PinSpring, Spring};
@@ -52,6 +53,17 @@ impl ClothModel {
         let stencil = Stencil::new(nx, ny, &directions(dx, dy, scene.spring_families()), |f| {
             stiffness(scene, f)
         });
+        let constraints = if scene.material.inextensible {
+            Some(Arc::new(constraints::build(
+                scene,
+                dx,
+                dy,
+                &start,
+                &free_index,
+            )?))
+        } else {
+            None
+        };
         let colliders = penalties(&scene.colliders, mass);
         let gravity = Vector3::from(scene.gravity);
         let model = ClothModel {
@@ -72,9 +84,31 @@ impl ClothModel {
             family_counts: springs.family_counts,
             colliders,
             jac: OnceLock::new(),
+            constraints,
         };
         model.check_initial_state(scene)?;
+        model.check_constraints_independent(scene)?;
         Ok(model)
+    }
+
+    /// The constraints' Gram matrix `G·Gᵀ` must be positive definite at the
+    /// start, or no step can solve for the multipliers: it is singular when
+    /// a straight line of edges is held taut between two pins (their
+    /// gradients are parallel), a sheet that would need infinite tension.
+    fn check_constraints_independent(&self, scene: &Scene) -> Result<(), SceneError> {
+        let Some(c) = &self.constraints else {
+            return Ok(());
+        };
+        let z = self.initial_state();
+        let mut d = vec![[0.0; 3]; c.len()];
+        c.edge_vectors(&z[..3 * self.free_count()], &mut d, false);
+        Gram::new(c.clone(), false)
+            .factorize(&d)
+            .map_err(|_| SceneError::Field {
+                file: scene.name.clone(),
+                field: "pins".to_string(),
+                message: "the length constraints are dependent at the start (their Gram matrix G·Gᵀ is not positive definite): a straight line of inextensible edges is held taut between two pins, which would need infinite tension".to_string(),
+            })
     }
 
     /// The initial state must have a finite energy, term by term, and

@@ -22,6 +22,11 @@ pub(super) struct Penalty {
 }
 
 impl Penalty {
+    /// `κ = m·stiffness`, the penalty's curvature deep in contact (N/m).
+    pub(super) fn kappa(&self) -> f64 {
+        self.kappa
+    }
+
     /// `(φ(δ), φ'(δ), φ''(δ))` of the C² ramp, times `κ`.
     #[inline]
     pub(super) fn ramp(&self, delta: f64) -> (f64, f64, f64) {

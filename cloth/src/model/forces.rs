@@ -30,6 +30,9 @@ impl ClothModel {
             let d = Vector3::from(s.pin) - Vector3::from(q3[s.a as usize]);
             m = m.max((d.norm() - s.rest).abs() / s.rest);
         }
+        if let Some(c) = &self.constraints {
+            m = m.max(c.max_strain(q));
+        }
         m
     }
 

@@ -23,6 +23,7 @@ use nalgebra::Vector3;
 mod avf;
 mod build;
 mod colliders;
+pub(crate) mod constraints;
 mod discrete_gradient;
 mod forces;
 mod jacobian;
@@ -31,6 +32,7 @@ mod stability;
 mod stencil;
 
 use colliders::Penalty;
+pub use constraints::CONSTRAINT_TOLERANCE;
 use jacobian::{JacobianLayout, spring_block};
 pub(crate) use springs::{PinSpring, Spring};
 pub use stability::{STABILITY_WORK, Stability};
@@ -110,6 +112,9 @@ pub struct ClothModel {
     colliders: Vec<Penalty>,
     /// Built on first use ([`ClothModel::jac`]).
     jac: OnceLock<JacobianLayout>,
+    /// The warp and weft length constraints of an inextensible scene
+    /// (`None`: the spring model).
+    constraints: Option<std::sync::Arc<constraints::EdgeConstraints>>,
 }
 
 const PINNED: u32 = u32::MAX;

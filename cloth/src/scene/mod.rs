@@ -10,6 +10,7 @@ mod regrid;
 mod validate;
 
 pub use regrid::{GridError, parse_grid, regrid};
+pub use validate::method_mismatch;
 
 /// Why a scene could not be loaded. Every variant names the file; field
 /// errors also name the field, as a dotted path (`cloth.nx`,
@@ -109,7 +110,15 @@ pub struct Material {
     pub shear: Option<f64>,
     /// Second-neighbour springs `(i, j)–(i±2, j)`, `(i, j)–(i, j±2)` (N per unit strain).
     pub bend: Option<f64>,
+    /// `stretch = "inextensible"` in the file: the warp and weft edges are
+    /// holonomic length constraints `|x_a − x_b|² = L²` (stepped by
+    /// `rattle`) instead of stretch springs; `stretch` is then `None`.
+    pub inextensible: bool,
 }
+
+/// The value of `material.stretch` that makes the warp and weft edges
+/// length constraints.
+pub const INEXTENSIBLE: &str = "inextensible";
 
 /// A smooth conservative penalty obstacle. A particle at signed distance
 /// `d` from the surface (positive outside) penetrates by `δ = max(0, −d)`

@@ -9,8 +9,8 @@ use std::path::Path;
 use toml::{Table, Value};
 
 use super::{
-    ClothSpec, Collider, DEFAULT_SKIN, MAX_SCENE_BYTES, Material, Plane, Scene, SceneError,
-    SimulationSpec, grid_too_large,
+    ClothSpec, Collider, DEFAULT_SKIN, INEXTENSIBLE, MAX_SCENE_BYTES, Material, Plane, Scene,
+    SceneError, SimulationSpec, grid_too_large,
 };
 use crate::method::Method;
 
@@ -419,11 +419,30 @@ impl Reader<'_> {
                 }
             }
         };
+        // `stretch = "inextensible"`: warp and weft edges are length
+        // constraints instead of springs (a number keeps the spring model).
+        let inextensible = match t.get("stretch") {
+            Some(Value::String(s)) if s == INEXTENSIBLE => true,
+            Some(Value::String(s)) => {
+                return Err(self.err(
+                    "material.stretch",
+                    format!(
+                        "expected a stiffness (N per unit strain) or \"{INEXTENSIBLE}\", found the string \"{s}\""
+                    ),
+                ));
+            }
+            _ => false,
+        };
         Ok(Material {
             density,
-            stretch: family("stretch")?,
+            stretch: if inextensible {
+                None
+            } else {
+                family("stretch")?
+            },
             shear: family("shear")?,
             bend: family("bend")?,
+            inextensible,
         })
     }
 

@@ -54,6 +54,12 @@ impl Scene {
                 non_negative(r, k, field)?;
             }
         }
+        if m.inextensible && m.stretch.is_some() {
+            return Err(r.err(
+                "material.stretch",
+                "an inextensible material has no stretch springs: give a stiffness or \"inextensible\", not both",
+            ));
+        }
         Ok(())
     }
 
@@ -122,14 +128,19 @@ impl Scene {
         if let Some((what, message)) = run_length_problem(s.frames, s.substeps, s.frame_rate) {
             return Err(r.err(&format!("simulation.{what}"), message));
         }
-        Method::parse(&s.method).map_err(|e| r.err("simulation.method", e))?;
+        let method = Method::parse(&s.method).map_err(|e| r.err("simulation.method", e))?;
+        if let Some(why) = method_mismatch(&method, self.material.inextensible) {
+            return Err(r.err("simulation.method", why));
+        }
         Ok(())
     }
 
     /// At least one spring on the grid: something holds the cloth together.
     fn check_has_springs(&self, r: &Reader) -> Result<(), SceneError> {
         let c = &self.cloth;
-        if self.spring_count() == 0 {
+        // Inextensible: the warp and weft constraints hold it (a grid of
+        // at least 2 × 2 has them).
+        if self.spring_count() == 0 && !self.material.inextensible {
             return Err(r.err(
                 "material",
                 format!(
@@ -490,4 +501,23 @@ fn most_extreme<'a>(factors: &[(f64, &'a str)]) -> &'a str {
         }
     }
     best
+}
+
+/// Why `method` cannot step a cloth whose warp and weft are (`inextensible`)
+/// or are not length constraints: only `rattle` steps the constrained model,
+/// and it steps nothing else. `None` when it can.
+pub fn method_mismatch(method: &Method, inextensible: bool) -> Option<String> {
+    let constrained = method.mechanism() == crate::method::Mechanism::Constrained;
+    match (inextensible, constrained) {
+        (true, false) => Some(format!(
+            "{} steps the spring model; an inextensible material (material.stretch = \"inextensible\") is stepped by {}",
+            method.id(),
+            crate::method::RATTLE
+        )),
+        (false, true) => Some(format!(
+            "{} steps an inextensible material (material.stretch = \"inextensible\"); this scene's warp and weft are springs",
+            method.id()
+        )),
+        _ => None,
+    }
 }

@@ -1,7 +1,8 @@
 //! One stepper per mechanism behind one trait, [`ClothStepper`]: explicit
 //! schemes ([`explicit`]), the sparse stage solver ([`stage`]), the
 //! minimisations ([`minimise`]: the midpoint family and the average vector
-//! field) and the discrete gradient ([`discrete_gradient`]). No frame loop
+//! field), the discrete gradient ([`discrete_gradient`]) and RATTLE on the
+//! inextensible cloth's constraint manifold ([`rattle`]). No frame loop
 //! here: [`Simulation`](crate::Simulation) owns the one loop, its
 //! non-finite check and its energy guard, and calls a stepper.
 
@@ -9,6 +10,7 @@ pub mod discrete_gradient;
 pub mod dispatch;
 pub mod explicit;
 pub mod minimise;
+pub mod rattle;
 pub mod stage;
 
 use integrator_core::SolveError;
@@ -18,6 +20,7 @@ use crate::model::ClothModel;
 pub use dispatch::{SchemeVisitor, TableVisitor, with_explicit_scheme, with_scheme, with_table};
 pub use explicit::SchemeStepper;
 pub use minimise::{MinimiseSettings, MinimiseStepper, Minimiser, Solver};
+pub use rattle::{RattleSettings, RattleStepper};
 pub use stage::{StageSettings, StageStepper};
 
 /// Why a step failed (the run loop adds the step, time and method).
@@ -29,6 +32,9 @@ pub enum StepError {
     /// A minimisation or the discrete gradient's Newton iteration.
     #[error(transparent)]
     Minimise(#[from] minimise::MinimiseError),
+    /// RATTLE's constraint solve.
+    #[error(transparent)]
+    Constraint(#[from] rattle::RattleError),
 }
 
 /// What the solver of a run did.
@@ -40,6 +46,8 @@ pub enum SolverStats {
     Stage(integrator_core::implicit::Stats),
     /// A minimisation or discrete-gradient run, with its settings.
     Minimise(minimise::Stats, MinimiseSettings),
+    /// A RATTLE run ([`rattle`]).
+    Constrained(rattle::Stats),
 }
 
 /// One mechanism of stepping a cloth model. The run loop calls, per frame,

@@ -182,6 +182,7 @@ fn run_one(
             match report.solver {
                 SolverStats::Stage(s) => Some(s.newton_iterations as f64 / s.steps.max(1) as f64),
                 SolverStats::Minimise(s, _) => Some(s.iterations_per_step()),
+                SolverStats::Constrained(s) => Some(s.iterations_per_step()),
                 SolverStats::None => None,
             },
         ),

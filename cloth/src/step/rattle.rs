@@ -1,0 +1,524 @@
+//! RATTLE on the inextensible cloth: Störmer–Verlet (the Lobatto IIIA–IIIB
+//! pair with two stages) applied to the constrained Hamiltonian system
+//! `H = ½pᵀM⁻¹p + V(q)`, `g(q) = 0`, with `M = m·I`, `V` the soft springs
+//! (shear, bend), gravity and the colliders, and `g` the warp and weft
+//! length constraints (`crate::model` `constraints.rs`). One step:
+//!
+//! ```text
+//! p½ = p − h/2·(∇V(q) + G(q)ᵀλ)
+//! q' = q + h·M⁻¹·p½                    with g(q') = 0      (solve for λ)
+//! p' = p½ − h/2·(∇V(q') + G(q')ᵀμ)     with G(q')·M⁻¹·p' = 0 (solve for μ)
+//! ```
+//!
+//! It is symplectic on the constraint manifold, symmetric and of order 2
+//! (Leimkuhler & Skeel 1994), and needs no stretch stiffness: its step is
+//! limited by the soft forces and by the tension waves of the sheet.
+//!
+//! **The position solve.** With `q̂ = q + h·M⁻¹(p − h/2·∇V(q))` and the
+//! scaled multipliers `Λ = h²λ/(2m)`, `q'(Λ) = q̂ − G(q)ᵀΛ`, and
+//! `g(q'(Λ)) = 0` is solved by simplified Newton: `Λ ← Λ + A⁻¹·g(q'(Λ))`
+//! with `A = G(q)·G(q)ᵀ` (the true Jacobian is `G(q')·G(q)ᵀ`). `A` is SPD
+//! while the constraints are independent, and it is the matrix the previous
+//! step's velocity projection factorised (at that step's `q'`, this step's
+//! `q`), so the position solve costs no factorisation of its own. While the
+//! iteration contracts (each residual at most [`RattleSettings::contraction`]
+//! of the one before) the factor is kept; when it does not, the iteration
+//! goes on with a sparse LU of the true Jacobian `G(q')·G(q)ᵀ` at the
+//! current iterate, refreshed again whenever it stops contracting. (A
+//! symmetric refresh, `½(G(q')G(q)ᵀ + G(q)G(q')ᵀ)` by Cholesky, was tried
+//! first and does not help: the slow modes come from the skew part of the
+//! difference, which it leaves out; on the falling 64² sheet at 8 steps per
+//! frame the iteration then crawled at 0.6 per iteration.) The multipliers
+//! start from the previous step's (warm start). The iteration stops when
+//! every edge holds to round-off,
+//! `|g_c| ≤ 32·ε·L_c²·(1 + ‖q‖_∞/L_c)` ([`CONSTRAINT_TOLERANCE`]); after
+//! [`RattleSettings::max_iterations`] it is an error that the run reports
+//! with the step and time, never a step accepted off the manifold.
+//!
+//! **The velocity projection** solves `G(q')·G(q')ᵀ·μ = G(q')·p̃`. Every
+//! [`RattleSettings::refactor_every`] steps (default 3) it factorises that
+//! matrix and solves directly; the factor then serves the next steps'
+//! position solves. In between it runs conjugate gradients preconditioned
+//! with the last factor, to the round-off of the right-hand side (its
+//! residual is `G(q')·p'` itself), falling back to a factorisation if they
+//! do not get there in [`RattleSettings::max_pcg`] iterations. A
+//! factorisation costs about 15 triangular solves at 64², the conjugate
+//! gradients 4–5.
+//!
+//! The symbolic analysis of `G·Gᵀ` (its pattern never changes) is made once
+//! with the model.
+//!
+//! [`CONSTRAINT_TOLERANCE`]: crate::model::CONSTRAINT_TOLERANCE
+
+use std::sync::Arc;
+use std::time::Instant;
+
+use integrator_core::Separable;
+
+use super::{ClothStepper, Refused, SolverStats, StepError};
+use crate::model::constraints::{EdgeConstraints, Gram, Jacobian, q_max};
+use crate::model::{CONSTRAINT_TOLERANCE, ClothModel};
+
+/// The constraint solver's settings.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RattleSettings {
+    /// Simplified Newton iterations of one position solve before the step
+    /// fails (default 50).
+    pub max_iterations: usize,
+    /// Refresh the factor when an iteration shrinks the residual by less
+    /// than this factor (default 0.5).
+    pub contraction: f64,
+    /// Assemble, factorise and run the per-edge loops on both cores
+    /// (default false: measured on the 64² sheet, the per-edge loops took
+    /// 6.1 ms per frame on two threads against 2.2 ms on one, and faer's
+    /// factorisation and solves gained nothing; see the README).
+    pub parallel: bool,
+    /// Factorise `G·Gᵀ` afresh every this many steps (default 3; 1: every
+    /// step, the velocity projection solved directly; 0: only when the
+    /// preconditioned conjugate gradients of the projection fail). Between,
+    /// the projection runs conjugate gradients preconditioned with the last
+    /// factor, which also serves the position solves. A factorisation costs
+    /// about 15 solves at 64²; the conjugate gradients take 4–5 iterations
+    /// and the position solves a few more with an older factor (measured:
+    /// 3.7, 3.8, 4.0 and 4.3 iterations per step for 1, 2, 3 and 4; with 0,
+    /// 9.1 and an LU refresh every other step).
+    pub refactor_every: usize,
+    /// Conjugate-gradient iterations of one velocity projection before it
+    /// falls back to a factorisation (default 12).
+    pub max_pcg: usize,
+}
+
+impl Default for RattleSettings {
+    fn default() -> Self {
+        RattleSettings {
+            max_iterations: 50,
+            contraction: 0.5,
+            parallel: false,
+            refactor_every: 3,
+            max_pcg: 12,
+        }
+    }
+}
+
+/// Where the stepping time went (s).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Timing {
+    /// The soft forces `−∇V` (springs, gravity, colliders).
+    pub forces: f64,
+    /// Edge vectors, residuals, `G·v`, `Gᵀ·λ` and the vector updates.
+    pub constraints: f64,
+    /// Assembling `G·Gᵀ` and its numeric Cholesky factorisation.
+    pub factorize: f64,
+    /// Triangular solves with the factor.
+    pub solve: f64,
+}
+
+/// What the constraint solver did.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Stats {
+    pub steps: usize,
+    /// Simplified Newton iterations of the position solves, in all.
+    pub iterations: usize,
+    /// The most iterations one position solve took.
+    pub max_iterations: usize,
+    /// Numeric Cholesky factorisations of `G·Gᵀ` (one per step for the
+    /// velocity projection, and one at the start).
+    pub factorizations: usize,
+    /// Numeric LU factorisations of the true Jacobian `G(q')·G(q)ᵀ` (the
+    /// position solve's refreshes), and their symbolic analyses (0 or 1).
+    pub lu_factorizations: usize,
+    pub symbolic_lu: usize,
+    /// Preconditioned conjugate-gradient iterations of the velocity
+    /// projections that reused an earlier factor, and the projections that
+    /// fell back to a factorisation.
+    pub pcg_iterations: usize,
+    pub pcg_failures: usize,
+    /// The largest scaled residual `max_c |g_c|/(L_c(L_c + ‖q‖_∞))` a step
+    /// ended with (at most [`CONSTRAINT_TOLERANCE`]).
+    pub max_residual: f64,
+    pub seconds: Timing,
+}
+
+impl Stats {
+    /// Position iterations per step.
+    pub fn iterations_per_step(&self) -> f64 {
+        self.iterations as f64 / self.steps.max(1) as f64
+    }
+}
+
+/// Why a constrained step failed (the run adds the step and time).
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum RattleError {
+    #[error(
+        "the RATTLE position solve did not converge in {iterations} iterations: the constraint residual max|g_c|/(L_c(L_c + ‖q‖∞)) is {residual:e}, the tolerance {tolerance:e} (32·ε); the step is too large for the sheet's motion"
+    )]
+    NotConverged {
+        iterations: usize,
+        residual: f64,
+        tolerance: f64,
+    },
+    #[error(
+        "the constraints' Gram matrix G·Gᵀ is not positive definite in the {phase}: the length constraints became dependent (a line of edges pulled straight between pins, or a sheet folded onto itself)"
+    )]
+    NotPositive { phase: &'static str },
+    #[error(
+        "the position solve's Jacobian G(q')·G(q)ᵀ is singular: the length constraints became dependent"
+    )]
+    Singular,
+    #[error("the RATTLE position solve diverged: the constraint residual is {residual:e}")]
+    Diverged { residual: f64 },
+}
+
+/// RATTLE as a [`ClothStepper`].
+pub struct RattleStepper {
+    constraints: Arc<EdgeConstraints>,
+    gram: Gram,
+    jacobian: Jacobian,
+    settings: RattleSettings,
+    n3: usize,
+    /// Edge vectors at the step's start `q`, and at the iterate `q'`.
+    d: Vec<[f64; 3]>,
+    d1: Vec<[f64; 3]>,
+    /// Scaled multipliers `Λ = h²λ/(2m)` (warm start), with the `h` they
+    /// were made for.
+    lambda: Vec<f64>,
+    /// The previous step's multipliers, and how many steps in a row were
+    /// solved since the last restart (two are needed to extrapolate).
+    lambda_prev: Vec<f64>,
+    solved: usize,
+    lambda_h: f64,
+    g: Vec<f64>,
+    delta: Vec<f64>,
+    /// The velocity projection's right-hand side and the conjugate
+    /// gradients' vectors.
+    b: Vec<f64>,
+    r: Vec<f64>,
+    z: Vec<f64>,
+    pdir: Vec<f64>,
+    ap: Vec<f64>,
+    /// Steps since the last factorisation.
+    since_factor: usize,
+    /// The force at `cached_q`; `valid`: `cached_q`, `force`, `d` and the
+    /// factor of `G(q)G(q)ᵀ` belong to the state the last step ended with.
+    force: Vec<f64>,
+    cached_q: Vec<f64>,
+    valid: bool,
+    qhat: Vec<f64>,
+    q1: Vec<f64>,
+    w: Vec<f64>,
+    phalf: Vec<f64>,
+    stats: Stats,
+}
+
+impl RattleStepper {
+    /// A stepper for `model` at step `h`: refused when the model is not
+    /// inextensible, or when a collider's penalty is too stiff for the step
+    /// (its rate `√stiffness` must satisfy `h·√stiffness ≤ 1`: the penalty
+    /// is stepped explicitly, as Störmer–Verlet, whose linear limit is 2).
+    pub fn new(
+        model: &ClothModel,
+        h: f64,
+        settings: RattleSettings,
+    ) -> Result<RattleStepper, Refused> {
+        let Some(constraints) = model.constraints() else {
+            return Err(Refused(
+                "method: rattle steps an inextensible material (material.stretch = \"inextensible\"); this scene's warp and weft are springs".to_string(),
+            ));
+        };
+        for (k, rate) in model.collider_rates().into_iter().enumerate() {
+            if h * rate > 1.0 {
+                return Err(Refused(format!(
+                    "colliders[{k}].stiffness: {:e} s⁻² makes a particle in contact oscillate at {rate:e} rad/s; RATTLE steps the penalty explicitly and needs h·√stiffness ≤ 1, so at h = {h:e} s the stiffness may be at most 1/h² = {:e} s⁻² (or take more substeps)",
+                    rate * rate,
+                    1.0 / (h * h)
+                )));
+            }
+        }
+        let n3 = 3 * model.free_count();
+        let nc = constraints.len();
+        Ok(RattleStepper {
+            gram: Gram::new(constraints.clone(), settings.parallel),
+            jacobian: Jacobian::new(constraints.clone(), settings.parallel),
+            constraints: constraints.clone(),
+            settings,
+            n3,
+            d: vec![[0.0; 3]; nc],
+            d1: vec![[0.0; 3]; nc],
+            lambda: vec![0.0; nc],
+            lambda_prev: vec![0.0; nc],
+            solved: 0,
+            lambda_h: h,
+            g: vec![0.0; nc],
+            delta: vec![0.0; nc],
+            b: vec![0.0; nc],
+            r: vec![0.0; nc],
+            z: vec![0.0; nc],
+            pdir: vec![0.0; nc],
+            ap: vec![0.0; nc],
+            since_factor: 0,
+            force: vec![0.0; n3],
+            cached_q: vec![0.0; n3],
+            valid: false,
+            qhat: vec![0.0; n3],
+            q1: vec![0.0; n3],
+            w: vec![0.0; n3],
+            phalf: vec![0.0; n3],
+            stats: Stats::default(),
+        })
+    }
+
+    /// The force, edge vectors and factor at `q` (the start of a run, or
+    /// after the loop restored a state).
+    fn prepare(&mut self, model: &ClothModel, q: &[f64]) -> Result<(), RattleError> {
+        let par = self.settings.parallel;
+        let t0 = Instant::now();
+        model.force(q, &mut self.force);
+        let t1 = Instant::now();
+        self.constraints.edge_vectors(q, &mut self.d, par);
+        let t2 = Instant::now();
+        let factored = self.gram.factorize(&self.d);
+        let t3 = Instant::now();
+        let s = &mut self.stats.seconds;
+        s.forces += (t1 - t0).as_secs_f64();
+        s.constraints += (t2 - t1).as_secs_f64();
+        s.factorize += (t3 - t2).as_secs_f64();
+        self.stats.factorizations += 1;
+        factored.map_err(|_| RattleError::NotPositive {
+            phase: "position solve",
+        })?;
+        self.cached_q.copy_from_slice(q);
+        self.valid = true;
+        Ok(())
+    }
+
+    /// The position solve: `q1 = q̂ − G(q)ᵀΛ` with `g(q1) = 0`; leaves
+    /// `w = G(q)ᵀΛ` and the edge vectors at `q1` in `d1`.
+    fn position_solve(&mut self, q_scale: f64) -> Result<(), RattleError> {
+        let par = self.settings.parallel;
+        let c = &*self.constraints;
+        let mut previous = f64::INFINITY;
+        let mut iterations = 0;
+        // Whether the iteration runs on the LU of the true Jacobian.
+        let mut exact = false;
+        loop {
+            let t0 = Instant::now();
+            c.apply_gt(&self.d, &self.lambda, &mut self.w, par);
+            for ((x, qh), w) in self.q1.iter_mut().zip(&self.qhat).zip(&self.w) {
+                *x = qh - w;
+            }
+            c.edge_vectors(&self.q1, &mut self.d1, par);
+            let residual = c.residuals(&self.d1, q_scale, &mut self.g, par);
+            self.stats.seconds.constraints += t0.elapsed().as_secs_f64();
+            if residual <= CONSTRAINT_TOLERANCE {
+                self.stats.iterations += iterations;
+                self.stats.max_iterations = self.stats.max_iterations.max(iterations);
+                self.stats.max_residual = self.stats.max_residual.max(residual);
+                return Ok(());
+            }
+            if !residual.is_finite() {
+                return Err(RattleError::Diverged { residual });
+            }
+            if iterations == self.settings.max_iterations {
+                return Err(RattleError::NotConverged {
+                    iterations,
+                    residual,
+                    tolerance: CONSTRAINT_TOLERANCE,
+                });
+            }
+            if residual > self.settings.contraction * previous {
+                let t = Instant::now();
+                let refreshed = self.jacobian.factorize(&self.d, &self.d1);
+                self.stats.seconds.factorize += t.elapsed().as_secs_f64();
+                self.stats.lu_factorizations += 1;
+                self.stats.symbolic_lu += usize::from(matches!(refreshed, Ok(true)));
+                refreshed.map_err(|_| RattleError::Singular)?;
+                exact = true;
+            }
+            previous = residual;
+            let t = Instant::now();
+            self.delta.copy_from_slice(&self.g);
+            if exact {
+                self.jacobian.solve(&mut self.delta);
+            } else {
+                self.gram.solve(&mut self.delta);
+            }
+            self.stats.seconds.solve += t.elapsed().as_secs_f64();
+            for (l, dl) in self.lambda.iter_mut().zip(&self.delta) {
+                *l += dl;
+            }
+            iterations += 1;
+        }
+    }
+
+    /// The velocity projection's `G(q')·G(q')ᵀ·μ = b` (`b` in `self.b`,
+    /// `μ` left in `self.delta`) by conjugate gradients preconditioned with
+    /// the factor of an earlier step's `G·Gᵀ`, instead of a new
+    /// factorisation. Converged when the residual, which is `G(q')·p'`
+    /// itself, is at the round-off of computing `b`:
+    /// `‖r‖∞ ≤ 64·ε·2·L_max·‖p̃‖∞`. `false` (and nothing kept) when it is not
+    /// within [`RattleSettings::max_pcg`] iterations: the caller factorises.
+    fn pcg(&mut self) -> bool {
+        let par = self.settings.parallel;
+        let c = &*self.constraints;
+        let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
+        let tol = 64.0 * f64::EPSILON * 2.0 * c.max_rest() * q_max(&self.phalf);
+        if q_max(&self.b) <= tol {
+            self.delta.fill(0.0);
+            return true;
+        }
+        self.delta.fill(0.0);
+        self.r.copy_from_slice(&self.b);
+        self.z.copy_from_slice(&self.r);
+        self.gram.solve(&mut self.z);
+        self.pdir.copy_from_slice(&self.z);
+        let mut rz = dot(&self.r, &self.z);
+        for it in 1..=self.settings.max_pcg {
+            c.apply_gt(&self.d, &self.pdir, &mut self.w, par);
+            c.apply_g(&self.d, &self.w, &mut self.ap, par);
+            let alpha = rz / dot(&self.pdir, &self.ap);
+            for ((x, r), (pd, ap)) in self
+                .delta
+                .iter_mut()
+                .zip(self.r.iter_mut())
+                .zip(self.pdir.iter().zip(&self.ap))
+            {
+                *x += alpha * pd;
+                *r -= alpha * ap;
+            }
+            if q_max(&self.r) <= tol {
+                self.stats.pcg_iterations += it;
+                return true;
+            }
+            self.z.copy_from_slice(&self.r);
+            self.gram.solve(&mut self.z);
+            let rz_new = dot(&self.r, &self.z);
+            let beta = rz_new / rz;
+            rz = rz_new;
+            for (pd, z) in self.pdir.iter_mut().zip(&self.z) {
+                *pd = z + beta * *pd;
+            }
+        }
+        self.stats.pcg_failures += 1;
+        false
+    }
+
+    fn step_inner(&mut self, model: &ClothModel, h: f64, z: &mut [f64]) -> Result<(), RattleError> {
+        let par = self.settings.parallel;
+        let n3 = self.n3;
+        let (m, inv_m) = (model.particle_mass(), model.inverse_mass());
+        let (q, p) = z.split_at_mut(n3);
+        if !self.valid || self.cached_q != *q {
+            self.solved = 0;
+            self.prepare(model, q)?;
+        }
+        self.valid = false;
+        // Warm start: Λ = h²λ/(2m) scales with h².
+        if self.lambda_h != h {
+            let s = (h / self.lambda_h).powi(2);
+            self.lambda.iter_mut().for_each(|l| *l *= s);
+            self.lambda_prev.iter_mut().for_each(|l| *l *= s);
+            self.lambda_h = h;
+        }
+        // The multipliers are smooth in time: start from the linear
+        // extrapolation of the last two steps' (the last one's after a
+        // restart), an error of O(h²) instead of O(h).
+        if self.solved >= 2 {
+            for (l, lp) in self.lambda.iter_mut().zip(self.lambda_prev.iter_mut()) {
+                let last = *l;
+                *l = 2.0 * last - *lp;
+                *lp = last;
+            }
+        } else {
+            self.lambda_prev.copy_from_slice(&self.lambda);
+        }
+        let t0 = Instant::now();
+        let half = 0.5 * h;
+        for (((ph, qh), (&pk, &fk)), &qk) in self
+            .phalf
+            .iter_mut()
+            .zip(self.qhat.iter_mut())
+            .zip(p.iter().zip(&self.force))
+            .zip(q.iter())
+        {
+            *ph = pk + half * fk;
+            *qh = qk + h * inv_m * *ph;
+        }
+        self.stats.seconds.constraints += t0.elapsed().as_secs_f64();
+        let q_scale = q_max(q).max(q_max(&self.qhat));
+        self.position_solve(q_scale)?;
+        // p½ = p + h/2·F(q) − (m/h)·G(q)ᵀΛ; then the force at q'.
+        let t1 = Instant::now();
+        let scale = m / h;
+        for (ph, w) in self.phalf.iter_mut().zip(&self.w) {
+            *ph -= scale * w;
+        }
+        let t2 = Instant::now();
+        model.force(&self.q1, &mut self.force);
+        let t3 = Instant::now();
+        for (ph, f) in self.phalf.iter_mut().zip(&self.force) {
+            *ph += half * f;
+        }
+        // The velocity projection: G(q')·(p̃ − G(q')ᵀμ) = 0.
+        std::mem::swap(&mut self.d, &mut self.d1);
+        self.constraints
+            .apply_g(&self.d, &self.phalf, &mut self.b, par);
+        let t4 = Instant::now();
+        let reuse = self.settings.refactor_every != 1
+            && (self.settings.refactor_every == 0
+                || self.since_factor + 1 < self.settings.refactor_every)
+            && self.solved > 0
+            && self.pcg();
+        let t5 = Instant::now();
+        let mut factorizing = 0.0;
+        if reuse {
+            self.since_factor += 1;
+        } else {
+            let factored = self.gram.factorize(&self.d);
+            factorizing = t5.elapsed().as_secs_f64();
+            self.stats.factorizations += 1;
+            self.since_factor = 0;
+            factored.map_err(|_| RattleError::NotPositive {
+                phase: "velocity projection",
+            })?;
+            self.delta.copy_from_slice(&self.b);
+            self.gram.solve(&mut self.delta);
+        }
+        let t6 = Instant::now();
+        self.constraints
+            .apply_gt(&self.d, &self.delta, &mut self.w, par);
+        for ((pk, ph), w) in p.iter_mut().zip(&self.phalf).zip(&self.w) {
+            *pk = ph - w;
+        }
+        q.copy_from_slice(&self.q1);
+        self.cached_q.copy_from_slice(&self.q1);
+        let t7 = Instant::now();
+        let s = &mut self.stats.seconds;
+        s.constraints +=
+            (t2 - t1).as_secs_f64() + (t4 - t3).as_secs_f64() + (t7 - t6).as_secs_f64();
+        s.forces += (t3 - t2).as_secs_f64();
+        // Conjugate gradients (t4..t5) count as solves; a factorisation
+        // (within t5..t6) as factorisation, its solve as a solve.
+        s.factorize += factorizing;
+        s.solve += (t6 - t4).as_secs_f64() - factorizing;
+        self.stats.steps += 1;
+        self.solved += 1;
+        self.valid = true;
+        Ok(())
+    }
+}
+
+impl ClothStepper for RattleStepper {
+    fn step(
+        &mut self,
+        model: &ClothModel,
+        _t: f64,
+        h: f64,
+        z: &mut [f64],
+    ) -> Result<(), StepError> {
+        self.step_inner(model, h, z).map_err(StepError::Constraint)
+    }
+
+    fn stats(&self) -> SolverStats {
+        SolverStats::Constrained(self.stats)
+    }
+}
