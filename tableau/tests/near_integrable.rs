@@ -291,6 +291,23 @@ fn refusals_and_consistency() {
         let e = near_orders(&saba2.table, &degrees, None).unwrap_err();
         assert!(e.to_string().contains(phrase), "{degrees:?}: {e}");
     }
+    // A coefficient in a field of degree 243 (five cube roots): ABA(10,4)
+    // at its claimed degrees is refused before the work (it ran 27 s).
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/catalogue/aba-10-4.toml"
+    ))
+    .unwrap()
+    .replace(
+        "\"0.04706710064597250612947887637243678556564\"",
+        "\"1/(cbrt(2)+cbrt(3)+cbrt(5)+cbrt(7)+cbrt(11))\"",
+    );
+    let file = tableau::file::parse_table_file("aba-10-4-cbrt.toml", &text).unwrap();
+    let started = std::time::Instant::now();
+    let e = near_orders(&file.table, &[10, 4], None).unwrap_err();
+    assert!(matches!(e, NearError::Budget(_)), "{e}");
+    assert!(e.to_string().contains("field of degree 243"), "{e}");
+    assert!(started.elapsed() < std::time::Duration::from_secs(2));
     // 5053 words × 17 flows × degree 20 > 2²⁰ products: refused before the work.
     let aba = entry("aba-10-6-4");
     let e = near_orders(&aba.table, &[20, 14, 14, 14], None).unwrap_err();

@@ -1,5 +1,7 @@
-//! The potential and its force: springs, gravity and colliders. The force
-//! loop here is the hot kernel of every explicit step; it allocates nothing.
+//! The potential and its force: springs, gravity and colliders. The spring
+//! loops here walk the lists (energy, strain, the force with its scale, the
+//! two-configuration forces); the force of every explicit step is the
+//! stencil kernel ([`super::stencil`]) plus the colliders. None allocates.
 
 use nalgebra::Vector3;
 

@@ -158,7 +158,7 @@ impl ClothModel {
     pub fn spring_count(&self) -> usize {
         self.family_counts.iter().sum()
     }
-    /// Springs that the force loop visits (those with a free end).
+    /// Springs with a free end: those that pull on a particle of the state.
     pub fn active_spring_count(&self) -> usize {
         self.ff.len() + self.fp.len()
     }

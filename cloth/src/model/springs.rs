@@ -1,4 +1,4 @@
-//! The springs of the grid: the two flat lists the force loop walks
+//! The springs of the grid: the two flat lists the list loops walk
 //! (free–free, free–pinned) and the order in which the grid hands them out.
 
 use super::Family;

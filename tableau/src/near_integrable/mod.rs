@@ -51,6 +51,13 @@ pub const MAX_NEAR_DEGREE: usize = 24;
 /// degree at most `D(j)`, summed over `j`).
 pub const MAX_NEAR_WORDS: u64 = 1 << 16;
 
+/// The largest degree over Q of the field the coefficients span (the
+/// radicals of all of them together): products in a field of degree `d`
+/// cost up to `d²` products of rationals, which [`MAX_NEAR_WORK`] does not
+/// count. The catalogue's tables span at most degree 8 (the correctors'
+/// `sqrt(7/40)`, `sqrt(40/7)`).
+pub const MAX_NEAR_FIELD_DEGREE: u64 = 16;
+
 /// The most products of exact numbers, estimated before the work starts:
 /// words × flows × the highest degree for the product of exponentials, plus
 /// `m³/6` per Lyndon word of `m` letters for the logarithm. Measured on the
@@ -431,6 +438,17 @@ fn prepare(
     if top > MAX_NEAR_DEGREE {
         return Err(BeyondBudget(format!(
             "degree {top} asked for, and the near-integrable verifier examines at most degree {MAX_NEAR_DEGREE} (tableau::near_integrable::MAX_NEAR_DEGREE)"
+        ))
+        .into());
+    }
+    // A product of two numbers dense in a field of degree d over Q costs up
+    // to d² products of rationals, which the work estimate below does not
+    // count: an entry such as 1/(cbrt(2) + … + cbrt(11)) (d = 243) ran 27 s
+    // on ABA(10,4). The catalogue's coefficients span degree 8 at most.
+    let degree = crate::number::field_degree(ops.iter().map(|(_, x)| x));
+    if degree > MAX_NEAR_FIELD_DEGREE {
+        return Err(BeyondBudget(format!(
+            "the coefficients span a field of degree {degree} over Q, and the near-integrable verifier takes at most degree {MAX_NEAR_FIELD_DEGREE} (tableau::near_integrable::MAX_NEAR_FIELD_DEGREE)"
         ))
         .into());
     }
