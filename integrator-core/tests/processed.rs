@@ -223,6 +223,29 @@ fn a_run_time_kernel_steps_like_the_compiled_one() {
     );
 }
 
+/// Kicks fail once the state's `q` passes `limit`.
+struct Fragile {
+    limit: f64,
+}
+impl StateSpace for Fragile {
+    fn state_len(&self) -> usize {
+        2
+    }
+}
+impl Split for Fragile {
+    fn flow_a(&self, h: f64, z: &mut [f64], _: PartBuffers<'_>, _: bool) -> Result<(), FlowError> {
+        z[0] += h;
+        Ok(())
+    }
+    fn flow_b(&self, h: f64, z: &mut [f64], _: PartBuffers<'_>, _: bool) -> Result<(), FlowError> {
+        if z[0] > self.limit {
+            return Err(FlowError::failed(format!("q = {} beyond the limit", z[0])));
+        }
+        z[1] += h;
+        Ok(())
+    }
+}
+
 /// `steps_merged` is `n` applications of the sequence up to rounding where
 /// the last flow of a step and the first of the next are of one part (one
 /// flow less per step), the same bits where they are not, and an error names
@@ -306,41 +329,10 @@ fn merged_steps_are_the_same_map_with_one_flow_less_per_step() {
     assert_eq!(plain, merged);
     // Drifts move q by h; kicks fail beyond q = 2. With D(½) K D(½) and
     // h = 1 the kicks see q = 0.5, 1.5, 2.5: the third step fails.
-    struct Shift;
-    impl StateSpace for Shift {
-        fn state_len(&self) -> usize {
-            2
-        }
-    }
-    impl Split for Shift {
-        fn flow_a(
-            &self,
-            h: f64,
-            z: &mut [f64],
-            _: PartBuffers<'_>,
-            _: bool,
-        ) -> Result<(), FlowError> {
-            z[0] += h;
-            Ok(())
-        }
-        fn flow_b(
-            &self,
-            h: f64,
-            z: &mut [f64],
-            _: PartBuffers<'_>,
-            _: bool,
-        ) -> Result<(), FlowError> {
-            if z[0] > 2.0 {
-                return Err(FlowError::failed(format!("q = {} beyond 2", z[0])));
-            }
-            z[1] += h;
-            Ok(())
-        }
-    }
     let leapfrog = Sequence::from_catalogue("leapfrog").unwrap();
     let mut z = [0.0, 0.0];
     let (step, e) = leapfrog
-        .steps_merged(&Shift, 1.0, 5, &mut z, &mut ws)
+        .steps_merged(&Fragile { limit: 2.0 }, 1.0, 5, &mut z, &mut ws)
         .unwrap_err();
     assert_eq!(step, 3, "{e}");
     assert!(e.to_string().contains("part B"), "{e}");
@@ -350,40 +342,6 @@ fn merged_steps_are_the_same_map_with_one_flow_less_per_step() {
 /// part; inside `χ` at an output, at that step.
 #[test]
 fn a_failing_corrector_flow_names_the_part_and_step() {
-    /// Kicks fail once the state's `q` passes `limit`.
-    struct Fragile {
-        limit: f64,
-    }
-    impl StateSpace for Fragile {
-        fn state_len(&self) -> usize {
-            2
-        }
-    }
-    impl Split for Fragile {
-        fn flow_a(
-            &self,
-            h: f64,
-            z: &mut [f64],
-            _: PartBuffers<'_>,
-            _: bool,
-        ) -> Result<(), FlowError> {
-            z[0] += h;
-            Ok(())
-        }
-        fn flow_b(
-            &self,
-            h: f64,
-            z: &mut [f64],
-            _: PartBuffers<'_>,
-            _: bool,
-        ) -> Result<(), FlowError> {
-            if z[0] > self.limit {
-                return Err(FlowError::failed(format!("q = {} beyond the limit", z[0])));
-            }
-            z[1] += h;
-            Ok(())
-        }
-    }
     // χ = D(1) K(1) D(−1): its kick sees q + h.
     let chi = Sequence::new([(Part::A, 1.0), (Part::B, 1.0), (Part::A, -1.0)]);
     let method = Processed::new(Sequence::new([(Part::A, 1.0)]), chi);
