@@ -181,10 +181,7 @@ fn build_corrector(
     let (d, k) = (fields.get("corrector_drift"), fields.get("corrector_kick"));
     match (d, k) {
         (None, None) => None,
-        (Some(_), Some(_)) => Some(Splitting {
-            drift: vector(d, env, errs)?,
-            kick: vector(k, env, errs)?,
-        }),
+        (Some(_), Some(_)) => Some(Splitting::new(vector(d, env, errs)?, vector(k, env, errs)?)),
         (Some(f), None) | (None, Some(f)) => {
             let missing = if d.is_some() {
                 "corrector_kick"
@@ -412,10 +409,10 @@ fn build_table(
     if split {
         require("drift", errs);
         require("kick", errs);
-        let s = Splitting {
-            drift: vector(fields.get("drift"), env, errs)?,
-            kick: vector(fields.get("kick"), env, errs)?,
-        };
+        let s = Splitting::new(
+            vector(fields.get("drift"), env, errs)?,
+            vector(fields.get("kick"), env, errs)?,
+        );
         return Some((Table::Splitting(s), name, Vec::new(), None, None));
     }
     if comp {

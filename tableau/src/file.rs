@@ -688,10 +688,10 @@ impl Cx<'_> {
                 "a corrector processes a kernel that is a drift–kick sequence or composition (`drift`/`kick`, `compose` or `kernel = \"ID\"`), not a Runge–Kutta table or pair",
             ));
         }
-        let s = Splitting {
-            drift: self.vector("corrector_drift", d)?,
-            kick: self.vector("corrector_kick", k)?,
-        };
+        let s = Splitting::new(
+            self.vector("corrector_drift", d)?,
+            self.vector("corrector_kick", k)?,
+        );
         Table::Splitting(s.clone()).check_shape().map_err(|e| {
             let field = e.field.replacen("drift", "corrector_drift", 1);
             let field = if field == e.field {
@@ -730,7 +730,7 @@ impl Cx<'_> {
             }
             let drift = self.vector("drift", get("drift")?)?;
             let kick = self.vector("kick", get("kick")?)?;
-            return Ok(Table::Splitting(Splitting { drift, kick }));
+            return Ok(Table::Splitting(Splitting::new(drift, kick)));
         }
         for (k, other) in [("a", "b"), ("b", "a")] {
             if !has(k) {

@@ -33,10 +33,21 @@ pub struct Prk {
 /// a kick `K(k)` is `p ← p − k·h·∇V(q)`. With one more drift than kicks the
 /// sequence starts and ends with a drift; with one more kick than drifts it
 /// starts and ends with a kick; with equally many it starts with a drift.
+///
+/// `gradient` (empty for the plain kicks above, else one entry per kick)
+/// makes kick `i` a *gradient kick* (a modified kick): the exact flow of
+/// `kᵢ·h·B + gᵢ·h³·[B,[A,B]]`, with `A = T` the drifted part and `B = V`
+/// the kicked one. For `T = pᵀM⁻¹p/2` and `B` a function of `q` alone,
+/// `{V,{T,V}} = −|∇V|²_{M⁻¹}`, so it is the kick of the modified potential
+/// `kᵢ·V − gᵢ·h²·|∇V|²_{M⁻¹}` (Wisdom, Holman & Touma 1996; the
+/// force-gradient kicks of Chin and of Omelyan). Such a sequence has no
+/// partitioned Runge–Kutta form: its analyses are the Lie-algebraic ones of
+/// [`crate::near_integrable`].
 #[derive(Clone, Debug, PartialEq)]
 pub struct Splitting {
     pub drift: Vec<Number>,
     pub kick: Vec<Number>,
+    pub gradient: Vec<Number>,
 }
 
 /// A composition `Φ_{γₘh} ∘ … ∘ Φ_{γ₁h}` of the Störmer–Verlet method
@@ -77,6 +88,20 @@ impl Rk {
 }
 
 impl Splitting {
+    /// A drift–kick sequence of plain kicks (no gradient kicks).
+    pub fn new(drift: Vec<Number>, kick: Vec<Number>) -> Self {
+        Splitting {
+            drift,
+            kick,
+            gradient: Vec::new(),
+        }
+    }
+
+    /// Whether some kick is a gradient kick (a nonzero `gradient` entry).
+    pub fn has_gradient(&self) -> bool {
+        self.gradient.iter().any(|g| !g.is_zero())
+    }
+
     /// The alternating sequence of operations, zeros dropped and neighbours of
     /// the same kind merged: the normal form in which two sequences define the
     /// same map for every separable `H` exactly when they are equal.
@@ -201,6 +226,7 @@ impl Composition {
         Splitting {
             drift,
             kick: self.gamma.clone(),
+            gradient: Vec::new(),
         }
     }
 }

@@ -239,7 +239,7 @@ fn orders_on_runge_kutta_nystrom_systems() {
             drift.remove(0);
         }
         std::mem::swap(&mut kick, &mut drift);
-        let swapped = tableau::Splitting { drift, kick }.to_prk();
+        let swapped = tableau::Splitting::new(drift, kick).to_prk();
         let eps = tableau::expr::parse_number("1e-16").unwrap();
         assert_eq!(prk_order_nystrom(&swapped, 8, Some(&eps)).order, 3, "{id}");
     }

@@ -519,10 +519,10 @@ fn forest_ruth() -> Splitting {
     let half = r(1, 2);
     let outer = &x * &half;
     let inner = &(&int(1) - &x) * &half;
-    Splitting {
-        drift: vec![outer.clone(), inner.clone(), inner, outer],
-        kick: vec![x.clone(), &int(1) - &(&int(2) * &x), x],
-    }
+    Splitting::new(
+        vec![outer.clone(), inner.clone(), inner, outer],
+        vec![x.clone(), &int(1) - &(&int(2) * &x), x],
+    )
 }
 
 #[test]
@@ -535,16 +535,16 @@ fn forest_ruth_splitting_has_separable_order_4() {
 fn ruth_third_order_splitting() {
     // Ruth (1983): c = (1, −2/3, 2/3) drifts, d = (−1/24, 3/4, 7/24) kicks,
     // applied as D(c₁) K(d₁) D(c₂) K(d₂) D(c₃) K(d₃).
-    let ruth = Splitting {
-        drift: vec![int(1), r(-2, 3), r(2, 3)],
-        kick: vec![r(-1, 24), r(3, 4), r(7, 24)],
-    };
+    let ruth = Splitting::new(
+        vec![int(1), r(-2, 3), r(2, 3)],
+        vec![r(-1, 24), r(3, 4), r(7, 24)],
+    );
     assert_order(&prk_order_separable(&ruth.to_prk(), 8, None), 3);
     // Pairing the coefficients the other way round is not a third-order method.
-    let swapped = Splitting {
-        drift: vec![r(-1, 24), r(3, 4), r(7, 24)],
-        kick: vec![int(1), r(-2, 3), r(2, 3)],
-    };
+    let swapped = Splitting::new(
+        vec![r(-1, 24), r(3, 4), r(7, 24)],
+        vec![int(1), r(-2, 3), r(2, 3)],
+    );
     assert!(prk_order_separable(&swapped.to_prk(), 8, None).order < 3);
 }
 

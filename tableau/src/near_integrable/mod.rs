@@ -281,7 +281,7 @@ pub fn processed_table(kernel: &Table, corrector: &Table) -> Result<Table, NearE
             kick.push(x);
         }
     }
-    Ok(Table::Splitting(Splitting { drift, kick }))
+    Ok(Table::Splitting(Splitting::new(drift, kick)))
 }
 
 /// The effective generalised orders of a kernel `K` with a corrector
