@@ -124,6 +124,18 @@ impl Split for Counting<'_> {
         self.kicks.set(self.kicks.get() + 1);
         self.split.flow_b(h, w, buf, reuse)
     }
+    /// Two force evaluations: the lazy modified kick evaluates the
+    /// interaction at the positions and at the shifted ones.
+    fn flow_b_gradient(
+        &self,
+        h: f64,
+        gamma: f64,
+        w: &mut [f64],
+        buf: PartBuffers<'_>,
+    ) -> std::result::Result<(), FlowError> {
+        self.kicks.set(self.kicks.get() + 2);
+        self.split.flow_b_gradient(h, gamma, w, buf)
+    }
 }
 
 fn failed(step: usize, reason: impl ToString) -> Status {

@@ -77,6 +77,10 @@ pub enum InterpError {
         wanted: &'static str,
         found: &'static str,
     },
+    #[error(
+        "kick_gradient: the sequence has gradient kicks, which a separable system cannot take (its T need not be quadratic); they step split systems that provide them, through integrator_core::processed::Sequence"
+    )]
+    Gradient,
 }
 
 fn form_name(t: &Table) -> &'static str {
@@ -297,6 +301,7 @@ impl SplittingInterpreter {
     /// rounded to `f64` as `butcher!` rounds it.
     pub fn from_table(table: &Table) -> Result<Self, InterpError> {
         let s = match table {
+            Table::Splitting(s) if s.has_gradient() => return Err(InterpError::Gradient),
             Table::Splitting(s) => s.clone(),
             Table::Composition(c) => c.to_splitting(),
             other => {

@@ -66,17 +66,46 @@ use crate::split::{self, Part, PartBuffers, Split};
 /// corrector, and as a kernel where no `butcher!` scheme exists (it steps
 /// any [`Split`] system through [`Step`]; a `butcher!` scheme of the same
 /// table unrolls the same calls at compile time).
+///
+/// A kick may be a gradient kick ([`Split::flow_b_gradient`]): `gradient[i]`
+/// is flow `i`'s weight `g` of `h³·[B,[A,B]]` (zero for a plain flow), as in
+/// a table's `kick_gradient` ([`tableau::Splitting`]).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Sequence {
     ops: Vec<(Part, f64)>,
+    gradient: Vec<f64>,
 }
 
 impl Sequence {
     /// The flows in the order applied; zero coefficients are dropped.
     pub fn new(ops: impl IntoIterator<Item = (Part, f64)>) -> Self {
-        Sequence {
-            ops: ops.into_iter().filter(|(_, c)| *c != 0.0).collect(),
-        }
+        let ops: Vec<(Part, f64)> = ops.into_iter().filter(|(_, c)| *c != 0.0).collect();
+        let gradient = vec![0.0; ops.len()];
+        Sequence { ops, gradient }
+    }
+
+    /// Flows with gradients: `(part, coefficient, g)` in the order applied,
+    /// `g` the weight of `h³·[B,[A,B]]` of a gradient kick (zero for a plain
+    /// flow; a drift with a nonzero `g` is refused when stepped). Plain flows
+    /// with a zero coefficient are dropped.
+    pub fn with_gradients(ops: impl IntoIterator<Item = (Part, f64, f64)>) -> Self {
+        let (ops, gradient) = ops
+            .into_iter()
+            .filter(|(_, c, g)| *c != 0.0 || *g != 0.0)
+            .map(|(p, c, g)| ((p, c), g))
+            .unzip();
+        Sequence { ops, gradient }
+    }
+
+    /// Each flow's gradient weight `g` (zero for a plain flow), beside
+    /// [`ops`](Self::ops).
+    pub fn gradients(&self) -> &[f64] {
+        &self.gradient
+    }
+
+    /// Whether some flow is a gradient kick.
+    pub fn has_gradient(&self) -> bool {
+        self.gradient.iter().any(|g| *g != 0.0)
     }
 
     /// A table's drift and kick lists, interleaved as a table file writes
@@ -103,14 +132,42 @@ impl Sequence {
     /// An exact drift–kick sequence of `tableau`, each coefficient the
     /// nearest double to its exact value, in its normal form (neighbours of
     /// the same kind merged exactly before rounding).
+    ///
+    /// With gradient kicks the flows are taken as written, zeros dropped and
+    /// plain neighbours of the same kind merged exactly; a gradient kick is
+    /// never merged with a plain one (`B` and `[B,[A,B]]` need not commute).
     pub fn from_splitting(s: &tableau::Splitting) -> Self {
-        Sequence::new(s.normal_form().into_iter().map(|(op, x)| {
-            let part = match op {
-                tableau::table::Op::Drift => Part::A,
-                tableau::table::Op::Kick => Part::B,
+        let part = |op| match op {
+            tableau::table::Op::Drift => Part::A,
+            tableau::table::Op::Kick => Part::B,
+        };
+        if !s.has_gradient() {
+            return Sequence::new(
+                s.normal_form()
+                    .into_iter()
+                    .map(|(op, x)| (part(op), x.to_f64())),
+            );
+        }
+        let zero = tableau::Number::zero();
+        let mut kicks = 0;
+        let mut merged: Vec<(tableau::table::Op, tableau::Number, tableau::Number)> = Vec::new();
+        for (op, x) in s.ops() {
+            let g = if op == tableau::table::Op::Kick {
+                kicks += 1;
+                s.gradient.get(kicks - 1).cloned().unwrap_or_else(|| zero.clone())
+            } else {
+                zero.clone()
             };
-            (part, x.to_f64())
-        }))
+            match merged.last_mut() {
+                Some((o, y, h)) if *o == op && h.is_zero() && g.is_zero() => *y += &x,
+                _ => merged.push((op, x, g)),
+            }
+        }
+        Sequence::with_gradients(
+            merged
+                .into_iter()
+                .map(|(op, x, g)| (part(op), x.to_f64(), g.to_f64())),
+        )
     }
 
     /// The flows, in the order applied.
@@ -119,9 +176,13 @@ impl Sequence {
     }
 
     /// The inverse: the flows reversed, every coefficient negated.
+    ///
+    /// A gradient kick's inverse is the gradient kick of the negated
+    /// coefficient and weight: exactly its inverse where the kick is exact.
     pub fn inverse(&self) -> Sequence {
         Sequence {
             ops: self.ops.iter().rev().map(|&(p, c)| (p, -c)).collect(),
+            gradient: self.gradient.iter().rev().map(|g| -g).collect(),
         }
     }
 
@@ -140,8 +201,12 @@ impl Sequence {
     /// same part, so that [`steps_merged`](Self::steps_merged) saves one flow
     /// per step (the Wisdom–Holman leapfrog `A(h/2) B(h) A(h/2)`: one Kepler
     /// drift per step instead of two).
+    /// A gradient kick at either end does not merge.
     pub fn merges(&self) -> bool {
-        self.ops.len() >= 2 && self.ops.first().map(|o| o.0) == self.ops.last().map(|o| o.0)
+        self.ops.len() >= 2
+            && self.ops.first().map(|o| o.0) == self.ops.last().map(|o| o.0)
+            && self.gradient.first() == Some(&0.0)
+            && self.gradient.last() == Some(&0.0)
     }
 
     /// `n` steps of size `h`, the last flow of each step and the first of
@@ -177,6 +242,7 @@ impl Sequence {
         let merged = first_c + last_c;
         let middle = Sequence {
             ops: self.ops[1..last].to_vec(),
+            gradient: self.gradient[1..last].to_vec(),
         };
         flow_in(sys, part, h * first_c, z, ws).map_err(|e| (1, e))?;
         for k in 0..n {
@@ -196,8 +262,12 @@ impl Sequence {
         z: &mut [f64],
         ws: &mut SplitWorkspace,
     ) -> Result<(), SolveError> {
-        for &(part, c) in &self.ops {
-            flow_in(sys, part, h * c, z, ws)?;
+        for (&(part, c), &g) in self.ops.iter().zip(&self.gradient) {
+            if g == 0.0 {
+                flow_in(sys, part, h * c, z, ws)?;
+            } else {
+                gradient_in(sys, part, h * c, g * h * h * h, z, ws)?;
+            }
         }
         Ok(())
     }
@@ -230,6 +300,34 @@ fn flow_in<S: Split + ?Sized>(
         compensated: *compensated,
     };
     split::flow(sys, part, x, z, buf, false)
+}
+
+/// A gradient kick for the time `x` with bracket weight `gamma`
+/// ([`Split::flow_b_gradient`]), with the kick's buffers; a drift with a
+/// gradient is refused (tables have gradients on kicks only).
+#[inline]
+fn gradient_in<S: Split + ?Sized>(
+    sys: &S,
+    part: Part,
+    x: f64,
+    gamma: f64,
+    z: &mut [f64],
+    ws: &mut SplitWorkspace,
+) -> Result<(), SolveError> {
+    if part == Part::A {
+        return Err(SolveError::Flow {
+            part,
+            source: split::FlowError::failed(
+                "a drift has no gradient: a gradient belongs to a kick (the flow of B)",
+            ),
+        });
+    }
+    let buf = PartBuffers {
+        eval: &mut ws.f[..],
+        err: &mut ws.ep[..],
+        compensated: ws.compensated,
+    };
+    split::flow_gradient(sys, x, gamma, z, buf)
 }
 
 impl<S: Split + ?Sized> Step<S> for Sequence {

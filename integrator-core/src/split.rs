@@ -226,6 +226,33 @@ pub trait Split: StateSpace {
         buf: PartBuffers<'_>,
         reuse: bool,
     ) -> Result<(), FlowError>;
+
+    /// `z ← exp(h·B + γ·[B,[A,B]])(z)`: a *gradient kick* (modified kick),
+    /// the flow of `B` for the time `h` with the bracket term of weight `γ`
+    /// (a table's gradient `g` gives `γ = g·h_step³`;
+    /// [`tableau::Splitting`]). Where `A`'s kinetic part is `pᵀM⁻¹p/2` and
+    /// `B = V(q)`, `{V,{T,V}} = −|∇V|²_{M⁻¹}`, so this is the kick of the
+    /// potential `V − (γ/h)|∇V|²_{M⁻¹}`: `p += h·F + 2γ·(∂F/∂q)·M⁻¹F`
+    /// (Wisdom, Holman & Touma 1996). A system may take it exactly or, as
+    /// their "lazy implementer's" kick, as `p += h·F(q + (2γ/h)·M⁻¹F(q))`,
+    /// which differs by `O(γ²/h·∂³V·F²)`, terms of the third power of `B`
+    /// (the Wisdom–Holman implementation says which it does).
+    ///
+    /// The default refuses: a system without a known `M` (every
+    /// [`Separable`] one among them, whose `T` need not be quadratic) has
+    /// no gradient kick, and a table that has them cannot step it.
+    fn flow_b_gradient(
+        &self,
+        h: f64,
+        gamma: f64,
+        z: &mut [f64],
+        buf: PartBuffers<'_>,
+    ) -> Result<(), FlowError> {
+        let _ = (h, gamma, z, buf);
+        Err(FlowError::failed(
+            "this split system has no gradient kick (Split::flow_b_gradient): a table with gradient kicks (`kick_gradient`) steps only systems that provide one, e.g. the Jacobi split of an N-body problem",
+        ))
+    }
 }
 
 /// `d ← d + h·s`, with compensated (Kahan) summation into `e` when
@@ -318,6 +345,34 @@ pub fn flow<S: Split + ?Sized>(
         Part::A => sys.flow_a(h, z, buf, reuse),
         Part::B => sys.flow_b(h, z, buf, reuse),
     };
+    checked(sys, part, z, done)
+}
+
+/// A gradient kick of a split step ([`Split::flow_b_gradient`]), its
+/// failure and non-finite values reported as [`flow`] reports a kick's.
+#[doc(hidden)]
+#[inline]
+pub fn flow_gradient<S: Split + ?Sized>(
+    sys: &S,
+    h: f64,
+    gamma: f64,
+    z: &mut [f64],
+    buf: PartBuffers<'_>,
+) -> Result<(), SolveError> {
+    let done = sys.flow_b_gradient(h, gamma, z, buf);
+    checked(sys, Part::B, z, done)
+}
+
+/// A flow's outcome as the step reports it: its failure as
+/// [`SolveError::Flow`] naming the part, and, where the system asks for it
+/// ([`Split::CHECK_FINITE`]), a non-finite value it left.
+#[inline(always)]
+fn checked<S: Split + ?Sized>(
+    _sys: &S,
+    part: Part,
+    z: &[f64],
+    done: Result<(), FlowError>,
+) -> Result<(), SolveError> {
     done.map_err(|source| SolveError::Flow { part, source })?;
     if S::CHECK_FINITE
         && let Some(index) = z.iter().position(|x| !x.is_finite())

@@ -63,6 +63,10 @@ pub enum WhError {
         error: f64,
         bound: f64,
     },
+    #[error(
+        "a gradient kick needs a finite, nonzero kick time and a finite weight (h = {h}, γ = {gamma}): the lazy modified kick moves the positions by 2γ/h times the accelerations"
+    )]
+    GradientKick { h: f64, gamma: f64 },
 }
 
 impl WhError {

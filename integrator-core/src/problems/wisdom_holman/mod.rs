@@ -183,11 +183,11 @@ impl Bodies {
 pub const ROUND_TRIP_ULPS: f64 = 4.0;
 
 /// Run `f` on `len` zeroed scratch numbers: on the stack up to
-/// `6·STACK_BODIES`, else on the heap.
+/// `9·STACK_BODIES` (a gradient kick's `9n`), else on the heap.
 #[inline]
 fn with_scratch<R>(len: usize, f: impl FnOnce(&mut [f64]) -> R) -> R {
-    if len <= 6 * STACK_BODIES {
-        let mut buf = [0.0f64; 6 * STACK_BODIES];
+    if len <= 9 * STACK_BODIES {
+        let mut buf = [0.0f64; 9 * STACK_BODIES];
         f(&mut buf[..len])
     } else {
         let mut buf = vec![0.0f64; len];

@@ -51,4 +51,18 @@ impl Split for Jacobi {
     fn flow_b(&self, h: f64, w: &mut [f64], _: PartBuffers<'_>, _: bool) -> Result<(), FlowError> {
         self.interaction_kick(h, w).map_err(flow_error)
     }
+
+    /// The lazy implementer's modified kick
+    /// ([`Jacobi::interaction_kick_gradient`]).
+    #[inline]
+    fn flow_b_gradient(
+        &self,
+        h: f64,
+        gamma: f64,
+        w: &mut [f64],
+        _: PartBuffers<'_>,
+    ) -> Result<(), FlowError> {
+        self.interaction_kick_gradient(h, gamma, w)
+            .map_err(flow_error)
+    }
 }
