@@ -11,7 +11,8 @@ use tableau::claims::Claim;
 use tableau::expr::parse_number;
 use tableau::file::{TableFile, parse_table_file};
 use tableau::near_integrable::{
-    NearError, REPORT_DEGREES, check_near_claim, claim_degrees, near_coefficients, near_orders,
+    Factor, NearError, REPORT_DEGREES, check_near_claim, claim_degrees, near_coefficients,
+    near_orders,
 };
 use tableau::{Number, Table};
 
@@ -367,10 +368,10 @@ fn a_processor_gives_the_effective_order() {
     let Table::Splitting(s) = &entry("saba3").table else {
         unreachable!()
     };
-    let ops: Vec<(u8, Number)> = s
+    let ops: Vec<Factor> = s
         .normal_form()
         .into_iter()
-        .map(|(op, x)| (u8::from(op == tableau::table::Op::Kick), x))
+        .map(|(op, x)| Factor::Letter(u8::from(op == tableau::table::Op::Kick), x))
         .collect();
     assert_eq!(processed_sequence(&kernel.table, &chi.table).unwrap(), ops);
     // χ⁻¹ K χ: χ applied on entry instead of at output.
