@@ -331,6 +331,8 @@ fn processed_method<P: Problem>(id: &str, base: &str, split: &Jacobi) -> Option<
         return Some(m);
     }
     let kernel = match &file.table {
+        // Gradient kicks (WHCKL) have no plain sequence to step.
+        tableau::Table::Splitting(s) if s.has_gradient() => return None,
         tableau::Table::Splitting(s) => Sequence::from_splitting(s),
         tableau::Table::Composition(c) => Sequence::from_splitting(&c.to_splitting()),
         _ => return None,
@@ -340,11 +342,19 @@ fn processed_method<P: Problem>(id: &str, base: &str, split: &Jacobi) -> Option<
     Some(processed(id, kernel.clone(), kernel, chi, order, split))
 }
 
-/// The ids of the catalogue's processed methods (a kernel with a corrector).
+/// The ids of the catalogue's processed methods (a kernel with a corrector)
+/// whose kernels have plain kicks: a kernel with gradient kicks (WHCKL,
+/// `kick_gradient`) needs the force's gradient, which no stepper here
+/// computes, so it is verified by `symlab check` but not stepped.
 pub fn processed_ids() -> Vec<&'static str> {
     tableau::catalogue::entries()
         .iter()
-        .filter(|e| e.load().is_ok_and(|f| f.corrector.is_some()))
+        .filter(|e| {
+            e.load().is_ok_and(|f| {
+                f.corrector.is_some()
+                    && !matches!(&f.table, tableau::Table::Splitting(s) if s.has_gradient())
+            })
+        })
         .map(|e| e.id)
         .collect()
 }
@@ -359,6 +369,16 @@ pub fn method<P: Problem>(id: &str, split: &Jacobi) -> Result<Method<P>> {
             format!("method '{id}' is not a Wisdom–Holman id ({PREFIX}ID)"),
         ));
     };
+    if tableau::catalogue::load(base)
+        .is_ok_and(|f| matches!(&f.table, tableau::Table::Splitting(s) if s.has_gradient()))
+    {
+        return Err(CompareError::method(
+            id,
+            format!(
+                "method '{id}': '{base}' has gradient kicks (kick_gradient: the kick of V − g·h²·|∇V|²), which need the force's gradient; no Wisdom–Holman stepper here computes it, so it is not stepped (its claims are checked by `symlab check --builtin {base}`)"
+            ),
+        ));
+    }
     crate::library::wh_method(id, base, split)
         .or_else(|| processed_method(id, base, split))
         .ok_or_else(|| {

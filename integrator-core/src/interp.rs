@@ -83,6 +83,7 @@ fn form_name(t: &Table) -> &'static str {
     match t {
         Table::Rk(_) => "a Runge–Kutta",
         Table::Prk(_) => "a partitioned",
+        Table::Splitting(s) if s.has_gradient() => "a gradient-kick (kick_gradient)",
         Table::Splitting(_) => "a drift–kick",
         Table::Composition(_) => "a composition",
     }
@@ -306,6 +307,15 @@ impl SplittingInterpreter {
                 });
             }
         };
+        // Gradient kicks (the kick of V − g·h²·|∇V|²) need the gradient of
+        // the force, which this interpreter does not compute: refused, never
+        // stepped as plain kicks.
+        if s.has_gradient() {
+            return Err(InterpError::Form {
+                wanted: "a drift–kick sequence of plain kicks or a composition",
+                found: form_name(table),
+            });
+        }
         let symmetric = Analysis::of(table)?.symmetric;
         // The normal form (zeros dropped, neighbours merged), its drift and
         // kick values rounded as weight vectors, as `butcher!` does.

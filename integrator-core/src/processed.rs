@@ -102,8 +102,15 @@ impl Sequence {
 
     /// An exact drift–kick sequence of `tableau`, each coefficient the
     /// nearest double to its exact value, in its normal form (neighbours of
-    /// the same kind merged exactly before rounding).
+    /// the same kind merged exactly before rounding). Plain kicks only: a
+    /// sequence with gradient kicks (`tableau::Splitting::has_gradient`) has
+    /// no such form, and is a programming error here (callers refuse it,
+    /// as [`from_catalogue`](Self::from_catalogue) does).
     pub fn from_splitting(s: &tableau::Splitting) -> Self {
+        assert!(
+            !s.has_gradient(),
+            "Sequence::from_splitting: a sequence with gradient kicks (kick_gradient) has no plain drift–kick form"
+        );
         Sequence::new(s.normal_form().into_iter().map(|(op, x)| {
             let part = match op {
                 tableau::table::Op::Drift => Part::A,
@@ -127,9 +134,11 @@ impl Sequence {
 
     /// The library's or catalogue's drift–kick sequence or composition
     /// `id` (`tableau::catalogue`), as [`from_splitting`](Self::from_splitting)
-    /// gives it; `None` for an id that is not one.
+    /// gives it; `None` for an id that is not one, or that has gradient
+    /// kicks (no plain sequence steps those).
     pub fn from_catalogue(id: &str) -> Option<Sequence> {
         match tableau::catalogue::load(id).ok()?.table {
+            tableau::Table::Splitting(s) if s.has_gradient() => None,
             tableau::Table::Splitting(s) => Some(Sequence::from_splitting(&s)),
             tableau::Table::Composition(c) => Some(Sequence::from_splitting(&c.to_splitting())),
             _ => None,

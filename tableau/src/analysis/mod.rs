@@ -296,8 +296,14 @@ impl Analysis {
 
     /// JSON `kind`: `"rk"` or `"prk"` (drift–kick sequences and compositions
     /// are partitioned methods).
+    /// `"gradient-drift-kick"` for a sequence with gradient kicks, which has
+    /// no partitioned form.
     pub fn kind(&self) -> &'static str {
-        if self.form == Form::Rk { "rk" } else { "prk" }
+        match self.form {
+            Form::Rk => "rk",
+            Form::GradientDriftKick => "gradient-drift-kick",
+            _ => "prk",
+        }
     }
 
     /// A scheme that is symplectic only for separable Hamiltonians (a pair with
