@@ -13,6 +13,13 @@
 //! Laskar, Makazaga & Murua (2013; ABA(8,6,4) has `O(εh⁸ + ε²h⁶ + ε³h⁴)`).
 //! The orders are non-increasing and `p_m` is the classical order.
 //!
+//! **Gradient kicks.** A kick may be a gradient kick
+//! `exp(k·h·B + g·h³·[B,[A,B]])` ([`crate::Splitting`], `kick_gradient`):
+//! the product then multiplies by the truncated exponential of that
+//! element of the free algebra (`[B,[A,B]] = 2·BAB − BBA − ABB`, degree 3
+//! with two `B`s, so `g` carries `ε²`), and a gradient kick is never merged
+//! with a neighbouring kick. Everything below holds unchanged.
+//!
 //! **How it is decided.** The product of exponentials and its logarithm are
 //! computed in the free associative algebra on `{A, B}` truncated by
 //! (number of `B`s, degree) (module `algebra`): a non-increasing degree bound
@@ -60,7 +67,9 @@ pub const MAX_NEAR_WORDS: u64 = 1 << 16;
 pub const MAX_NEAR_FIELD_DEGREE: u64 = 16;
 
 /// The most products of exact numbers, estimated before the work starts:
-/// words × flows × the highest degree for the product of exponentials, plus
+/// words × flows × the highest degree for the product of exponentials (a
+/// gradient kick counting the highest degree + 4: its exponential and the
+/// product with it), plus
 /// `m³/6` per Lyndon word of `m` letters for the logarithm. Measured on the
 /// project's 2-core machine (dev profile, which is optimised): with the
 /// catalogue's 40-digit decimals a unit costs up to about 15 µs (ABA(10,6,4)
