@@ -100,6 +100,17 @@ fn what_is_not_a_splitting_is_refused_by_name() {
             "{id}: {msg}"
         );
     }
+    // A kernel with gradient kicks (WHCKL) is verified but not stepped: no
+    // stepper computes the force's gradient, and plain kicks would be wrong.
+    let Err(e) = Method::by_id("wh:whckl-c17", &sys) else {
+        panic!("wh:whckl-c17 accepted")
+    };
+    let msg = e.to_string();
+    assert!(
+        msg.contains("'whckl-c17' has gradient kicks") && msg.contains("kick_gradient"),
+        "{msg}"
+    );
+    assert!(!Method::ids(&sys).contains(&"wh:whckl-c17".to_string()));
     assert!(Method::ids(&sys).contains(&"wh:kahan-li8".to_string()));
     assert!(Method::ids(&sys).contains(&"wh:leapfrog-c11".to_string()));
     // Every id listed is built (its timed run needs the catalogue's table of

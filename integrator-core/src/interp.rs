@@ -585,6 +585,25 @@ mod tests {
         agree(Leapfrog, it, true, plain_split);
     }
 
+    /// A sequence with gradient kicks (WHCKL's kernel) is refused, never
+    /// stepped as plain kicks; with the gradient zero it is the leapfrog.
+    #[test]
+    fn gradient_kicks_are_refused() {
+        let table = tableau::catalogue::load("whckl-c17").unwrap().table;
+        let e = SplittingInterpreter::from_table(&table).unwrap_err();
+        assert!(
+            matches!(e, InterpError::Form { .. }) && e.to_string().contains("kick_gradient"),
+            "{e}"
+        );
+        let Table::Splitting(mut s) = table else {
+            unreachable!("a drift–kick sequence")
+        };
+        s.gradient = vec![Number::zero()];
+        let it = SplittingInterpreter::from_table(&Table::Splitting(s)).unwrap();
+        assert_eq!(it.drift(), &Leapfrog::DRIFT[..]);
+        assert_eq!(it.kick(), &Leapfrog::KICK[..]);
+    }
+
     #[test]
     fn forest_ruth_agrees_with_the_macro() {
         let it = SplittingInterpreter::from_catalogue("forest-ruth").unwrap();
