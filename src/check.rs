@@ -796,6 +796,7 @@ fn form_name(t: &tableau::Table) -> &'static str {
     match t {
         tableau::Table::Rk(_) => "rk",
         tableau::Table::Prk(_) => "prk",
+        tableau::Table::Splitting(s) if s.has_gradient() => "gradient-drift-kick",
         tableau::Table::Splitting(_) => "drift-kick",
         tableau::Table::Composition(_) => "composition",
     }
@@ -815,7 +816,9 @@ pub fn to_json(tf: &TableFile, a: &Analysis) -> Value {
         "order": a.order.as_ref().map(|o| o.order),
         "order_separable": a.order_separable.order,
         "order_limit": order_report.limit,
-        "order_rkn": a.order_rkn.order,
+        // A sequence with gradient kicks has no Nyström trees: its order on
+        // RKN systems is not decided (null), only bounded below.
+        "order_rkn": (a.form != Form::GradientDriftKick).then_some(a.order_rkn.order),
         "symmetric": a.symmetric,
         "stability_function": a.stability.as_ref().map(|r| r.to_text()),
         "stability_not_computed": a.stability_not_computed.as_ref().map(|e| e.to_string()),
@@ -855,7 +858,9 @@ pub fn readable(origin: &str, tf: &TableFile, a: &Analysis) -> String {
         Form::Prk => "partitioned pair",
         Form::DriftKick => "drift–kick sequence",
         Form::Composition => "composition of Störmer–Verlet",
+        Form::GradientDriftKick => "drift–kick sequence with gradient kicks (no Runge–Kutta form)",
     };
+    let gradient = a.form == Form::GradientDriftKick;
     r.row(
         "form",
         format!("{form}, {} stages, {}", a.stages, a.class.name()),
@@ -870,7 +875,9 @@ pub fn readable(origin: &str, tf: &TableFile, a: &Analysis) -> String {
             },
         );
     }
-    if a.row_sum_mismatch.is_empty() {
+    if gradient {
+        // No Runge–Kutta form, no c.
+    } else if a.row_sum_mismatch.is_empty() {
         r.row("c", "equals the row sums of A");
     } else {
         for m in &a.row_sum_mismatch {
@@ -888,7 +895,12 @@ pub fn readable(origin: &str, tf: &TableFile, a: &Analysis) -> String {
     } else {
         "Wᵢⱼ = bᵢâᵢⱼ + b̂ⱼaⱼᵢ − bᵢb̂ⱼ"
     };
-    if a.w_nonzero.is_empty() {
+    if gradient {
+        r.row(
+            "symplectic",
+            "yes: a composition of exact flows of Hamiltonians (drifts, kicks, gradient kicks)",
+        );
+    } else if a.w_nonzero.is_empty() {
         r.row(
             "symplectic",
             format!("{}: {rule} = 0", yes_no(a.symplectic_separable)),
@@ -905,7 +917,12 @@ pub fn readable(origin: &str, tf: &TableFile, a: &Analysis) -> String {
             r.more(format!("  W[{}][{}] = {}", e.i, e.j, e.value));
         }
     }
-    if a.form != Form::Rk {
+    if gradient {
+        r.row(
+            "for all H",
+            "no (separable H only: drifts and kicks are the flows of T and V)",
+        );
+    } else if a.form != Form::Rk {
         r.row(
             "for all H",
             format!(
@@ -927,6 +944,17 @@ pub fn readable(origin: &str, tf: &TableFile, a: &Analysis) -> String {
     }
     let composition = a.form == Form::Composition;
     match &a.order {
+        // On the Lie algebra: every Lie term of log Φ, for any A and B.
+        _ if gradient => match &a.lie_not_computed {
+            Some(why) => r.row("order", format!("not computed: {why}")),
+            None => r.row(
+                "order",
+                format!(
+                    "{}  (separable systems: every Lie term of log Φ)",
+                    order_text(&a.order_separable)
+                ),
+            ),
+        },
         Some(o) if a.form == Form::Rk => r.row("order", order_text(o)),
         Some(o) if a.form == Form::Prk => {
             r.row(
@@ -961,13 +989,23 @@ pub fn readable(origin: &str, tf: &TableFile, a: &Analysis) -> String {
             }
         }
     }
-    r.row(
-        "T quadratic",
-        format!(
-            "{}  (Runge–Kutta–Nyström systems, T = ½pᵀM⁻¹p)",
-            order_text(&a.order_rkn)
-        ),
-    );
+    if gradient {
+        r.row(
+            "T quadratic",
+            format!(
+                "not decided (gradient kicks have no Runge–Kutta–Nyström trees); at least {}",
+                a.order_separable.order
+            ),
+        );
+    } else {
+        r.row(
+            "T quadratic",
+            format!(
+                "{}  (Runge–Kutta–Nyström systems, T = ½pᵀM⁻¹p)",
+                order_text(&a.order_rkn)
+            ),
+        );
+    }
     r.row("symmetric", yes_no(a.symmetric));
     if let Some(st) = &a.stability {
         r.row("R(z)", stability_text(st, a.unimodular));

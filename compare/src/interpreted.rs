@@ -485,6 +485,7 @@ fn form_words(t: &Table) -> &'static str {
     match t {
         Table::Rk(_) => "Runge–Kutta table",
         Table::Prk(_) => "partitioned pair",
+        Table::Splitting(s) if s.has_gradient() => "drift–kick sequence with gradient kicks",
         Table::Splitting(_) => "drift–kick sequence",
         Table::Composition(_) => "composition",
     }

@@ -352,7 +352,10 @@ fn processed_method<P: Problem>(id: &str, base: &str, split: &Jacobi) -> Option<
     Some(processed(id, kernel.clone(), kernel, chi, order, split))
 }
 
-/// The ids of the catalogue's processed methods (a kernel with a corrector).
+/// The ids of the catalogue's processed methods (a kernel with a corrector;
+/// WHCKL's kernel with its gradient kick, `kick_gradient`, among them: the
+/// Jacobi split takes it as the lazy implementer's modified kick,
+/// [`Jacobi::interaction_kick_gradient`]).
 pub fn processed_ids() -> Vec<&'static str> {
     tableau::catalogue::entries()
         .iter()

@@ -175,3 +175,46 @@ fn a_corrector_at_output_only_removes_the_leading_error() {
     };
     assert!(!f.interpreted && f.order == 2);
 }
+
+/// WHCKL (`wh:whckl-c17`: leapfrog with the lazy implementer's modified
+/// kick, corrector 17; effective order (18, 4) proven) on the outer solar
+/// system: far below the plain kernel with the same corrector
+/// (`wh:leapfrog-c17`, ε²h²), converging at order 4 where that one
+/// converges at 2, with two force evaluations per kernel kick.
+#[test]
+fn the_lazy_modified_kick_kernel_converges_at_order_four() {
+    let setup = builtin::outer_solar(2.0e4, true).unwrap();
+    let file = tableau::catalogue::load("whckl-c17").unwrap();
+    let kicks =
+        integrator_core::processed::Sequence::from_splitting(file.corrector.as_ref().unwrap())
+            .ops()
+            .iter()
+            .filter(|(p, _)| *p == integrator_core::Part::B)
+            .count() as u64;
+    let mut errors = Vec::new();
+    for n in [100, 200, 400] {
+        let (plain, _) = run(&setup, "wh:leapfrog-c17", n);
+        let (lazy, evals) = run(&setup, "wh:whckl-c17", n);
+        assert_eq!(evals, 2 * n as u64 + kicks * (n as u64 + 1));
+        println!(
+            "h = {}: wh:leapfrog-c17 {plain:e}, wh:whckl-c17 {lazy:e}",
+            2.0e4 / n as f64
+        );
+        assert!(
+            lazy * 30.0 < plain,
+            "n = {n}: wh:whckl-c17 {lazy:e} vs wh:leapfrog-c17 {plain:e}"
+        );
+        errors.push((plain, lazy));
+    }
+    let order = |a: f64, b: f64| (a / b).log2();
+    let p_plain = order(errors[1].0, errors[2].0);
+    let p_lazy = order(errors[1].1, errors[2].1);
+    println!("orders: wh:leapfrog-c17 {p_plain:.2}, wh:whckl-c17 {p_lazy:.2}");
+    assert!((p_plain - 2.0).abs() < 0.2, "wh:leapfrog-c17: order {p_plain}");
+    assert!((p_lazy - 4.0).abs() < 0.3, "wh:whckl-c17: order {p_lazy}");
+    let Method::Fixed(f) = Method::by_id("wh:whckl-c17", &setup.sys).unwrap() else {
+        unreachable!()
+    };
+    assert!(!f.interpreted && f.order == 4);
+    assert!(Method::ids(&setup.sys).contains(&"wh:whckl-c17".to_string()));
+}

@@ -77,16 +77,13 @@ pub enum InterpError {
         wanted: &'static str,
         found: &'static str,
     },
-    #[error(
-        "kick_gradient: the sequence has gradient kicks, which a separable system cannot take (its T need not be quadratic); they step split systems that provide them, through integrator_core::processed::Sequence"
-    )]
-    Gradient,
 }
 
 fn form_name(t: &Table) -> &'static str {
     match t {
         Table::Rk(_) => "a Runge–Kutta",
         Table::Prk(_) => "a partitioned",
+        Table::Splitting(s) if s.has_gradient() => "a gradient-kick (kick_gradient)",
         Table::Splitting(_) => "a drift–kick",
         Table::Composition(_) => "a composition",
     }
@@ -301,7 +298,6 @@ impl SplittingInterpreter {
     /// rounded to `f64` as `butcher!` rounds it.
     pub fn from_table(table: &Table) -> Result<Self, InterpError> {
         let s = match table {
-            Table::Splitting(s) if s.has_gradient() => return Err(InterpError::Gradient),
             Table::Splitting(s) => s.clone(),
             Table::Composition(c) => c.to_splitting(),
             other => {
@@ -311,6 +307,16 @@ impl SplittingInterpreter {
                 });
             }
         };
+        // Gradient kicks (the kick of V − g·h²·|∇V|²) need the gradient of
+        // the force, which a separable system does not give (its T need not
+        // be quadratic): refused, never stepped as plain kicks. Split systems
+        // that provide one step them through `processed::Sequence`.
+        if s.has_gradient() {
+            return Err(InterpError::Form {
+                wanted: "a drift–kick sequence of plain kicks or a composition",
+                found: form_name(table),
+            });
+        }
         let symmetric = Analysis::of(table)?.symmetric;
         // The normal form (zeros dropped, neighbours merged), its drift and
         // kick values rounded as weight vectors, as `butcher!` does.
@@ -578,6 +584,25 @@ mod tests {
         assert_eq!(it.kick(), &Leapfrog::KICK[..]);
         agree(Leapfrog, it.clone(), false, plain_split);
         agree(Leapfrog, it, true, plain_split);
+    }
+
+    /// A sequence with gradient kicks (WHCKL's kernel) is refused, never
+    /// stepped as plain kicks; with the gradient zero it is the leapfrog.
+    #[test]
+    fn gradient_kicks_are_refused() {
+        let table = tableau::catalogue::load("whckl-c17").unwrap().table;
+        let e = SplittingInterpreter::from_table(&table).unwrap_err();
+        assert!(
+            matches!(e, InterpError::Form { .. }) && e.to_string().contains("kick_gradient"),
+            "{e}"
+        );
+        let Table::Splitting(mut s) = table else {
+            unreachable!("a drift–kick sequence")
+        };
+        s.gradient = vec![Number::zero()];
+        let it = SplittingInterpreter::from_table(&Table::Splitting(s)).unwrap();
+        assert_eq!(it.drift(), &Leapfrog::DRIFT[..]);
+        assert_eq!(it.kick(), &Leapfrog::KICK[..]);
     }
 
     #[test]

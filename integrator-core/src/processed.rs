@@ -158,6 +158,9 @@ impl Sequence {
             } else {
                 zero.clone()
             };
+            if x.is_zero() && g.is_zero() {
+                continue;
+            }
             match merged.last_mut() {
                 Some((o, y, h)) if *o == op && h.is_zero() && g.is_zero() => *y += &x,
                 _ => merged.push((op, x, g)),
@@ -188,7 +191,7 @@ impl Sequence {
 
     /// The library's or catalogue's drift–kick sequence or composition
     /// `id` (`tableau::catalogue`), as [`from_splitting`](Self::from_splitting)
-    /// gives it; `None` for an id that is not one.
+    /// gives it (gradient kicks included); `None` for an id that is not one.
     pub fn from_catalogue(id: &str) -> Option<Sequence> {
         match tableau::catalogue::load(id).ok()?.table {
             tableau::Table::Splitting(s) => Some(Sequence::from_splitting(&s)),

@@ -63,6 +63,8 @@ pub fn expand(input: &Input, v: &Verified) -> TokenStream {
         Form::Prk => "prk",
         Form::DriftKick => "drift-kick",
         Form::Composition => "composition",
+        // Refused by `valid::validate` (no step code for gradient kicks).
+        Form::GradientDriftKick => "gradient-drift-kick",
     };
     let coefficients = match &v.corrector {
         Some(chi) => {

@@ -37,6 +37,7 @@ const KEYS: &[&str] = &[
     "c_hat",
     "drift",
     "kick",
+    "kick_gradient",
     "compose",
     "from",
     "kernel",
@@ -99,6 +100,22 @@ pub fn validate(input: &Input) -> Result<Verified, Error> {
         ));
     };
 
+    // Gradient kicks (`kick_gradient`: the kick of a modified potential
+    // V − g·h²·|∇V|²) need the gradient of the force, which no step code
+    // generated here computes: such a table is refused rather than stepped
+    // with plain kicks, whatever its claims.
+    if let Table::Splitting(s) = &table
+        && s.has_gradient()
+    {
+        let span = ["kick_gradient", "from", "kernel"]
+            .iter()
+            .find_map(|k| fields.get(*k))
+            .map_or(input.name.span(), |f| f.span());
+        return Err(Error::new(
+            span,
+            "kick_gradient: this drift–kick sequence has gradient kicks (each the exact flow of k·h·B + g·h³·[B,[A,B]], the kick of V − g·h²·|∇V|²); `butcher!` generates step code for plain drifts and kicks only, and does not step such a table (check its claims with `symlab check`)",
+        ));
+    }
     // A table read `from` the catalogue brings the claims its file states,
     // unless the invocation states its own.
     if claims.is_empty() && !file_claims.is_empty() {
@@ -331,7 +348,16 @@ fn build_table(
             return None;
         };
         if let Some(other) = [
-            "a", "b", "c", "a_hat", "b_hat", "c_hat", "drift", "kick", "compose",
+            "a",
+            "b",
+            "c",
+            "a_hat",
+            "b_hat",
+            "c_hat",
+            "drift",
+            "kick",
+            "kick_gradient",
+            "compose",
         ]
         .iter()
         .find(|k| has(k))
@@ -365,6 +391,13 @@ fn build_table(
     let pair = has("a_hat") || has("b_hat") || has("c_hat");
     let split = has("drift") || has("kick");
     let comp = has("compose");
+    if has("kick_gradient") && !has("kick") {
+        errs.push(
+            fields["kick_gradient"].span(),
+            "`kick_gradient` gives the gradients of the kicks of a drift–kick sequence (`drift`/`kick`)",
+        );
+        return None;
+    }
     let forms = [rk_like, split, comp].iter().filter(|x| **x).count();
     if forms > 1 || (pair && !rk_like) {
         let span = input.fields.first().map_or(input.name.span(), |f| f.span());
@@ -409,10 +442,16 @@ fn build_table(
     if split {
         require("drift", errs);
         require("kick", errs);
-        let s = Splitting::new(
-            vector(fields.get("drift"), env, errs)?,
-            vector(fields.get("kick"), env, errs)?,
-        );
+        let gradient = if has("kick_gradient") {
+            vector(fields.get("kick_gradient"), env, errs)?
+        } else {
+            Vec::new()
+        };
+        let s = Splitting {
+            drift: vector(fields.get("drift"), env, errs)?,
+            kick: vector(fields.get("kick"), env, errs)?,
+            gradient,
+        };
         return Some((Table::Splitting(s), name, Vec::new(), None, None));
     }
     if comp {
@@ -479,5 +518,36 @@ mod tests {
             .err()
             .expect("refused");
         assert!(err.to_string().contains("2000 digits"), "{err}");
+    }
+
+    /// A table with gradient kicks is refused with an error naming
+    /// `kick_gradient`, never stepped with plain kicks: inline, or read from
+    /// the catalogue (whckl-c17). An all-zero gradient list is plain kicks,
+    /// and stepped as such.
+    #[test]
+    fn gradient_kicks_are_refused_naming_kick_gradient() {
+        use tableau::analysis::Form;
+        for text in [
+            "pub Lazy { drift: [1/2, 1/2], kick: [1], kick_gradient: [1/24], }",
+            "pub Lazy { claims: [order = 2], drift: [1/2, 1/2], kick: [1], kick_gradient: [1/12], }",
+            "pub Whckl { from: \"whckl-c17\", }",
+        ] {
+            let err = validate_text(text).err().expect("refused");
+            let msg = err.to_string();
+            assert!(msg.starts_with("kick_gradient:"), "{text}: {msg}");
+            assert!(msg.contains("gradient kicks"), "{text}: {msg}");
+        }
+        let err = validate_text("pub Odd { a: [[0]], b: [1], kick_gradient: [1], }")
+            .err()
+            .expect("refused");
+        assert!(err.to_string().contains("`kick_gradient`"), "{err}");
+        // The same sequence with plain kicks is accepted.
+        for text in [
+            "pub Leap { claims: [order = 2], drift: [1/2, 1/2], kick: [1], }",
+            "pub Leap { claims: [order = 2], drift: [1/2, 1/2], kick: [1], kick_gradient: [0], }",
+        ] {
+            let v = validate_text(text).unwrap_or_else(|e| panic!("{text}: {e}"));
+            assert_eq!(v.analysis.form, Form::DriftKick, "{text}");
+        }
     }
 }

@@ -237,7 +237,8 @@ fn stem(path: &Path) -> String {
 impl Table {
     /// A table from the fields of a table file: ``name`` (required),
     /// ``a``, ``b``, ``c``, ``a_hat``, ``b_hat``, ``c_hat``, ``drift``,
-    /// ``kick``, ``compose``, ``generate``, ``claims``, ``source``, and
+    /// ``kick``, ``kick_gradient``, ``compose``, ``generate``, ``claims``,
+    /// ``source``, and
     /// ``let`` (a dict; ``let_`` also works). Entries are strings in the
     /// table grammar (``"1/4 + sqrt(3)/6"``) or ints; floats are refused.
     /// ``id`` names the method in comparisons (default ``"table"``).
@@ -556,6 +557,7 @@ fn form_name(t: &tableau::Table) -> &'static str {
     match t {
         tableau::Table::Rk(_) => "rk",
         tableau::Table::Prk(_) => "prk",
+        tableau::Table::Splitting(s) if s.has_gradient() => "gradient-drift-kick",
         tableau::Table::Splitting(_) => "drift-kick",
         tableau::Table::Composition(_) => "composition",
     }

@@ -31,7 +31,7 @@
 //! | [`MAX_ZERO_TEST_WORK`] | 2³² word products | one zero test, sign, rounding, gcd or root isolation, estimated before it is done: at the limit about 1.6 s (a zero test in six quintic roots, 1.7·10⁹ in 0.64 s; isolating a root of degree 64, 10⁹ in 0.44 s), under 10 MB |
 //! | [`crate::near_integrable::MAX_NEAR_DEGREE`] | degree 24 | the power of `h` to which a generalised order (`order = (8, 6, 4)`) is examined |
 //! | [`crate::near_integrable::MAX_NEAR_WORDS`] | 2¹⁶ words | the free algebra on {A, B} truncated by (number of B's, degree) for a generalised order |
-//! | [`crate::near_integrable::MAX_NEAR_WORK`] | 2²⁰ products | words × flows × degree, plus m³/6 per Lyndon word of m letters, estimated before the work: at the limit about 15 s with 40-digit decimals |
+//! | [`crate::near_integrable::MAX_NEAR_WORK`] | 2²⁰ products | words × flows × degree (a gradient kick counting degree + 4), plus m³/6 per Lyndon word of m letters, estimated before the work: at the limit about 15 s with 40-digit decimals |
 //! | [`crate::near_integrable::MAX_NEAR_FIELD_DEGREE`] | 16 | the degree over Q of the field the coefficients of a near-integrable claim span |
 //! | [`MAX_ANALYSIS_WORK`] | 2³³ word products | parsing and analysing one root-file table together; the tests past it are reported undecided: at the limit about 3.6 s (36 such zero tests, 6.6·10⁹ in 2.8 s), under 10 MB |
 //!

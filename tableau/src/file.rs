@@ -11,6 +11,7 @@
 //! # c = [...]                               optional abscissae
 //! # a_hat, b_hat (and c_hat)                a partitioned pair: a, b act on q; a_hat, b_hat on p
 //! # drift = [...]; kick = [...]             instead of a, b: a drift–kick sequence
+//! # kick_gradient = [...]                   optional, beside kick: gradient kicks
 //! # compose = [...]                         instead of a, b: a composition of Störmer–Verlet
 //! ```
 //!
@@ -30,6 +31,13 @@
 //!
 //! Every order claim of such a file is about the effective method `χ K χ⁻¹`
 //! (see [`crate::near_integrable::check_processed_claim`]).
+//!
+//! **Gradient kicks.** `kick_gradient = [g₁, g₂, …]` beside `kick` (one
+//! entry per kick, `0` for a plain kick) makes kick `i` the exact flow of
+//! `kᵢ·h·B + gᵢ·h³·[B,[A,B]]` (see [`crate::Splitting`]): for `T` quadratic,
+//! the kick of `kᵢ·V − gᵢ·h²·|∇V|²_{M⁻¹}`. Such a sequence has no
+//! partitioned Runge–Kutta form; its claims are decided on the Lie algebra.
+//! A corrector's kicks are plain.
 //!
 //! Entries are strings in the grammar of [`crate::expr`] or TOML integers.
 //! TOML floats are refused: a binary float is not the decimal its author
@@ -99,7 +107,7 @@ impl fmt::Display for FileError {
 impl std::error::Error for FileError {}
 
 /// The top-level keys of a table file.
-pub const KEYS: [&str; 16] = [
+pub const KEYS: [&str; 17] = [
     "name",
     "source",
     "claims",
@@ -112,6 +120,7 @@ pub const KEYS: [&str; 16] = [
     "c_hat",
     "drift",
     "kick",
+    "kick_gradient",
     "compose",
     "kernel",
     "corrector_drift",
@@ -583,6 +592,19 @@ impl Cx<'_> {
             ("a drift–kick sequence", present(&["drift", "kick"])),
             ("a composition", present(&["compose"])),
         ];
+        if fields.contains_key("kick_gradient") && !fields.contains_key("kick") {
+            let other = present(&["a", "b", "a_hat", "b_hat", "compose"]);
+            let what = match other.first() {
+                Some(k) => format!("this file gives `{k}`, not"),
+                None => "this file has no".to_string(),
+            };
+            return Err(self.field_err(
+                "kick_gradient",
+                format!(
+                    "`kick_gradient` gives the gradients of the kicks of a drift–kick sequence (`drift`/`kick`); {what} a `kick`"
+                ),
+            ));
+        }
         let given: Vec<&(&str, Vec<&str>)> =
             forms.iter().filter(|(_, keys)| !keys.is_empty()).collect();
         let quote = |keys: &[&str]| {
@@ -617,7 +639,16 @@ impl Cx<'_> {
     ) -> Result<Table, FileError> {
         let id = self.string("kernel", v)?;
         let inline: Vec<&str> = [
-            "a", "b", "c", "a_hat", "b_hat", "c_hat", "drift", "kick", "compose",
+            "a",
+            "b",
+            "c",
+            "a_hat",
+            "b_hat",
+            "c_hat",
+            "drift",
+            "kick",
+            "kick_gradient",
+            "compose",
         ]
         .into_iter()
         .filter(|k| fields.contains_key(k))
@@ -730,7 +761,27 @@ impl Cx<'_> {
             }
             let drift = self.vector("drift", get("drift")?)?;
             let kick = self.vector("kick", get("kick")?)?;
-            return Ok(Table::Splitting(Splitting::new(drift, kick)));
+            let gradient = match fields.get("kick_gradient") {
+                Some(v) => self.vector("kick_gradient", v)?,
+                None => Vec::new(),
+            };
+            // Given, it has one entry per kick (the empty list too: the
+            // shape check reads an empty gradient as plain kicks).
+            if fields.contains_key("kick_gradient") && gradient.len() != kick.len() {
+                return Err(self.field_err(
+                    "kick_gradient",
+                    format!(
+                        "kick_gradient has {} entries, but there are {} kicks: one gradient per kick (0 for a plain kick)",
+                        gradient.len(),
+                        kick.len()
+                    ),
+                ));
+            }
+            return Ok(Table::Splitting(Splitting {
+                drift,
+                kick,
+                gradient,
+            }));
         }
         for (k, other) in [("a", "b"), ("b", "a")] {
             if !has(k) {

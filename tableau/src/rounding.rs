@@ -65,6 +65,9 @@ pub struct F64Pair {
 pub struct F64Splitting {
     pub drift: Vec<f64>,
     pub kick: Vec<f64>,
+    /// The gradients of gradient kicks ([`Splitting::gradient`]), each the
+    /// nearest double to its exact value; empty for plain kicks.
+    pub gradient: Vec<f64>,
 }
 
 /// A composition of Störmer–Verlet in `f64`: the step fractions `γ` and the
@@ -461,11 +464,14 @@ pub fn round_prk(prk: &Prk, symplectic: bool, symmetric: bool) -> F64Pair {
 }
 
 /// Round a drift–kick sequence: drifts and kicks each by [`round_weights`]
-/// (adjusted to sum to `1.0` where their exact sums are `1`).
+/// (adjusted to sum to `1.0` where their exact sums are `1`); the gradients
+/// of gradient kicks (no sum to keep) each to the nearest double, an exact
+/// zero staying zero.
 pub fn round_splitting(s: &Splitting, symmetric: bool) -> F64Splitting {
     F64Splitting {
         drift: round_weights(&s.drift, symmetric),
         kick: round_weights(&s.kick, symmetric),
+        gradient: s.gradient.iter().map(Number::to_f64).collect(),
     }
 }
 
@@ -479,6 +485,7 @@ pub fn round_composition(c: &Composition, symmetric: bool) -> F64Composition {
         splitting: F64Splitting {
             drift: round_weights(&split.drift, symmetric),
             kick: gamma.clone(),
+            gradient: Vec::new(),
         },
         gamma,
     }

@@ -102,9 +102,48 @@ impl Splitting {
         self.gradient.iter().any(|g| !g.is_zero())
     }
 
+    /// The flows in the order applied, each `(op, coefficient, gradient)`,
+    /// zeros dropped and neighbours merged where that is exact: two drifts,
+    /// or two plain kicks (gradient zero). A gradient kick is never merged
+    /// with a neighbouring kick (`B` and `[B,[A,B]]` do not commute), and a
+    /// kick is dropped only when both its coefficient and gradient are zero.
+    /// For a sequence of plain kicks this is [`Splitting::normal_form`] with a
+    /// zero gradient on every flow.
+    pub fn flows(&self) -> Vec<(Op, Number, Number)> {
+        let mut kicks = 0;
+        let mut out: Vec<(Op, Number, Number)> = Vec::new();
+        for (op, x) in self.ops() {
+            let g = match op {
+                Op::Drift => Number::zero(),
+                Op::Kick => {
+                    kicks += 1;
+                    self.gradient
+                        .get(kicks - 1)
+                        .cloned()
+                        .unwrap_or_else(Number::zero)
+                }
+            };
+            if x.is_zero() && g.is_zero() {
+                continue;
+            }
+            match out.last_mut() {
+                Some((last, y, h)) if *last == op && h.is_zero() && g.is_zero() => {
+                    *y += &x;
+                    if y.is_zero() {
+                        out.pop();
+                    }
+                }
+                _ => out.push((op, x, g)),
+            }
+        }
+        out
+    }
+
     /// The alternating sequence of operations, zeros dropped and neighbours of
     /// the same kind merged: the normal form in which two sequences define the
-    /// same map for every separable `H` exactly when they are equal.
+    /// same map for every separable `H` exactly when they are equal. It does
+    /// not know gradient kicks: for a sequence with them
+    /// ([`Splitting::has_gradient`]) use [`Splitting::flows`].
     pub fn normal_form(&self) -> Vec<(Op, Number)> {
         let mut out: Vec<(Op, Number)> = Vec::new();
         for (op, x) in self.ops() {
@@ -157,6 +196,10 @@ impl Splitting {
     /// The equivalent explicit partitioned pair (HLW II.5): stage `i` is the
     /// state after the `i`-th drift; the `q` table has `aᵢⱼ = dⱼ` for `j ≤ i`,
     /// the `p` table `âᵢⱼ = kⱼ` for `j < i`, and `b = d`, `b̂ = k`.
+    ///
+    /// A sequence with gradient kicks has no such pair: this is the pair of
+    /// its plain kicks only, and every analysis of a [`Table`] refuses to
+    /// use it for such a sequence ([`Table::to_prk`] is `None`).
     pub fn to_prk(&self) -> Prk {
         // Bring the sequence to the form D K D K … D [K]: pad a leading zero
         // drift if it starts with a kick, and a trailing zero kick as needed.
@@ -242,11 +285,13 @@ impl Table {
         }
     }
 
-    /// The partitioned form, if the table is not a plain Runge–Kutta table.
+    /// The partitioned form, if the table is not a plain Runge–Kutta table
+    /// and has one: a drift–kick sequence with gradient kicks has none.
     pub fn to_prk(&self) -> Option<Prk> {
         match self {
             Table::Rk(_) => None,
             Table::Prk(prk) => Some(prk.clone()),
+            Table::Splitting(s) if s.has_gradient() => None,
             Table::Splitting(s) => Some(s.to_prk()),
             Table::Composition(c) => Some(c.to_splitting().to_prk()),
         }
@@ -352,9 +397,9 @@ impl Table {
         match self {
             Table::Rk(t) => rk(t, ""),
             Table::Prk(p) => rk(&p.q, "").and_then(|()| rk(&p.p, "_hat")),
-            Table::Splitting(s) => {
-                entries_fit("drift", &s.drift).and_then(|()| entries_fit("kick", &s.kick))
-            }
+            Table::Splitting(s) => entries_fit("drift", &s.drift)
+                .and_then(|()| entries_fit("kick", &s.kick))
+                .and_then(|()| entries_fit("kick_gradient", &s.gradient)),
             Table::Composition(c) => entries_fit("compose", &c.gamma),
         }?;
         // The order analyses compute over the common denominator of all
@@ -365,7 +410,7 @@ impl Table {
                 .into_iter()
                 .flat_map(|t| t.a.iter().flatten().chain(&t.b))
                 .collect(),
-            Table::Splitting(s) => s.drift.iter().chain(&s.kick).collect(),
+            Table::Splitting(s) => s.drift.iter().chain(&s.kick).chain(&s.gradient).collect(),
             Table::Composition(c) => c.gamma.iter().collect(),
         };
         let bits = crate::number::common_denominator_bits(all);
@@ -417,6 +462,15 @@ impl Table {
                         "kick",
                         format!(
                             "drifts and kicks alternate, so their counts differ by at most one: {d} drifts, {k} kicks"
+                        ),
+                    ));
+                }
+                let g = s.gradient.len();
+                if g != 0 && g != k {
+                    return Err(shape_err(
+                        "kick_gradient",
+                        format!(
+                            "kick_gradient has {g} entries, but there are {k} kicks: one gradient per kick (0 for a plain kick)"
                         ),
                     ));
                 }

@@ -554,3 +554,96 @@ mod damaged {
         }
     }
 }
+
+// ---------------------------------------------------------------------------
+// Gradient kicks
+
+/// `kick_gradient` beside `kick`: exact entries (names from `let`), one per
+/// kick; the table keeps them.
+#[test]
+fn kick_gradient_is_read_exactly() {
+    let f = parse_table_file(
+        "g.toml",
+        &with_name(
+            "let.g = \"1/24\"\ndrift = [\"1/2\", \"1/2\"]\nkick = [\"1\"]\nkick_gradient = [\"g\"]",
+        ),
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    let Table::Splitting(s) = &f.table else {
+        panic!("a drift–kick sequence")
+    };
+    assert_eq!(s.gradient, ns(&["1/24"]));
+    assert!(s.has_gradient());
+    // Plain files have none.
+    let Table::Splitting(p) = load_fixture("forest_ruth.toml").table else {
+        panic!("a drift–kick sequence")
+    };
+    assert!(p.gradient.is_empty() && !p.has_gradient());
+    // An all-zero list is plain kicks.
+    let f = parse_table_file(
+        "g.toml",
+        &with_name("drift = [\"1/2\", \"1/2\"]\nkick = [\"1\"]\nkick_gradient = [0]"),
+    )
+    .unwrap();
+    let Table::Splitting(s) = &f.table else {
+        panic!("a drift–kick sequence")
+    };
+    assert!(!s.has_gradient());
+}
+
+/// Every misuse of `kick_gradient` is an error naming it.
+#[test]
+fn kick_gradient_errors_name_the_field() {
+    let dk = "drift = [\"1/2\", \"1/2\"]\nkick = [\"1\"]\n";
+    for (body, field, phrase) in [
+        (
+            format!("{dk}kick_gradient = [\"1/24\", \"0\"]"),
+            "kick_gradient",
+            "kick_gradient has 2 entries, but there are 1 kicks",
+        ),
+        (
+            format!("{dk}kick_gradient = []"),
+            "kick_gradient",
+            "kick_gradient has 0 entries",
+        ),
+        (
+            "compose = [\"1\"]\nkick_gradient = [\"1/24\"]".to_string(),
+            "kick_gradient",
+            "this file gives `compose`, not a `kick`",
+        ),
+        (
+            "a = [[\"0\"]]\nb = [\"1\"]\nkick_gradient = [\"1/24\"]".to_string(),
+            "kick_gradient",
+            "this file gives `a`, not a `kick`",
+        ),
+        (
+            "a = [[\"0\"]]\nb = [\"1\"]\na_hat = [[\"0\"]]\nb_hat = [\"1\"]\nkick_gradient = [\"1/24\"]"
+                .to_string(),
+            "kick_gradient",
+            "gradients of the kicks of a drift–kick sequence",
+        ),
+        (
+            "kernel = \"leapfrog\"\nkick_gradient = [\"1/24\"]\ncorrector_drift = [\"1\", \"-1\"]\ncorrector_kick = [\"0\"]"
+                .to_string(),
+            "kick_gradient",
+            "names the kernel",
+        ),
+        (
+            format!("{dk}kick_gradient = [0.5]"),
+            "kick_gradient[0]",
+            "TOML float",
+        ),
+        (
+            format!("{dk}kick_gradient = [\"g\"]"),
+            "kick_gradient[0]",
+            "unknown name",
+        ),
+    ] {
+        assert_refused(&with_name(&body), Some(field), phrase);
+    }
+    // A corrector has plain kicks: there is no corrector_gradient.
+    let e = refuse(&with_name(&format!(
+        "{dk}corrector_drift = [\"1\", \"-1\"]\ncorrector_kick = [\"0\"]\ncorrector_gradient = [\"1\"]"
+    )));
+    assert_eq!(e.field.as_deref(), Some("corrector_gradient"), "{e}");
+}

@@ -11,7 +11,8 @@ use tableau::claims::Claim;
 use tableau::expr::parse_number;
 use tableau::file::{TableFile, parse_table_file};
 use tableau::near_integrable::{
-    NearError, REPORT_DEGREES, check_near_claim, claim_degrees, near_coefficients, near_orders,
+    Factor, NearError, REPORT_DEGREES, check_near_claim, claim_degrees, near_coefficients,
+    near_orders,
 };
 use tableau::{Number, Table};
 
@@ -367,10 +368,10 @@ fn a_processor_gives_the_effective_order() {
     let Table::Splitting(s) = &entry("saba3").table else {
         unreachable!()
     };
-    let ops: Vec<(u8, Number)> = s
+    let ops: Vec<Factor> = s
         .normal_form()
         .into_iter()
-        .map(|(op, x)| (u8::from(op == tableau::table::Op::Kick), x))
+        .map(|(op, x)| Factor::Letter(u8::from(op == tableau::table::Op::Kick), x))
         .collect();
     assert_eq!(processed_sequence(&kernel.table, &chi.table).unwrap(), ops);
     // χ⁻¹ K χ: χ applied on entry instead of at output.
@@ -596,5 +597,205 @@ fn processed_files_refuse_over_claims_and_bad_shapes() {
     assert!(
         e.contains("field corrector_kick") && e.contains("differ by at most one"),
         "{e}"
+    );
+}
+
+// ---------------------------------------------------------------------------
+// Gradient kicks: WHCKL
+
+/// A drift–kick file with gradient kicks.
+fn gradient_file(drift: &str, kick: &str, gradient: &str) -> TableFile {
+    parse_table_file(
+        "gradient.toml",
+        &format!("name = \"g\"\ndrift = {drift}\nkick = {kick}\nkick_gradient = {gradient}\n"),
+    )
+    .unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// WHCKL (`D(1/2) G(1, 1/24) D(1/2)`) with the corrector of order 17 has
+/// the effective generalised order (18, 4), exactly: the εh¹⁹ condition
+/// fails, and every εʲ part (j ≥ 2) fails at degree 5, the ε² one on
+/// `[A,[A,[[A,B],B]]]` with coefficient −11/5760. Its own ε²h³ term, 1/24 on
+/// `AB²` (with the plain kick, 1/12), is cancelled by the corrector: with the
+/// same corrector the leapfrog kernel has ε order 2. Every claim of the file
+/// holds.
+#[test]
+fn whckl_has_effective_order_18_4() {
+    use tableau::analysis::check_file_claim;
+    use tableau::near_integrable::processed_orders;
+    let file = entry("whckl-c17");
+    let analysis = Analysis::of(&file.table).unwrap();
+    for claim in &file.claims {
+        check_file_claim(&file, &analysis, claim).unwrap_or_else(|e| panic!("`{claim}`: {e}"));
+    }
+    assert_eq!(near_claim(&file), (vec![18, 4], None));
+    let chi = file.corrector_table().unwrap();
+    let r = processed_orders(&file.table, &chi, &[19, 5, 5, 5], None).unwrap();
+    assert_eq!(r.generalised_text(), "(18, 4)");
+    let orders: Vec<(usize, usize)> = r
+        .parts
+        .iter()
+        .map(|p| (p.order, p.failure.as_ref().map_or(0, |f| f.degree)))
+        .collect();
+    assert_eq!(orders, [(18, 19), (4, 5), (4, 5), (4, 5)]);
+    let f = r.parts[1].failure.as_ref().unwrap();
+    assert_eq!(
+        (f.word.as_str(), f.lie.as_str()),
+        ("A³B²", "[A,[A,[[A,B],B]]]")
+    );
+    assert_eq!(f.value, parse_number("-11/5760").unwrap());
+    // The kernel alone: order 2 in ε and ε², the ε²h³ coefficient 1/24.
+    let own = near_orders(&file.table, &[3, 3], None).unwrap();
+    let f = own.parts[1].failure.as_ref().unwrap();
+    assert_eq!((f.degree, f.word.as_str()), (3, "AB²"));
+    assert_eq!(f.value, parse_number("1/24").unwrap());
+    // The plain leapfrog kernel with the same corrector: ε² order 2.
+    let leapfrog = entry("leapfrog-c17");
+    assert_eq!(
+        leapfrog.corrector, file.corrector,
+        "the same corrector, verbatim"
+    );
+    let plain = processed_orders(&leapfrog.table, &chi, &[19, 5, 5, 5], None).unwrap();
+    assert_eq!(plain.generalised_text(), "(18, 2)");
+}
+
+/// The gradient moved from 1/24 to 1/25 loses the claim, naming the ε²h³
+/// condition (coefficient 1/24 − 1/25 = 1/600 on `AB²`); over-claims name the
+/// first condition past the truth.
+#[test]
+fn whckl_perturbed_gradient_and_over_claims_fail_naming_the_condition() {
+    use tableau::analysis::check_file_claim;
+    let text = text("whckl-c17");
+    assert!(text.contains("kick_gradient = [\"1/24\"]"));
+    let perturbed = parse_table_file(
+        "perturbed.toml",
+        &text.replace("kick_gradient = [\"1/24\"]", "kick_gradient = [\"1/25\"]"),
+    )
+    .unwrap();
+    let analysis = Analysis::of(&perturbed.table).unwrap();
+    let claim: Claim = "order = (18, 4)".parse().unwrap();
+    let e = check_file_claim(&perturbed, &analysis, &claim)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.starts_with("order = (18, 4) claimed, but the ε² part has order 2 < 4: the ε²h³ condition fails: the coefficient of AB² in log Φ (the leading word of [[A,B],B]) is 1/600"),
+        "{e}"
+    );
+    let file = entry("whckl-c17");
+    let analysis = Analysis::of(&file.table).unwrap();
+    for (claim, phrase) in [
+        ("order = (19, 4)", "the εh¹⁹ condition fails"),
+        (
+            "order = (18, 5)",
+            "the ε² part has order 4 < 5: the ε²h⁵ condition fails: the coefficient of A³B² in log Φ (the leading word of [A,[A,[[A,B],B]]]) is -11/5760",
+        ),
+        ("order = 5", "the ε²h⁵ condition fails"),
+        ("order_rkn = 4", "not decided for a processed method"),
+    ] {
+        let c: Claim = claim.parse().unwrap();
+        let e = check_file_claim(&file, &analysis, &c)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains(phrase), "{claim}: {e}");
+    }
+}
+
+/// A sequence with gradient kicks has no partitioned form: its analysis
+/// never uses one. Symplectic and explicit by construction, symmetric when
+/// its flows are a palindrome, its order the classical order on the Lie
+/// algebra (failures named by Lie term), `order_rkn` refused.
+#[test]
+fn gradient_sequences_are_analysed_on_the_lie_algebra() {
+    use tableau::analysis::Form;
+    use tableau::order::ConditionKind;
+    // Strang with g = 1/12: the ε²h³ term vanishes; the εh³ one does not.
+    let strang = gradient_file("[\"1/2\", \"1/2\"]", "[\"1\"]", "[\"1/12\"]");
+    assert!(strang.table.to_prk().is_none());
+    let a = Analysis::of(&strang.table).unwrap();
+    assert_eq!(a.form, Form::GradientDriftKick);
+    assert_eq!(a.kind(), "gradient-drift-kick");
+    assert!(a.symplectic_separable && a.explicit_separable && a.symmetric);
+    assert!(a.order.is_none(), "no pair, no order on general systems");
+    assert_eq!(a.order_separable.order, 2);
+    let f = a.order_separable.first_failure.as_ref().unwrap();
+    assert_eq!((f.order, f.kind), (3, ConditionKind::LieTerm));
+    assert_eq!(f.tree, "[A,[A,B]] (leading word A²B)");
+    assert_eq!(f.residual, parse_number("-1/24").unwrap());
+    let r = near_orders(&strang.table, &[4, 4, 4], None).unwrap();
+    assert_eq!(r.parts[1].order, 4, "the ε²h³ term vanishes with g = 1/12");
+    for (claim, ok) in [
+        ("symplectic", true),
+        ("explicit", true),
+        ("symmetric", true),
+        ("order = 2", true),
+        ("order = (2, 2)", true),
+        ("order = 3", false),
+        ("order_rkn = 2", false),
+    ] {
+        let c: Claim = claim.parse().unwrap();
+        let verdict = check_claim(&strang.table, &a, &c);
+        assert_eq!(verdict.is_ok(), ok, "{claim}: {verdict:?}");
+        if let Err(e) = verdict {
+            let e = e.to_string();
+            let phrase = if claim.starts_with("order_rkn") {
+                "kick_gradient"
+            } else {
+                "the εh³ condition fails: the coefficient of A²B"
+            };
+            assert!(e.contains(phrase), "{claim}: {e}");
+        }
+    }
+    // Not a palindrome: the gradients differ.
+    let lopsided = gradient_file(
+        "[\"1/2\", \"0\", \"1/2\"]",
+        "[\"1/2\", \"1/2\"]",
+        "[\"0\", \"1/24\"]",
+    );
+    let a = Analysis::of(&lopsided.table).unwrap();
+    assert!(!a.symmetric);
+    let e = check_claim(&lopsided.table, &a, &Claim::Symmetric).unwrap_err();
+    assert!(e.to_string().contains("not a palindrome"), "{e}");
+}
+
+/// A gradient kick is never merged with a neighbouring plain kick (`B` and
+/// `[B,[A,B]]` do not commute): `K(1/2) G(1/2, g)` is not `G(1, g)`, and
+/// differs from it first at ε³h⁴ (`[B,[B,[A,B]]]`, from `[B/2, g·C]`).
+/// Processed sequences keep them apart too, and write the zero drift
+/// between them.
+#[test]
+fn gradient_kicks_are_not_merged() {
+    use tableau::near_integrable::{processed_orders, processed_sequence, processed_table};
+    let split = gradient_file(
+        "[\"1/2\", \"0\", \"1/2\"]",
+        "[\"1/2\", \"1/2\"]",
+        "[\"0\", \"1/24\"]",
+    );
+    let whole = gradient_file("[\"1/2\", \"1/2\"]", "[\"1\"]", "[\"1/24\"]");
+    let degrees = [4, 4, 4];
+    let a = near_orders(&split.table, &degrees, None).unwrap();
+    let b = near_orders(&whole.table, &degrees, None).unwrap();
+    assert_eq!(b.parts[2].order, 4, "{}", b.generalised_text());
+    assert_eq!(a.parts[2].order, 3, "{}", a.generalised_text());
+    assert_eq!(a.parts[2].failure.as_ref().unwrap().degree, 4);
+    let chi = parse_table_file("chi", "name = \"χ\"\ndrift = [\"1/5\"]\nkick = []\n").unwrap();
+    let seq = processed_sequence(&split.table, &chi.table).unwrap();
+    let gradients = seq
+        .iter()
+        .filter(|f| matches!(f, Factor::Gradient { .. }))
+        .count();
+    let kicks = seq
+        .iter()
+        .filter(|f| matches!(f, Factor::Letter(1, _)))
+        .count();
+    assert_eq!((gradients, kicks, seq.len()), (1, 1, 4));
+    let Table::Splitting(t) = processed_table(&split.table, &chi.table).unwrap() else {
+        unreachable!()
+    };
+    assert_eq!(t.gradient.len(), t.kick.len());
+    assert_eq!(t.drift.len(), 3);
+    assert!(t.drift[1].is_zero(), "{t:?}");
+    assert_eq!(
+        near_orders(&Table::Splitting(t), &degrees, None).unwrap(),
+        processed_orders(&split.table, &chi.table, &degrees, None).unwrap()
     );
 }

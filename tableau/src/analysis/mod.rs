@@ -39,7 +39,9 @@ pub const MAX_SEPARABLE_ORDER: usize = 12;
 pub const MAX_COMPOSITION_ORDER: usize = 14;
 pub const MAX_RKN_ORDER: usize = 14;
 
-/// The four written forms of a table.
+/// The written forms of a table: the four forms, and a drift–kick sequence
+/// with gradient kicks (`kick_gradient`), which has no partitioned
+/// Runge–Kutta form and is analysed on the Lie algebra alone.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Form {
@@ -47,7 +49,13 @@ pub enum Form {
     Prk,
     DriftKick,
     Composition,
+    GradientDriftKick,
 }
+
+/// The order limit of a sequence with gradient kicks: every Lie term of
+/// degree at most this is examined (lowered where the near-integrable
+/// budgets require; the report states the limit examined).
+pub const GRADIENT_ORDER_LIMIT: usize = 10;
 
 /// Everything known about a table. The fields mirror the JSON report of
 /// `symlab check --json` (see `docs` in design.md); the extra fields carry
@@ -74,11 +82,18 @@ pub struct Analysis {
     /// Order on general systems (for a drift–kick sequence or a composition:
     /// of its equivalent partitioned pair on general partitioned systems,
     /// which is informative only — such schemes step separable systems).
-    /// `None` never occurs for the four forms; kept optional for callers
-    /// that analyse part of a table.
+    /// `None` for a sequence with gradient kicks, which has no such pair.
     pub order: Option<OrderReport>,
-    /// Order on separable systems (RK: same as `order`).
+    /// Order on separable systems (RK: same as `order`). For a sequence with
+    /// gradient kicks ([`Form::GradientDriftKick`]): its classical order for
+    /// any `A` and `B`, every Lie term of `log Φ` of degree at most `order`
+    /// vanishing ([`crate::near_integrable`]), failures named by Lie term
+    /// ([`crate::order::ConditionKind::LieTerm`]); `limit` 0 when even that
+    /// is beyond the near-integrable budgets (`lie_not_computed` says why).
     pub order_separable: OrderReport,
+    /// For [`Form::GradientDriftKick`]: why its order on the Lie algebra was
+    /// not computed (beyond the budgets); `None` otherwise.
+    pub lie_not_computed: Option<String>,
     /// Order on Runge–Kutta–Nyström systems: separable `H = T(p) + V(q)` with
     /// `T = ½pᵀM⁻¹p` quadratic, so that `q' = M⁻¹p` is linear in `p` (the
     /// Nyström trees, [`crate::trees::Colouring::Nystrom`]); at least
@@ -91,6 +106,11 @@ pub struct Analysis {
     /// composing that particular base method, not the order of the
     /// composition conditions, which hold for any symmetric second-order base
     /// method and are what `order_separable` reports.
+    ///
+    /// A sequence with gradient kicks has no Nyström trees: its order on
+    /// these systems is not decided. Its report is the one thing known, that
+    /// it is at least `order_separable` (`order == limit`, no failure:
+    /// "≥ p"), and an `order_rkn` claim is refused.
     pub order_rkn: OrderReport,
     /// The method is its own adjoint, decided on the irreducible form (exact
     /// both ways).
@@ -153,6 +173,7 @@ impl Analysis {
             stages: rk.stages(),
             class,
             row_sum_mismatch: row_sum_mismatch(rk, "c"),
+            lie_not_computed: None,
             symplectic,
             symplectic_separable: symplectic,
             w_nonzero: symplectic::nonzero_entries(&w),
@@ -189,6 +210,7 @@ impl Analysis {
             stages: prk.q.stages(),
             class: class::classify(&prk.q).max(class::classify(&prk.p)),
             row_sum_mismatch: mismatch,
+            lie_not_computed: None,
             symplectic: conditions && same_weights,
             symplectic_separable: conditions,
             w_nonzero: symplectic::nonzero_entries(&w),
@@ -205,11 +227,60 @@ impl Analysis {
     }
 
     fn of_splitting(s: &Splitting) -> Analysis {
+        if s.has_gradient() {
+            return Self::of_gradient(s);
+        }
         Self::of_prk(
             &s.to_prk(),
             Form::DriftKick,
             Some(symmetry::splitting_is_symmetric(s)),
         )
+    }
+
+    /// A sequence with gradient kicks: no partitioned form, so no tree is
+    /// used. Symplectic (a composition of exact flows of Hamiltonians) and
+    /// explicit by construction; symmetric when its normal form
+    /// ([`Splitting::flows`]) is a palindrome; its order the classical order
+    /// on the Lie algebra ([`lie_order`]).
+    fn of_gradient(s: &Splitting) -> Analysis {
+        let table = Table::Splitting(s.clone());
+        let (order_separable, lie_not_computed) = match lie_order(&table, GRADIENT_ORDER_LIMIT) {
+            Ok(r) => (r, None),
+            Err(why) => (
+                OrderReport {
+                    order: 0,
+                    limit: 0,
+                    first_failure: None,
+                    conditions_checked: 0,
+                },
+                Some(why),
+            ),
+        };
+        let order_rkn = OrderReport {
+            order: order_separable.order,
+            limit: order_separable.order,
+            first_failure: None,
+            conditions_checked: 0,
+        };
+        Analysis {
+            form: Form::GradientDriftKick,
+            stages: s.stages(),
+            class: Class::Explicit,
+            row_sum_mismatch: Vec::new(),
+            symplectic: false,
+            symplectic_separable: true,
+            w_nonzero: Vec::new(),
+            reducible: false,
+            explicit_separable: true,
+            order: None,
+            order_separable,
+            lie_not_computed,
+            order_rkn,
+            symmetric: symmetry::splitting_is_symmetric(s),
+            stability: None,
+            stability_not_computed: None,
+            unimodular: None,
+        }
     }
 
     fn of_composition(c: &Composition) -> Analysis {
@@ -225,8 +296,14 @@ impl Analysis {
 
     /// JSON `kind`: `"rk"` or `"prk"` (drift–kick sequences and compositions
     /// are partitioned methods).
+    /// `"gradient-drift-kick"` for a sequence with gradient kicks, which has
+    /// no partitioned form.
     pub fn kind(&self) -> &'static str {
-        if self.form == Form::Rk { "rk" } else { "prk" }
+        match self.form {
+            Form::Rk => "rk",
+            Form::GradientDriftKick => "gradient-drift-kick",
+            _ => "prk",
+        }
     }
 
     /// A scheme that is symplectic only for separable Hamiltonians (a pair with
@@ -236,7 +313,7 @@ impl Analysis {
         match self.form {
             Form::Rk => false,
             Form::Prk => !self.symplectic,
-            Form::DriftKick | Form::Composition => true,
+            Form::DriftKick | Form::Composition | Form::GradientDriftKick => true,
         }
     }
 
@@ -265,7 +342,7 @@ pub fn check_claim(table: &Table, analysis: &Analysis, claim: &Claim) -> Result<
                 Ok(())
             } else {
                 Err(ClaimError(match analysis.form {
-                    Form::DriftKick | Form::Composition => {
+                    Form::DriftKick | Form::Composition | Form::GradientDriftKick => {
                         "not symmetric: the drift–kick sequence (zeros dropped, neighbours merged) is not a palindrome".into()
                     }
                     _ => "not symmetric: the adjoint table (a*ᵢⱼ = b_{s+1−j} − a_{s+1−i,s+1−j}) is not the table under any stage permutation".into(),
@@ -282,7 +359,21 @@ pub fn check_claim(table: &Table, analysis: &Analysis, claim: &Claim) -> Result<
                 )))
             }
         }
+        Claim::Order { p, bound } if analysis.form == Form::GradientDriftKick => {
+            crate::near_integrable::check_near_claim(table, &[*p], bound.as_ref())
+                .map(|_| ())
+                .map_err(|e| {
+                    ClaimError(format!(
+                        "order = {p} (classical, a drift–kick sequence with gradient kicks: every Lie term of degree ≤ {p} must vanish): {e}"
+                    ))
+                })
+        }
         Claim::Order { p, bound } => check_order(table, analysis, *p, bound.as_ref()),
+        Claim::OrderRkn { p, .. } if analysis.form == Form::GradientDriftKick => {
+            Err(ClaimError(format!(
+                "order_rkn = {p} is not decided for a drift–kick sequence with gradient kicks (kick_gradient): it has no Runge–Kutta–Nyström trees; claim its order on the Lie algebra as `order = p` or `order = (p1, p2, …)`"
+            )))
+        }
         Claim::OrderRkn { p, bound } => check_order_rkn(table, analysis, *p, bound.as_ref()),
         Claim::NearOrder { orders, bound } => {
             crate::near_integrable::check_near_claim(table, orders, bound.as_ref())
@@ -496,4 +587,47 @@ fn row_sum_mismatch(rk: &Rk, field: &'static str) -> Vec<RowSumMismatch> {
             row_sum,
         })
         .collect()
+}
+
+/// The classical order of a drift–kick sequence on the Lie algebra, as an
+/// order report: every Lie term of `log Φ` of degree at most `order`
+/// vanishes (and the drifts and kicks are consistent), examined up to
+/// `limit`, or less where the near-integrable budgets allow less (the
+/// report's `limit` is what was examined). The failure is the first failing
+/// Lie term of the least degree. An error when not even degree 2 fits the
+/// budgets.
+pub fn lie_order(table: &Table, limit: usize) -> Result<OrderReport, String> {
+    use crate::near_integrable::{NearError, claim_degrees, near_orders};
+    let mut limit = limit.max(1);
+    let report = loop {
+        match near_orders(table, &claim_degrees(&[limit]), None) {
+            Ok(r) => break r,
+            Err(NearError::Budget(_)) if limit > 2 => limit -= 1,
+            Err(e) => return Err(e.to_string()),
+        }
+    };
+    let order = report.parts.iter().map(|p| p.order).min().unwrap_or(limit);
+    let first_failure = report
+        .parts
+        .iter()
+        .filter(|p| p.order == order)
+        .find_map(|p| p.failure.as_ref())
+        .map(|f| order::Failure {
+            order: f.degree,
+            kind: order::ConditionKind::LieTerm,
+            tree: if f.degree == 1 {
+                f.lie.clone()
+            } else {
+                format!("{} (leading word {})", f.lie, f.word)
+            },
+            value: f.value.clone(),
+            expected: f.expected.clone(),
+            residual: f.residual.clone(),
+        });
+    Ok(OrderReport {
+        order,
+        limit,
+        first_failure,
+        conditions_checked: report.conditions,
+    })
 }

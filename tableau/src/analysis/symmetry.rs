@@ -70,8 +70,11 @@ fn search(t: &[Rk], o: &[Rk], i: usize, perm: &mut [usize], used: &mut [bool]) -
     false
 }
 
-/// A drift–kick sequence is symmetric when its normal form is a palindrome.
+/// A drift–kick sequence is symmetric when its normal form is a palindrome
+/// ([`Splitting::flows`]: with gradient kicks, each flow's coefficient and
+/// gradient; the adjoint `Φ₋ₕ⁻¹` of `exp(kh B + gh³ C)` is itself, since
+/// `(−h)³ = −h³`, so the adjoint of a sequence is the sequence reversed).
 pub fn splitting_is_symmetric(s: &Splitting) -> bool {
-    let nf = s.normal_form();
+    let nf = s.flows();
     nf.iter().eq(nf.iter().rev())
 }

@@ -37,12 +37,28 @@ pub(crate) fn word_count(degrees: &[usize]) -> u64 {
         .sum()
 }
 
+/// One factor of a product of flows, in the order applied: `exp(x·X)` for a
+/// letter `X` (`0` is `A`, `1` is `B`), or a gradient kick
+/// `exp(k·B + g·[B,[A,B]])`.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Factor {
+    Letter(u8, Number),
+    Gradient { kick: Number, gradient: Number },
+}
+
 /// The coefficients `P[w]` of every word kept by the truncation `degrees`
 /// (see [`word_count`]), the empty word included.
-pub(crate) fn product_of_exponentials(
-    ops: &[(u8, Number)],
-    degrees: &[usize],
-) -> HashMap<Word, Number> {
+///
+/// A letter factor `exp(xX)` updates `P` through the trailing run of `X`
+/// (the fast path). A gradient factor `exp(E)`, `E = k·B + g·[B,[A,B]]`
+/// with `[B,[A,B]] = 2·BAB − BBA − ABB`, is expanded as the truncated
+/// exponential `exp(E)[v]` on every kept word `v` (only words whose
+/// letters `B` are all in the image of `E`'s words appear) and multiplied
+/// in: `P_new[w] = Σ_{w = uv} P[u]·exp(E)[v]`. Both `B` (degree 1, one `B`)
+/// and `[B,[A,B]]` (degree 3, two `B`s) map a kept word to kept or dropped
+/// words, and the dropped ones form an ideal, so the truncation is still
+/// exact.
+pub(crate) fn product_of_exponentials(ops: &[Factor], degrees: &[usize]) -> HashMap<Word, Number> {
     let mut words: Vec<Word> = Vec::new();
     for (j, &d) in degrees.iter().enumerate() {
         for n in j.max(1)..=d {
@@ -55,7 +71,15 @@ pub(crate) fn product_of_exponentials(
     let top = degrees.iter().copied().max().unwrap_or(0);
     let mut p: HashMap<Word, Number> = words.iter().map(|w| (*w, Number::zero())).collect();
     p.insert(Word::EMPTY, Number::one());
-    for (letter, x) in ops {
+    for factor in ops {
+        let (letter, x) = match factor {
+            Factor::Letter(letter, x) => (letter, x),
+            Factor::Gradient { kick, gradient } => {
+                let e = gradient_exponential(kick, gradient, &words);
+                multiply(&mut p, &words, &e);
+                continue;
+            }
+        };
         // x^r / r! for r = 0..=top.
         let mut scaled = vec![Number::one()];
         let mut fact = BigInt::from(1);
@@ -83,6 +107,83 @@ pub(crate) fn product_of_exponentials(
         }
     }
     p
+}
+
+/// `exp(k·B + g·[B,[A,B]])` on the kept words `words` (the empty word
+/// included, as `1`): `Σ_r E^r / r!` with `E`'s words `B` (coefficient
+/// `k`), `BAB` (`2g`), `BBA` and `ABB` (`−g`); a power `E^r` is the
+/// product of `r` of these, and a word is reached only by concatenations
+/// of them, so the sum stops once every word of `E^r` is longer than the
+/// longest kept word (`r` is at most that length).
+fn gradient_exponential(kick: &Number, gradient: &Number, words: &[Word]) -> HashMap<Word, Number> {
+    let kept: std::collections::HashSet<Word> = words.iter().copied().collect();
+    let top = words.iter().map(|w| usize::from(w.len)).max().unwrap_or(0);
+    let mut generators: Vec<(Word, Number)> = Vec::new();
+    if !kick.is_zero() {
+        generators.push((Word::from_letters(&[1]), kick.clone()));
+    }
+    if !gradient.is_zero() {
+        let two = gradient + gradient;
+        generators.push((Word::from_letters(&[1, 0, 1]), two));
+        generators.push((Word::from_letters(&[1, 1, 0]), -gradient));
+        generators.push((Word::from_letters(&[0, 1, 1]), -gradient));
+    }
+    let mut out: HashMap<Word, Number> = HashMap::new();
+    out.insert(Word::EMPTY, Number::one());
+    // power[w]: the coefficient of w in E^r / r!.
+    let mut power: HashMap<Word, Number> = HashMap::from([(Word::EMPTY, Number::one())]);
+    for r in 1..=top {
+        let mut next: HashMap<Word, Number> = HashMap::new();
+        for (u, x) in &power {
+            for (v, y) in &generators {
+                if usize::from(u.len) + usize::from(v.len) > top {
+                    continue;
+                }
+                let w = u.concat(v);
+                if !kept.contains(&w) {
+                    continue;
+                }
+                let term = x * y;
+                *next.entry(w).or_insert_with(Number::zero) += &term;
+            }
+        }
+        let inverse = BigRational::new(1.into(), BigInt::from(r));
+        next.retain(|_, x| !x.is_zero());
+        for x in next.values_mut() {
+            *x = x.scale(&inverse);
+        }
+        if next.is_empty() {
+            break;
+        }
+        for (w, x) in &next {
+            *out.entry(*w).or_insert_with(Number::zero) += x;
+        }
+        power = next;
+    }
+    out.retain(|_, x| !x.is_zero());
+    out
+}
+
+/// `P ← P·E` on the kept words: `P[w] = Σ_{w = uv} P[u]·E[v]`, the words
+/// updated longest first so that every prefix `u` still holds its old value.
+fn multiply(p: &mut HashMap<Word, Number>, words: &[Word], e: &HashMap<Word, Number>) {
+    for w in words {
+        let n = usize::from(w.len);
+        let mut add = Number::zero();
+        // v = the last r letters of w, r ≥ 1 (r = 0 is P[w]·1).
+        for r in 1..=n {
+            let Some(ev) = e.get(&w.slice(n - r, n)) else {
+                continue;
+            };
+            let pu = &p[&w.drop_last(r)];
+            if !pu.is_zero() {
+                add += &(pu * ev);
+            }
+        }
+        if !add.is_zero() {
+            *p.get_mut(w).expect("every word is kept") += &add;
+        }
+    }
 }
 
 /// The coefficient of `w` in `log P`, from the coefficients of its factors.
@@ -135,7 +236,10 @@ mod tests {
     /// (Baker–Campbell–Hausdorff), checked word by word.
     #[test]
     fn baker_campbell_hausdorff() {
-        let ops = [(0u8, Number::one()), (1u8, Number::one())];
+        let ops = [
+            Factor::Letter(0, Number::one()),
+            Factor::Letter(1, Number::one()),
+        ];
         let degrees = [3, 3, 3];
         let p = product_of_exponentials(&ops, &degrees);
         let w = |l: &[u8]| Word::from_letters(l);
@@ -159,11 +263,11 @@ mod tests {
     #[test]
     fn truncation_is_exact_on_kept_words() {
         let ops = [
-            (0u8, q(1, 3)),
-            (1u8, q(1, 2)),
-            (0u8, q(1, 3)),
-            (1u8, q(1, 2)),
-            (0u8, q(1, 3)),
+            Factor::Letter(0, q(1, 3)),
+            Factor::Letter(1, q(1, 2)),
+            Factor::Letter(0, q(1, 3)),
+            Factor::Letter(1, q(1, 2)),
+            Factor::Letter(0, q(1, 3)),
         ];
         let full = product_of_exponentials(&ops, &[6; 7]);
         let cut = product_of_exponentials(&ops, &[6, 6, 4, 3]);
@@ -172,5 +276,114 @@ mod tests {
             assert_eq!(log_coefficient(&full, *w), log_coefficient(&cut, *w));
         }
         assert!(cut.len() < full.len());
+    }
+
+    fn w(l: &[u8]) -> Word {
+        Word::from_letters(l)
+    }
+
+    /// A gradient kick with gradient 0 is the plain kick: the general
+    /// product (exponential of `E`, then `P·exp(E)`) agrees with the fast
+    /// path of the letter on every kept word, to degree 8.
+    #[test]
+    fn a_zero_gradient_is_the_plain_kick() {
+        let degrees = [8, 8, 6, 5, 4];
+        let plain = [
+            Factor::Letter(0, q(1, 3)),
+            Factor::Letter(1, q(3, 4)),
+            Factor::Letter(0, q(2, 3)),
+            Factor::Letter(1, q(1, 4)),
+        ];
+        let gradient = [
+            Factor::Letter(0, q(1, 3)),
+            Factor::Gradient {
+                kick: q(3, 4),
+                gradient: Number::zero(),
+            },
+            Factor::Letter(0, q(2, 3)),
+            Factor::Gradient {
+                kick: q(1, 4),
+                gradient: Number::zero(),
+            },
+        ];
+        let a = product_of_exponentials(&plain, &degrees);
+        let b = product_of_exponentials(&gradient, &degrees);
+        assert_eq!(a.len(), b.len());
+        for (word, x) in &a {
+            assert_eq!(&b[word], x, "{}", word.label());
+        }
+    }
+
+    /// `exp(g·[B,[A,B]])` alone: its logarithm is `g·(2·BAB − BBA − ABB)`,
+    /// nothing else up to degree 7 (the exponential's square `g²·C²/2` of
+    /// degree 6 cancels in the logarithm).
+    #[test]
+    fn a_pure_gradient_factor_is_the_double_bracket() {
+        let g = q(2, 7);
+        let ops = [Factor::Gradient {
+            kick: Number::zero(),
+            gradient: g.clone(),
+        }];
+        let degrees = [7, 7, 7, 7, 7];
+        let p = product_of_exponentials(&ops, &degrees);
+        // exp(E)[w] directly: E²/2 has (BAB)(BAB) with coefficient (2g)²/2.
+        assert_eq!(p[&w(&[1, 0, 1, 1, 0, 1])], &(&g * &g) * &q(2, 1));
+        assert_eq!(p[&w(&[0, 1, 1, 0, 1, 1])], &(&g * &g) * &q(1, 2));
+        assert_eq!(p[&w(&[1])], Number::zero());
+        for n in 1..=7 {
+            for j in 0..=4 {
+                for word in words_with(n, j) {
+                    let expected = match word.letters().as_slice() {
+                        [1, 0, 1] => &g + &g,
+                        [1, 1, 0] | [0, 1, 1] => -&g,
+                        _ => Number::zero(),
+                    };
+                    assert_eq!(log_coefficient(&p, word), expected, "{}", word.label());
+                }
+            }
+        }
+    }
+
+    /// Strang with a gradient kick, `exp(A/2) exp(B + g·[B,[A,B]]) exp(A/2)`:
+    /// `log = A + B − (1/24)[A,[A,B]] + (g − 1/12)[B,[A,B]] + O(h⁵)` (the
+    /// symmetric Baker–Campbell–Hausdorff formula: the plain Strang splitting
+    /// has `−(1/12)[B,[A,B]] = (1/12)[B,[B,A]]`, the sign of the test above).
+    /// With `[B,[A,B]] = 2·BAB − BBA − ABB`, the Lyndon coefficient of `AB²`
+    /// is `1/12 − g`: `1/12`, `1/24`, `0` for `g = 0, 1/24, 1/12`; the `εh³`
+    /// term `AAB` stays `−1/24`, and the degree-4 terms vanish (symmetric).
+    #[test]
+    fn strang_with_a_gradient_kick() {
+        for (g, abb) in [
+            (q(0, 1), q(1, 12)),
+            (q(1, 24), q(1, 24)),
+            (q(1, 12), q(0, 1)),
+        ] {
+            let ops = [
+                Factor::Letter(0, q(1, 2)),
+                Factor::Gradient {
+                    kick: Number::one(),
+                    gradient: g.clone(),
+                },
+                Factor::Letter(0, q(1, 2)),
+            ];
+            let p = product_of_exponentials(&ops, &[4, 4, 4, 4]);
+            assert_eq!(log_coefficient(&p, w(&[0])), q(1, 1));
+            assert_eq!(log_coefficient(&p, w(&[1])), q(1, 1));
+            assert_eq!(log_coefficient(&p, w(&[0, 1])), q(0, 1));
+            assert_eq!(log_coefficient(&p, w(&[0, 0, 1])), q(-1, 24), "g = {g}");
+            assert_eq!(log_coefficient(&p, w(&[0, 1, 1])), abb, "g = {g}");
+            // The other words of the same Lie element: BAB = 2(g − 1/12),
+            // BBA = 1/12 − g.
+            let two = q(2, 1);
+            assert_eq!(
+                log_coefficient(&p, w(&[1, 0, 1])),
+                &two * &(&g - &q(1, 12)),
+                "g = {g}"
+            );
+            assert_eq!(log_coefficient(&p, w(&[1, 1, 0])), abb, "g = {g}");
+            for word in [&[0, 0, 0, 1][..], &[0, 0, 1, 1], &[0, 1, 1, 1]] {
+                assert_eq!(log_coefficient(&p, w(word)), q(0, 1), "g = {g}");
+            }
+        }
     }
 }

@@ -13,6 +13,13 @@
 //! Laskar, Makazaga & Murua (2013; ABA(8,6,4) has `O(εh⁸ + ε²h⁶ + ε³h⁴)`).
 //! The orders are non-increasing and `p_m` is the classical order.
 //!
+//! **Gradient kicks.** A kick may be a gradient kick
+//! `exp(k·h·B + g·h³·[B,[A,B]])` ([`crate::Splitting`], `kick_gradient`):
+//! the product then multiplies by the truncated exponential of that
+//! element of the free algebra (`[B,[A,B]] = 2·BAB − BBA − ABB`, degree 3
+//! with two `B`s, so `g` carries `ε²`), and a gradient kick is never merged
+//! with a neighbouring kick. Everything below holds unchanged.
+//!
 //! **How it is decided.** The product of exponentials and its logarithm are
 //! computed in the free associative algebra on `{A, B}` truncated by
 //! (number of `B`s, degree) (module `algebra`): a non-increasing degree bound
@@ -41,6 +48,7 @@ use crate::budget::BeyondBudget;
 use crate::order::within;
 use crate::table::Op;
 use crate::{Number, Splitting, Table};
+pub use algebra::Factor;
 use algebra::{log_coefficient, log_work, product_of_exponentials, word_count};
 use words::{Word, bracket, is_lyndon, words_with};
 
@@ -59,7 +67,9 @@ pub const MAX_NEAR_WORDS: u64 = 1 << 16;
 pub const MAX_NEAR_FIELD_DEGREE: u64 = 16;
 
 /// The most products of exact numbers, estimated before the work starts:
-/// words × flows × the highest degree for the product of exponentials, plus
+/// words × flows × the highest degree for the product of exponentials (a
+/// gradient kick counting the highest degree + 4: its exponential and the
+/// product with it), plus
 /// `m³/6` per Lyndon word of `m` letters for the logarithm. Measured on the
 /// project's 2-core machine (dev profile, which is optimised): with the
 /// catalogue's 40-digit decimals a unit costs up to about 15 µs (ABA(10,6,4)
@@ -209,9 +219,11 @@ pub enum NearError {
     Budget(#[from] BeyondBudget),
 }
 
-/// The drift–kick sequence of a table: letters `0` (drift, `A`) and `1`
-/// (kick, `B`) with their coefficients, in the order applied.
-fn ops_of(table: &Table) -> Result<Vec<(u8, Number)>, NearError> {
+/// The drift–kick sequence of a table, in the order applied: letters `0`
+/// (drift, `A`) and `1` (kick, `B`) with their coefficients, and gradient
+/// kicks `exp(k·B + g·[B,[A,B]])` as [`Factor::Gradient`] (never merged
+/// with a neighbouring kick: `B` and `[B,[A,B]]` do not commute).
+fn ops_of(table: &Table) -> Result<Vec<Factor>, NearError> {
     let splitting: Splitting = match table {
         Table::Splitting(s) => s.clone(),
         Table::Composition(c) => c.to_splitting(),
@@ -219,16 +231,35 @@ fn ops_of(table: &Table) -> Result<Vec<(u8, Number)>, NearError> {
         Table::Prk(_) => return Err(NearError::Form("a partitioned pair")),
     };
     Ok(splitting
-        .normal_form()
+        .flows()
         .into_iter()
-        .map(|(op, x)| (u8::from(op == Op::Kick), x))
+        .map(|(op, x, g)| match op {
+            Op::Drift => Factor::Letter(0, x),
+            Op::Kick if g.is_zero() => Factor::Letter(1, x),
+            Op::Kick => Factor::Gradient {
+                kick: x,
+                gradient: g,
+            },
+        })
         .collect())
+}
+
+/// A factor with its coefficients negated: the inverse flow
+/// (`exp(−X) = exp(X)⁻¹`).
+fn inverse(f: &Factor) -> Factor {
+    match f {
+        Factor::Letter(l, x) => Factor::Letter(*l, -x),
+        Factor::Gradient { kick, gradient } => Factor::Gradient {
+            kick: -kick,
+            gradient: -gradient,
+        },
+    }
 }
 
 /// The drift–kick sequence of a processed method `χ Kⁿ χ⁻¹` per step, as
 /// applied: `χ⁻¹`'s flows, then the kernel `K`'s, then the corrector `χ`'s,
 /// neighbours of the same letter merged (`exp(xX) exp(yX) = exp((x + y)X)`)
-/// and what cancels dropped.
+/// and what cancels dropped; a gradient kick is merged with nothing.
 ///
 /// **Why this is the effective method.** The corrector `χ` is applied only
 /// at output and its inverse once on entry (Wisdom, Holman & Touma 1996;
@@ -240,26 +271,23 @@ fn ops_of(table: &Table) -> Result<Vec<(u8, Number)>, NearError> {
 /// `χ K χ⁻¹` is one drift–kick sequence and its orders are decided exactly
 /// as any sequence's. The corrector need not be consistent (its drifts and
 /// kicks typically sum to zero).
-pub fn processed_sequence(
-    kernel: &Table,
-    corrector: &Table,
-) -> Result<Vec<(u8, Number)>, NearError> {
+pub fn processed_sequence(kernel: &Table, corrector: &Table) -> Result<Vec<Factor>, NearError> {
     let k = ops_of(kernel)?;
     let chi = ops_of(corrector)?;
-    let mut ops: Vec<(u8, Number)> = chi.iter().rev().map(|(l, x)| (*l, -x)).collect();
+    let mut ops: Vec<Factor> = chi.iter().rev().map(inverse).collect();
     ops.extend(k);
     ops.extend(chi);
-    let mut merged: Vec<(u8, Number)> = Vec::with_capacity(ops.len());
-    for (l, x) in ops {
-        match merged.last_mut() {
-            Some((m, y)) if *m == l => {
-                *y += &x;
+    let mut merged: Vec<Factor> = Vec::with_capacity(ops.len());
+    for f in ops {
+        match (merged.last_mut(), &f) {
+            (Some(Factor::Letter(m, y)), Factor::Letter(l, x)) if m == l => {
+                *y += x;
                 if y.is_zero() {
                     merged.pop();
                 }
             }
-            _ if x.is_zero() => {}
-            _ => merged.push((l, x)),
+            (_, Factor::Letter(_, x)) if x.is_zero() => {}
+            _ => merged.push(f),
         }
     }
     Ok(merged)
@@ -271,17 +299,47 @@ pub fn processed_table(kernel: &Table, corrector: &Table) -> Result<Table, NearE
     let ops = processed_sequence(kernel, corrector)?;
     let mut drift = Vec::new();
     let mut kick = Vec::new();
-    if ops.first().is_some_and(|(l, _)| *l == 1) {
+    let mut gradient = Vec::new();
+    let is_drift = |f: &Factor| matches!(f, Factor::Letter(0, _));
+    if ops.first().is_some_and(|f| !is_drift(f)) {
         drift.push(Number::zero());
     }
-    for (l, x) in ops {
-        if l == 0 {
-            drift.push(x);
-        } else {
-            kick.push(x);
+    let mut last_drift = drift.len() == 1;
+    for f in ops {
+        // Two kicks in a row (a gradient kick beside a kick) are written
+        // with a zero drift between them, two drifts cannot occur (merged).
+        match f {
+            Factor::Letter(0, x) => {
+                drift.push(x);
+                last_drift = true;
+                continue;
+            }
+            _ if !last_drift => drift.push(Number::zero()),
+            _ => {}
+        }
+        last_drift = false;
+        match f {
+            Factor::Letter(_, x) => {
+                kick.push(x);
+                gradient.push(Number::zero());
+            }
+            Factor::Gradient {
+                kick: x,
+                gradient: g,
+            } => {
+                kick.push(x);
+                gradient.push(g);
+            }
         }
     }
-    Ok(Table::Splitting(Splitting::new(drift, kick)))
+    if gradient.iter().all(Number::is_zero) {
+        gradient.clear();
+    }
+    Ok(Table::Splitting(Splitting {
+        drift,
+        kick,
+        gradient,
+    }))
 }
 
 /// The effective generalised orders of a kernel `K` with a corrector
@@ -329,7 +387,7 @@ pub fn check_processed_claim(
         )),
         Claim::Symmetric => {
             let ops = match &effective {
-                Table::Splitting(s) => s.normal_form(),
+                Table::Splitting(s) => s.flows(),
                 _ => unreachable!("processed_table builds a sequence"),
             };
             let n = ops.len();
@@ -356,9 +414,9 @@ pub fn near_orders(
     decide_ops(&ops_of(table)?, degrees, bound)
 }
 
-/// [`near_orders`] of a sequence of flows (`0` drift, `1` kick).
+/// [`near_orders`] of a sequence of flows.
 fn decide_ops(
-    ops: &[(u8, Number)],
+    ops: &[Factor],
     degrees: &[usize],
     bound: Option<&Number>,
 ) -> Result<NearReport, NearError> {
@@ -420,10 +478,7 @@ pub fn near_coefficients(
 /// Check the degrees against the budgets; the truncation (with `D(0) =
 /// D(1)`) and the Lyndon words of each part.
 #[allow(clippy::type_complexity)]
-fn prepare(
-    ops: &[(u8, Number)],
-    degrees: &[usize],
-) -> Result<(Vec<usize>, Vec<Vec<Word>>), NearError> {
+fn prepare(ops: &[Factor], degrees: &[usize]) -> Result<(Vec<usize>, Vec<Vec<Word>>), NearError> {
     if degrees.is_empty() || degrees.contains(&0) {
         return Err(NearError::Degrees(
             "the degrees examined are a nonempty list of positive numbers".into(),
@@ -445,7 +500,10 @@ fn prepare(
     // to d² products of rationals, which the work estimate below does not
     // count: an entry such as 1/(cbrt(2) + … + cbrt(11)) (d = 243) ran 27 s
     // on ABA(10,4). The catalogue's coefficients span degree 8 at most.
-    let degree = crate::number::field_degree(ops.iter().map(|(_, x)| x));
+    let degree = crate::number::field_degree(ops.iter().flat_map(|f| match f {
+        Factor::Letter(_, x) => vec![x],
+        Factor::Gradient { kick, gradient } => vec![kick, gradient],
+    }));
     if degree > MAX_NEAR_FIELD_DEGREE {
         return Err(BeyondBudget(format!(
             "the coefficients span a field of degree {degree} over Q, and the near-integrable verifier takes at most degree {MAX_NEAR_FIELD_DEGREE} (tableau::near_integrable::MAX_NEAR_FIELD_DEGREE)"
@@ -470,7 +528,19 @@ fn prepare(
                 .collect()
         })
         .collect();
-    let work = count.saturating_mul(ops.len() as u64 * top as u64)
+    // A letter factor updates each word through its trailing run: at most
+    // `top` products per word. A gradient factor costs its exponential (each
+    // kept word is reached by one power of E, from at most 4 words of the
+    // power below: 4 products per word) and the product with it (at most
+    // `top` suffixes per word): `top + 4` per word.
+    let factor_work: u64 = ops
+        .iter()
+        .map(|f| match f {
+            Factor::Letter(..) => top as u64,
+            Factor::Gradient { .. } => top as u64 + 4,
+        })
+        .sum();
+    let work = count.saturating_mul(factor_work)
         + lyndon
             .iter()
             .flatten()

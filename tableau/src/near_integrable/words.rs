@@ -64,6 +64,16 @@ impl Word {
         }
     }
 
+    /// `self` followed by `other` (at most 32 letters in all).
+    pub fn concat(&self, other: &Word) -> Word {
+        let len = usize::from(self.len) + usize::from(other.len);
+        assert!(len <= 32, "words stay short");
+        Word {
+            len: u8::try_from(len).expect("words stay short"),
+            bits: self.bits | other.bits.checked_shl(u32::from(self.len)).unwrap_or(0),
+        }
+    }
+
     /// The word without its last `r` letters.
     pub fn drop_last(&self, r: usize) -> Word {
         self.slice(0, usize::from(self.len) - r)

@@ -74,6 +74,10 @@ pub enum ConditionKind {
     Tree,
     /// A word in the generators `Y₁, Y₃, Y₅, …` of a composition.
     Word,
+    /// A Lie term of `log Φ` for a splitting `H = A + B`, named by its Lie
+    /// element and leading Lyndon word ([`crate::near_integrable`]); the
+    /// order of a sequence with gradient kicks, which has no trees.
+    LieTerm,
 }
 
 impl ConditionKind {
@@ -82,6 +86,7 @@ impl ConditionKind {
         match self {
             ConditionKind::Tree => "tree",
             ConditionKind::Word => "word",
+            ConditionKind::LieTerm => "Lie term",
         }
     }
 }
@@ -139,7 +144,7 @@ impl fmt::Display for Failure {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let (lhs, rhs) = match self.kind {
             ConditionKind::Tree => ("Φ(t)", "1/γ(t)"),
-            ConditionKind::Word => ("coefficient", "target"),
+            ConditionKind::Word | ConditionKind::LieTerm => ("coefficient", "target"),
         };
         write!(
             f,
