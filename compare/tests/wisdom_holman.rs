@@ -210,7 +210,10 @@ fn the_lazy_modified_kick_kernel_converges_at_order_four() {
     let p_plain = order(errors[1].0, errors[2].0);
     let p_lazy = order(errors[1].1, errors[2].1);
     println!("orders: wh:leapfrog-c17 {p_plain:.2}, wh:whckl-c17 {p_lazy:.2}");
-    assert!((p_plain - 2.0).abs() < 0.2, "wh:leapfrog-c17: order {p_plain}");
+    assert!(
+        (p_plain - 2.0).abs() < 0.2,
+        "wh:leapfrog-c17: order {p_plain}"
+    );
     assert!((p_lazy - 4.0).abs() < 0.3, "wh:whckl-c17: order {p_lazy}");
     let Method::Fixed(f) = Method::by_id("wh:whckl-c17", &setup.sys).unwrap() else {
         unreachable!()

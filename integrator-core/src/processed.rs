@@ -154,7 +154,10 @@ impl Sequence {
         for (op, x) in s.ops() {
             let g = if op == tableau::table::Op::Kick {
                 kicks += 1;
-                s.gradient.get(kicks - 1).cloned().unwrap_or_else(|| zero.clone())
+                s.gradient
+                    .get(kicks - 1)
+                    .cloned()
+                    .unwrap_or_else(|| zero.clone())
             } else {
                 zero.clone()
             };

@@ -99,7 +99,11 @@ fn a_sequence_calls_gradient_kicks_with_gamma_g_h_cubed() {
         ]
     );
     // A gradient kick at the ends does not merge with the next step's.
-    let kdk = Sequence::with_gradients([(Part::B, 0.5, 0.1), (Part::A, 1.0, 0.0), (Part::B, 0.5, 0.1)]);
+    let kdk = Sequence::with_gradients([
+        (Part::B, 0.5, 0.1),
+        (Part::A, 1.0, 0.0),
+        (Part::B, 0.5, 0.1),
+    ]);
     assert!(!kdk.merges());
 }
 
@@ -113,10 +117,22 @@ fn a_system_without_gradient_kicks_refuses_them_naming_the_part() {
         }
     }
     impl Split for Plain {
-        fn flow_a(&self, _: f64, _: &mut [f64], _: PartBuffers<'_>, _: bool) -> Result<(), FlowError> {
+        fn flow_a(
+            &self,
+            _: f64,
+            _: &mut [f64],
+            _: PartBuffers<'_>,
+            _: bool,
+        ) -> Result<(), FlowError> {
             Ok(())
         }
-        fn flow_b(&self, _: f64, _: &mut [f64], _: PartBuffers<'_>, _: bool) -> Result<(), FlowError> {
+        fn flow_b(
+            &self,
+            _: f64,
+            _: &mut [f64],
+            _: PartBuffers<'_>,
+            _: bool,
+        ) -> Result<(), FlowError> {
             Ok(())
         }
     }
@@ -126,7 +142,11 @@ fn a_system_without_gradient_kicks_refuses_them_naming_the_part() {
     match &err {
         StepError::Solve {
             step: 1,
-            source: SolveError::Flow { part: Part::B, source },
+            source:
+                SolveError::Flow {
+                    part: Part::B,
+                    source,
+                },
             ..
         } => assert!(source.to_string().contains("no gradient kick"), "{source}"),
         other => panic!("{other:?}"),
@@ -180,7 +200,11 @@ fn run<S: Split>(kernel: &Sequence, sys: &S, z0: &[f64], t: f64, n: usize) -> Ve
 }
 
 fn dist(a: &[f64], b: &[f64]) -> f64 {
-    a.iter().zip(b).map(|(x, y)| (x - y) * (x - y)).sum::<f64>().sqrt()
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| (x - y) * (x - y))
+        .sum::<f64>()
+        .sqrt()
 }
 
 #[test]
@@ -201,7 +225,10 @@ fn the_gradient_kernel_with_the_corrector_has_an_eps2_h4_error() {
                 let reference = run(&kernel(1.0 / 24.0), &sys, &z0, t, 1600);
                 *e = dist(&run(&k, &sys, &z0, t, n), &reference);
             }
-            println!("g = {g:.4}: n = {n}: error {:.3e} (ε = 0.02), {:.3e} (ε = 0.04)", errs[0], errs[1]);
+            println!(
+                "g = {g:.4}: n = {n}: error {:.3e} (ε = 0.02), {:.3e} (ε = 0.04)",
+                errs[0], errs[1]
+            );
             points.push((t / n as f64, errs[0]));
             powers.push((errs[1] / errs[0]).log2());
         }
@@ -209,7 +236,10 @@ fn the_gradient_kernel_with_the_corrector_has_an_eps2_h4_error() {
         let power = powers.iter().sum::<f64>() / powers.len() as f64;
         println!("g = {g:.4}: slope {s:.2}, ε power {power:.2}");
         assert!((s - p2).abs() < 0.3, "g = {g}: slope {s:.2}, expected {p2}");
-        assert!((power - 2.0).abs() < 0.3, "g = {g}: ε power {power:.2}, expected 2");
+        assert!(
+            (power - 2.0).abs() < 0.3,
+            "g = {g}: ε power {power:.2}, expected 2"
+        );
     }
 }
 
@@ -258,7 +288,10 @@ fn the_lazy_modified_kick_gives_the_wisdom_holman_kernel_its_eps2_h4_error() {
                 let reference = run_jacobi(&kernel(1.0 / 24.0), &split, &z0, t, 1600);
                 *e = dist(&run_jacobi(&k, &split, &z0, t, n), &reference);
             }
-            println!("g = {g:.4}: n = {n}: error {:.3e} (ε = 1e-3), {:.3e} (2e-3)", errs[0], errs[1]);
+            println!(
+                "g = {g:.4}: n = {n}: error {:.3e} (ε = 1e-3), {:.3e} (2e-3)",
+                errs[0], errs[1]
+            );
             points.push((t / n as f64, errs[0]));
             powers.push((errs[1] / errs[0]).log2());
         }
@@ -280,6 +313,8 @@ fn a_lazy_kick_without_kick_time_is_an_error() {
     let (split, z0) = two_planets(1e-3);
     let mut w = vec![0.0; z0.len()];
     split.from_inertial_checked(&z0, &mut w).unwrap();
-    let err = split.interaction_kick_gradient(0.0, 1e-3, &mut w).unwrap_err();
+    let err = split
+        .interaction_kick_gradient(0.0, 1e-3, &mut w)
+        .unwrap_err();
     assert!(err.to_string().contains("gradient kick"), "{err}");
 }

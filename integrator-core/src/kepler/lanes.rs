@@ -121,7 +121,7 @@ impl KeplerSolver {
                     vs[k][l] = v[s][k];
                 }
             }
-            Some(self.quick(g, h, xs, vs))
+            Some(self.quick_dispatch(g, h, xs, vs))
         } else {
             None
         };
@@ -137,6 +137,38 @@ impl KeplerSolver {
             }
         }
         Ok(())
+    }
+
+    /// [`quick`](Self::quick) compiled for AVX2 where the processor has it
+    /// (one 256-bit register holds the four lanes; the baseline x86-64
+    /// build has only SSE2's two), else as built. The same operations in the
+    /// same order either way — IEEE addition, multiplication, division and
+    /// square root round alike at any vector width, and Rust fuses no
+    /// multiply–add — so the bits do not depend on the path (the lanes are
+    /// tested against the scalar solve on whichever this machine takes).
+    #[allow(clippy::type_complexity)]
+    #[inline]
+    fn quick_dispatch(
+        &self,
+        gm: L,
+        h: f64,
+        x: [L; 3],
+        v: [L; 3],
+    ) -> ([L; 3], [L; 3], [bool; LANES]) {
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") {
+            // SAFETY: the processor has AVX2 (checked just above).
+            return unsafe { self.quick_avx2(gm, h, x, v) };
+        }
+        self.quick(gm, h, x, v)
+    }
+
+    /// [`quick`](Self::quick), inlined into a function compiled with AVX2.
+    #[cfg(target_arch = "x86_64")]
+    #[allow(clippy::type_complexity)]
+    #[target_feature(enable = "avx2")]
+    fn quick_avx2(&self, gm: L, h: f64, x: [L; 3], v: [L; 3]) -> ([L; 3], [L; 3], [bool; LANES]) {
+        self.quick(gm, h, x, v)
     }
 
     /// The scalar solve's one-evaluation path in every lane (see

@@ -307,7 +307,13 @@ impl Jacobi {
     /// `Pᵢ += h·m'ᵢQ̈ᵢ(q)` for every planet, with `6n` zeroed scratch
     /// numbers; an error names the first body whose momentum is not finite.
     #[inline(always)]
-    fn kick_at(&self, h: f64, q: &[f64], p: &mut [f64], scratch: &mut [f64]) -> Result<(), WhError> {
+    fn kick_at(
+        &self,
+        h: f64,
+        q: &[f64],
+        p: &mut [f64],
+        scratch: &mut [f64],
+    ) -> Result<(), WhError> {
         let n = self.bodies.n();
         let (x, a) = scratch.split_at_mut(3 * n);
         self.accelerations(q, x, a);
