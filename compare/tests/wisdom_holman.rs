@@ -46,6 +46,17 @@ fn run(setup: &Setup<OuterSolarSystem>, id: &str, n: usize) -> (f64, u64) {
     (setup.error(&z), out.evals)
 }
 
+/// The kicks (force evaluations) of the catalogue's processed method
+/// `id`'s corrector.
+fn corrector_kicks(id: &str) -> u64 {
+    let file = tableau::catalogue::load(id).unwrap();
+    integrator_core::processed::Sequence::from_splitting(file.corrector.as_ref().unwrap())
+        .ops()
+        .iter()
+        .filter(|(p, _)| *p == integrator_core::Part::B)
+        .count() as u64
+}
+
 #[test]
 fn wisdom_holman_converges_with_the_order_of_the_splitting() {
     let setup = builtin::outer_solar(2.0e4, true).unwrap();
@@ -127,13 +138,7 @@ fn what_is_not_a_splitting_is_refused_by_name() {
 #[test]
 fn a_corrector_at_output_only_removes_the_leading_error() {
     let setup = builtin::outer_solar(2.0e4, true).unwrap();
-    let file = tableau::catalogue::load("leapfrog-c11").unwrap();
-    let kicks =
-        integrator_core::processed::Sequence::from_splitting(file.corrector.as_ref().unwrap())
-            .ops()
-            .iter()
-            .filter(|(p, _)| *p == integrator_core::Part::B)
-            .count() as u64;
+    let kicks = corrector_kicks("leapfrog-c11");
     let mut errors = Vec::new();
     for n in [100, 200, 400] {
         let (plain, _) = run(&setup, "wh:leapfrog", n);
@@ -184,13 +189,7 @@ fn a_corrector_at_output_only_removes_the_leading_error() {
 #[test]
 fn the_lazy_modified_kick_kernel_converges_at_order_four() {
     let setup = builtin::outer_solar(2.0e4, true).unwrap();
-    let file = tableau::catalogue::load("whckl-c17").unwrap();
-    let kicks =
-        integrator_core::processed::Sequence::from_splitting(file.corrector.as_ref().unwrap())
-            .ops()
-            .iter()
-            .filter(|(p, _)| *p == integrator_core::Part::B)
-            .count() as u64;
+    let kicks = corrector_kicks("whckl-c17");
     let mut errors = Vec::new();
     for n in [100, 200, 400] {
         let (plain, _) = run(&setup, "wh:leapfrog-c17", n);

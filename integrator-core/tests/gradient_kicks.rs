@@ -207,34 +207,46 @@ fn dist(a: &[f64], b: &[f64]) -> f64 {
         .sqrt()
 }
 
+/// The error of `kernel(g)` with the corrector against `error(kernel, ε, n)`
+/// at `n = 50, 100, 200` steps over `t`: its slope in `h` (at `eps[0]`) and
+/// `log₂` of its growth from `eps[0]` to `eps[1] = 2·eps[0]`.
+fn scaling(
+    g: f64,
+    t: f64,
+    eps: [f64; 2],
+    error: impl Fn(&Sequence, f64, usize) -> f64,
+) -> (f64, f64) {
+    let k = kernel(g);
+    let mut points = Vec::new();
+    let mut powers = Vec::new();
+    for n in [50, 100, 200] {
+        let errs = eps.map(|e| error(&k, e, n));
+        println!(
+            "g = {g:.4}: n = {n}: error {:.3e} (ε = {:e}), {:.3e} (ε = {:e})",
+            errs[0], eps[0], errs[1], eps[1]
+        );
+        points.push((t / n as f64, errs[0]));
+        powers.push((errs[1] / errs[0]).log2());
+    }
+    let s = slope(&points);
+    let power = powers.iter().sum::<f64>() / powers.len() as f64;
+    println!("g = {g:.4}: slope {s:.2}, ε power {power:.2}");
+    (s, power)
+}
+
 #[test]
 fn the_gradient_kernel_with_the_corrector_has_an_eps2_h4_error() {
     // ε = 0.02 and 0.04, T = 20, h = 0.4 … 0.1: the ε term (order 18 with
-    // the corrector) is far below the ε² term. The reference: the same
+    // the corrector) is far below the ε² term. The reference: the gradient
     // kernel at h = 0.0125 (its ε²h⁴ error 4096× below h = 0.1's).
     let z0 = [1.0, 0.5];
     let t = 20.0;
     for (g, p2) in [(1.0 / 24.0, 4.0), (0.0, 2.0)] {
-        let k = kernel(g);
-        let mut points = Vec::new();
-        let mut powers = Vec::new();
-        for n in [50, 100, 200] {
-            let mut errs = [0.0; 2];
-            for (e, eps) in errs.iter_mut().zip([0.02, 0.04]) {
-                let sys = Quartic { eps };
-                let reference = run(&kernel(1.0 / 24.0), &sys, &z0, t, 1600);
-                *e = dist(&run(&k, &sys, &z0, t, n), &reference);
-            }
-            println!(
-                "g = {g:.4}: n = {n}: error {:.3e} (ε = 0.02), {:.3e} (ε = 0.04)",
-                errs[0], errs[1]
-            );
-            points.push((t / n as f64, errs[0]));
-            powers.push((errs[1] / errs[0]).log2());
-        }
-        let s = slope(&points);
-        let power = powers.iter().sum::<f64>() / powers.len() as f64;
-        println!("g = {g:.4}: slope {s:.2}, ε power {power:.2}");
+        let (s, power) = scaling(g, t, [0.02, 0.04], |k, eps, n| {
+            let sys = Quartic { eps };
+            let reference = run(&kernel(1.0 / 24.0), &sys, &z0, t, 1600);
+            dist(&run(k, &sys, &z0, t, n), &reference)
+        });
         assert!((s - p2).abs() < 0.3, "g = {g}: slope {s:.2}, expected {p2}");
         assert!(
             (power - 2.0).abs() < 0.3,
@@ -278,26 +290,11 @@ fn the_lazy_modified_kick_gives_the_wisdom_holman_kernel_its_eps2_h4_error() {
     // gradient kernel at h = 0.0075.
     let t = 12.0;
     for (g, p2) in [(1.0 / 24.0, 4.0), (0.0, 2.0)] {
-        let k = kernel(g);
-        let mut points = Vec::new();
-        let mut powers = Vec::new();
-        for n in [50, 100, 200] {
-            let mut errs = [0.0; 2];
-            for (e, eps) in errs.iter_mut().zip([1e-3, 2e-3]) {
-                let (split, z0) = two_planets(eps);
-                let reference = run_jacobi(&kernel(1.0 / 24.0), &split, &z0, t, 1600);
-                *e = dist(&run_jacobi(&k, &split, &z0, t, n), &reference);
-            }
-            println!(
-                "g = {g:.4}: n = {n}: error {:.3e} (ε = 1e-3), {:.3e} (2e-3)",
-                errs[0], errs[1]
-            );
-            points.push((t / n as f64, errs[0]));
-            powers.push((errs[1] / errs[0]).log2());
-        }
-        let s = slope(&points);
-        let power = powers.iter().sum::<f64>() / powers.len() as f64;
-        println!("g = {g:.4}: slope {s:.2}, ε power {power:.2}");
+        let (s, power) = scaling(g, t, [1e-3, 2e-3], |k, eps, n| {
+            let (split, z0) = two_planets(eps);
+            let reference = run_jacobi(&kernel(1.0 / 24.0), &split, &z0, t, 1600);
+            dist(&run_jacobi(k, &split, &z0, t, n), &reference)
+        });
         assert!((s - p2).abs() < 0.3, "g = {g}: slope {s:.2}, expected {p2}");
         // No ε term (it is of order 18); the ε³ part is of order 4 as well
         // (proven), so with the gradient the power lies between 2 and 3.

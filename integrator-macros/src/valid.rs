@@ -347,21 +347,7 @@ fn build_table(
             );
             return None;
         };
-        if let Some(other) = [
-            "a",
-            "b",
-            "c",
-            "a_hat",
-            "b_hat",
-            "c_hat",
-            "drift",
-            "kick",
-            "kick_gradient",
-            "compose",
-        ]
-        .iter()
-        .find(|k| has(k))
-        {
+        if let Some(other) = tableau::file::TABLE_FIELDS.iter().find(|k| has(k)) {
             errs.push(
                 fields[*other].span(),
                 "`kernel` names the kernel, so the table gives none inline",

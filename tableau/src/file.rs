@@ -107,6 +107,22 @@ impl fmt::Display for FileError {
 impl std::error::Error for FileError {}
 
 /// The top-level keys of a table file.
+/// The fields that write a table inline (every form's), which a file
+/// naming its kernel (`kernel = "ID"`) must not give; the `butcher!` macro
+/// checks the same list.
+pub const TABLE_FIELDS: [&str; 10] = [
+    "a",
+    "b",
+    "c",
+    "a_hat",
+    "b_hat",
+    "c_hat",
+    "drift",
+    "kick",
+    "kick_gradient",
+    "compose",
+];
+
 pub const KEYS: [&str; 17] = [
     "name",
     "source",
@@ -638,21 +654,10 @@ impl Cx<'_> {
         v: &Value<'_>,
     ) -> Result<Table, FileError> {
         let id = self.string("kernel", v)?;
-        let inline: Vec<&str> = [
-            "a",
-            "b",
-            "c",
-            "a_hat",
-            "b_hat",
-            "c_hat",
-            "drift",
-            "kick",
-            "kick_gradient",
-            "compose",
-        ]
-        .into_iter()
-        .filter(|k| fields.contains_key(k))
-        .collect();
+        let inline: Vec<&str> = TABLE_FIELDS
+            .into_iter()
+            .filter(|k| fields.contains_key(k))
+            .collect();
         if let Some(k) = inline.first() {
             return Err(self.field_err(
                 k,
