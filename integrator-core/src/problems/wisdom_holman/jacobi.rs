@@ -324,14 +324,7 @@ impl Jacobi {
             for k in 0..3 {
                 p[3 * i + k] += hm * qdd[k];
             }
-            if !(p[3 * i].is_finite() && p[3 * i + 1].is_finite() && p[3 * i + 2].is_finite()) {
-                return Err(WhError::NonFinite {
-                    part: "interaction",
-                    body: i,
-                    name: self.bodies.name(i),
-                    step: None,
-                });
-            }
+            self.bodies.check_kicked(p, i)?;
         }
         Ok(())
     }

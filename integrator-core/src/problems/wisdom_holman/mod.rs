@@ -83,6 +83,21 @@ impl Bodies {
         self.names.as_ref().map(|n| n[i].clone())
     }
 
+    /// Body `i`'s momentum in `p` after an interaction kick: an error
+    /// naming the body and the part where it is not finite.
+    #[inline]
+    fn check_kicked(&self, p: &[f64], i: usize) -> Result<(), WhError> {
+        if p[3 * i].is_finite() && p[3 * i + 1].is_finite() && p[3 * i + 2].is_finite() {
+            return Ok(());
+        }
+        Err(WhError::NonFinite {
+            part: "interaction",
+            body: i,
+            name: self.name(i),
+            step: None,
+        })
+    }
+
     fn check_len(&self, what: &'static str, z: &[f64]) -> Result<(), WhError> {
         let expected = 6 * self.n();
         if z.len() != expected {
