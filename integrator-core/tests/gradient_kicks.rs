@@ -11,9 +11,12 @@
 use std::cell::RefCell;
 
 use integrator_core::problems::wisdom_holman::Jacobi;
+
+mod quartic;
 use integrator_core::processed::{self, Processed, Sequence};
 use integrator_core::scheme::SplitWorkspace;
 use integrator_core::{FlowError, Part, PartBuffers, SolveError, Split, StateSpace, StepError};
+use quartic::Quartic;
 
 /// The corrector of order 17 (Wisdom 2006, as REBOUND's), from the
 /// catalogue's WHCKC entry, which shares it.
@@ -150,44 +153,6 @@ fn a_system_without_gradient_kicks_refuses_them_naming_the_part() {
             ..
         } => assert!(source.to_string().contains("no gradient kick"), "{source}"),
         other => panic!("{other:?}"),
-    }
-}
-
-/// `H = (q² + p²)/2 + ε q⁴/4`, split as the oscillator and the quartic kick,
-/// with the exact gradient kick: `{V,{T,V}} = −V'² = −ε²q⁶`, so
-/// `exp(hB + γ[B,[A,B]])` is `p ← p − hεq³ + 6γε²q⁵`.
-struct Quartic {
-    eps: f64,
-}
-
-impl StateSpace for Quartic {
-    fn state_len(&self) -> usize {
-        2
-    }
-}
-
-impl Split for Quartic {
-    fn flow_a(&self, h: f64, z: &mut [f64], _: PartBuffers<'_>, _: bool) -> Result<(), FlowError> {
-        let (s, c) = h.sin_cos();
-        let (q, p) = (z[0], z[1]);
-        z[0] = c * q + s * p;
-        z[1] = c * p - s * q;
-        Ok(())
-    }
-    fn flow_b(&self, h: f64, z: &mut [f64], _: PartBuffers<'_>, _: bool) -> Result<(), FlowError> {
-        z[1] -= h * self.eps * z[0].powi(3);
-        Ok(())
-    }
-    fn flow_b_gradient(
-        &self,
-        h: f64,
-        gamma: f64,
-        z: &mut [f64],
-        _: PartBuffers<'_>,
-    ) -> Result<(), FlowError> {
-        let q = z[0];
-        z[1] += -h * self.eps * q.powi(3) + 6.0 * gamma * self.eps * self.eps * q.powi(5);
-        Ok(())
     }
 }
 

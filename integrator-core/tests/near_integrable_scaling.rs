@@ -20,34 +20,11 @@
 //! 2001), proven exactly by `butcher!` from their catalogue claims.
 
 use integrator_core::library::{KahanLi8, Saba2, Saba3, Sbab2, Sbab3};
-use integrator_core::{
-    FlowError, PartBuffers, Scheme, Separable, Split, StateSpace, Step, integrate,
-};
+use integrator_core::{Scheme, Separable, Step, integrate};
 
 /// `H = (q² + p²)/2 + ε q⁴/4`, split as the oscillator and the quartic kick.
-struct Perturbed {
-    eps: f64,
-}
-
-impl StateSpace for Perturbed {
-    fn state_len(&self) -> usize {
-        2
-    }
-}
-
-impl Split for Perturbed {
-    fn flow_a(&self, h: f64, z: &mut [f64], _: PartBuffers<'_>, _: bool) -> Result<(), FlowError> {
-        let (s, c) = h.sin_cos();
-        let (q, p) = (z[0], z[1]);
-        z[0] = c * q + s * p;
-        z[1] = c * p - s * q;
-        Ok(())
-    }
-    fn flow_b(&self, h: f64, z: &mut [f64], _: PartBuffers<'_>, _: bool) -> Result<(), FlowError> {
-        z[1] -= h * self.eps * z[0] * z[0] * z[0];
-        Ok(())
-    }
-}
+mod quartic;
+use quartic::Quartic as Perturbed;
 
 /// The same `H` as a separable Hamiltonian, for the reference.
 struct Whole {
