@@ -384,3 +384,39 @@ fn the_parallel_loops_agree_to_round_off() {
         .fold(0.0, f64::max);
     assert!(worst <= 1e-12, "{worst:e} ({same} of {} equal)", a.len());
 }
+
+#[test]
+fn the_wave_number_of_a_sheet_hanging_at_rest_is_its_static_tension() {
+    // Gravity in the sheet's plane: it hangs at rest, and every vertical
+    // edge carries the weight of the particles below it. The particle in
+    // row 1 of an n-row sheet hangs by an edge holding n − 1 particles and
+    // holds one holding n − 2, so the largest wave number is
+    // h·ω = 4·√(½(Λ_up + Λ_down)) with Λ = T·h²/(4·m·L) and T = k·m·|g|:
+    // h·ω = 2·h·√((n − 3/2)·|g|/L), which is 2·h/(the model's tension-wave
+    // step) up to √((n − 3/2)/(n − 1)).
+    let n = 12;
+    let mut scene = hanging(n, 1, 20);
+    scene.gravity = [0.0, -9.81, 0.0];
+    scene.simulation.frame_rate = 240.0;
+    let mut sim = Simulation::new(&scene).unwrap();
+    let h = 1.0 / 240.0;
+    let report = sim
+        .run(&rattle(), &RunSettings::from_scene(&scene), |_| Ok(()))
+        .unwrap();
+    let SolverStats::Constrained(stats) = report.solver else {
+        panic!("{:?}", report.solver)
+    };
+    let l = 1.0 / (n - 1) as f64;
+    let expected = 2.0 * h * ((n as f64 - 1.5) * 9.81 / l).sqrt();
+    let rel = (stats.max_wave_number - expected).abs() / expected;
+    assert!(
+        rel < 1e-6,
+        "wave number {} against the static {expected}",
+        stats.max_wave_number
+    );
+    let estimate = 2.0 * h / sim.model.tension_wave_step().unwrap();
+    let ratio = expected / estimate;
+    assert!((ratio - ((n as f64 - 1.5) / (n as f64 - 1.0)).sqrt()).abs() < 1e-12);
+    // The summary's figure is below RATTLE's limit of 2 at this step.
+    assert!(stats.max_wave_number < 2.0);
+}

@@ -255,6 +255,11 @@ impl Summary<'_> {
                 );
                 let _ = writeln!(
                     s,
+                    "  tension      largest transverse-wave number h·ω = 4·√(½ΣΛ) {} (RATTLE steps these waves explicitly: stable below 2)",
+                    fixed(st.max_wave_number, 3)
+                );
+                let _ = writeln!(
+                    s,
                     "  time split   forces {} %, constraint loops {} %, factorisation {} %, solves {} %",
                     pc(t.forces),
                     pc(t.constraints),

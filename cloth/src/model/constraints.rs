@@ -211,6 +211,32 @@ impl EdgeConstraints {
         });
     }
 
+    /// The largest transverse-wave number `h·ω` of the sheet under the
+    /// tensions of the scaled multipliers `Λ = h²λ/(2m)`, over the free
+    /// particles: `4·√(½·Σ_c Λ_c)` over a particle's edges in tension.
+    ///
+    /// An edge in tension `T_c = 2·L_c·λ_c = 4·m·L_c·Λ_c/h²` carries
+    /// transverse waves of a chain of particles of mass `m`; their fastest
+    /// grid mode has `ω = 2·√(T/(m·L))`, so `h·ω = 4·√Λ`, a number free of
+    /// units. A particle pulled along both grid directions adds the two
+    /// (`ω² = 4(T_x + T_y)/(m·L)`; each direction's tension the mean of its
+    /// two edges, hence the ½). RATTLE takes the constraint forces'
+    /// directions from the start of a step, so these waves are stepped
+    /// explicitly, as by Störmer–Verlet, which is stable only for
+    /// `h·ω < 2`.
+    pub(crate) fn wave_number(&self, lambda: &[f64]) -> f64 {
+        let (inc_ptr, inc) = (&self.inc_ptr, &self.inc);
+        let mut worst = 0.0f64;
+        for v in 0..inc_ptr.len() - 1 {
+            let sum: f64 = inc[inc_ptr[v] as usize..inc_ptr[v + 1] as usize]
+                .iter()
+                .map(|&(c, _)| lambda[c as usize].max(0.0))
+                .sum();
+            worst = worst.max(sum);
+        }
+        4.0 * (0.5 * worst).sqrt()
+    }
+
     /// The values of the lower triangle of `G(q)·G(q)ᵀ` in the pattern's
     /// order, `d` the edge vectors at `q`.
     fn assemble(&self, d: &[[f64; 3]], values: &mut [f64], parallel: bool) {

@@ -136,6 +136,10 @@ pub struct Stats {
     /// The largest scaled residual `max_c |g_c|/(L_c(L_c + ‖q‖_∞))` a step
     /// ended with (at most [`CONSTRAINT_TOLERANCE`]).
     pub max_residual: f64,
+    /// The largest transverse-wave number `h·ω = 4·√(½·Σ_c Λ_c)` a step
+    /// ended with (its tensions; RATTLE is stable only below 2, so this is
+    /// how close the run came to its step's limit).
+    pub max_wave_number: f64,
     pub seconds: Timing,
 }
 
@@ -150,12 +154,14 @@ impl Stats {
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum RattleError {
     #[error(
-        "the RATTLE position solve did not converge in {iterations} iterations: the constraint residual max|g_c|/(L_c(L_c + ‖q‖∞)) is {residual:e}, the tolerance {tolerance:e} (32·ε); the step is too large for the sheet's motion"
+        "the RATTLE position solve did not converge in {iterations} iterations: the constraint residual max|g_c|/(L_c(L_c + ‖q‖∞)) is {residual:e}, the tolerance {tolerance:e} (32·ε); the step is too large for the sheet's motion (the step before ended with a transverse-wave number h·ω = 4·√(½ΣΛ) of {wave_number:.3}, where RATTLE is stable only below 2: a peak of tension needs a shorter step)"
     )]
     NotConverged {
         iterations: usize,
         residual: f64,
         tolerance: f64,
+        /// The largest `h·ω` of the last step solved (0 before the first).
+        wave_number: f64,
     },
     #[error(
         "the constraints' Gram matrix G·Gᵀ is not positive definite in the {phase}: the length constraints became dependent (a line of edges pulled straight between pins, or a sheet folded onto itself)"
@@ -198,6 +204,8 @@ pub struct RattleStepper {
     ap: Vec<f64>,
     /// Steps since the last factorisation.
     since_factor: usize,
+    /// The largest `h·ω` of the last step solved.
+    last_wave_number: f64,
     /// The force at `cached_q`; `valid`: `cached_q`, `force`, `d` and the
     /// factor of `G(q)G(q)ᵀ` belong to the state the last step ended with.
     force: Vec<f64>,
@@ -256,6 +264,7 @@ impl RattleStepper {
             pdir: vec![0.0; nc],
             ap: vec![0.0; nc],
             since_factor: 0,
+            last_wave_number: 0.0,
             force: vec![0.0; n3],
             cached_q: vec![0.0; n3],
             valid: false,
@@ -323,6 +332,7 @@ impl RattleStepper {
                     iterations,
                     residual,
                     tolerance: CONSTRAINT_TOLERANCE,
+                    wave_number: self.last_wave_number,
                 });
             }
             if residual > self.settings.contraction * previous {
@@ -446,6 +456,10 @@ impl RattleStepper {
         self.stats.seconds.constraints += t0.elapsed().as_secs_f64();
         let q_scale = q_max(q).max(q_max(&self.qhat));
         self.position_solve(q_scale)?;
+        let t_wave = Instant::now();
+        self.last_wave_number = self.constraints.wave_number(&self.lambda);
+        self.stats.max_wave_number = self.stats.max_wave_number.max(self.last_wave_number);
+        self.stats.seconds.constraints += t_wave.elapsed().as_secs_f64();
         // p½ = p + h/2·F(q) − (m/h)·G(q)ᵀΛ; then the force at q'.
         let t1 = Instant::now();
         let scale = m / h;
