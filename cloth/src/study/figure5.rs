@@ -4,7 +4,8 @@
 //! Störmer–Verlet, implicit Euler and Gauss–Legendre 2 for contrast, and the
 //! midpoint family and the average vector field solved as energy
 //! minimisation at one step per frame; plus `2/ω_max` of the same cloth over
-//! grid resolutions. Each run stops at the first frame whose relative energy
+//! grid resolutions; and RATTLE on the same sheet made inextensible
+//! ([`paper_scene_inextensible`]). Each run stops at the first frame whose relative energy
 //! error passes the [`EnergyGuard`]'s default limit, or at a failed solve,
 //! and records where. `symlab paper` formats and plots what [`experiment`]
 //! returns.
@@ -36,6 +37,31 @@ pub const IMPLICIT_SUBSTEPS: usize = 16;
 /// Gauss–Legendre step is a sparse Newton solve of 7 200 unknowns, about
 /// 20 ms here, so a second at 16 steps per frame costs about 20 s.
 pub const IMPLICIT_FRAMES: usize = 60;
+
+/// Steps per frame of RATTLE on the inextensible sheet: its largest stable
+/// step on the 25² sheet is about 1.2e-2 s, two per frame (README,
+/// "Inextensible cloth"); four leave a margin.
+pub const INEXTENSIBLE_SUBSTEPS: usize = 4;
+
+/// The shear stiffness (N per unit strain) of the inextensible sheet: soft,
+/// as in `scenes/paper64-inextensible.toml`. RATTLE steps the shear springs
+/// explicitly, and the paper's 50.75 would set its step as the stretch
+/// springs set the explicit methods'.
+pub const INEXTENSIBLE_SHEAR: f64 = 0.002;
+
+/// The paper scene with its warp and weft springs made length constraints
+/// (`material.stretch = "inextensible"`), its shear softened to
+/// [`INEXTENSIBLE_SHEAR`], stepped by `rattle`; released flat, as the
+/// paper's sheet is.
+pub fn paper_scene_inextensible() -> Result<Scene, SceneError> {
+    let mut scene = paper_scene()?;
+    scene.material.stretch = None;
+    scene.material.inextensible = true;
+    scene.material.shear = Some(INEXTENSIBLE_SHEAR);
+    scene.simulation.method = "rattle".to_string();
+    scene.simulation.substeps = INEXTENSIBLE_SUBSTEPS;
+    Ok(scene)
+}
 
 /// One run of the comparison.
 #[derive(Clone, Debug)]
@@ -223,6 +249,16 @@ fn run_one(
                 None,
             )
         }
+        Err(RunError::Constraint {
+            step, time, source, ..
+        }) => {
+            let why = source.to_string();
+            (
+                Some(Stopped(Stop::Constraint { step, time, why })),
+                f64::NAN,
+                None,
+            )
+        }
         Err(other) => return Err(other),
     };
     let h = opts.step_size();
@@ -297,6 +333,19 @@ pub fn experiment(frames: usize) -> Result<ClothExperiment, RunError> {
         };
         runs.push(run_one(&scene, id, k, n, e_ref, stab.omega_max)?);
     }
+    // The same sheet inextensible, stepped by RATTLE; its h·ω_max is that
+    // of its own soft springs, and E_ref the paper scene's (the same mass,
+    // gravity and size).
+    let inextensible = paper_scene_inextensible()?;
+    let omega = Simulation::new(&inextensible)?.model.stability().omega_max;
+    runs.push(run_one(
+        &inextensible,
+        "rattle",
+        INEXTENSIBLE_SUBSTEPS,
+        frames,
+        e_ref,
+        omega,
+    )?);
     let mut grids = Vec::new();
     for n in [2, 3, 5, 9, 17, 25] {
         grids.push(grid_limit(&scene, n)?);
@@ -336,6 +385,8 @@ pub enum Stop {
     Stage { step: usize, time: f64, why: String },
     /// The minimisation failed at `step`.
     Minimise { step: usize, time: f64, why: String },
+    /// RATTLE's constraint solve failed at `step`.
+    Constraint { step: usize, time: f64, why: String },
 }
 
 impl std::fmt::Display for Stopped {
@@ -374,6 +425,10 @@ impl std::fmt::Display for Stopped {
             Stop::Minimise { step, time, why } => write!(
                 f,
                 "minimisation failed at step {step} (t = {time:.4} s): {why}"
+            ),
+            Stop::Constraint { step, time, why } => write!(
+                f,
+                "constraint solve failed at step {step} (t = {time:.4} s): {why}"
             ),
         }
     }
