@@ -72,6 +72,7 @@
 
 mod error;
 mod lanes;
+mod lanes8;
 mod stumpff;
 
 pub use error::KeplerError;

@@ -24,6 +24,7 @@
 mod democratic;
 mod error;
 mod jacobi;
+mod lanes;
 mod split;
 
 pub use democratic::DemocraticHeliocentric;
