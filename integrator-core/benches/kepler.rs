@@ -19,6 +19,7 @@ use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use integrator_core::kepler::{KeplerSolver, LANES, drift};
 use integrator_core::problems::OuterSolarSystem;
 use integrator_core::problems::wisdom_holman::{DemocraticHeliocentric, Jacobi};
+use integrator_core::simd::Simd;
 
 fn state(a: f64, e: f64, nu: f64) -> ([f64; 3], [f64; 3]) {
     let p = a * (1.0 - e * e);
@@ -119,6 +120,20 @@ fn bench(c: &mut Criterion) {
     let mut w = vec![0.0; 36];
     dh.from_inertial(&z0, &mut w).unwrap();
     group.bench_function("democratic_heliocentric_100_steps_h10", |b| {
+        b.iter(|| dh.integrate(black_box(10.0), 100, &mut w).unwrap())
+    });
+    // The same on the portable lanes (the fallback where the processor has
+    // no AVX-512; the same bits), for the ratio in the same run.
+    let jac = Jacobi::outer_solar().with_simd(Simd::Portable);
+    let mut w = vec![0.0; 36];
+    jac.from_inertial(&z0, &mut w).unwrap();
+    group.bench_function("jacobi_100_steps_h10_portable", |b| {
+        b.iter(|| jac.integrate(black_box(10.0), 100, &mut w).unwrap())
+    });
+    let dh = DemocraticHeliocentric::outer_solar().with_simd(Simd::Portable);
+    let mut w = vec![0.0; 36];
+    dh.from_inertial(&z0, &mut w).unwrap();
+    group.bench_function("democratic_heliocentric_100_steps_h10_portable", |b| {
         b.iter(|| dh.integrate(black_box(10.0), 100, &mut w).unwrap())
     });
     group.finish();

@@ -182,13 +182,16 @@ impl KeplerSolver {
             newton,
         );
         let d = V::select(rounding, newton, halley);
-        ok &= (rounding | d.abs().le(V::splat(self.tolerance).mul(s.abs())))
-            & d.finite()
-            & !d.eq(zero);
+        // A non-finite correction takes the scalar code's other exit;
+        // leave it to the scalar code. A zero one (the starter already the
+        // root to rounding, common for the outer planets) leaves the `Gₖ`
+        // as they are, as `Orbit::at_root` does.
+        ok &= (rounding | d.abs().le(V::splat(self.tolerance).mul(s.abs()))) & d.finite();
+        let keep = d.eq(zero);
         let e = V::splat(0.5).mul(d).mul(d);
-        let n1 = g1.sub(d.mul(g0)).sub(e.mul(beta).mul(g1));
-        let n2 = g2.sub(d.mul(g1)).add(e.mul(g0));
-        let n3 = g3.sub(d.mul(g2)).add(e.mul(g1));
+        let n1 = V::select(keep, g1, g1.sub(d.mul(g0)).sub(e.mul(beta).mul(g1)));
+        let n2 = V::select(keep, g2, g2.sub(d.mul(g1)).add(e.mul(g0)));
+        let n3 = V::select(keep, g3, g3.sub(d.mul(g2)).add(e.mul(g1)));
         let r = r0.add(eta.mul(n1)).add(zeta.mul(n2));
         let (xn, vn) = update(gm, hv, ir0, r, n1, n2, n3, x, v);
         for k in 0..3 {
