@@ -137,6 +137,34 @@ fn bench(c: &mut Criterion) {
         b.iter(|| dh.integrate(black_box(10.0), 100, &mut w).unwrap())
     });
     group.finish();
+
+    // The parts of a Jacobi step on their own (100 of each), on both
+    // implementations of the lanes.
+    let mut group = c.benchmark_group("wisdom_holman_parts");
+    group.warm_up_time(Duration::from_millis(300));
+    group.measurement_time(Duration::from_secs(1));
+    for (label, simd) in [("auto", Simd::Auto), ("portable", Simd::Portable)] {
+        let jac = Jacobi::outer_solar().with_simd(simd);
+        let mut w0 = vec![0.0; 36];
+        jac.from_inertial(&z0, &mut w0).unwrap();
+        let mut w = w0.clone();
+        group.bench_function(format!("jacobi_kepler_100_h10_{label}"), |b| {
+            b.iter(|| {
+                for _ in 0..100 {
+                    jac.kepler_flow(black_box(10.0), &mut w).unwrap();
+                }
+            })
+        });
+        let mut w = w0.clone();
+        group.bench_function(format!("jacobi_kick_100_h10_{label}"), |b| {
+            b.iter(|| {
+                for _ in 0..100 {
+                    jac.interaction_kick(black_box(1e-3), &mut w).unwrap();
+                }
+            })
+        });
+    }
+    group.finish();
 }
 
 criterion_group!(benches, bench);

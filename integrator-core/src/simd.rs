@@ -473,6 +473,14 @@ pub enum Simd {
     Portable,
 }
 
+impl Simd {
+    /// Whether the kernels run on AVX-512 (asked and available).
+    #[inline]
+    pub fn avx512(self) -> bool {
+        !matches!(Avx512Or::pick(self), Avx512Or::Portable)
+    }
+}
+
 /// The implementation a kernel runs on: [`Simd`] resolved on this
 /// processor.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

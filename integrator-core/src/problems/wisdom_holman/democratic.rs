@@ -185,9 +185,14 @@ impl DemocraticHeliocentric {
         for k in 0..3 {
             q[k] += p[k] * v0;
         }
-        // Up to eight planets in one pass, where every lane is the scalar
-        // drift's (the same bits as below; nothing written otherwise).
-        if let Some(lanes) = &self.lanes {
+        // Up to eight planets in one pass on AVX-512, where every lane is
+        // the scalar drift's (the same bits as below; nothing written
+        // otherwise). Without AVX-512 the groups of four below are faster
+        // (measured: 130 ns against 330 ns for five planets on the
+        // portable eight lanes) and give the same bits.
+        if self.simd.avx512()
+            && let Some(lanes) = &self.lanes
+        {
             let k = KeplerKernel {
                 lanes,
                 h,

@@ -211,7 +211,7 @@ pub(super) struct JacobiLanes {
 
 impl JacobiLanes {
     /// The Jacobi accelerations of the interaction, `Q̈ᵢ = aᵢ − Σ_{j<i}
-    /// mⱼaⱼ/M_{i−1} + G Mᵢ Qᵢ/|Qᵢ|³`, at Jacobi positions `q` (lanes).
+    /// mⱼaⱼ/M_{i−1} + G Mᵢ Qᵢ/|Qᵢ|³ = aᵢ + Σ_{j≥i} mⱼaⱼ/M_{i−1} + G Mᵢ Qᵢ/|Qᵢ|³`, at Jacobi positions `q` (lanes).
     #[inline(always)]
     pub fn accelerations<V: F8>(&self, q: &[V; 3]) -> [V; 3] {
         let l = &self.lanes;
@@ -236,24 +236,27 @@ impl JacobiLanes {
         }
         let r2 = d[0].mul(d[0]).add(d[1].mul(d[1])).add(d[2].mul(d[2]));
         let s = V::select(l.used, g.div(r2.mul(r2.sqrt())), zero);
-        let (s0, sp) = (s.mul(V::splat(self.m0)), s.mul(m));
+        let s0 = s.mul(V::splat(self.m0));
         let mut a = [zero; 3];
-        let mut a0 = [0.0; 3];
         for k in 0..3 {
             a[k] = s0.mul(d[k]).neg();
-            a0[k] = sp.mul(d[k]).reduce_add();
         }
         // The planets with each other.
         l.mutual(self.g, &x, &mut a);
         // Jacobi: minus the interior bodies' weighted mean, plus the Kepler
-        // term's.
+        // term's. The forces are pairwise, so `Σ_{j<i} mⱼaⱼ = −Σ_{j≥i}
+        // mⱼaⱼ` (the Sun's acceleration is not needed): a suffix sum over
+        // the planets, no longer than the prefix sum from the Sun's.
         let inv = V::from_array(self.inv_prev);
         let r2 = q[0].mul(q[0]).add(q[1].mul(q[1])).add(q[2].mul(q[2]));
         let kep = V::from_array(l.gm).div(r2.mul(r2.sqrt()));
         let mut qdd = a;
         for k in 0..3 {
-            let acc = V::splat(self.m0 * a0[k]).add(m.mul(a[k]).prefix_sum_exclusive());
-            qdd[k] = a[k].sub(acc.mul(inv)).add(kep.mul(q[k]));
+            let acc = m.mul(a[k]).suffix_sum();
+            qdd[k] = a[k].add(acc.mul(inv)).add(kep.mul(q[k]));
+            // Unused lanes (Q = 0, so 0·∞ there) to 0: the gradient kick
+            // sums the shifted positions across the lanes.
+            qdd[k] = V::select(l.used, qdd[k], zero);
         }
         qdd
     }
