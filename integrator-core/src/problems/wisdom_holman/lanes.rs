@@ -35,6 +35,8 @@ pub(super) struct Lanes {
     /// The mass that turns momentum into velocity in the Kepler flow
     /// (unused lanes repeat lane 0).
     pub mv: [f64; W],
+    /// `1/mv`.
+    pub iv: [f64; W],
     /// The rotations that meet every pair of planets once.
     pub rotations: Vec<Rotation>,
 }
@@ -111,6 +113,7 @@ impl Lanes {
             m,
             gm: lane(&gm, true),
             mv: lane(&mv, true),
+            iv: lane(&|i| 1.0 / mv(i), true),
             rotations,
         })
     }
@@ -131,7 +134,10 @@ impl Lanes {
         let mv = V::from_array(self.mv);
         let mut x = V::load3(q, self.p);
         let pp = V::load3(pm, self.p);
-        let mut v = pp.map(|c| c.div(mv));
+        // Times 1/m (three multiplications where divisions would hold up
+        // the solve's own square root and divisions).
+        let iv = V::from_array(self.iv);
+        let mut v = pp.map(|c| c.mul(iv));
         // Unused lanes repeat lane 0, so that they compute harmlessly.
         for k in 0..3 {
             x[k] = V::select(self.used, x[k], x[k].permute(&zero));
