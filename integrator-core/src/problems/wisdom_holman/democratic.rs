@@ -215,9 +215,7 @@ impl DemocraticHeliocentric {
             for l in 0..used {
                 let i = first + l;
                 x[l] = get3(q, i);
-                // Times 1/mᵢ (as the lanes do).
-                let iv = 1.0 / m[i];
-                v[l] = get3(p, i).map(|c| c * iv);
+                v[l] = get3(p, i).map(|c| c / m[i]);
             }
             let done = solver.drift_lanes(&gms, h, &mut x, &mut v, used);
             // Lanes before a failing one have been drifted: store them, so

@@ -225,10 +225,7 @@ impl Jacobi {
                 let mr = self.reduced[i];
                 gm[l] = self.bodies.g * self.interior[i];
                 x[l] = get3(q, i);
-                // Times 1/m' (as the lanes do: a multiplication, not a division
-                // on the Kepler solve's critical path).
-                let iv = 1.0 / mr;
-                v[l] = get3(p, i).map(|c| c * iv);
+                v[l] = get3(p, i).map(|c| c / mr);
             }
             let done = solver.drift_lanes(&gm, h, &mut x, &mut v, used);
             // Lanes before a failing one have been drifted: store them, so
