@@ -189,15 +189,7 @@ impl F8 for Portable {
     fn max(self, b: Self) -> Self {
         // Spelled out (not `f64::max`, whose choice between ±0 is left
         // open): the AVX-512 form below, lane by lane.
-        self.map2(b, |x, y| {
-            if y.is_nan() {
-                x
-            } else if x > y {
-                x
-            } else {
-                y
-            }
-        })
+        self.map2(b, |x, y| if y.is_nan() || x > y { x } else { y })
     }
     #[inline(always)]
     fn lt(self, b: Self) -> u8 {

@@ -221,9 +221,7 @@ impl KeplerSolver {
         // Padding lanes repeat lane 0, so that they compute harmlessly.
         let pad = |a: &[f64; W]| {
             let mut o = *a;
-            for l in used..W {
-                o[l] = a[0];
-            }
+            o[used..].fill(a[0]);
             o
         };
         let coord = |a: &[[f64; 3]; W], k: usize| pad(&a.map(|c| c[k]));

@@ -18,6 +18,9 @@
 //! body by body), the same on both implementations: see
 //! [`crate::simd`].
 
+// Lane loops index several arrays at once.
+#![allow(clippy::needless_range_loop)]
+
 use crate::kepler::KeplerSolver;
 use crate::simd::{F8, Kernel, W, first};
 
