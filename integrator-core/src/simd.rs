@@ -12,23 +12,26 @@
 //! same at every vector width), a comparison, a select, or a move of lanes;
 //! no multiply–add is fused (Rust contracts nothing, and the AVX-512 code
 //! uses no FMA instruction), and the sums across lanes
-//! ([`F8::reduce_add`], [`F8::suffix_sum`], [`F8::prefix_sum_exclusive`])
-//! add in one fixed order on both. A kernel written once against the
+//! ([`F8::suffix_sum`]) add in one fixed order on both. A kernel written once against the
 //! trait therefore gives the same bits on either (tested in
 //! `tests/wisdom_holman.rs` and `tests/kepler_flow.rs`).
 //!
 //! Lane masks are `u8` (bit `l` for lane `l`), the AVX-512 mask register's
 //! own form.
+//!
+//! The lanes are internal to the crate (an `Avx512` value must never exist
+//! on a processor without AVX-512F); the public face is the choice
+//! [`Simd`] of the splits and [`KeplerSolver::drift_lanes8`](crate::kepler::KeplerSolver::drift_lanes8).
 
 // Lane loops index several arrays at once.
 #![allow(clippy::needless_range_loop)]
 
 /// The lanes of [`F8`].
-pub const W: usize = 8;
+pub(crate) const W: usize = 8;
 
 /// Eight doubles, lane-wise IEEE arithmetic (see the [module
 /// documentation](self)).
-pub trait F8: Copy {
+pub(crate) trait F8: Copy {
     fn splat(x: f64) -> Self;
     fn from_array(a: [f64; W]) -> Self;
     fn to_array(self) -> [f64; W];
@@ -64,15 +67,6 @@ pub trait F8: Copy {
     fn finite(self) -> u8 {
         self.abs().lt(Self::splat(f64::INFINITY))
     }
-    /// The sum of the lanes, as `((a₀ + a₄) + (a₂ + a₆)) + ((a₁ + a₅) +
-    /// (a₃ + a₇))`.
-    #[inline(always)]
-    fn reduce_add(self) -> f64 {
-        let a = self.add(self.permute(&[4, 5, 6, 7, 0, 1, 2, 3]));
-        let b = a.add(a.permute(&[2, 3, 0, 1, 2, 3, 0, 1]));
-        let c = b.add(b.permute(&[1, 0, 1, 0, 1, 0, 1, 0]));
-        c.to_array()[0]
-    }
     /// Lane `l` of the result is `Σ_{k ≥ l} aₖ`, summed in three rounds
     /// (by one lane, then two, then four).
     #[inline(always)]
@@ -86,26 +80,11 @@ pub trait F8: Copy {
         let s = s.add(Self::select(0x3f, s.permute(&[2, 3, 4, 5, 6, 7, 7, 7]), z));
         s.add(Self::select(0x0f, s.permute(&[4, 5, 6, 7, 7, 7, 7, 7]), z))
     }
-    /// Lane `l` of the result is `Σ_{k < l} aₖ` (0 in lane 0): the sums
-    /// `Σ_{k ≤ l}` in three rounds (by one lane, then two, then four),
-    /// shifted by one lane.
-    #[inline(always)]
-    fn prefix_sum_exclusive(self) -> Self {
-        let z = Self::splat(0.0);
-        let s = self.add(Self::select(
-            0xfe,
-            self.permute(&[0, 0, 1, 2, 3, 4, 5, 6]),
-            z,
-        ));
-        let s = s.add(Self::select(0xfc, s.permute(&[0, 0, 0, 1, 2, 3, 4, 5]), z));
-        let s = s.add(Self::select(0xf0, s.permute(&[0, 0, 0, 0, 0, 1, 2, 3]), z));
-        Self::select(0xfe, s.permute(&[0, 0, 1, 2, 3, 4, 5, 6]), z)
-    }
 }
 
 /// The mask of the first `count` lanes.
 #[inline(always)]
-pub fn first(count: usize) -> u8 {
+pub(crate) fn first(count: usize) -> u8 {
     if count >= W {
         0xff
     } else {
@@ -115,7 +94,7 @@ pub fn first(count: usize) -> u8 {
 
 /// Eight doubles in an array: the [`F8`] of any processor.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Portable(pub [f64; W]);
+pub(crate) struct Portable(pub(crate) [f64; W]);
 
 impl Portable {
     #[inline(always)]
@@ -240,7 +219,7 @@ impl F8 for Portable {
 }
 
 #[cfg(target_arch = "x86_64")]
-pub use avx512::Avx512;
+pub(crate) use avx512::Avx512;
 
 #[cfg(target_arch = "x86_64")]
 mod avx512 {
@@ -252,7 +231,7 @@ mod avx512 {
     /// `is_x86_feature_detected!("avx512f")`; every method is inlined into
     /// them.
     #[derive(Clone, Copy, Debug)]
-    pub struct Avx512(__m512d);
+    pub(crate) struct Avx512(__m512d);
 
     /// [`F8::store3`]'s permutes: for output vector `j` (elements
     /// `e = 8j … 8j + 7`, `e = 3l + k`), the indices into `x | y` (`l` for
