@@ -19,6 +19,7 @@ use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use integrator_core::kepler::{KeplerSolver, LANES, drift};
 use integrator_core::problems::OuterSolarSystem;
 use integrator_core::problems::wisdom_holman::{DemocraticHeliocentric, Jacobi};
+use integrator_core::simd::Simd;
 
 fn state(a: f64, e: f64, nu: f64) -> ([f64; 3], [f64; 3]) {
     let p = a * (1.0 - e * e);
@@ -121,6 +122,48 @@ fn bench(c: &mut Criterion) {
     group.bench_function("democratic_heliocentric_100_steps_h10", |b| {
         b.iter(|| dh.integrate(black_box(10.0), 100, &mut w).unwrap())
     });
+    // The same on the portable lanes (the fallback where the processor has
+    // no AVX-512; the same bits), for the ratio in the same run.
+    let jac = Jacobi::outer_solar().with_simd(Simd::Portable);
+    let mut w = vec![0.0; 36];
+    jac.from_inertial(&z0, &mut w).unwrap();
+    group.bench_function("jacobi_100_steps_h10_portable", |b| {
+        b.iter(|| jac.integrate(black_box(10.0), 100, &mut w).unwrap())
+    });
+    let dh = DemocraticHeliocentric::outer_solar().with_simd(Simd::Portable);
+    let mut w = vec![0.0; 36];
+    dh.from_inertial(&z0, &mut w).unwrap();
+    group.bench_function("democratic_heliocentric_100_steps_h10_portable", |b| {
+        b.iter(|| dh.integrate(black_box(10.0), 100, &mut w).unwrap())
+    });
+    group.finish();
+
+    // The parts of a Jacobi step on their own (100 of each), on both
+    // implementations of the lanes.
+    let mut group = c.benchmark_group("wisdom_holman_parts");
+    group.warm_up_time(Duration::from_millis(300));
+    group.measurement_time(Duration::from_secs(1));
+    for (label, simd) in [("auto", Simd::Auto), ("portable", Simd::Portable)] {
+        let jac = Jacobi::outer_solar().with_simd(simd);
+        let mut w0 = vec![0.0; 36];
+        jac.from_inertial(&z0, &mut w0).unwrap();
+        let mut w = w0.clone();
+        group.bench_function(format!("jacobi_kepler_100_h10_{label}"), |b| {
+            b.iter(|| {
+                for _ in 0..100 {
+                    jac.kepler_flow(black_box(10.0), &mut w).unwrap();
+                }
+            })
+        });
+        let mut w = w0.clone();
+        group.bench_function(format!("jacobi_kick_100_h10_{label}"), |b| {
+            b.iter(|| {
+                for _ in 0..100 {
+                    jac.interaction_kick(black_box(1e-3), &mut w).unwrap();
+                }
+            })
+        });
+    }
     group.finish();
 }
 

@@ -51,6 +51,7 @@ pub mod problems;
 pub mod processed;
 pub mod scheme;
 pub mod search;
+pub mod simd;
 pub mod split;
 mod system;
 pub mod time_transform;

@@ -276,13 +276,20 @@ impl KeplerSolver {
             };
             let d = if rounding { f / fp } else { halley };
             // Ends here: at rounding level, or Halley's correction small.
-            // A non-finite or zero correction takes the scalar code's
-            // other exit; leave it to the scalar code.
-            ok[l] &= (rounding || d.abs() <= self.tolerance * s.abs()) && d.is_finite() && d != 0.0;
+            // A non-finite correction takes the scalar code's other exit;
+            // leave it to the scalar code. A zero one (the starter already
+            // the root to rounding, common for the outer planets) leaves
+            // the `Gₖ` as they are, as `Orbit::at_root` does.
+            ok[l] &= (rounding || d.abs() <= self.tolerance * s.abs()) && d.is_finite();
+            let keep = d == 0.0;
             let e = 0.5 * d * d;
-            let n1 = g1 - d * g0 - e * beta * g1;
-            let n2 = g2 - d * g1 + e * g0;
-            let n3 = g3 - d * g2 + e * g1;
+            let n1 = if keep {
+                g1
+            } else {
+                g1 - d * g0 - e * beta * g1
+            };
+            let n2 = if keep { g2 } else { g2 - d * g1 + e * g0 };
+            let n3 = if keep { g3 } else { g3 - d * g2 + e * g1 };
             let r = r0 + eta * n1 + zeta * n2;
 
             // `drift`'s update.

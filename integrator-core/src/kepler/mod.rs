@@ -56,7 +56,9 @@
 //!
 //! Several orbits over the same `h` (the planets of a Wisdom–Holman step)
 //! are drifted side by side, bit for bit as one by one, by
-//! [`KeplerSolver::drift_lanes`].
+//! [`KeplerSolver::drift_lanes`] (four at a time) and
+//! [`KeplerSolver::drift_lanes8`] (eight, in one AVX-512 register where the
+//! processor has it).
 //!
 //! # Example
 //!
@@ -72,6 +74,7 @@
 
 mod error;
 mod lanes;
+mod lanes8;
 mod stumpff;
 
 pub use error::KeplerError;

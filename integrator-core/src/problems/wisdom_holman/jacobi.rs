@@ -4,8 +4,10 @@
 // momenta) at once; an index reads clearer than zipped iterators.
 #![allow(clippy::needless_range_loop)]
 
+use super::lanes::{JacobiKick, JacobiLanes, KeplerKernel, Lanes};
 use super::{Bodies, WhError, get3, set3, with_scratch};
 use crate::kepler::{KeplerSolver, LANES};
+use crate::simd::{Simd, W, dispatch};
 
 /// Wisdom–Holman in Jacobi coordinates (Wisdom & Holman 1991; the form of
 /// WHFast, Rein & Tamayo 2015).
@@ -34,6 +36,11 @@ pub struct Jacobi {
     interior: Vec<f64>,
     /// `m'ᵢ` (`m'₀ = M_{N−1}`).
     reduced: Vec<f64>,
+    /// Up to eight planets: their constants in eight lanes, for the Kepler
+    /// flow and the kicks in one pass ([`crate::simd`]).
+    lanes: Option<JacobiLanes>,
+    /// Which implementation of the lanes runs.
+    simd: Simd,
 }
 
 impl Jacobi {
@@ -52,11 +59,43 @@ impl Jacobi {
         for i in 1..masses.len() {
             reduced[i] = masses[i] * interior[i - 1] / interior[i];
         }
+        let lanes = Lanes::new(masses, |i| g * interior[i], |i| reduced[i]).map(|lanes| {
+            let lane = |f: &dyn Fn(usize) -> f64| {
+                let mut out = [0.0; W];
+                for l in 0..lanes.p {
+                    out[l] = f(l + 1);
+                }
+                out
+            };
+            JacobiLanes {
+                f: lane(&|i| masses[i] / interior[i]),
+                inv_prev: lane(&|i| 1.0 / interior[i - 1]),
+                reduced: lane(&|i| reduced[i]),
+                m0: masses[0],
+                g,
+                lanes,
+            }
+        });
         Ok(Self {
             bodies,
             interior,
             reduced,
+            lanes,
+            simd: Simd::Auto,
         })
+    }
+
+    /// The same split with the eight-lane kernels of up to eight planets on
+    /// the implementation `simd` (the default [`Simd::Auto`]: AVX-512 where
+    /// the processor has it). Both give the same bits.
+    pub fn with_simd(mut self, simd: Simd) -> Self {
+        self.simd = simd;
+        self
+    }
+
+    /// The implementation of the eight-lane kernels ([`Jacobi::with_simd`]).
+    pub fn simd(&self) -> Simd {
+        self.simd
     }
 
     /// The outer solar system of [`crate::problems::outer_solar`], with its
@@ -154,6 +193,24 @@ impl Jacobi {
         for k in 0..3 {
             q[k] += h * p[k] * v0;
         }
+        // Up to eight planets in one pass on AVX-512, where every lane is
+        // the scalar drift's (the same bits as below; nothing written
+        // otherwise). Without AVX-512 the groups of four below are faster
+        // (measured: 130 ns against 330 ns for five planets on the
+        // portable eight lanes) and give the same bits.
+        if self.simd.avx512()
+            && let Some(jl) = &self.lanes
+        {
+            let k = KeplerKernel {
+                lanes: &jl.lanes,
+                h,
+                q: &mut q[3..],
+                p: &mut p[3..],
+            };
+            if dispatch(self.simd, k) {
+                return Ok(());
+            }
+        }
         // The planets in groups of LANES, drifted side by side (the same
         // bits as one by one, see `KeplerSolver::drift_lanes`).
         let solver = KeplerSolver::default();
@@ -203,6 +260,9 @@ impl Jacobi {
     pub fn interaction_kick(&self, h: f64, w: &mut [f64]) -> Result<(), WhError> {
         self.bodies.check_len("the Jacobi state", w)?;
         let n = self.bodies.n();
+        if let Some(jl) = &self.lanes {
+            return self.kick_lanes(jl, h, None, w);
+        }
         with_scratch(6 * n, |scratch| {
             let (q, p) = w.split_at_mut(3 * n);
             self.kick_at(h, q, p, scratch)
@@ -233,6 +293,9 @@ impl Jacobi {
             return Err(WhError::GradientKick { h, gamma });
         }
         let delta = 2.0 * gamma / h;
+        if let Some(jl) = &self.lanes {
+            return self.kick_lanes(jl, h, Some(delta), w);
+        }
         with_scratch(9 * n, |scratch| {
             let (shifted, scratch) = scratch.split_at_mut(3 * n);
             let (q, p) = w.split_at_mut(3 * n);
@@ -250,6 +313,34 @@ impl Jacobi {
             scratch.fill(0.0);
             self.kick_at(h, shifted, p, scratch)
         })
+    }
+
+    /// The kick of up to eight planets in lanes (at positions shifted by
+    /// `δ·Q̈` for the gradient kick); an error names the first body whose
+    /// momentum is not finite.
+    fn kick_lanes(
+        &self,
+        jl: &JacobiLanes,
+        h: f64,
+        delta: Option<f64>,
+        w: &mut [f64],
+    ) -> Result<(), WhError> {
+        let n = self.bodies.n();
+        let (q, p) = w.split_at_mut(3 * n);
+        let k = JacobiKick {
+            lanes: jl,
+            h,
+            delta,
+            q: &q[3..],
+            p: &mut p[3..],
+        };
+        let ok = dispatch(self.simd, k);
+        if ok & jl.lanes.used != jl.lanes.used {
+            for i in 1..n {
+                self.bodies.check_kicked(p, i)?;
+            }
+        }
+        Ok(())
     }
 
     /// The inertial accelerations of the interaction at Jacobi positions

@@ -20,10 +20,20 @@
 //! is partly advanced and must not be used further; the error names the
 //! body and part (and the step, from [`Jacobi::integrate`] or
 //! [`DemocraticHeliocentric::integrate`]).
+//!
+//! Up to eight planets run in eight lanes, one planet a lane
+//! ([`crate::simd`]): the Kepler flow of all planets in one pass (on
+//! AVX-512; bit for bit the scalar drift, which redoes any lane that would
+//! leave the one-evaluation path) and the interaction kicks with every pair
+//! of planets at once, in one AVX-512 register where the processor has
+//! AVX-512F, else in portable arrays that give the same bits
+//! (`with_simd` picks; tested in `tests/simd_lanes.rs`). More planets take
+//! the scalar kernels.
 
 mod democratic;
 mod error;
 mod jacobi;
+mod lanes;
 mod split;
 
 pub use democratic::DemocraticHeliocentric;

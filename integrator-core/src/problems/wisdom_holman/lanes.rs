@@ -1,0 +1,355 @@
+//! The Wisdom–Holman parts of up to eight planets in eight lanes (one
+//! planet a lane, lane `l` body `l + 1`), on either implementation of
+//! [`F8`]: the Kepler flows of all planets in one pass, the interaction
+//! kicks with every pair of planets at once (below), no allocation and no
+//! branch on the number of planets beyond the masks built once.
+//!
+//! # The pairs
+//!
+//! The mutual forces of `p` planets are taken in `⌊p/2⌋` rotations: in
+//! rotation `k`, lane `l` meets planet `(l + k) mod p`. Each lane adds the
+//! force its partner exerts on it, and the equal and opposite force is
+//! rotated back by `k` lanes and added to the partner; for even `p` the last
+//! rotation (`k = p/2`) meets every pair twice, so only its first `p/2`
+//! lanes count. Every pair once, with `⌊p/2⌋` vector square roots and
+//! divisions (two for five planets, against ten scalar ones).
+//!
+//! The sums run in a fixed order of their own (not the scalar kernels'
+//! body by body), the same on both implementations: see
+//! [`crate::simd`].
+
+// Lane loops index several arrays at once.
+#![allow(clippy::needless_range_loop)]
+
+use crate::kepler::KeplerSolver;
+use crate::simd::{F8, Kernel, W, first};
+
+/// The lanes' constants for `p ≤ 8` planets: lane `l` is body `l + 1`.
+#[derive(Clone, Debug, PartialEq)]
+pub(super) struct Lanes {
+    /// Planets (used lanes).
+    pub p: usize,
+    /// The mask of the used lanes.
+    pub used: u8,
+    /// The planets' masses (0 in unused lanes).
+    pub m: [f64; W],
+    /// `GM` of each planet's Kepler problem (unused lanes repeat lane 0).
+    pub gm: [f64; W],
+    /// The mass that turns momentum into velocity in the Kepler flow
+    /// (unused lanes repeat lane 0).
+    pub mv: [f64; W],
+    /// The rotations that meet every pair of planets once.
+    pub rotations: Vec<Rotation>,
+}
+
+/// One rotation of the pairs (see the [module documentation](self)).
+#[derive(Clone, Debug, PartialEq)]
+pub(super) struct Rotation {
+    /// Lane `l`'s partner.
+    pub to: [u64; W],
+    /// The lane whose partner lane `l` is.
+    pub back: [u64; W],
+    /// The lanes that count.
+    pub mask: u8,
+    /// The partner's mass.
+    pub m_to: [f64; W],
+    /// Lane `l`'s mass times its partner's.
+    pub mm: [f64; W],
+}
+
+impl Lanes {
+    /// Lane constants for the planets `1 … n − 1` of `masses` (`None` for
+    /// more than eight planets); `gm(i)`, `mv(i)` for body `i`.
+    pub fn new(
+        masses: &[f64],
+        gm: impl Fn(usize) -> f64,
+        mv: impl Fn(usize) -> f64,
+    ) -> Option<Self> {
+        let p = masses.len().checked_sub(1)?;
+        if p == 0 || p > W {
+            return None;
+        }
+        let lane = |f: &dyn Fn(usize) -> f64, pad: bool| {
+            let mut out = [0.0; W];
+            for l in 0..W {
+                out[l] = if l < p {
+                    f(l + 1)
+                } else if pad {
+                    f(1)
+                } else {
+                    0.0
+                };
+            }
+            out
+        };
+        let m = lane(&|i| masses[i], false);
+        let mut rotations = Vec::new();
+        for k in 1..=p / 2 {
+            let mut to = [0u64; W];
+            let mut back = [0u64; W];
+            for l in 0..W {
+                (to[l], back[l]) = if l < p {
+                    (((l + k) % p) as u64, ((l + p - k) % p) as u64)
+                } else {
+                    (l as u64, l as u64)
+                };
+            }
+            let mask = if 2 * k == p { first(k) } else { first(p) };
+            let m_to = to.map(|j| m[j as usize]);
+            let mut mm = [0.0; W];
+            for l in 0..W {
+                mm[l] = m[l] * m_to[l];
+            }
+            rotations.push(Rotation {
+                to,
+                back,
+                mask,
+                m_to,
+                mm,
+            });
+        }
+        Some(Self {
+            p,
+            used: first(p),
+            m,
+            gm: lane(&gm, true),
+            mv: lane(&mv, true),
+            rotations,
+        })
+    }
+
+    /// The Kepler flow of the planets over `h`, `q`, `pm` their positions
+    /// and momenta (`3p` numbers each): written only where every lane is
+    /// the scalar drift's (see [`KeplerSolver::quick8`]); `false` (nothing
+    /// written) where some lane is not.
+    #[inline(always)]
+    pub fn kepler<V: F8>(
+        &self,
+        solver: &KeplerSolver,
+        h: f64,
+        q: &mut [f64],
+        pm: &mut [f64],
+    ) -> bool {
+        let zero = [0u64; W];
+        let mv = V::from_array(self.mv);
+        let mut x = V::load3(q, self.p);
+        let pp = V::load3(pm, self.p);
+        // Divided by m, not multiplied by a rounded 1/m: that rounding
+        // would be the same at every step, and `(p·(1/m))·m` a bias of the
+        // momentum of the same sign every step (measured: the error of
+        // wh:whckl-c17 at h = 2 days over 10⁵ days 37 times larger,
+        // examples/wh_error.rs).
+        let mut v = pp.map(|c| c.div(mv));
+        // Unused lanes repeat lane 0, so that they compute harmlessly.
+        for k in 0..3 {
+            x[k] = V::select(self.used, x[k], x[k].permute(&zero));
+            v[k] = V::select(self.used, v[k], v[k].permute(&zero));
+        }
+        let (xn, vn, ok) = solver.quick8(V::from_array(self.gm), h, &x, &v);
+        if ok & self.used != self.used {
+            return false;
+        }
+        V::store3(&xn, q, self.p);
+        V::store3(&vn.map(|c| c.mul(mv)), pm, self.p);
+        true
+    }
+
+    /// The planets' mutual accelerations at positions `x` (all lanes):
+    /// lane `l` gets `Σ_j G mⱼ (xⱼ − xₗ)/|xⱼ − xₗ|³` over the other
+    /// planets, added to `a`.
+    #[inline(always)]
+    pub fn mutual<V: F8>(&self, g: f64, x: &[V; 3], a: &mut [V; 3]) {
+        let zero = V::splat(0.0);
+        let m = V::from_array(self.m);
+        for rot in &self.rotations {
+            let mut d = *x;
+            for k in 0..3 {
+                d[k] = x[k].permute(&rot.to).sub(x[k]);
+            }
+            let r2 = d[0].mul(d[0]).add(d[1].mul(d[1])).add(d[2].mul(d[2]));
+            let s = V::splat(g).div(r2.mul(r2.sqrt()));
+            let s = V::select(rot.mask, s, zero);
+            let (si, sj) = (s.mul(V::from_array(rot.m_to)), s.mul(m));
+            for k in 0..3 {
+                a[k] = a[k].add(si.mul(d[k]));
+                a[k] = a[k].sub(sj.mul(d[k]).permute(&rot.back));
+            }
+        }
+    }
+
+    /// The democratic heliocentric kick `Pᵢ += h·G Σⱼ mᵢmⱼ (Qⱼ − Qᵢ)/|Qⱼ − Qᵢ|³`
+    /// on the lanes `p` from positions `x`.
+    #[inline(always)]
+    pub fn mutual_kick<V: F8>(&self, hg: f64, x: &[V; 3], p: &mut [V; 3]) {
+        let zero = V::splat(0.0);
+        for rot in &self.rotations {
+            let mut d = *x;
+            for k in 0..3 {
+                d[k] = x[k].permute(&rot.to).sub(x[k]);
+            }
+            let r2 = d[0].mul(d[0]).add(d[1].mul(d[1])).add(d[2].mul(d[2]));
+            let s = V::splat(hg)
+                .mul(V::from_array(rot.mm))
+                .div(r2.mul(r2.sqrt()));
+            let s = V::select(rot.mask, s, zero);
+            for k in 0..3 {
+                let f = s.mul(d[k]);
+                p[k] = p[k].add(f);
+                p[k] = p[k].sub(f.permute(&rot.back));
+            }
+        }
+    }
+}
+
+/// The Jacobi split's own lane constants.
+#[derive(Clone, Debug, PartialEq)]
+pub(super) struct JacobiLanes {
+    pub lanes: Lanes,
+    /// `mᵢ/Mᵢ` (0 in unused lanes).
+    pub f: [f64; W],
+    /// `1/M_{i−1}`.
+    pub inv_prev: [f64; W],
+    /// `m'ᵢ` (0 in unused lanes).
+    pub reduced: [f64; W],
+    /// `m₀`.
+    pub m0: f64,
+    /// `G`.
+    pub g: f64,
+}
+
+impl JacobiLanes {
+    /// The Jacobi accelerations of the interaction, `Q̈ᵢ = aᵢ − Σ_{j<i}
+    /// mⱼaⱼ/M_{i−1} + G Mᵢ Qᵢ/|Qᵢ|³ = aᵢ + Σ_{j≥i} mⱼaⱼ/M_{i−1} + G Mᵢ Qᵢ/|Qᵢ|³`, at Jacobi positions `q` (lanes).
+    #[inline(always)]
+    pub fn accelerations<V: F8>(&self, q: &[V; 3]) -> [V; 3] {
+        let l = &self.lanes;
+        let zero = V::splat(0.0);
+        let all0 = [0u64; W];
+        let g = V::splat(self.g);
+        let m = V::from_array(l.m);
+        // Inertial positions relative to the barycentre: xᵢ = Qᵢ − Σ_{k≥i}
+        // fₖQₖ, x₀ = −Σ_{k≥1} fₖQₖ.
+        let f = V::from_array(self.f);
+        let mut x = *q;
+        let mut x0 = [zero; 3];
+        for k in 0..3 {
+            let s = f.mul(q[k]).suffix_sum();
+            x[k] = q[k].sub(s);
+            x0[k] = s.permute(&all0).neg();
+        }
+        // The Sun and each planet.
+        let mut d = x;
+        for k in 0..3 {
+            d[k] = x[k].sub(x0[k]);
+        }
+        let r2 = d[0].mul(d[0]).add(d[1].mul(d[1])).add(d[2].mul(d[2]));
+        let s = V::select(l.used, g.div(r2.mul(r2.sqrt())), zero);
+        let s0 = s.mul(V::splat(self.m0));
+        let mut a = [zero; 3];
+        for k in 0..3 {
+            a[k] = s0.mul(d[k]).neg();
+        }
+        // The planets with each other.
+        l.mutual(self.g, &x, &mut a);
+        // Jacobi: minus the interior bodies' weighted mean, plus the Kepler
+        // term's. The forces are pairwise, so `Σ_{j<i} mⱼaⱼ = −Σ_{j≥i}
+        // mⱼaⱼ` (the Sun's acceleration is not needed): a suffix sum over
+        // the planets, no longer than the prefix sum from the Sun's.
+        let inv = V::from_array(self.inv_prev);
+        let r2 = q[0].mul(q[0]).add(q[1].mul(q[1])).add(q[2].mul(q[2]));
+        let kep = V::from_array(l.gm).div(r2.mul(r2.sqrt()));
+        let mut qdd = a;
+        for k in 0..3 {
+            let acc = m.mul(a[k]).suffix_sum();
+            qdd[k] = a[k].add(acc.mul(inv)).add(kep.mul(q[k]));
+            // Unused lanes (Q = 0, so 0·∞ there) to 0: the gradient kick
+            // sums the shifted positions across the lanes.
+            qdd[k] = V::select(l.used, qdd[k], zero);
+        }
+        qdd
+    }
+
+    /// `Pᵢ += h·m'ᵢQ̈ᵢ`, the accelerations taken at `Q + δ·Q̈(Q)` where
+    /// `delta` is given (the lazy implementer's modified kick) or at `Q`;
+    /// `q`, `pm` the planets' positions and momenta. The mask of the lanes
+    /// whose new momentum is finite.
+    #[inline(always)]
+    pub fn kick<V: F8>(&self, h: f64, delta: Option<f64>, q: &[f64], pm: &mut [f64]) -> u8 {
+        let p = self.lanes.p;
+        let qv = V::load3(q, p);
+        let mut qdd = self.accelerations(&qv);
+        if let Some(delta) = delta {
+            let dv = V::splat(delta);
+            let mut shifted = qv;
+            for k in 0..3 {
+                shifted[k] = qv[k].add(dv.mul(qdd[k]));
+            }
+            qdd = self.accelerations(&shifted);
+        }
+        let hm = V::splat(h).mul(V::from_array(self.reduced));
+        let mut pv = V::load3(pm, p);
+        let mut ok = 0xff;
+        for k in 0..3 {
+            pv[k] = pv[k].add(hm.mul(qdd[k]));
+            ok &= pv[k].finite();
+        }
+        V::store3(&pv, pm, p);
+        ok
+    }
+}
+
+/// [`Lanes::kepler`] as a [`Kernel`].
+pub(super) struct KeplerKernel<'a> {
+    pub lanes: &'a Lanes,
+    pub h: f64,
+    pub q: &'a mut [f64],
+    pub p: &'a mut [f64],
+}
+
+impl Kernel for KeplerKernel<'_> {
+    type Out = bool;
+    #[inline(always)]
+    fn run<V: F8>(self) -> bool {
+        self.lanes
+            .kepler::<V>(&KeplerSolver::default(), self.h, self.q, self.p)
+    }
+}
+
+/// [`JacobiLanes::kick`] as a [`Kernel`].
+pub(super) struct JacobiKick<'a> {
+    pub lanes: &'a JacobiLanes,
+    pub h: f64,
+    pub delta: Option<f64>,
+    pub q: &'a [f64],
+    pub p: &'a mut [f64],
+}
+
+impl Kernel for JacobiKick<'_> {
+    type Out = u8;
+    #[inline(always)]
+    fn run<V: F8>(self) -> u8 {
+        self.lanes.kick::<V>(self.h, self.delta, self.q, self.p)
+    }
+}
+
+/// [`Lanes::mutual_kick`] on the planets' positions `q` and momenta `p`,
+/// as a [`Kernel`]: the mask of the lanes whose new momentum is finite.
+pub(super) struct MutualKick<'a> {
+    pub lanes: &'a Lanes,
+    pub hg: f64,
+    pub q: &'a [f64],
+    pub p: &'a mut [f64],
+}
+
+impl Kernel for MutualKick<'_> {
+    type Out = u8;
+    #[inline(always)]
+    fn run<V: F8>(self) -> u8 {
+        let n = self.lanes.p;
+        let x = V::load3(self.q, n);
+        let mut pv = V::load3(self.p, n);
+        self.lanes.mutual_kick(self.hg, &x, &mut pv);
+        V::store3(&pv, self.p, n);
+        pv[0].finite() & pv[1].finite() & pv[2].finite()
+    }
+}
