@@ -14,7 +14,7 @@
 //! uses no FMA instruction), and the sums across lanes
 //! ([`F8::suffix_sum`]) add in one fixed order on both. A kernel written once against the
 //! trait therefore gives the same bits on either (tested in
-//! `tests/wisdom_holman.rs` and `tests/kepler_flow.rs`).
+//! `tests/simd_lanes.rs`).
 //!
 //! Lane masks are `u8` (bit `l` for lane `l`), the AVX-512 mask register's
 //! own form.

@@ -119,9 +119,11 @@ impl Lanes {
     }
 
     /// The Kepler flow of the planets over `h`, `q`, `pm` their positions
-    /// and momenta (`3p` numbers each): written only where every lane is
-    /// the scalar drift's (see [`KeplerSolver::quick8`]); `false` (nothing
-    /// written) where some lane is not.
+    /// and momenta (`3p` numbers each), written for the lanes whose result
+    /// is the scalar drift's (see [`KeplerSolver::quick8`]); returns their
+    /// mask. The other planets are left as they were, for the caller to
+    /// drift one way or another (at long steps an outer planet leaves the
+    /// one-evaluation path while the others stay on it).
     #[inline(always)]
     pub fn kepler<V: F8>(
         &self,
@@ -129,7 +131,7 @@ impl Lanes {
         h: f64,
         q: &mut [f64],
         pm: &mut [f64],
-    ) -> bool {
+    ) -> u8 {
         let zero = [0u64; W];
         let mv = V::from_array(self.mv);
         let mut x = V::load3(q, self.p);
@@ -146,12 +148,20 @@ impl Lanes {
             v[k] = V::select(self.used, v[k], v[k].permute(&zero));
         }
         let (xn, vn, ok) = solver.quick8(V::from_array(self.gm), h, &x, &v);
-        if ok & self.used != self.used {
-            return false;
+        let ok = ok & self.used;
+        if ok == 0 {
+            return 0;
         }
-        V::store3(&xn, q, self.p);
-        V::store3(&vn.map(|c| c.mul(mv)), pm, self.p);
-        true
+        // A lane not done keeps its own numbers, bit for bit.
+        let mut xo = x;
+        let mut po = pp;
+        for k in 0..3 {
+            xo[k] = V::select(ok, xn[k], x[k]);
+            po[k] = V::select(ok, vn[k].mul(mv), pp[k]);
+        }
+        V::store3(&xo, q, self.p);
+        V::store3(&po, pm, self.p);
+        ok
     }
 
     /// The planets' mutual accelerations at positions `x` (all lanes):
@@ -307,9 +317,9 @@ pub(super) struct KeplerKernel<'a> {
 }
 
 impl Kernel for KeplerKernel<'_> {
-    type Out = bool;
+    type Out = u8;
     #[inline(always)]
-    fn run<V: F8>(self) -> bool {
+    fn run<V: F8>(self) -> u8 {
         self.lanes
             .kepler::<V>(&KeplerSolver::default(), self.h, self.q, self.p)
     }
