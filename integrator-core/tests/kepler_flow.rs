@@ -602,7 +602,7 @@ fn lanes_give_the_scalar_drift_bit_for_bit() {
     let mut quick_lanes = 0;
     let mut compared = 0;
     for frac in [
-        1e-5, 3e-4, 2e-3, 0.01, 0.03, 0.05, 0.1, 0.3, 1.7, -0.02, -2.5,
+        1e-5, 3e-4, 2e-3, 0.01, 0.03, 0.05, 0.1, 0.15, 0.22, 0.3, 1.7, -0.02, -0.2, -2.5,
     ] {
         for used in [LANES, 1, LANES - 1] {
             for group in orbits.chunks(used) {

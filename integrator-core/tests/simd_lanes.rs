@@ -126,7 +126,9 @@ fn the_eight_kepler_lanes_are_the_scalar_drift_bit_for_bit() {
     };
     let mut compared = 0;
     for &simd in simds {
-        for frac in [1e-5, 3e-4, 2e-3, 0.01, 0.05, 0.1, 0.3, 1.7, -0.02, -2.5] {
+        for frac in [
+            1e-5, 3e-4, 2e-3, 0.01, 0.05, 0.1, 0.15, 0.22, 0.3, 1.7, -0.02, -0.2, -2.5,
+        ] {
             for used in [8, 5, 1] {
                 for group in orbits.chunks(used) {
                     let h = frac * group[0].3;

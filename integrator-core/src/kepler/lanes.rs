@@ -23,8 +23,8 @@
 //! every lane's result is bit for bit the scalar drift's (tested in
 //! `tests/kepler_flow.rs`), only cheaper.
 
-use super::stumpff::{C2, C3, SERIES_LIMIT, SERIES_MID, SERIES_SHORT, series_head};
-use super::{KeplerError, KeplerSolver, SHORT_STEP, update};
+use super::stumpff::{C2, C3, SERIES_LIMIT, SERIES_LONG, SERIES_MID, SERIES_SHORT, series_head};
+use super::{KeplerError, KeplerSolver, SHORT_STEP, SHORT_TURN, update};
 
 /// The number of orbits [`KeplerSolver::drift_lanes`] takes at once: four
 /// doubles fill two SSE2 registers (the baseline x86-64 build) or one AVX
@@ -208,8 +208,8 @@ impl KeplerSolver {
             let pu = p * u;
             let bu2 = beta[l] * u * u;
             let short = pu.abs() < SHORT_STEP
-                && bu2.abs() < SHORT_STEP
-                && gm[l] * u * u * ir0[l] < SHORT_STEP;
+                && bu2.abs() < SHORT_TURN
+                && gm[l] * u * u * ir0[l] < SHORT_TURN;
             let q = zeta[l] * ir0[l] * (1.0 / 6.0);
             let t = -beta[l] * eta[l] * ir0[l] * (1.0 / 24.0);
             let c3 = 2.0 * p * p - q;
@@ -237,8 +237,10 @@ impl KeplerSolver {
                 5
             } else if a < SERIES_MID {
                 7
-            } else {
+            } else if a < SERIES_LONG {
                 10
+            } else {
+                12
             };
             if ok[l] {
                 most = most.max(terms[l]);
@@ -248,7 +250,8 @@ impl KeplerSolver {
         let (c2, c3) = match most {
             5 => series::<5>(m, terms),
             7 => series::<7>(m, terms),
-            _ => series::<10>(m, terms),
+            10 => series::<10>(m, terms),
+            _ => series::<12>(m, terms),
         };
 
         // `Orbit::evaluate`, the stopping tests and `Orbit::at_root`.

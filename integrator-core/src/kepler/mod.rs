@@ -30,9 +30,9 @@
 //! neither within [`KeplerSolver::max_iterations`] is a
 //! [`KeplerError::NotConverged`] with the iteration count and residual.
 //!
-//! A short step (`|βh²/r₀²|`, `|η₀h/2r₀²|` and `GM h²/r₀³` all below ½) is
-//! well under a period: its root has the sign of `h`, the initial bracket
-//! is `(0, ±∞)`. Otherwise,
+//! A short step (`|η₀h/2r₀²|` below ½, `|βh²/r₀²|` and `GM h²/r₀³` below
+//! 2.5) is at most about a quarter of a period: its root has the sign of
+//! `h`, the initial bracket is `(0, ±∞)`. Otherwise,
 //! for a bound orbit (`β > 0`), `h` is first reduced by whole periods
 //! `P = 2πGM/β^{3/2}` (towards zero, so the reduction is odd in `h`); the
 //! root then lies in `|s| < 2π/√β` (less than one turn of the eccentric
@@ -356,11 +356,20 @@ fn update(
     (xn, vn)
 }
 
-/// The bound on `|βh²/r₀²|`, `|η₀h/2r₀²|` and `GM h²/r₀³` below which a
-/// step is short: there the fourth-order series of `s(h)`
-/// ([`Orbit::series_guess`]) is off by at most a few per cent, from which
-/// Halley's method converges at once, and the step is well under a period.
+/// The bound on `|η₀h/2r₀²|` below which a step is short (with
+/// [`SHORT_TURN`]): the series of `s(h)` ([`Orbit::series_guess`]) is then
+/// a correction of the linear `h/r₀`, not a guess.
 const SHORT_STEP: f64 = 0.5;
+
+/// The bound on `|βh²/r₀²|` and `GM h²/r₀³` (about `(nh)²`, `n` the mean
+/// motion, for a nearly circular orbit) below which a step is short: up to
+/// about a quarter of a period. The fourth-order series of `s(h)` is exact
+/// for a circular orbit and off by `O(e·(nh)⁵)` otherwise, from which
+/// Halley's method converges in one to three evaluations: the outer
+/// planets at every step a Wisdom–Holman integration uses (Jupiter to
+/// h ≈ 1100 days) stay on this path, which the lanes run
+/// ([`KeplerSolver::drift_lanes8`]).
+const SHORT_TURN: f64 = 2.5;
 
 impl Default for KeplerSolver {
     fn default() -> Self {
@@ -440,7 +449,8 @@ impl Orbit {
     /// `F(s)/r₀ = s + p s² + q s³ + t s⁴ + …` (`p = η₀/2r₀`, `q = ζ₀/6r₀`,
     /// `t = −βη₀/24r₀`),
     /// `s = u − p u² + (2p² − q) u³ + (5p(q − p²) − t) u⁴`.
-    /// `None` where the step is not short (see [`SHORT_STEP`]).
+    /// `None` where the step is not short (see [`SHORT_STEP`] and
+    /// [`SHORT_TURN`]).
     #[inline]
     fn series_guess(&self, h: f64) -> Option<f64> {
         let ir0 = self.ir0;
@@ -449,7 +459,7 @@ impl Orbit {
         let pu = p * u;
         let bu2 = self.beta * u * u;
         let short =
-            pu.abs() < SHORT_STEP && bu2.abs() < SHORT_STEP && self.gm * u * u * ir0 < SHORT_STEP;
+            pu.abs() < SHORT_STEP && bu2.abs() < SHORT_TURN && self.gm * u * u * ir0 < SHORT_TURN;
         if !short {
             return None;
         }

@@ -1,10 +1,14 @@
 //! Stumpff's functions: [`stumpff`].
 
-/// Below this `|z|` the series is used.
-pub(super) const SERIES_LIMIT: f64 = 1.0;
+/// Below this `|z|` the series is used (a change of eccentric anomaly of up
+/// to two radians, a third of a turn).
+pub(super) const SERIES_LIMIT: f64 = 4.0;
+/// Below this `|z|` ten terms of the series reach the last bit (twelve up
+/// to [`SERIES_LIMIT`]).
+pub(super) const SERIES_LONG: f64 = 1.0;
 /// Below this `|z|` five terms of the series reach the last bit.
 pub(super) const SERIES_SHORT: f64 = 1e-2;
-/// Below this `|z|` seven terms do (ten up to [`SERIES_LIMIT`]).
+/// Below this `|z|` seven terms do (ten up to [`SERIES_LONG`]).
 pub(super) const SERIES_MID: f64 = 0.1;
 
 /// `1/24 − C2[1]`, `1/6 − C3[0]` and `1/120 − C3[1]`: what rounding the
@@ -20,8 +24,8 @@ pub(super) const C2_1_LO: f64 = 2.3129646346357427e-18;
 pub(super) const C3_0_LO: f64 = 9.25185853854297e-18;
 pub(super) const C3_1_LO: f64 = 1.1564823173178714e-19;
 
-/// `1/(2k+2)!` for `k = 0 … 9`: the coefficients of `c₂(z) = Σ (−z)ᵏ/(2k+2)!`.
-pub(super) const C2: [f64; 10] = [
+/// `1/(2k+2)!` for `k = 0 … 11`: the coefficients of `c₂(z) = Σ (−z)ᵏ/(2k+2)!`.
+pub(super) const C2: [f64; 12] = [
     1.0 / 2.0,
     1.0 / 24.0,
     1.0 / 720.0,
@@ -32,10 +36,12 @@ pub(super) const C2: [f64; 10] = [
     1.0 / 20922789888000.0,
     1.0 / 6402373705728000.0,
     1.0 / 2432902008176640000.0,
+    1.0 / 1124000727777607680000.0,
+    1.0 / 620448401733239439360000.0,
 ];
 
-/// `1/(2k+3)!` for `k = 0 … 9`: the coefficients of `c₃(z) = Σ (−z)ᵏ/(2k+3)!`.
-pub(super) const C3: [f64; 10] = [
+/// `1/(2k+3)!` for `k = 0 … 11`: the coefficients of `c₃(z) = Σ (−z)ᵏ/(2k+3)!`.
+pub(super) const C3: [f64; 12] = [
     1.0 / 6.0,
     1.0 / 120.0,
     1.0 / 5040.0,
@@ -46,6 +52,8 @@ pub(super) const C3: [f64; 10] = [
     1.0 / 355687428096000.0,
     1.0 / 121645100408832000.0,
     1.0 / 51090942171709440000.0,
+    1.0 / 25852016738884976640000.0,
+    1.0 / 15511210043330985984000000.0,
 ];
 
 /// `[c₀(z), c₁(z), c₂(z), c₃(z)]`: Stumpff's functions `c₀ … c₃`, which turn the universal-variable form of
@@ -58,16 +66,19 @@ pub(super) const C3: [f64; 10] = [
 ///
 /// all entire in `z` with `cₖ(0) = 1/k!` and `c_k(z) = 1/k! − z·c_{k+2}(z)`.
 ///
-/// For `|z| < 1` (the whole Wisdom–Holman regime, a step of a few per cent
-/// of an orbit) `c₂` and `c₃` come from their Taylor series, five to ten
-/// terms as `|z|` grows, which reach the last bit there: no cancellation, no transcendental
-/// call; the rounding errors of the first coefficients (1/6, 1/24, 1/120)
+/// For `|z| < 4` (the whole Wisdom–Holman regime: a change of eccentric
+/// anomaly of up to two radians, a third of a turn) `c₂` and `c₃` come from
+/// their Taylor series, five to twelve terms as `|z|` grows, which reach
+/// the last bit there: no transcendental call, and no cancellation beyond
+/// the sum's leading terms (`c₂(4) = 0.354` from `½ − ⅙ + …`); the rounding errors of the first coefficients (1/6, 1/24, 1/120)
 /// are added back, so that they do not bias every call the same way. Only `c₀` and `c₁` are then formed from `cₖ = 1/k! − z·c_{k+2}`,
-/// where `|z·c_{k+2}| ≤ ½` keeps the subtraction benign. For `|z| ≥ 1` the
-/// closed forms are used, with `1 − cos x = 2 sin²(x/2)` (and
+/// where `|z·c_{k+2}|` below ½ (`|z| < 1`) keeps the subtraction benign
+/// and up to `1.42` (`c₀(4) = cos 2`) costs at most the absolute rounding
+/// of `cos` itself. For `|z| ≥ 4` the closed forms are used, with `1 − cos x = 2 sin²(x/2)` (and
 /// `cosh x − 1 = 2 sinh²(x/2)`) so that no difference of nearly equal
 /// numbers is formed; `x − sin x` loses at most a factor
-/// `1/(1 − sin 1) ≈ 6` of relative accuracy at `x = 1` and less beyond.
+/// `1/(1 − sin 2/2) ≈ 1.8` of relative accuracy at `x = 2` and less
+/// beyond (the series covers the range where it lost up to 6).
 ///
 /// Non-finite for a `z` so negative that `cosh √−z` overflows (`z < −5·10⁵`).
 #[inline]
@@ -76,15 +87,17 @@ pub fn stumpff(z: f64) -> [f64; 4] {
     if a < SERIES_LIMIT {
         // As few terms as reach the last bit: the first one left out is
         // below 1e-18 of the sum (|z|⁵/12! at |z| = 0.01, |z|⁷/16! at 0.1,
-        // 1/22! at 1). Short Wisdom–Holman steps (|z| ~ 1e-4) take the
-        // first branch.
+        // 1/22! at 1, 4¹²/26! at 4). Short Wisdom–Holman steps (|z| ~
+        // 1e-4) take the first branch.
         let m = -z;
         let (c2, c3) = if a < SERIES_SHORT {
             series::<5>(m)
         } else if a < SERIES_MID {
             series::<7>(m)
-        } else {
+        } else if a < SERIES_LONG {
             series::<10>(m)
+        } else {
+            series::<12>(m)
         };
         [1.0 - z * c2, 1.0 - z * c3, c2, c3]
     } else if z > 0.0 {
@@ -127,16 +140,54 @@ pub(super) fn series_head(m: f64, t2: f64, t3: f64) -> (f64, f64) {
 mod tests {
     use super::*;
 
+    /// The closed forms of the documentation, for the tests.
+    fn closed(z: f64) -> [f64; 4] {
+        if z > 0.0 {
+            let x = z.sqrt();
+            let (s, c) = x.sin_cos();
+            let half = (0.5 * x).sin();
+            [c, s / x, 2.0 * half * half / z, (x - s) / (z * x)]
+        } else {
+            let y = -z;
+            let x = y.sqrt();
+            let half = (0.5 * x).sinh();
+            [
+                x.cosh(),
+                x.sinh() / x,
+                2.0 * half * half / y,
+                (x.sinh() - x) / (y * x),
+            ]
+        }
+    }
+
     #[test]
-    fn the_series_and_the_closed_forms_meet_at_the_switch() {
-        // Just inside and just outside |z| = 1 the two branches must agree
-        // to a few ulps (the closed form's x − sin x costs a factor ≈ 6).
-        for z in [1.0f64, -1.0] {
+    fn the_branches_meet_at_the_switches() {
+        // Just inside and just outside |z| = 1 (ten terms, twelve) and
+        // |z| = 4 (twelve terms, the closed forms) the branches agree to a
+        // few ulps; c₀ = 1 − z·c₂ is compared in absolute terms, where it
+        // passes near cos 2 ≈ −0.42 after a cancellation of 1.4.
+        for z in [1.0f64, -1.0, 4.0, -4.0] {
             let inside = stumpff(z * (1.0 - 1e-15));
             let outside = stumpff(z);
             for k in 0..4 {
-                let rel = (inside[k] - outside[k]).abs() / outside[k].abs();
-                assert!(rel < 2e-15, "c{k}({z}): {} vs {}", inside[k], outside[k]);
+                let rel = (inside[k] - outside[k]).abs() / outside[k].abs().max(1.0);
+                assert!(rel < 3e-15, "c{k}({z}): {} vs {}", inside[k], outside[k]);
+            }
+        }
+    }
+
+    #[test]
+    fn the_long_series_agrees_with_the_closed_forms() {
+        // 1 ≤ |z| < 4, where the closed forms lose at most a factor 6
+        // (x − sin x at x = 1).
+        for i in 0..=300 {
+            let z = 1.0 + 3.0 * f64::from(i) / 300.0 * (1.0 - 1e-12);
+            for z in [z, -z] {
+                let (a, b) = (stumpff(z), closed(z));
+                for k in 0..4 {
+                    let rel = (a[k] - b[k]).abs() / b[k].abs().max(1.0);
+                    assert!(rel < 8e-15, "c{k}({z}): {} vs {}", a[k], b[k]);
+                }
             }
         }
     }

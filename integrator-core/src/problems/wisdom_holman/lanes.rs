@@ -122,8 +122,8 @@ impl Lanes {
     /// and momenta (`3p` numbers each), written for the lanes whose result
     /// is the scalar drift's (see [`KeplerSolver::quick8`]); returns their
     /// mask. The other planets are left as they were, for the caller to
-    /// drift one way or another (at long steps an outer planet leaves the
-    /// one-evaluation path while the others stay on it).
+    /// drift one way or another (a planet whose step leaves the short-step
+    /// path of the scalar solve, while the others stay on it).
     #[inline(always)]
     pub fn kepler<V: F8>(
         &self,

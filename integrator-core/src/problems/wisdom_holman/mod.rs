@@ -24,7 +24,7 @@
 //! Up to eight planets run in eight lanes, one planet a lane
 //! ([`crate::simd`]): the Kepler flow of all planets in one pass (on
 //! AVX-512; bit for bit the scalar drift, which redoes any lane that would
-//! leave the one-evaluation path) and the interaction kicks with every pair
+//! leave the short-step path or take more than four evaluations) and the interaction kicks with every pair
 //! of planets at once, in one AVX-512 register where the processor has
 //! AVX-512F, else in portable arrays that give the same bits
 //! (`with_simd` picks; tested in `tests/simd_lanes.rs`). More planets take
