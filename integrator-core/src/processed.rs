@@ -251,10 +251,27 @@ impl Sequence {
             gradient: self.gradient[1..last].to_vec(),
         };
         flow_in(sys, part, h * first_c, z, ws).map_err(|e| (1, e))?;
-        for k in 0..n {
+        // Drift, kick, drift (Wisdom–Holman's kernels): the system may run
+        // the kicks and merged drifts in a loop of its own
+        // (`Split::kick_drift_run`, the same bits); a step it does not take
+        // is taken flow by flow below.
+        let run =
+            (part == Part::A && middle.ops.len() == 1 && middle.ops[0].0 == Part::B).then(|| {
+                let (c, g) = (middle.ops[0].1, middle.gradient[0]);
+                (h * c, if g == 0.0 { 0.0 } else { g * h * h * h })
+            });
+        let mut k = 0;
+        while k < n {
+            if let Some((kick, gamma)) = run {
+                k += sys.kick_drift_run(kick, gamma, h * merged, h * last_c, n - k, z);
+                if k == n {
+                    break;
+                }
+            }
             middle.apply(sys, h, z, ws).map_err(|e| (k + 1, e))?;
             let c = if k + 1 < n { merged } else { last_c };
             flow_in(sys, part, h * c, z, ws).map_err(|e| (k + 1, e))?;
+            k += 1;
         }
         Ok(())
     }

@@ -253,6 +253,32 @@ pub trait Split: StateSpace {
             "this split system has no gradient kick (Split::flow_b_gradient): a table with gradient kicks (`kick_gradient`) steps only systems that provide one, e.g. the Jacobi split of an N-body problem",
         ))
     }
+
+    /// Up to `n` steps of a kick then a drift, `z ← φ_{A,d}(φ_{B,kick}(z))`
+    /// (the kick a [gradient kick](Split::flow_b_gradient) where `gamma` is
+    /// nonzero; `d = drift`, for the last of the `n` steps `drift_last`):
+    /// the loop of a drift–kick–drift kernel whose drifts are merged
+    /// across steps ([`Sequence::steps_merged`](crate::processed::Sequence::steps_merged),
+    /// Wisdom–Holman's way). A system may run it faster than flow by flow
+    /// (its state kept in registers from step to step), giving the same
+    /// bits. It returns the steps it took; it stops early, with `z` as the
+    /// step it could not take found it, where a flow would fail or leave
+    /// its fast path, and the caller takes that step flow by flow (with
+    /// the flows' errors). The default takes none.
+    #[allow(clippy::too_many_arguments)]
+    #[inline]
+    fn kick_drift_run(
+        &self,
+        kick: f64,
+        gamma: f64,
+        drift: f64,
+        drift_last: f64,
+        n: usize,
+        z: &mut [f64],
+    ) -> usize {
+        let _ = (kick, gamma, drift, drift_last, n, z);
+        0
+    }
 }
 
 /// `d ← d + h·s`, with compensated (Kahan) summation into `e` when

@@ -132,10 +132,32 @@ impl Lanes {
         q: &mut [f64],
         pm: &mut [f64],
     ) -> u8 {
+        let x = V::load3(q, self.p);
+        let pp = V::load3(pm, self.p);
+        let (xo, po, ok) = self.kepler_regs(solver, h, &x, &pp);
+        if ok == 0 {
+            return 0;
+        }
+        V::store3(&xo, q, self.p);
+        V::store3(&po, pm, self.p);
+        ok
+    }
+
+    /// [`kepler`](Self::kepler) on positions and momenta in lanes (unused
+    /// lanes 0, as [`F8::load3`] leaves them): the new ones, a lane not
+    /// done keeping its own numbers bit for bit, and the mask of the lanes
+    /// done.
+    #[inline(always)]
+    pub fn kepler_regs<V: F8>(
+        &self,
+        solver: &KeplerSolver,
+        h: f64,
+        x: &[V; 3],
+        pp: &[V; 3],
+    ) -> ([V; 3], [V; 3], u8) {
         let zero = [0u64; W];
         let mv = V::from_array(self.mv);
-        let mut x = V::load3(q, self.p);
-        let pp = V::load3(pm, self.p);
+        let mut xs = *x;
         // Divided by m, not multiplied by a rounded 1/m: that rounding
         // would be the same at every step, and `(p·(1/m))·m` a bias of the
         // momentum of the same sign every step (measured: the error of
@@ -144,24 +166,19 @@ impl Lanes {
         let mut v = pp.map(|c| c.div(mv));
         // Unused lanes repeat lane 0, so that they compute harmlessly.
         for k in 0..3 {
-            x[k] = V::select(self.used, x[k], x[k].permute(&zero));
+            xs[k] = V::select(self.used, xs[k], xs[k].permute(&zero));
             v[k] = V::select(self.used, v[k], v[k].permute(&zero));
         }
-        let (xn, vn, ok) = solver.quick8(V::from_array(self.gm), h, &x, &v);
+        let (xn, vn, ok) = solver.quick8(V::from_array(self.gm), h, &xs, &v);
         let ok = ok & self.used;
-        if ok == 0 {
-            return 0;
-        }
         // A lane not done keeps its own numbers, bit for bit.
-        let mut xo = x;
-        let mut po = pp;
+        let mut xo = *x;
+        let mut po = *pp;
         for k in 0..3 {
             xo[k] = V::select(ok, xn[k], x[k]);
             po[k] = V::select(ok, vn[k].mul(mv), pp[k]);
         }
-        V::store3(&xo, q, self.p);
-        V::store3(&po, pm, self.p);
-        ok
+        (xo, po, ok)
     }
 
     /// The planets' mutual accelerations at positions `x` (all lanes):
@@ -287,24 +304,77 @@ impl JacobiLanes {
     pub fn kick<V: F8>(&self, h: f64, delta: Option<f64>, q: &[f64], pm: &mut [f64]) -> u8 {
         let p = self.lanes.p;
         let qv = V::load3(q, p);
-        let mut qdd = self.accelerations(&qv);
+        let mut pv = V::load3(pm, p);
+        let ok = self.kick_regs(h, delta, &qv, &mut pv);
+        V::store3(&pv, pm, p);
+        ok
+    }
+
+    /// [`kick`](Self::kick) on positions and momenta in lanes.
+    #[inline(always)]
+    pub fn kick_regs<V: F8>(&self, h: f64, delta: Option<f64>, qv: &[V; 3], pv: &mut [V; 3]) -> u8 {
+        let mut qdd = self.accelerations(qv);
         if let Some(delta) = delta {
             let dv = V::splat(delta);
-            let mut shifted = qv;
+            let mut shifted = *qv;
             for k in 0..3 {
                 shifted[k] = qv[k].add(dv.mul(qdd[k]));
             }
             qdd = self.accelerations(&shifted);
         }
         let hm = V::splat(h).mul(V::from_array(self.reduced));
-        let mut pv = V::load3(pm, p);
         let mut ok = 0xff;
         for k in 0..3 {
             pv[k] = pv[k].add(hm.mul(qdd[k]));
             ok &= pv[k].finite();
         }
-        V::store3(&pv, pm, p);
         ok
+    }
+
+    /// Up to `n` Wisdom–Holman steps of kick then drift in lanes, the state
+    /// kept in registers from step to step: step `k` kicks by `kick` (at
+    /// positions shifted by `δ·Q̈` where `delta` is given) and drifts the
+    /// planets by `drift`, the last by `drift_last`. It stops before a step
+    /// whose kick is not finite or whose drift leaves a lane to the scalar
+    /// solve, with the state as that step found it, and returns the steps
+    /// done: each the same operations as [`kick`](Self::kick) and
+    /// [`Lanes::kepler`], so the same bits as those steps one flow at a
+    /// time.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    pub fn run<V: F8>(
+        &self,
+        kick: f64,
+        delta: Option<f64>,
+        drift: f64,
+        drift_last: f64,
+        n: usize,
+        q: &mut [f64],
+        pm: &mut [f64],
+    ) -> usize {
+        let p = self.lanes.p;
+        let used = self.lanes.used;
+        let solver = KeplerSolver::default();
+        let mut x = V::load3(q, p);
+        let mut pv = V::load3(pm, p);
+        let mut done = 0;
+        while done < n {
+            let d = if done + 1 < n { drift } else { drift_last };
+            let mut kicked = pv;
+            if self.kick_regs(kick, delta, &x, &mut kicked) != 0xff {
+                break;
+            }
+            let (xn, pn, ok) = self.lanes.kepler_regs(&solver, d, &x, &kicked);
+            if ok != used {
+                break;
+            }
+            x = xn;
+            pv = pn;
+            done += 1;
+        }
+        V::store3(&x, q, p);
+        V::store3(&pv, pm, p);
+        done
     }
 }
 
@@ -361,5 +431,33 @@ impl Kernel for MutualKick<'_> {
         self.lanes.mutual_kick(self.hg, &x, &mut pv);
         V::store3(&pv, self.p, n);
         pv[0].finite() & pv[1].finite() & pv[2].finite()
+    }
+}
+
+/// [`JacobiLanes::run`] as a [`Kernel`].
+pub(super) struct JacobiRun<'a> {
+    pub lanes: &'a JacobiLanes,
+    pub kick: f64,
+    pub delta: Option<f64>,
+    pub drift: f64,
+    pub drift_last: f64,
+    pub n: usize,
+    pub q: &'a mut [f64],
+    pub p: &'a mut [f64],
+}
+
+impl Kernel for JacobiRun<'_> {
+    type Out = usize;
+    #[inline(always)]
+    fn run<V: F8>(self) -> usize {
+        self.lanes.run::<V>(
+            self.kick,
+            self.delta,
+            self.drift,
+            self.drift_last,
+            self.n,
+            self.q,
+            self.p,
+        )
     }
 }

@@ -65,4 +65,19 @@ impl Split for Jacobi {
         self.interaction_kick_gradient(h, gamma, w)
             .map_err(flow_error)
     }
+
+    /// The kicks and drifts in lanes, the state in registers
+    /// ([`Jacobi::kick_drift_run`]).
+    #[inline]
+    fn kick_drift_run(
+        &self,
+        kick: f64,
+        gamma: f64,
+        drift: f64,
+        drift_last: f64,
+        n: usize,
+        w: &mut [f64],
+    ) -> usize {
+        Jacobi::kick_drift_run(self, kick, gamma, drift, drift_last, n, w)
+    }
 }
