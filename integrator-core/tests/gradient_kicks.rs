@@ -280,3 +280,85 @@ fn a_lazy_kick_without_kick_time_is_an_error() {
         .unwrap_err();
     assert!(err.to_string().contains("gradient kick"), "{err}");
 }
+
+integrator_core::butcher! {
+    /// WHCKL's kernel `D(½) G(1, 1/24) D(½)`, declared.
+    pub LazyKernel {
+        claims: [symplectic, symmetric],
+        drift: [1/2, 1/2],
+        kick: [1],
+        kick_gradient: [1/24],
+    }
+}
+
+integrator_core::butcher! {
+    /// The catalogue's WHCKL kernel with the corrector of order 17, its
+    /// effective order (18, 4) proven at compile time.
+    pub WhcklC17 {
+        from: "whckl-c17",
+    }
+}
+
+#[test]
+fn butcher_steps_gradient_kernels_as_the_sequence_does() {
+    // The declared kernel and the catalogue's processed WHCKL against the
+    // run-time sequences of the same tables: the same flows with the same
+    // coefficients, so the same bits, on the Jacobi split (lazy kick).
+    assert_eq!(WhcklC17::EFFECTIVE_ORDER, &[18, 4]);
+    let (split, z0) = two_planets(1e-3);
+    let mut w0 = vec![0.0; z0.len()];
+    split.from_inertial(&z0, &mut w0).unwrap();
+    let (n, h) = (40, 0.05);
+    let by_sequence = run(&kernel(1.0 / 24.0), &split, &w0, h * n as f64, n);
+    let mut declared = w0.clone();
+    let method = Processed::new(LazyKernel, corrector17());
+    processed::integrate(&method, &split, &mut declared, 0.0, h, n, |_, _, _| {}).unwrap();
+    assert_eq!(declared, by_sequence);
+
+    let file = tableau::catalogue::load("whckl-c17").unwrap();
+    let whckl = Processed::new(
+        match &file.table {
+            tableau::Table::Splitting(s) => Sequence::from_splitting(s),
+            other => panic!("whckl-c17's kernel is a drift–kick sequence, not {other:?}"),
+        },
+        Sequence::from_splitting(file.corrector.as_ref().unwrap()),
+    );
+    let mut a = w0.clone();
+    processed::integrate(&whckl, &split, &mut a, 0.0, h, n, |_, _, _| {}).unwrap();
+    let mut b = w0.clone();
+    processed::integrate(
+        &WhcklC17.processed(),
+        &split,
+        &mut b,
+        0.0,
+        h,
+        n,
+        |_, _, _| {},
+    )
+    .unwrap();
+    assert_eq!(a, b);
+    // The gradient made a difference: the plain kernel lands elsewhere.
+    let plain = run(&kernel(0.0), &split, &w0, h * n as f64, n);
+    assert_ne!(plain, by_sequence);
+}
+
+#[test]
+fn a_declared_gradient_kernel_on_a_system_without_gradient_kicks_is_an_error_naming_the_part() {
+    // A separable Hamiltonian: no mass matrix, so no gradient kick.
+    let sys = integrator_core::problems::Oscillator { k: 1.0 };
+    let mut z = [1.0, 0.5];
+    let err = integrator_core::integrate(&LazyKernel, &sys, &mut z, 0.0, 0.1, 3, |_, _, _| {})
+        .unwrap_err();
+    match &err {
+        StepError::Solve {
+            step: 1,
+            source:
+                SolveError::Flow {
+                    part: Part::B,
+                    source,
+                },
+            ..
+        } => assert!(source.to_string().contains("no gradient kick"), "{source}"),
+        other => panic!("{other:?}"),
+    }
+}

@@ -63,7 +63,6 @@ pub fn expand(input: &Input, v: &Verified) -> TokenStream {
         Form::Prk => "prk",
         Form::DriftKick => "drift-kick",
         Form::Composition => "composition",
-        // Refused by `valid::validate` (no step code for gradient kicks).
         Form::GradientDriftKick => "gradient-drift-kick",
     };
     let coefficients = match &v.corrector {
@@ -97,6 +96,17 @@ pub fn expand(input: &Input, v: &Verified) -> TokenStream {
 fn step_code(name: &syn::Ident, v: &Verified, rounded: &F64Rounded) -> (TokenStream, usize) {
     let symmetric = v.analysis.symmetric;
     let drift_kick = |s: &Splitting| {
+        if s.has_gradient() {
+            // The flows as written (zeros dropped, plain neighbours merged
+            // exactly, a gradient kick never merged), each coefficient and
+            // gradient the nearest double: `Sequence::from_splitting`'s.
+            let ops: Vec<(Op, f64, f64)> = s
+                .flows()
+                .into_iter()
+                .map(|(op, x, g)| (op, x.to_f64(), g.to_f64()))
+                .collect();
+            return (step::drift_kick(name, &ops), ops.len());
+        }
         // The normal form (zeros dropped, neighbours merged), its drift and
         // kick values rounded as weight vectors in their own right.
         let nf = s.normal_form();
@@ -108,14 +118,14 @@ fn step_code(name: &syn::Ident, v: &Verified, rounded: &F64Rounded) -> (TokenStr
         };
         let mut drift = round_weights(&values(Op::Drift), symmetric).into_iter();
         let mut kick = round_weights(&values(Op::Kick), symmetric).into_iter();
-        let ops: Vec<(Op, f64)> = nf
+        let ops: Vec<(Op, f64, f64)> = nf
             .iter()
             .map(|(op, _)| {
                 let x = match op {
                     Op::Drift => drift.next(),
                     Op::Kick => kick.next(),
                 };
-                (*op, x.expect("one value per operation"))
+                (*op, x.expect("one value per operation"), 0.0)
             })
             .collect();
         (step::drift_kick(name, &ops), ops.len())

@@ -185,13 +185,32 @@ pub fn explicit_rk(name: &syn::Ident, a: &[Vec<f64>], b: &[f64], c: &[f64]) -> T
 /// starts and ends with the same kind of operation, the flow's evaluation
 /// of the last one is still valid at the start of the next step and
 /// `step_reusing` lets it reuse it (first same as last).
-pub fn drift_kick(name: &syn::Ident, ops: &[(Op, f64)]) -> TokenStream {
-    let fsal = ops.len() > 1 && ops.first().map(|o| o.0) == ops.last().map(|o| o.0);
-    let code = ops.iter().enumerate().map(|(k, (op, c))| {
+///
+/// A kick with a nonzero gradient `g` (the third entry) is a gradient kick,
+/// `Split::flow_b_gradient` for `h` times its coefficient with the bracket
+/// weight `γ = g·h³`, as `integrator_core::processed::Sequence` takes it;
+/// a system without gradient kicks refuses it at run time, naming the
+/// part. Its evaluation is never reused.
+pub fn drift_kick(name: &syn::Ident, ops: &[(Op, f64, f64)]) -> TokenStream {
+    let fsal = ops.len() > 1
+        && ops.first().map(|o| o.0) == ops.last().map(|o| o.0)
+        && ops.iter().all(|o| o.2 == 0.0);
+    let code = ops.iter().enumerate().map(|(k, (op, c, g))| {
         let (part, eval, err) = match op {
             Op::Drift => (quote!(A), quote!(v), quote!(eq)),
             Op::Kick => (quote!(B), quote!(f), quote!(ep)),
         };
+        if *g != 0.0 {
+            return quote! {
+                ::integrator_core::split::flow_gradient(
+                    sys,
+                    h * #c,
+                    #g * h * h * h,
+                    z,
+                    ::integrator_core::split::PartBuffers { eval: &mut f[..], err: &mut ep[..], compensated },
+                )?;
+            };
+        }
         let reuse = if k == 0 && fsal {
             quote!(reuse)
         } else {

@@ -100,22 +100,6 @@ pub fn validate(input: &Input) -> Result<Verified, Error> {
         ));
     };
 
-    // Gradient kicks (`kick_gradient`: the kick of a modified potential
-    // V − g·h²·|∇V|²) need the gradient of the force, which no step code
-    // generated here computes: such a table is refused rather than stepped
-    // with plain kicks, whatever its claims.
-    if let Table::Splitting(s) = &table
-        && s.has_gradient()
-    {
-        let span = ["kick_gradient", "from", "kernel"]
-            .iter()
-            .find_map(|k| fields.get(*k))
-            .map_or(input.name.span(), |f| f.span());
-        return Err(Error::new(
-            span,
-            "kick_gradient: this drift–kick sequence has gradient kicks (each the exact flow of k·h·B + g·h³·[B,[A,B]], the kick of V − g·h²·|∇V|²); `butcher!` generates step code for plain drifts and kicks only, and does not step such a table (check its claims with `symlab check`)",
-        ));
-    }
     // A table read `from` the catalogue brings the claims its file states,
     // unless the invocation states its own.
     if claims.is_empty() && !file_claims.is_empty() {
