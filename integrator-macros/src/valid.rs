@@ -490,23 +490,26 @@ mod tests {
         assert!(err.to_string().contains("2000 digits"), "{err}");
     }
 
-    /// A table with gradient kicks is refused with an error naming
-    /// `kick_gradient`, never stepped with plain kicks: inline, or read from
-    /// the catalogue (whckl-c17). An all-zero gradient list is plain kicks,
-    /// and stepped as such.
+    /// A table with gradient kicks is verified like any other (its order
+    /// on the Lie algebra), inline or read from the catalogue (whckl-c17),
+    /// and a false claim is refused; an all-zero gradient list is plain
+    /// kicks.
     #[test]
-    fn gradient_kicks_are_refused_naming_kick_gradient() {
+    fn gradient_kicks_are_verified_and_false_claims_refused() {
         use tableau::analysis::Form;
         for text in [
-            "pub Lazy { drift: [1/2, 1/2], kick: [1], kick_gradient: [1/24], }",
-            "pub Lazy { claims: [order = 2], drift: [1/2, 1/2], kick: [1], kick_gradient: [1/12], }",
+            "pub Lazy { claims: [symplectic, order = 2], drift: [1/2, 1/2], kick: [1], kick_gradient: [1/24], }",
             "pub Whckl { from: \"whckl-c17\", }",
         ] {
-            let err = validate_text(text).err().expect("refused");
-            let msg = err.to_string();
-            assert!(msg.starts_with("kick_gradient:"), "{text}: {msg}");
-            assert!(msg.contains("gradient kicks"), "{text}: {msg}");
+            let v = validate_text(text).unwrap_or_else(|e| panic!("{text}: {e}"));
+            assert_eq!(v.analysis.form, Form::GradientDriftKick, "{text}");
         }
+        let err = validate_text(
+            "pub Lazy { claims: [order = 3], drift: [1/2, 1/2], kick: [1], kick_gradient: [1/24], }",
+        )
+        .err()
+        .expect("a false claim is refused");
+        assert!(err.to_string().contains("order"), "{err}");
         let err = validate_text("pub Odd { a: [[0]], b: [1], kick_gradient: [1], }")
             .err()
             .expect("refused");
