@@ -48,7 +48,7 @@
 
 use std::cell::Cell;
 
-use integrator_core::problems::wisdom_holman::Jacobi;
+use integrator_core::problems::wisdom_holman::{GradientKick, Jacobi};
 use integrator_core::processed::{Processed, Sequence};
 use integrator_core::scheme::SplitWorkspace;
 use integrator_core::split::{FlowError, PartBuffers, Split, StateSpace};
@@ -364,9 +364,16 @@ pub fn processed_ids() -> Vec<&'static str> {
         .collect()
 }
 
+/// WHCKM (REBOUND's `kernel = "modifiedkick"`): the tables of WHCKL with
+/// the modified kick taken exactly. `wh:whckm-…` is the catalogue's
+/// `whckl-…` on the split with [`GradientKick::Exact`]
+/// ([`Jacobi::interaction_kick_modified`]) instead of the lazy kick.
+const EXACT_KICK: (&str, &str) = ("whckm-", "whckl-");
+
 /// `wh:ID` on `split`, or an error naming the id: `ID` must be a splitting
-/// of the library (`symlab list`: a drift–kick sequence or composition) or
-/// a processed method of the catalogue (a kernel with a corrector).
+/// of the library (`symlab list`: a drift–kick sequence or composition), a
+/// processed method of the catalogue (a kernel with a corrector), or
+/// `whckm-…` for a `whckl-…` of the catalogue ([`EXACT_KICK`]).
 pub fn method<P: Problem>(id: &str, split: &Jacobi) -> Result<Method<P>> {
     let Some(base) = id.strip_prefix(PREFIX) else {
         return Err(CompareError::method(
@@ -374,6 +381,13 @@ pub fn method<P: Problem>(id: &str, split: &Jacobi) -> Result<Method<P>> {
             format!("method '{id}' is not a Wisdom–Holman id ({PREFIX}ID)"),
         ));
     };
+    let exact = base.strip_prefix(EXACT_KICK.0).and_then(|rest| {
+        let exact = split.clone().with_gradient_kick(GradientKick::Exact);
+        processed_method(id, &format!("{}{rest}", EXACT_KICK.1), &exact)
+    });
+    if let Some(m) = exact {
+        return Ok(m);
+    }
     crate::library::wh_method(id, base, split)
         .or_else(|| processed_method(id, base, split))
         .ok_or_else(|| {
@@ -382,19 +396,34 @@ pub fn method<P: Problem>(id: &str, split: &Jacobi) -> Result<Method<P>> {
                 format!(
                     "method '{id}': '{base}' is neither a splitting of the library nor a processed method of the catalogue; Wisdom–Holman steps a drift–kick sequence or composition: {}; or a kernel with its corrector: {}",
                     crate::library::SPLITTING_IDS.join(", "),
-                    processed_ids().join(", ")
+                    processed_and_exact_ids().join(", ")
                 ),
             )
         })
 }
 
+/// The catalogue's processed methods, then their WHCKM forms
+/// ([`EXACT_KICK`]).
+fn processed_and_exact_ids() -> Vec<String> {
+    let processed = processed_ids();
+    let exact = processed
+        .iter()
+        .filter_map(|id| id.strip_prefix(EXACT_KICK.1))
+        .map(|rest| format!("{}{rest}", EXACT_KICK.0));
+    processed
+        .iter()
+        .map(|id| id.to_string())
+        .chain(exact)
+        .collect()
+}
+
 /// Every `wh:ID`: the library's splittings, then the catalogue's processed
-/// methods.
+/// methods and their WHCKM forms.
 pub fn ids() -> Vec<String> {
     crate::library::SPLITTING_IDS
         .iter()
-        .copied()
-        .chain(processed_ids())
+        .map(|id| id.to_string())
+        .chain(processed_and_exact_ids())
         .map(|id| format!("{PREFIX}{id}"))
         .collect()
 }

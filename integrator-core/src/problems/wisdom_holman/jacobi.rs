@@ -41,6 +41,28 @@ pub struct Jacobi {
     lanes: Option<JacobiLanes>,
     /// Which implementation of the lanes runs.
     simd: Simd,
+    /// How [`Split::flow_b_gradient`](crate::split::Split::flow_b_gradient)
+    /// takes a gradient kick.
+    gradient: GradientKick,
+}
+
+/// How the Jacobi split takes a gradient (modified) kick
+/// `exp(h·B + γ·[B,[A,B]])`, the kick `Pᵢ += h·m'ᵢQ̈ᵢ + 2γ·m'ᵢ·DQ̈ᵢ[Q̈]`
+/// (`DQ̈[w]` the derivative of the interaction's Jacobi accelerations in
+/// the direction `w`): Wisdom, Holman & Touma's two kernels, REBOUND's
+/// WHCKL and WHCKM.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum GradientKick {
+    /// The lazy implementer's kick
+    /// ([`Jacobi::interaction_kick_gradient`]): the accelerations taken at
+    /// `Q + (2γ/h)·Q̈`, two force evaluations, the modified kick up to
+    /// terms of the third power of the interaction (WHCKL).
+    #[default]
+    Lazy,
+    /// The modified kick itself ([`Jacobi::interaction_kick_modified`]):
+    /// `DQ̈[Q̈]` from the pairs' tidal terms, exact to rounding, so the
+    /// kick is the exact flow of a potential and symplectic (WHCKM).
+    Exact,
 }
 
 impl Jacobi {
@@ -82,7 +104,20 @@ impl Jacobi {
             reduced,
             lanes,
             simd: Simd::Auto,
+            gradient: GradientKick::Lazy,
         })
+    }
+
+    /// The same split taking gradient kicks as `kick` (the default
+    /// [`GradientKick::Lazy`]).
+    pub fn with_gradient_kick(mut self, kick: GradientKick) -> Self {
+        self.gradient = kick;
+        self
+    }
+
+    /// How this split takes gradient kicks ([`Jacobi::with_gradient_kick`]).
+    pub fn gradient_kick(&self) -> GradientKick {
+        self.gradient
     }
 
     /// The same split with the eight-lane kernels of up to eight planets on
@@ -327,6 +362,89 @@ impl Jacobi {
         })
     }
 
+    /// The modified kick itself, `Pᵢ += h·m'ᵢQ̈ᵢ + 2γ·m'ᵢ·DQ̈ᵢ[Q̈]`, the
+    /// exact flow of `h·B + γ·[B,[A,B]]` (for this split's `A`, whose
+    /// kinetic part is `Σ|Pᵢ|²/2m'ᵢ`, `[B,[A,B]] = −Σ|∂B/∂Qᵢ|²/m'ᵢ`):
+    /// Wisdom, Holman & Touma's modified kick, REBOUND's WHCKM kernel. The
+    /// derivative of the accelerations along `w = Q̈` is taken analytically:
+    /// the inertial displacement `δx` of `w` (the same linear map as the
+    /// positions), each pair's tidal term `G mⱼ (δd/r³ − 3(d·δd) d/r⁵)`, and
+    /// the Kepler term's `G Mᵢ (wᵢ/|Qᵢ|³ − 3(Qᵢ·wᵢ) Qᵢ/|Qᵢ|⁵)`. One force
+    /// evaluation and one of the tidal terms, the cost of two; where
+    /// [`interaction_kick_gradient`](Self::interaction_kick_gradient) is
+    /// the same to second order in `γ`, this one is exact, so the kick is
+    /// symplectic to rounding. Errors: `h` or `γ` not finite, or a
+    /// momentum that is not finite (naming the body).
+    pub fn interaction_kick_modified(
+        &self,
+        h: f64,
+        gamma: f64,
+        w: &mut [f64],
+    ) -> Result<(), WhError> {
+        self.bodies.check_len("the Jacobi state", w)?;
+        if !h.is_finite() || !gamma.is_finite() {
+            return Err(WhError::GradientKick { h, gamma });
+        }
+        let n = self.bodies.n();
+        let g = self.bodies.g;
+        let m = &self.bodies.m;
+        with_scratch(15 * n, |scratch| {
+            let (q, p) = w.split_at_mut(3 * n);
+            let (x, rest) = scratch.split_at_mut(3 * n);
+            let (a, rest) = rest.split_at_mut(3 * n);
+            let (qdd, rest) = rest.split_at_mut(3 * n);
+            let (dx, da) = rest.split_at_mut(3 * n);
+            self.accelerations(q, x, a);
+            let mut acc = get3(a, 0).map(|c| c * m[0]);
+            for i in 1..n {
+                set3(qdd, i, self.jacobi_acceleration(q, a, i, &mut acc));
+            }
+            // δx of the direction Q̈ (Q̈₀ = 0: the barycentre is not kicked).
+            let mut r = [0.0; 3];
+            for i in (1..n).rev() {
+                let wi = get3(qdd, i);
+                let f = m[i] / self.interior[i];
+                r = [0, 1, 2].map(|k| r[k] - f * wi[k]);
+                set3(dx, i, [0, 1, 2].map(|k| r[k] + wi[k]));
+            }
+            set3(dx, 0, r);
+            // δa: every pair's tidal term once.
+            for i in 0..n {
+                let (xi, dxi) = (get3(x, i), get3(dx, i));
+                for j in i + 1..n {
+                    let (xj, dxj) = (get3(x, j), get3(dx, j));
+                    let d = [0, 1, 2].map(|k| xj[k] - xi[k]);
+                    let dd = [0, 1, 2].map(|k| dxj[k] - dxi[k]);
+                    let r2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+                    let s = g / (r2 * r2.sqrt());
+                    let t = 3.0 * (d[0] * dd[0] + d[1] * dd[1] + d[2] * dd[2]) / r2;
+                    let tidal = [0, 1, 2].map(|k| s * (dd[k] - t * d[k]));
+                    for k in 0..3 {
+                        da[3 * i + k] += m[j] * tidal[k];
+                        da[3 * j + k] -= m[i] * tidal[k];
+                    }
+                }
+            }
+            // DQ̈ᵢ = δaᵢ − Σ_{j<i} mⱼδaⱼ/M_{i−1} + the Kepler term's derivative.
+            let mut dacc = get3(da, 0).map(|c| c * m[0]);
+            for i in 1..n {
+                let (qi, wi, dai) = (get3(q, i), get3(qdd, i), get3(da, i));
+                let r2 = qi[0] * qi[0] + qi[1] * qi[1] + qi[2] * qi[2];
+                let kep = g * self.interior[i] / (r2 * r2.sqrt());
+                let t = 3.0 * (qi[0] * wi[0] + qi[1] * wi[1] + qi[2] * wi[2]) / r2;
+                let inv = 1.0 / self.interior[i - 1];
+                let (hm, gm) = (h * self.reduced[i], 2.0 * gamma * self.reduced[i]);
+                for k in 0..3 {
+                    let dq = dai[k] - dacc[k] * inv + kep * (wi[k] - t * qi[k]);
+                    dacc[k] += m[i] * dai[k];
+                    p[3 * i + k] += hm * wi[k] + gm * dq;
+                }
+                self.bodies.check_kicked(p, i)?;
+            }
+            Ok(())
+        })
+    }
+
     /// The kick of up to eight planets in lanes (at positions shifted by
     /// `δ·Q̈` for the gradient kick); an error names the first body whose
     /// momentum is not finite.
@@ -457,6 +575,10 @@ impl Jacobi {
         let nb = self.bodies.n();
         let Some(jl) = &self.lanes else { return 0 };
         if n == 0 || !self.simd.avx512() || w.len() != 6 * nb {
+            return 0;
+        }
+        // The lanes take the lazy gradient kick only.
+        if gamma != 0.0 && self.gradient == GradientKick::Exact {
             return 0;
         }
         let delta = if gamma == 0.0 {

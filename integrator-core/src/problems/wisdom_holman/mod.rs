@@ -38,7 +38,7 @@ mod split;
 
 pub use democratic::DemocraticHeliocentric;
 pub use error::WhError;
-pub use jacobi::Jacobi;
+pub use jacobi::{GradientKick, Jacobi};
 
 /// The bodies a split kernel's interaction kick handles with scratch on the
 /// stack; beyond this it allocates its scratch once per call.

@@ -26,7 +26,7 @@
 //! assert!(((e(&z) - e(&z0)) / e(&z0)).abs() < 1e-8);
 //! ```
 
-use super::{Jacobi, WhError};
+use super::{GradientKick, Jacobi, WhError};
 use crate::split::{FlowError, PartBuffers, Split, StateSpace};
 
 impl StateSpace for Jacobi {
@@ -53,7 +53,9 @@ impl Split for Jacobi {
     }
 
     /// The lazy implementer's modified kick
-    /// ([`Jacobi::interaction_kick_gradient`]).
+    /// ([`Jacobi::interaction_kick_gradient`]), or the modified kick itself
+    /// ([`Jacobi::interaction_kick_modified`]) as
+    /// [`Jacobi::with_gradient_kick`] chose.
     #[inline]
     fn flow_b_gradient(
         &self,
@@ -62,8 +64,11 @@ impl Split for Jacobi {
         w: &mut [f64],
         _: PartBuffers<'_>,
     ) -> Result<(), FlowError> {
-        self.interaction_kick_gradient(h, gamma, w)
-            .map_err(flow_error)
+        match self.gradient_kick() {
+            GradientKick::Lazy => self.interaction_kick_gradient(h, gamma, w),
+            GradientKick::Exact => self.interaction_kick_modified(h, gamma, w),
+        }
+        .map_err(flow_error)
     }
 
     /// The kicks and drifts in lanes, the state in registers
