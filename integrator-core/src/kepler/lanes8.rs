@@ -341,9 +341,12 @@ mod tests {
     use crate::simd::Portable;
     use std::f64::consts::PI;
 
+    /// A test orbit: `(x, v, period)`.
+    type Orbit = ([f64; 3], [f64; 3], f64);
+
     /// Eight planet-like orbits (GM = 1, e from 0 to 0.1, different phases
-    /// and radii): `(x, v, period)`.
-    fn planets() -> Vec<([f64; 3], [f64; 3], f64)> {
+    /// and radii).
+    fn planets() -> Vec<Orbit> {
         (0..W)
             .map(|l| {
                 let fl = l as f64;
@@ -367,7 +370,7 @@ mod tests {
         let orbits = planets();
         for frac in [1e-3, 0.02, 0.05, 0.1, 0.15, 0.2, -0.2] {
             let h = frac * orbits[0].2;
-            let lanes = |k: usize, f: &dyn Fn(&([f64; 3], [f64; 3], f64)) -> [f64; 3]| {
+            let lanes = |k: usize, f: &dyn Fn(&Orbit) -> [f64; 3]| {
                 Portable(std::array::from_fn(|l| f(&orbits[l])[k]))
             };
             let x = [0, 1, 2].map(|k| lanes(k, &|o| o.0));
