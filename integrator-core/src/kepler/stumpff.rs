@@ -100,7 +100,15 @@ pub fn stumpff(z: f64) -> [f64; 4] {
             series::<12>(m)
         };
         [1.0 - z * c2, 1.0 - z * c3, c2, c3]
-    } else if z > 0.0 {
+    } else {
+        closed_forms(z)
+    }
+}
+
+/// Stumpff's functions by their closed forms (`z ≠ 0`; see [`stumpff`]).
+#[inline]
+fn closed_forms(z: f64) -> [f64; 4] {
+    if z > 0.0 {
         let x = z.sqrt();
         let (s, c) = x.sin_cos();
         let half = (0.5 * x).sin();
@@ -140,26 +148,6 @@ pub(super) fn series_head(m: f64, t2: f64, t3: f64) -> (f64, f64) {
 mod tests {
     use super::*;
 
-    /// The closed forms of the documentation, for the tests.
-    fn closed(z: f64) -> [f64; 4] {
-        if z > 0.0 {
-            let x = z.sqrt();
-            let (s, c) = x.sin_cos();
-            let half = (0.5 * x).sin();
-            [c, s / x, 2.0 * half * half / z, (x - s) / (z * x)]
-        } else {
-            let y = -z;
-            let x = y.sqrt();
-            let half = (0.5 * x).sinh();
-            [
-                x.cosh(),
-                x.sinh() / x,
-                2.0 * half * half / y,
-                (x.sinh() - x) / (y * x),
-            ]
-        }
-    }
-
     #[test]
     fn the_branches_meet_at_the_switches() {
         // Just inside and just outside |z| = 1 (ten terms, twelve) and
@@ -183,7 +171,7 @@ mod tests {
         for i in 0..=300 {
             let z = 1.0 + 3.0 * f64::from(i) / 300.0 * (1.0 - 1e-12);
             for z in [z, -z] {
-                let (a, b) = (stumpff(z), closed(z));
+                let (a, b) = (stumpff(z), closed_forms(z));
                 for k in 0..4 {
                     let rel = (a[k] - b[k]).abs() / b[k].abs().max(1.0);
                     assert!(rel < 8e-15, "c{k}({z}): {} vs {}", a[k], b[k]);

@@ -400,14 +400,7 @@ impl Jacobi {
                 set3(qdd, i, self.jacobi_acceleration(q, a, i, &mut acc));
             }
             // δx of the direction Q̈ (Q̈₀ = 0: the barycentre is not kicked).
-            let mut r = [0.0; 3];
-            for i in (1..n).rev() {
-                let wi = get3(qdd, i);
-                let f = m[i] / self.interior[i];
-                r = [0, 1, 2].map(|k| r[k] - f * wi[k]);
-                set3(dx, i, [0, 1, 2].map(|k| r[k] + wi[k]));
-            }
-            set3(dx, 0, r);
+            self.barycentric(qdd, dx);
             // δa: every pair's tidal term once.
             for i in 0..n {
                 let (xi, dxi) = (get3(x, i), get3(dx, i));
@@ -473,6 +466,23 @@ impl Jacobi {
         Ok(())
     }
 
+    /// The inertial positions relative to the barycentre of the Jacobi
+    /// positions `q`, into `x` (linear in `q`, so also the inertial
+    /// displacement of a Jacobi one): `Q₀` drops out of every difference,
+    /// so it is left out.
+    #[inline(always)]
+    fn barycentric(&self, q: &[f64], x: &mut [f64]) {
+        let m = &self.bodies.m;
+        let mut r = [0.0; 3];
+        for i in (1..self.bodies.n()).rev() {
+            let qi = get3(q, i);
+            let f = m[i] / self.interior[i];
+            r = [0, 1, 2].map(|k| r[k] - f * qi[k]);
+            set3(x, i, [0, 1, 2].map(|k| r[k] + qi[k]));
+        }
+        set3(x, 0, r);
+    }
+
     /// The inertial accelerations of the interaction at Jacobi positions
     /// `q`, into `a` (zeroed), with the inertial positions relative to the
     /// barycentre in `x`: every pair once.
@@ -481,16 +491,7 @@ impl Jacobi {
         let n = self.bodies.n();
         let g = self.bodies.g;
         let m = &self.bodies.m;
-        // Inertial positions relative to the barycentre (Q₀ drops out of
-        // every difference, so it is left out).
-        let mut r = [0.0; 3];
-        for i in (1..n).rev() {
-            let qi = get3(q, i);
-            let f = m[i] / self.interior[i];
-            r = [0, 1, 2].map(|k| r[k] - f * qi[k]);
-            set3(x, i, [0, 1, 2].map(|k| r[k] + qi[k]));
-        }
-        set3(x, 0, r);
+        self.barycentric(q, x);
         for i in 0..n {
             let xi = get3(x, i);
             for j in i + 1..n {
