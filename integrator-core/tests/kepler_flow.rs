@@ -743,3 +743,40 @@ fn energy_bias_per_step() {
         );
     }
 }
+
+#[test]
+#[ignore = "a measurement (the evaluation counts quoted at KeplerSolver::DEFAULT_MAX_ITERATIONS): cargo test --release -p integrator-core --test kepler_flow evaluation_counts -- --ignored --nocapture"]
+fn evaluation_counts() {
+    // The fewest evaluations (Halley or bisection steps) with which each
+    // solve of the accuracy grid succeeds: `max_iterations` probed from 1.
+    let mut counts = Vec::new();
+    let mut worst = (0, String::new());
+    for c in bound_cases().into_iter().chain(hyperbolic_cases()) {
+        let (x0, v0) = state(c.gm, c.a, c.e, c.nu);
+        let k = (1..=KeplerSolver::DEFAULT_MAX_ITERATIONS)
+            .find(|&k| {
+                let solver = KeplerSolver {
+                    max_iterations: k,
+                    ..KeplerSolver::default()
+                };
+                let (mut x, mut v) = (x0, v0);
+                solver.drift(c.gm, c.h, &mut x, &mut v).is_ok()
+            })
+            .expect("every solve of the grid converges");
+        if k > worst.0 {
+            worst = (k, format!("e = {}, ν = {:.2}, h = {:.3e}", c.e, c.nu, c.h));
+        }
+        counts.push(k);
+    }
+    let n = counts.len() as f64;
+    let share = |m: usize| counts.iter().filter(|&&k| k <= m).count() as f64 / n;
+    println!(
+        "{} solves: 1 evaluation {:.0} %, ≤ 2 {:.0} %, ≤ 3 {:.0} %, at most {} ({})",
+        counts.len(),
+        100.0 * share(1),
+        100.0 * share(2),
+        100.0 * share(3),
+        worst.0,
+        worst.1
+    );
+}
