@@ -85,7 +85,11 @@
 //!   `0 ≤ j < ny` along the height (`v`), has id `j·nx + i`; it starts at
 //!   `origin + prestretch·(i·Δx·u + j·Δy·v)`, `Δx = width/(nx − 1)`,
 //!   `Δy = height/(ny − 1)`. `plane = "horizontal"`: `u = +x`, `v = +z`;
-//!   `"vertical"`: `u = +x`, `v = −y` (row `j = 0` on top).
+//!   `"vertical"`: `u = +x`, `v = −y` (row `j = 0` on top). With
+//!   `sag > 0` every row starts instead as one circular arc of chords `Δx`
+//!   bowing by `sag` along `u × v` (down for a horizontal sheet), so that
+//!   its ends are closer than `width`: a sheet pinned along its left and
+//!   right edges then hangs between them like a hammock.
 //! * **Springs**: stretch (structural) between `(i, j)` and `(i+1, j)`,
 //!   `(i, j+1)`; shear between `(i, j)` and `(i+1, j+1)`, and `(i+1, j)` and
 //!   `(i, j+1)`; bend between `(i, j)` and `(i+2, j)`, `(i, j+2)`. Rest
@@ -129,6 +133,7 @@
 //! origin = [0.0, 0.0, 0.0]       # optional; position of particle (0, 0)
 //! plane = "horizontal"           # optional; "horizontal" or "vertical"
 //! prestretch = 1.0               # optional; initial scale of the grid about origin
+//! sag = 0.0                      # optional; rows start as arcs sagging this much (m), ≤ a half circle
 //!
 //! [material]
 //! density = 0.01378              # kg/m²
@@ -161,7 +166,8 @@
 //! constrained Störmer–Verlet step, [`step::rattle`]) and only by it. It must
 //! start on its constraints (`prestretch = 1`), no two pins of one edge may
 //! be apart by other than its length, and no straight line of edges may be
-//! held taut between two pins; each is an error naming the field.
+//! held taut between two pins (`sag` gives the rows of a sheet pinned at
+//! both ends the slack to hang); each is an error naming the field.
 //!
 //! Unknown keys, missing fields, non-positive sizes or density, negative
 //! stiffness, a resolution below 2, a pin outside the grid, an unknown

@@ -174,19 +174,41 @@ impl ClothModel {
 }
 
 /// The initial positions of all particles, by particle id `j·nx + i`: the
-/// grid of spacing `dx`, `dy` on the cloth's plane, scaled by the
-/// prestretch, placed at the origin.
+/// grid of spacing `dx`, `dy` on the cloth's plane (its rows arcs where the
+/// scene sags, [`ClothSpec::sag`](crate::scene::ClothSpec::sag)), scaled
+/// by the prestretch, placed at the origin.
 fn start_positions(scene: &Scene, dx: f64, dy: f64) -> Vec<Vector3<f64>> {
     let c = &scene.cloth;
     let (nx, ny) = (c.nx, c.ny);
     let n = nx * ny;
     let (u, v) = c.plane.axes();
     let (u, v) = (Vector3::from(u), Vector3::from(v));
+    let bow = u.cross(&v);
     let origin = Vector3::from(c.origin);
+    // Along `u` and along the bow, particle `i` of every row.
+    let row: Vec<(f64, f64)> = if c.sag > 0.0 {
+        let half = crate::scene::arc_half_angle(nx, dx, c.sag);
+        let r = crate::scene::arc_radius(nx, dx, half);
+        let step = 2.0 * half / (nx - 1) as f64;
+        (0..nx)
+            .map(|i| {
+                // The angles from the first particle and to the last (φ =
+                // −Θ + from): R(sin φ + sin Θ) and R(cos φ − cos Θ) as
+                // products, so that both ends sit at a bow of exactly 0.
+                let (from, to) = (i as f64 * step, (nx - 1 - i) as f64 * step);
+                let along = 2.0 * r * (from / 2.0).sin() * (half - from / 2.0).cos();
+                let down = 2.0 * r * (from / 2.0).sin() * (to / 2.0).sin();
+                (along, down)
+            })
+            .collect()
+    } else {
+        (0..nx).map(|i| (i as f64 * dx, 0.0)).collect()
+    };
     (0..n)
         .map(|id| {
             let (i, j) = (id % nx, id / nx);
-            origin + (u * (i as f64 * dx) + v * (j as f64 * dy)) * c.prestretch
+            let (along, down) = row[i];
+            origin + (u * along + bow * down + v * (j as f64 * dy)) * c.prestretch
         })
         .collect()
 }

@@ -53,7 +53,8 @@ impl SceneError {
 
 /// How the grid is laid out in space. Particle `(i, j)` starts at
 /// `origin + prestretch · (i·Δx·u + j·Δy·v)` with `Δx = width/(nx − 1)`,
-/// `Δy = height/(ny − 1)`. The y axis points up.
+/// `Δy = height/(ny − 1)` (with [`ClothSpec::sag`] the rows are arcs
+/// instead). The y axis points up.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Plane {
     /// `u = +x`, `v = +z`: a sheet lying flat at height `origin.y`.
@@ -96,6 +97,50 @@ pub struct ClothSpec {
     /// Initial positions are the rest grid scaled by this factor about
     /// `origin` (1 = at rest; 1.1 = stretched by 10 %).
     pub prestretch: f64,
+    /// 0 (the default): the grid starts flat. Otherwise every row starts
+    /// as the same circular arc through its particles, each edge along it
+    /// a chord of length `Δx`, bowing by `sag` (m) at its middle along
+    /// `u × v` (down for `"horizontal"`), its first and last particle
+    /// closer than `width`: a cloth that can hang between its left and
+    /// right edges (a hammock) without a straight line of edges held taut
+    /// between two pins. At most [`max_sag`] (a half circle).
+    pub sag: f64,
+}
+
+/// The largest [`ClothSpec::sag`] of a row of `nx` particles `dx` apart:
+/// the rows a half circle, the particles `dx` apart along it.
+pub fn max_sag(nx: usize, dx: f64) -> f64 {
+    arc_radius(nx, dx, std::f64::consts::FRAC_PI_2)
+}
+
+/// The radius of the circle on which `nx` particles `dx` apart span the
+/// angle `2·half` (one chord `dx` subtends `2·half/(nx − 1)`).
+pub fn arc_radius(nx: usize, dx: f64, half: f64) -> f64 {
+    dx / (2.0 * (half / (nx - 1) as f64).sin())
+}
+
+/// The half angle `Θ ∈ (0, π/2]` of the arc of `nx` particles `dx` apart
+/// that sags by `sag ∈ (0, max_sag]`: `R(Θ)·(1 − cos Θ) = sag`, increasing
+/// in `Θ` on that interval, solved by bisection to the last bit.
+pub fn arc_half_angle(nx: usize, dx: f64, sag: f64) -> f64 {
+    let sag_of = |half: f64| {
+        // 1 − cos Θ = 2 sin²(Θ/2), without cancellation for a small Θ.
+        let s = (half / 2.0).sin();
+        arc_radius(nx, dx, half) * 2.0 * s * s
+    };
+    let (mut lo, mut hi) = (0.0_f64, std::f64::consts::FRAC_PI_2);
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        if mid <= lo || mid >= hi {
+            break;
+        }
+        if sag_of(mid) < sag {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    hi
 }
 
 /// Areal density and the stiffness of each spring family (see the crate

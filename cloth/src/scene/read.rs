@@ -366,6 +366,7 @@ impl Reader<'_> {
                 "origin",
                 "plane",
                 "prestretch",
+                "sag",
             ],
         )?;
         let width = self.positive(self.req_f64(t, p, "width")?, "cloth.width")?;
@@ -395,6 +396,10 @@ impl Reader<'_> {
             None => 1.0,
             Some(s) => self.positive(s, "cloth.prestretch")?,
         };
+        let sag = match self.opt_f64(t, p, "sag")? {
+            None => 0.0,
+            Some(s) => self.non_negative(s, "cloth.sag")?,
+        };
         Ok(ClothSpec {
             width,
             height,
@@ -403,6 +408,7 @@ impl Reader<'_> {
             origin,
             plane,
             prestretch,
+            sag,
         })
     }
 

@@ -38,6 +38,17 @@ impl Scene {
         if let Some((which, message)) = grid_too_large(c.nx, c.ny) {
             return Err(r.err(&format!("cloth.{which}"), message));
         }
+        non_negative(r, c.sag, "cloth.sag")?;
+        let most = super::max_sag(c.nx, c.width / (c.nx - 1) as f64);
+        if c.sag > most {
+            return Err(r.err(
+                "cloth.sag",
+                format!(
+                    "{} m is more than a row of width {} m can sag: at most {most} m, a half circle",
+                    c.sag, c.width
+                ),
+            ));
+        }
         Ok(())
     }
 
