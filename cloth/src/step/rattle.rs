@@ -18,9 +18,10 @@
 //! scaled multipliers `Λ = h²λ/(2m)`, `q'(Λ) = q̂ − G(q)ᵀΛ`, and
 //! `g(q'(Λ)) = 0` is solved by simplified Newton: `Λ ← Λ + A⁻¹·g(q'(Λ))`
 //! with `A = G(q)·G(q)ᵀ` (the true Jacobian is `G(q')·G(q)ᵀ`). `A` is SPD
-//! while the constraints are independent, and it is the matrix the previous
-//! step's velocity projection factorised (at that step's `q'`, this step's
-//! `q`), so the position solve costs no factorisation of its own. While the
+//! while the constraints are independent; its factor is renewed at the end
+//! of every few steps (at that step's `q'`, this step's `q`) and otherwise
+//! an older one serves, so the position solve costs no factorisation of
+//! its own. While the
 //! iteration contracts (each residual at most [`RattleSettings::contraction`]
 //! of the one before) the factor is kept; when it does not, the iteration
 //! goes on with a sparse LU of the true Jacobian `G(q')·G(q)ᵀ` at the
@@ -35,15 +36,22 @@
 //! [`RattleSettings::max_iterations`] it is an error that the run reports
 //! with the step and time, never a step accepted off the manifold.
 //!
-//! **The velocity projection** solves `G(q')·G(q')ᵀ·μ = G(q')·p̃`. Every
-//! [`RattleSettings::refactor_every`] steps (default 3) it factorises that
-//! matrix and solves directly; the factor then serves the next steps'
-//! position solves. In between it runs conjugate gradients preconditioned
-//! with the last factor, to the round-off of the right-hand side (its
-//! residual is `G(q')·p'` itself), falling back to a factorisation if they
-//! do not get there in [`RattleSettings::max_pcg`] iterations. A
-//! factorisation costs about 15 triangular solves at 64², the conjugate
-//! gradients 4–5.
+//! **The velocity projection** `G(q')·G(q')ᵀ·μ = G(q')·p̃` is made only
+//! where a state is handed out, at the end of a frame ([`ClothStepper::leave`]).
+//! Between frames the steps carry the unprojected `p̃` on (SHAKE's form of
+//! RATTLE): the next step's constraint impulse acts along the same
+//! `G(q')ᵀ` as the projection's, so its multipliers take the projection's
+//! up and the positions are the same as with a projection after every
+//! step; the momentum handed out at a frame is RATTLE's. At the next frame
+//! the steps go on from the carried `p̃`. This halves the solves of a step
+//! (a projection took as many as a position solve). Every
+//! [`RattleSettings::refactor_every`] steps (default 6) the factor of
+//! `G(q')·G(q')ᵀ` is renewed for the next position solves; the projection
+//! solves directly where the factor is of its `q'`, and otherwise runs
+//! conjugate gradients preconditioned with the last factor, to the
+//! round-off of the right-hand side (its residual is `G(q')·p'` itself),
+//! falling back to a factorisation if they do not get there in
+//! [`RattleSettings::max_pcg`] iterations.
 //!
 //! The symbolic analysis of `G·Gᵀ` (its pattern never changes) is made once
 //! with the model.
@@ -73,15 +81,14 @@ pub struct RattleSettings {
     /// 6.1 ms per frame on two threads against 2.2 ms on one, and faer's
     /// factorisation and solves gained nothing; see the README).
     pub parallel: bool,
-    /// Factorise `G·Gᵀ` afresh every this many steps (default 3; 1: every
-    /// step, the velocity projection solved directly; 0: only when the
-    /// preconditioned conjugate gradients of the projection fail). Between,
-    /// the projection runs conjugate gradients preconditioned with the last
-    /// factor, which also serves the position solves. A factorisation costs
-    /// about 15 solves at 64²; the conjugate gradients take 4–5 iterations
-    /// and the position solves a few more with an older factor (measured:
-    /// 3.7, 3.8, 4.0 and 4.3 iterations per step for 1, 2, 3 and 4; with 0,
-    /// 9.1 and an LU refresh every other step).
+    /// Factorise `G·Gᵀ` afresh every this many steps (default 6; 1: every
+    /// step; 0: only when the conjugate gradients of a frame's velocity
+    /// projection fail). The factor serves the position solves of the
+    /// steps after it (an older one costs them a few more iterations) and
+    /// the projections at the frames. The default was measured on the
+    /// paper's sheet released 45° (README, "Inextensible cloth"): at 64²
+    /// with 6 steps per frame 3 and 6 gave 15.1 and 14.1 ms per frame, at
+    /// 128² with 12 per frame 3, 4, 6 and 12 gave 168, 144, 124 and 120 ms.
     pub refactor_every: usize,
     /// Conjugate-gradient iterations of one velocity projection before it
     /// falls back to a factorisation (default 12).
@@ -94,7 +101,7 @@ impl Default for RattleSettings {
             max_iterations: 50,
             contraction: 0.5,
             parallel: false,
-            refactor_every: 3,
+            refactor_every: 6,
             max_pcg: 12,
         }
     }
@@ -121,8 +128,9 @@ pub struct Stats {
     pub iterations: usize,
     /// The most iterations one position solve took.
     pub max_iterations: usize,
-    /// Numeric Cholesky factorisations of `G·Gᵀ` (one per step for the
-    /// velocity projection, and one at the start).
+    /// Numeric Cholesky factorisations of `G·Gᵀ` (one at the start, one
+    /// every [`RattleSettings::refactor_every`] steps, and one where a
+    /// frame's projection fell back to it).
     pub factorizations: usize,
     /// Numeric LU factorisations of the true Jacobian `G(q')·G(q)ᵀ` (the
     /// position solve's refreshes), and their symbolic analyses (0 or 1).
@@ -215,6 +223,15 @@ pub struct RattleStepper {
     q1: Vec<f64>,
     w: Vec<f64>,
     phalf: Vec<f64>,
+    /// At the end of a frame: the unprojected momentum the steps carry on
+    /// with, and the projected one handed out (`resume`: both belong to
+    /// the state the last frame ended with).
+    p_carried: Vec<f64>,
+    p_out: Vec<f64>,
+    resume: bool,
+    /// Whether the step being taken started from an unprojected momentum,
+    /// so that its multipliers carry the skipped projection's too.
+    carried: bool,
     stats: Stats,
 }
 
@@ -272,6 +289,10 @@ impl RattleStepper {
             q1: vec![0.0; n3],
             w: vec![0.0; n3],
             phalf: vec![0.0; n3],
+            p_carried: vec![0.0; n3],
+            p_out: vec![0.0; n3],
+            resume: false,
+            carried: false,
             stats: Stats::default(),
         })
     }
@@ -413,15 +434,18 @@ impl RattleStepper {
     }
 
     fn step_inner(&mut self, model: &ClothModel, h: f64, z: &mut [f64]) -> Result<(), RattleError> {
-        let par = self.settings.parallel;
         let n3 = self.n3;
         let (m, inv_m) = (model.particle_mass(), model.inverse_mass());
         let (q, p) = z.split_at_mut(n3);
         if !self.valid || self.cached_q != *q {
             self.solved = 0;
+            self.carried = false;
             self.prepare(model, q)?;
         }
         self.valid = false;
+        // Multipliers that also take up the skipped projection's are two
+        // half-steps' impulses: the tension is measured by half of them.
+        let impulses: f64 = if self.carried { 2.0 } else { 1.0 };
         // Warm start: Λ = h²λ/(2m) scales with h².
         if self.lambda_h != h {
             let s = (h / self.lambda_h).powi(2);
@@ -457,7 +481,7 @@ impl RattleStepper {
         let q_scale = q_max(q).max(q_max(&self.qhat));
         self.position_solve(q_scale)?;
         let t_wave = Instant::now();
-        self.last_wave_number = self.constraints.wave_number(&self.lambda);
+        self.last_wave_number = self.constraints.wave_number(&self.lambda) / impulses.sqrt();
         self.stats.max_wave_number = self.stats.max_wave_number.max(self.last_wave_number);
         self.stats.seconds.constraints += t_wave.elapsed().as_secs_f64();
         // p½ = p + h/2·F(q) − (m/h)·G(q)ᵀΛ; then the force at q'.
@@ -472,23 +496,61 @@ impl RattleStepper {
         for (ph, f) in self.phalf.iter_mut().zip(&self.force) {
             *ph += half * f;
         }
-        // The velocity projection: G(q')·(p̃ − G(q')ᵀμ) = 0.
+        // No velocity projection between the frames (SHAKE's form of the
+        // same steps): p̃ goes on to the next step, whose multipliers take
+        // up the projection's. Every `refactor_every` steps the factor of
+        // G(q')·G(q')ᵀ is renewed for the next position solves.
         std::mem::swap(&mut self.d, &mut self.d1);
+        p.copy_from_slice(&self.phalf);
+        q.copy_from_slice(&self.q1);
+        self.cached_q.copy_from_slice(&self.q1);
+        let t4 = Instant::now();
+        let due = self.settings.refactor_every != 0
+            && self.since_factor + 1 >= self.settings.refactor_every;
+        if due {
+            let factored = self.gram.factorize(&self.d);
+            self.stats.factorizations += 1;
+            self.since_factor = 0;
+            factored.map_err(|_| RattleError::NotPositive {
+                phase: "position solve",
+            })?;
+        } else {
+            self.since_factor += 1;
+        }
+        let t5 = Instant::now();
+        let s = &mut self.stats.seconds;
+        s.constraints += (t2 - t1).as_secs_f64() + (t4 - t3).as_secs_f64();
+        s.forces += (t3 - t2).as_secs_f64();
+        s.factorize += (t5 - t4).as_secs_f64();
+        self.stats.steps += 1;
+        self.solved += 1;
+        self.carried = true;
+        self.valid = true;
+        Ok(())
+    }
+
+    /// The velocity projection of the state the steps left in `z`:
+    /// `p' = p̃ − G(q')ᵀμ` with `G(q')·G(q')ᵀ·μ = G(q')·p̃`, directly where
+    /// the factor is of this `q'`, else by conjugate gradients preconditioned
+    /// with the older factor, falling back to a new factorisation (which
+    /// then serves the next position solves too).
+    fn project(&mut self, z: &mut [f64]) -> Result<(), RattleError> {
+        let par = self.settings.parallel;
+        let (_, p) = z.split_at_mut(self.n3);
+        self.phalf.copy_from_slice(p);
+        let t4 = Instant::now();
         self.constraints
             .apply_g(&self.d, &self.phalf, &mut self.b, par);
-        let t4 = Instant::now();
-        let reuse = self.settings.refactor_every != 1
-            && (self.settings.refactor_every == 0
-                || self.since_factor + 1 < self.settings.refactor_every)
-            && self.solved > 0
-            && self.pcg();
         let t5 = Instant::now();
+        let reuse = self.since_factor == 0 || self.pcg();
+        let t6 = Instant::now();
         let mut factorizing = 0.0;
-        if reuse {
-            self.since_factor += 1;
-        } else {
+        if self.since_factor == 0 {
+            self.delta.copy_from_slice(&self.b);
+            self.gram.solve(&mut self.delta);
+        } else if !reuse {
             let factored = self.gram.factorize(&self.d);
-            factorizing = t5.elapsed().as_secs_f64();
+            factorizing = t6.elapsed().as_secs_f64();
             self.stats.factorizations += 1;
             self.since_factor = 0;
             factored.map_err(|_| RattleError::NotPositive {
@@ -497,26 +559,19 @@ impl RattleStepper {
             self.delta.copy_from_slice(&self.b);
             self.gram.solve(&mut self.delta);
         }
-        let t6 = Instant::now();
+        let t7 = Instant::now();
         self.constraints
             .apply_gt(&self.d, &self.delta, &mut self.w, par);
         for ((pk, ph), w) in p.iter_mut().zip(&self.phalf).zip(&self.w) {
             *pk = ph - w;
         }
-        q.copy_from_slice(&self.q1);
-        self.cached_q.copy_from_slice(&self.q1);
-        let t7 = Instant::now();
+        let t8 = Instant::now();
         let s = &mut self.stats.seconds;
-        s.constraints +=
-            (t2 - t1).as_secs_f64() + (t4 - t3).as_secs_f64() + (t7 - t6).as_secs_f64();
-        s.forces += (t3 - t2).as_secs_f64();
-        // Conjugate gradients (t4..t5) count as solves; a factorisation
-        // (within t5..t6) as factorisation, its solve as a solve.
+        s.constraints += (t5 - t4).as_secs_f64() + (t8 - t7).as_secs_f64();
+        // Conjugate gradients count as solves; a factorisation as
+        // factorisation, its solve as a solve.
         s.factorize += factorizing;
-        s.solve += (t6 - t4).as_secs_f64() - factorizing;
-        self.stats.steps += 1;
-        self.solved += 1;
-        self.valid = true;
+        s.solve += (t7 - t5).as_secs_f64() - factorizing;
         Ok(())
     }
 }
@@ -530,6 +585,41 @@ impl ClothStepper for RattleStepper {
         z: &mut [f64],
     ) -> Result<(), StepError> {
         self.step_inner(model, h, z).map_err(StepError::Constraint)
+    }
+
+    /// Carry on from the unprojected momentum the last frame ended with,
+    /// where `z` is still the state handed out then.
+    fn enter(&mut self, _model: &ClothModel, _t: f64, z: &mut [f64]) {
+        let (q, p) = z.split_at_mut(self.n3);
+        if self.resume && self.valid && self.cached_q == *q && self.p_out == *p {
+            p.copy_from_slice(&self.p_carried);
+        } else {
+            self.carried = false;
+        }
+        self.resume = false;
+    }
+
+    /// Hand out `[q; p]` with `p` projected onto the tangent space
+    /// (`G(q)·M⁻¹·p = 0`), as RATTLE's own step ends. The positions do not
+    /// depend on it: the next step's multipliers would take it up.
+    fn leave(&mut self, _model: &ClothModel, _t: f64, z: &mut [f64]) {
+        if !(self.valid && self.carried) {
+            return;
+        }
+        self.p_carried.copy_from_slice(&z[self.n3..]);
+        match self.project(z) {
+            Ok(()) => {
+                self.p_out.copy_from_slice(&z[self.n3..]);
+                self.resume = true;
+            }
+            Err(_) => {
+                // Not positive definite at the end of a step that solved:
+                // leave p̃ as it is; the next step will fail on the same
+                // matrix and report it with its step and time.
+                z[self.n3..].copy_from_slice(&self.p_carried);
+                self.valid = false;
+            }
+        }
     }
 
     fn stats(&self) -> SolverStats {
