@@ -97,15 +97,40 @@ pub struct BandedStepper {
     /// Two position buffers ([`Phase::cur`] the current one).
     pos: [[Vec<f64>; 3]; 2],
     phase: Phase,
+    /// Each band's own arrays.
+    own: Vec<Own>,
+    barrier: SpinBarrier,
+}
+
+/// A band's arrays over its rows' particles: momenta, the carried rounding
+/// errors of momenta and positions, the force, which particles are free
+/// (1.0) or pinned (0.0), and the row buffer of tensions.
+struct Own {
     p: [Vec<f64>; 3],
     ep: [Vec<f64>; 3],
     eq: [Vec<f64>; 3],
     f: [Vec<f64>; 3],
-    /// 1.0 for a free particle, 0.0 for a pinned one.
     free: Vec<f64>,
-    /// Each band's row buffer of tensions.
-    row: Vec<[Vec<f64>; 3]>,
-    barrier: SpinBarrier,
+    row: [Vec<f64>; 3],
+}
+
+/// Three arrays as slices.
+fn slices(a: &mut [Vec<f64>; 3]) -> [&mut [f64]; 3] {
+    a.each_mut().map(|v| v.as_mut_slice())
+}
+
+impl Own {
+    fn band(&mut self, rows: Range<usize>) -> Band<'_> {
+        Band {
+            rows,
+            p: slices(&mut self.p),
+            ep: slices(&mut self.ep),
+            eq: slices(&mut self.eq),
+            f: slices(&mut self.f),
+            free: &self.free,
+            row: &mut self.row,
+        }
+    }
 }
 
 impl BandedStepper {
@@ -126,13 +151,27 @@ impl BandedStepper {
                 model.free_index(i, j).map_or(u32::MAX, |k| k as u32)
             })
             .collect();
-        let free = free_of
-            .iter()
-            .map(|&k| if k == u32::MAX { 0.0 } else { 1.0 })
-            .collect();
         let start = model.positions(&model.initial_state()[..3 * model.free_count()]);
         let coords = |c: usize| -> Vec<f64> { start.iter().map(|x| x[c]).collect() };
-        let grid = || std::array::from_fn(|_| vec![0.0; n]);
+        let own = rows
+            .iter()
+            .map(|r| {
+                let len = r.len() * nx;
+                let zeros = || std::array::from_fn(|_| vec![0.0; len]);
+                let ids = &free_of[r.start * nx..r.end * nx];
+                Own {
+                    p: zeros(),
+                    ep: zeros(),
+                    eq: zeros(),
+                    f: zeros(),
+                    free: ids
+                        .iter()
+                        .map(|&k| if k == u32::MAX { 0.0 } else { 1.0 })
+                        .collect(),
+                    row: std::array::from_fn(|_| vec![0.0; nx]),
+                }
+            })
+            .collect();
         BandedStepper {
             seq,
             nx,
@@ -144,18 +183,17 @@ impl BandedStepper {
                 after_drift: false,
                 force_valid: false,
             },
-            p: grid(),
-            ep: grid(),
-            eq: grid(),
-            f: grid(),
-            free,
-            row: rows
-                .iter()
-                .map(|_| std::array::from_fn(|_| vec![0.0; nx]))
-                .collect(),
+            own,
             barrier: SpinBarrier::new(rows.len()),
             rows,
         }
+    }
+
+    /// The band of particle `id` and its index there.
+    fn locate(&self, id: usize) -> (usize, usize) {
+        let j = id / self.nx;
+        let b = self.rows.partition_point(|r| r.end <= j);
+        (b, id - self.rows[b].start * self.nx)
     }
 
     /// The bands (threads) it steps in.
@@ -174,12 +212,7 @@ impl BandedStepper {
             free_count,
             pos,
             phase,
-            p,
-            ep,
-            eq,
-            f,
-            free,
-            row,
+            own,
             barrier,
         } = self;
         let nx = *nx;
@@ -195,19 +228,10 @@ impl BandedStepper {
             free_of,
             free_count: *free_count,
         };
-        let mut p = split_rows(p, rows, nx).into_iter();
-        let mut ep = split_rows(ep, rows, nx).into_iter();
-        let mut eq = split_rows(eq, rows, nx).into_iter();
-        let mut f = split_rows(f, rows, nx).into_iter();
-        let mut bands = rows.iter().zip(row.iter_mut()).map(|(r, row)| Band {
-            rows: r.clone(),
-            p: p.next().expect("one per band"),
-            ep: ep.next().expect("one per band"),
-            eq: eq.next().expect("one per band"),
-            f: f.next().expect("one per band"),
-            free: &free[r.start * nx..r.end * nx],
-            row,
-        });
+        let mut bands = own
+            .iter_mut()
+            .zip(rows.iter())
+            .map(|(o, r)| o.band(r.clone()));
         let first = bands.next().expect("at least one band");
         let (end, mut bad) = if rows.len() == 1 {
             worker::run(&frame, first)
@@ -235,28 +259,6 @@ impl BandedStepper {
     }
 }
 
-/// Each band's rows of three grid arrays.
-fn split_rows<'a>(
-    a: &'a mut [Vec<f64>; 3],
-    rows: &[Range<usize>],
-    nx: usize,
-) -> Vec<[&'a mut [f64]; 3]> {
-    let mut rest: [&'a mut [f64]; 3] = a.each_mut().map(|v| v.as_mut_slice());
-    rows.iter()
-        .map(|r| {
-            let [x, y, z] = std::mem::take(&mut rest);
-            let len = r.len() * nx;
-            let ((x0, x1), (y0, y1), (z0, z1)) = (
-                x.split_at_mut(len),
-                y.split_at_mut(len),
-                z.split_at_mut(len),
-            );
-            rest = [x1, y1, z1];
-            [x0, y0, z0]
-        })
-        .collect()
-}
-
 impl ClothStepper for BandedStepper {
     /// The free particles' `q` and `p` into the grid arrays.
     fn enter(&mut self, model: &ClothModel, _t: f64, z: &mut [f64]) {
@@ -265,9 +267,10 @@ impl ClothStepper for BandedStepper {
         let cur = self.phase.cur;
         for k in 0..n {
             let id = model.free_particle(k);
+            let (b, i) = self.locate(id);
             for c in 0..3 {
                 self.pos[cur][c][id] = q[3 * k + c];
-                self.p[c][id] = p[3 * k + c];
+                self.own[b].p[c][i] = p[3 * k + c];
             }
         }
     }
@@ -314,9 +317,10 @@ impl ClothStepper for BandedStepper {
         let cur = self.phase.cur;
         for k in 0..n {
             let id = model.free_particle(k);
+            let (b, i) = self.locate(id);
             for c in 0..3 {
                 q[3 * k + c] = self.pos[cur][c][id];
-                p[3 * k + c] = self.p[c][id];
+                p[3 * k + c] = self.own[b].p[c][i];
             }
         }
     }

@@ -224,16 +224,15 @@ fn locate(frame: &Frame<'_>, band: &Band<'_>, cur: usize) -> Option<(usize, f64)
     let nx = frame.model.grid().0;
     let base = band.rows.start * nx;
     let mut found: Option<(usize, f64)> = None;
-    for k in 0..band.free.len() {
-        let free = frame.free_of[base + k];
-        if free == u32::MAX {
-            continue;
-        }
+    let ids = frame.free_of[base..base + band.free.len()]
+        .iter()
+        .enumerate();
+    for (k, &free) in ids.filter(|(_, f)| **f != u32::MAX) {
         let free = free as usize;
-        for c in 0..3 {
+        for (c, (q, p)) in q.iter().zip(&band.p).enumerate() {
             for (index, value) in [
-                (3 * free + c, q[c][k]),
-                (3 * (frame.free_count + free) + c, band.p[c][k]),
+                (3 * free + c, q[k]),
+                (3 * (frame.free_count + free) + c, p[k]),
             ] {
                 if !value.is_finite() && found.is_none_or(|(i, _)| index < i) {
                     found = Some((index, value));
