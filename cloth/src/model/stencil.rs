@@ -17,11 +17,18 @@
 //! in which a particle's contributions are summed differs, so the forces
 //! agree to round-off (tested against the list loop).
 //!
-//! With [`Stencil::BANDS`] bands of rows the work splits over threads
+//! With [`Stencil::BANDS`] bands of rows one evaluation splits over threads
 //! (rayon): each band accumulates into its own force arrays (a spring of
 //! one band may end in the next), summed at the gather. The scratch is
 //! allocated with the model; the single-band path allocates nothing, the
-//! parallel one only what rayon's job queue takes now and then.
+//! parallel one only what rayon's job queue takes now and then. That split
+//! pays only on very large grids ([`Stencil::PARALLEL_FROM`]): the
+//! explicit drift–kick schemes use two threads another way, a whole frame
+//! of steps on long-lived workers that each own a band of rows
+//! ([`crate::step::banded`]), through [`Stencil::rows`], the same loops
+//! restricted to the particles of a band, which computes the springs
+//! crossing the band's edges itself so that each particle's force is summed
+//! in the same order as here (the same bits).
 
 use std::sync::{Mutex, TryLockError};
 
@@ -100,13 +107,20 @@ impl Stencil {
     /// pay for the threads' hand-over (two: this project's machines have
     /// two cores; more bands would cost the extra force arrays' sum).
     pub(super) const BANDS: usize = 2;
-    /// Below this many particles one thread does all the rows. Measured
-    /// (README, cloth section): at 64² the hand-over of the three parallel
-    /// phases (positions, bands, gather) to rayon's second thread cost more
-    /// than it saved; at 128² the force alone gained 1.27×, but whole steps
-    /// lost (the second thread goes to sleep during the drift and is woken
-    /// for every force). So two threads are used only from 256² on, where
-    /// a band is four times the work; that size was not measured.
+    /// Below this many particles one thread does all the rows of an
+    /// evaluation. Measured (README, cloth section): at 64² the hand-over
+    /// of the three parallel phases (positions, bands, gather) to rayon's
+    /// second thread cost more than it saved; at 128² the force alone
+    /// gained 1.27×, but whole steps lost (the second thread goes to sleep
+    /// during the drift and is woken for every force). So two threads are
+    /// used only from 256² on, where a band is four times the work; that
+    /// size was not measured. The drift–kick schemes do not come here for
+    /// their threads: they step in bands on workers that live for a frame
+    /// ([`crate::step::banded`], from
+    /// [`BANDED_FROM`](crate::step::banded::BANDED_FROM) particles); this
+    /// split serves every other caller of the model's force (the
+    /// Runge–Kutta tables, the explicit pairs' own steps when banding is
+    /// off, the solvers).
     pub(super) const PARALLEL_FROM: usize = 256 * 256;
 
     /// The stencil of an `nx × ny` grid: `dirs` as

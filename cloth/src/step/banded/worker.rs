@@ -59,7 +59,38 @@ pub(super) type NonFinite = (usize, usize, f64);
 /// that is not current (or, right after another drift, the current one
 /// again), which no worker reads until after the next barrier (see
 /// [`super::grid`]).
-pub(super) fn run(frame: &Frame<'_>, mut band: Band<'_>) -> (Phase, Option<NonFinite>) {
+pub(super) fn run(frame: &Frame<'_>, band: Band<'_>) -> (Phase, Option<NonFinite>) {
+    #[cfg(target_arch = "x86_64")]
+    {
+        if std::arch::is_x86_feature_detected!("avx512f") {
+            // SAFETY: the CPU has AVX-512F, checked just above.
+            return unsafe { run_avx512(frame, band) };
+        }
+        if std::arch::is_x86_feature_detected!("avx2") {
+            // SAFETY: the CPU has AVX2, checked just above.
+            return unsafe { run_avx2(frame, band) };
+        }
+    }
+    run_body(frame, band)
+}
+
+/// [`run_body`] with the flows' loops compiled for AVX-512 (the same bits:
+/// no fused multiply–adds, as on every path).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f")]
+fn run_avx512(frame: &Frame<'_>, band: Band<'_>) -> (Phase, Option<NonFinite>) {
+    run_body(frame, band)
+}
+
+/// [`run_body`] for AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn run_avx2(frame: &Frame<'_>, band: Band<'_>) -> (Phase, Option<NonFinite>) {
+    run_body(frame, band)
+}
+
+#[inline(always)]
+fn run_body(frame: &Frame<'_>, mut band: Band<'_>) -> (Phase, Option<NonFinite>) {
     let Frame {
         model,
         seq,
@@ -138,7 +169,7 @@ pub(super) fn run(frame: &Frame<'_>, mut band: Band<'_>) -> (Phase, Option<NonFi
 /// `p += h·c·F` with the carried rounding error `e` (as the library's
 /// split steps: `inc = e + hc·F`), `F = (w + f)·free`, so that pinned
 /// particles keep `p = 0`. Whether a new `p` is not finite.
-#[inline]
+#[inline(always)]
 fn kick(
     hc: f64,
     w: [f64; 3],
@@ -168,7 +199,7 @@ fn kick(
 /// (integrator_core::Separable::velocity) forms it). Pinned particles
 /// (`p = 0`) stay where they are, to the bit. Whether a new position is not
 /// finite.
-#[inline]
+#[inline(always)]
 fn drift(
     hc: f64,
     inv: f64,
@@ -193,7 +224,7 @@ fn drift(
 }
 
 /// [`drift`] with the positions updated in place.
-#[inline]
+#[inline(always)]
 fn drift_in_place(
     hc: f64,
     inv: f64,
