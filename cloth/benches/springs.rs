@@ -88,7 +88,8 @@ const FRAME: usize = 64;
 
 fn bench_frame<S: Step<ClothModel> + Scheme>(c: &mut Criterion, scheme: S, id: &str) {
     let mut group = c.benchmark_group(format!("frame/{id}"));
-    for n in [32, 64, 128] {
+    // 16²: where two threads stop paying (`BANDED_FROM`).
+    for n in [16, 32, 64, 128] {
         let scene = scene(n);
         let model = ClothModel::new(&scene).unwrap();
         let h = 0.5

@@ -3,11 +3,12 @@
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// Spins of a waiting worker before it starts yielding its core
-/// ([`std::thread::yield_now`]) between looks: a phase of the banded step
-/// lasts microseconds, so on an idle machine the partner arrives within a
-/// few thousand spins; on an oversubscribed one (a CI runner, the other
-/// core busy) yielding lets the partner run instead of burning its time.
-const SPINS: u32 = 1 << 14;
+/// ([`std::thread::yield_now`]) between looks: the bands' shares of a phase
+/// differ by microseconds, so on an idle machine the partner arrives within
+/// these (about 10–40 µs of `pause`), and yielding on an idle core returns
+/// at once; on an oversubscribed one (a CI runner, the other core busy)
+/// yielding soon lets the partner run instead of burning its time slice.
+const SPINS: u32 = 1 << 10;
 
 /// `n` workers wait until all have arrived; reusable (a generation counter,
 /// so a fast worker that arrives at the next barrier cannot be confused
