@@ -68,9 +68,10 @@ pub const BANDS: usize = 2;
 /// (README, cloth section; `benches/springs.rs`, group `frame`, a frame of
 /// 64 steps on an idle two-core machine): two threads against the
 /// scheme's own step gained 1.03–1.17× at 16² (within the noise; a frame
-/// there is a few hundred microseconds, against the start of the second
-/// worker and a barrier per force) and 1.19–1.82× at 32², 1.50–2.19× at
-/// 64² and 128². With the second core busy they lose at every size.
+/// there is a few hundred microseconds, against 66–98 µs to start and join
+/// the second worker and a barrier per force), 1.19–1.82× at 32², 1.50–2.42×
+/// at 64² and 1.56–2.19× at 128². With the second core busy they lose at
+/// every size.
 pub const BANDED_FROM: usize = 32 * 32;
 
 impl Banding {
