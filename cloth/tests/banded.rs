@@ -134,6 +134,7 @@ fn the_pairs_step_as_their_own_step_to_round_off() {
             d / scale
         };
         let (dq, dp) = (gap(0..n), gap(n..2 * n));
+        eprintln!("{id}: |Δq|/|q| = {dq:e}, |Δp|/|p| = {dp:e}");
         // Round-off of 200 compensated steps, grown by the dynamics.
         assert!(
             dq < 1e-12 && dp < 1e-9,
