@@ -134,10 +134,12 @@ fn the_pairs_step_as_their_own_step_to_round_off() {
             d / scale
         };
         let (dq, dp) = (gap(0..n), gap(n..2 * n));
-        eprintln!("{id}: |Δq|/|q| = {dq:e}, |Δp|/|p| = {dp:e}");
-        // Round-off of 200 compensated steps, grown by the dynamics.
+        // Round-off of 200 compensated steps, grown by the stiff contact
+        // (measured: |Δq|/|q| 2e-15 to 6e-13, |Δp|/|p| 1e-12 to 3.5e-11,
+        // symplectic Euler (q first) the largest; the same bits on every
+        // CPU, so the margin is for the scene, not the platform).
         assert!(
-            dq < 1e-12 && dp < 1e-9,
+            dq < 1e-11 && dp < 1e-9,
             "{id}: |Δq|/|q| = {dq:e}, |Δp|/|p| = {dp:e}"
         );
         // Not the same bits: the pairs' own steps form their stage values
