@@ -191,3 +191,18 @@ fn a_diverging_run_reports_the_same_step_and_component() {
         }
     }
 }
+
+#[test]
+fn auto_bands_from_banded_from_on_two_cores() {
+    use cloth::step::banded::{BANDED_FROM, BANDS};
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let model = |n: usize| cloth::ClothModel::new(&scene(n, n)).unwrap();
+    let (small, large) = (model(16), model(32));
+    assert!(small.particle_count() < BANDED_FROM && large.particle_count() >= BANDED_FROM);
+    assert_eq!(Banding::Auto.bands(&small), None);
+    let expected = (cores > 1).then_some(BANDS.min(cores));
+    assert_eq!(Banding::Auto.bands(&large), expected);
+    assert_eq!(Banding::Off.bands(&large), None);
+    assert_eq!(Banding::Threads(0).bands(&small), Some(1));
+    assert_eq!(Banding::Threads(99).bands(&small), Some(16));
+}
