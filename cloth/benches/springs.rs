@@ -7,9 +7,17 @@
 //! evaluation alone: the stencil kernel (on the default rayon pool, and on
 //! one thread) and the spring lists it replaced (`force_and_scale`, which
 //! walks them one spring at a time and tracks the force scale besides).
+//!
+//! Group `frame/<scheme>`: a frame of [`FRAME`] steps as the run loop takes
+//! it, per iteration, with the throughput in springs × steps (so again
+//! ns/spring/step = 10⁹/thrpt): `own` is the scheme's own step on one
+//! thread (the stencil kernel, today's path), `banded-1` and `banded-2` the
+//! banded stepper (`cloth::step::banded`) on one band and on two bands on
+//! two threads, `enter`, the steps and `leave` included.
 
 use std::hint::black_box;
 
+use cloth::step::{BandedStepper, ClothStepper, Sequence};
 use cloth::{ClothModel, Scene};
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use integrator_core::library::{Leapfrog, StormerVerlet, SymplecticEulerA};
@@ -75,6 +83,61 @@ fn bench_step<S: Step<ClothModel> + Scheme>(c: &mut Criterion, scheme: S, id: &s
     group.finish();
 }
 
+/// Steps per iteration of the `frame` group.
+const FRAME: usize = 64;
+
+fn bench_frame<S: Step<ClothModel> + Scheme>(c: &mut Criterion, scheme: S, id: &str) {
+    let mut group = c.benchmark_group(format!("frame/{id}"));
+    // 16²: where two threads stop paying (`BANDED_FROM`).
+    for n in [16, 32, 64, 128] {
+        let scene = scene(n);
+        let model = ClothModel::new(&scene).unwrap();
+        let h = 0.5
+            * model
+                .stability_at(&model.initial_state()[..model.dof()], 200)
+                .h_max;
+        let z0 = state(&model, h);
+        group.throughput(Throughput::Elements(
+            (model.active_spring_count() * FRAME) as u64,
+        ));
+        let mut z = z0.clone();
+        let mut ws = scheme.workspace(&model);
+        let mut reuse = false;
+        group.bench_function(BenchmarkId::new("own", format!("{n}x{n}")), |b| {
+            b.iter(|| {
+                for _ in 0..FRAME {
+                    scheme
+                        .step_reusing(&model, 0.0, h, black_box(&mut z), &mut ws, reuse)
+                        .unwrap();
+                    reuse = true;
+                }
+            })
+        });
+        for bands in [1, 2] {
+            let seq = Sequence::of(id).expect("a drift–kick scheme");
+            let mut stepper = BandedStepper::new(seq, &model, bands);
+            let mut z = z0.clone();
+            let time = |_| 0.0;
+            group.bench_function(
+                BenchmarkId::new(format!("banded-{bands}"), format!("{n}x{n}")),
+                |b| {
+                    b.iter(|| {
+                        stepper.enter(&model, 0.0, &mut z);
+                        stepper.steps(&model, &time, h, FRAME, &mut z).unwrap();
+                        stepper.leave(&model, 0.0, black_box(&mut z));
+                    })
+                },
+            );
+        }
+    }
+    group.finish();
+}
+
+fn frames(c: &mut Criterion) {
+    bench_frame(c, SymplecticEulerA, "symplectic-euler-a");
+    bench_frame(c, StormerVerlet, "stormer-verlet");
+}
+
 fn springs(c: &mut Criterion) {
     bench_step(c, SymplecticEulerA, "symplectic-euler-a");
     bench_step(c, StormerVerlet, "stormer-verlet");
@@ -110,6 +173,6 @@ fn springs(c: &mut Criterion) {
 criterion_group! {
     name = benches;
     config = Criterion::default().sample_size(20).warm_up_time(std::time::Duration::from_millis(500)).measurement_time(std::time::Duration::from_secs(2));
-    targets = springs
+    targets = springs, frames
 }
 criterion_main!(benches);

@@ -52,8 +52,9 @@ use crate::step::dispatch::{SchemeVisitor, TableVisitor, with_scheme, with_table
 use crate::step::minimise::MinimiseError;
 use crate::step::rattle::RattleError;
 use crate::step::{
-    ClothStepper, MinimiseSettings, MinimiseStepper, RattleSettings, RattleStepper, Refused,
-    SchemeStepper, SolverStats, StageSettings, StageStepper, StepError,
+    BandedStepper, Banding, ClothStepper, Halt, Halted, MinimiseSettings, MinimiseStepper,
+    RattleSettings, RattleStepper, Refused, SchemeStepper, Sequence, SolverStats, StageSettings,
+    StageStepper, StepError,
 };
 
 /// What a frame callback may fail with; it stops the run.
@@ -147,6 +148,9 @@ pub struct SolverSettings {
     pub stage: StageSettings,
     /// RATTLE's constraint solver (`rattle`, inextensible scenes).
     pub rattle: RattleSettings,
+    /// Which explicit drift–kick runs step in bands of rows on two threads
+    /// ([`crate::step::banded`]; by default those on large enough grids).
+    pub banding: Banding,
 }
 
 impl Default for SolverSettings {
@@ -155,6 +159,7 @@ impl Default for SolverSettings {
             minimise: MinimiseSettings::default(),
             stage: crate::step::stage::cloth_settings(),
             rattle: RattleSettings::default(),
+            banding: Banding::default(),
         }
     }
 }
@@ -196,6 +201,10 @@ impl RunSettings {
     }
     pub fn with_rattle(mut self, rattle: RattleSettings) -> RunSettings {
         self.solvers.rattle = rattle;
+        self
+    }
+    pub fn with_banding(mut self, banding: Banding) -> RunSettings {
+        self.solvers.banding = banding;
         self
     }
 }
@@ -481,6 +490,8 @@ impl Simulation {
         /// The run with the method's scheme or table, once the dispatch
         /// ([`with_scheme`], [`with_table`]) has found its type.
         struct Drive<'a, 'f> {
+            /// The method's id.
+            id: &'a str,
             sim: &'a mut Simulation,
             settings: &'a RunSettings,
             on_frame: &'a mut OnFrame<'f>,
@@ -492,7 +503,18 @@ impl Simulation {
                     fn visit<S: Step<ClothModel> + Scheme>(self, scheme: S) -> Self::Output {
                         // Only explicit schemes come here; the branch keeps
                         // the implicit tables' own steps out of the binary.
-                        if S::INFO.explicit {
+                        let banded = self.settings.solvers.banding.bands(&self.sim.model);
+                        let sequence = banded.and_then(|_| Sequence::of(self.id));
+                        if let (Some(bands), Some(seq)) = (banded, sequence) {
+                            self.sim.drive(
+                                S::INFO.name,
+                                &|sim: &Simulation| {
+                                    Ok(BandedStepper::new(seq.clone(), &sim.model, bands))
+                                },
+                                self.settings,
+                                self.on_frame,
+                            )
+                        } else if S::INFO.explicit {
                             self.sim.drive(
                                 S::INFO.name,
                                 &|sim: &Simulation| Ok(SchemeStepper::new(scheme, &sim.model)),
@@ -505,6 +527,7 @@ impl Simulation {
                     }
                 }
                 let drive = Drive {
+                    id: method.id(),
                     sim: self,
                     settings,
                     on_frame,
@@ -533,6 +556,7 @@ impl Simulation {
                     }
                 }
                 let drive = Drive {
+                    id: method.id(),
                     sim: self,
                     settings,
                     on_frame,
@@ -700,49 +724,46 @@ impl Simulation {
     ) -> Result<(), RunError> {
         let start = self.steps;
         stepper.enter(&self.model, clock.time(start), &mut self.state);
-        for _ in 0..n {
-            let t = clock.time(self.steps);
-            let failed = match stepper.step(&self.model, t, clock.h, &mut self.state) {
-                Err(StepError::Solve(source)) => Some(RunError::Solve {
+        let time = |k: usize| clock.time(start + k);
+        if let Err(Halt { done, why }) =
+            stepper.steps(&self.model, &time, clock.h, n, &mut self.state)
+        {
+            // The failed step's number (from 1) and start time.
+            let (step, t) = (start + done + 1, clock.time(start + done));
+            let err = match why {
+                Halted::Failed(StepError::Solve(source)) => RunError::Solve {
                     method,
-                    step: self.steps + 1,
+                    step,
                     time: t,
                     source,
-                }),
-                Err(StepError::Minimise(source)) => Some(RunError::Minimise {
+                },
+                Halted::Failed(StepError::Minimise(source)) => RunError::Minimise {
                     method,
-                    step: self.steps + 1,
+                    step,
                     time: t,
                     source,
-                }),
-                Err(StepError::Constraint(source)) => Some(RunError::Constraint {
+                },
+                Halted::Failed(StepError::Constraint(source)) => RunError::Constraint {
                     method,
-                    step: self.steps + 1,
+                    step,
                     time: t,
                     source,
-                }),
-                Ok(()) => {
-                    self.steps += 1;
-                    self.state
-                        .iter()
-                        .position(|x| !x.is_finite())
-                        .map(|index| RunError::Diverged {
-                            method,
-                            step: self.steps,
-                            time: clock.time(self.steps),
-                            frame: self.frame + 1,
-                            index,
-                            value: self.state[index],
-                            particle: self.model.particle_of_component(index),
-                        })
-                }
+                },
+                Halted::NonFinite { index, value } => RunError::Diverged {
+                    method,
+                    step,
+                    time: clock.time(step),
+                    frame: self.frame + 1,
+                    index,
+                    value,
+                    particle: self.model.particle_of_component(index),
+                },
             };
-            if let Some(err) = failed {
-                self.state.copy_from_slice(saved);
-                self.steps = start;
-                return Err(err);
-            }
+            self.state.copy_from_slice(saved);
+            self.steps = start;
+            return Err(err);
         }
+        self.steps = start + n;
         stepper.leave(&self.model, clock.time(self.steps), &mut self.state);
         Ok(())
     }

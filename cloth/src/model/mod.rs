@@ -12,7 +12,8 @@
 //! By stage: `build.rs` makes the model of a scene (particles and pins,
 //! springs, colliders, the check of the initial state), `springs.rs` lays out
 //! the grid's springs, `colliders.rs` holds the penalty, `forces.rs` the
-//! energy and the forces, `stencil.rs` the explicit force kernel, `jacobian.rs` the sparse force Jacobian;
+//! energy and the forces, `stencil.rs` the explicit force kernel (`bands.rs`: by bands of rows, for
+//! the banded stepper), `jacobian.rs` the sparse force Jacobian;
 //! `avf.rs`, `discrete_gradient.rs` and `stability.rs` serve the methods that
 //! need more than the force.
 
@@ -21,6 +22,7 @@ use std::sync::OnceLock;
 use nalgebra::Vector3;
 
 mod avf;
+mod bands;
 mod build;
 mod colliders;
 pub(crate) mod constraints;

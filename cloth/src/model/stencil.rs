@@ -17,11 +17,18 @@
 //! in which a particle's contributions are summed differs, so the forces
 //! agree to round-off (tested against the list loop).
 //!
-//! With [`Stencil::BANDS`] bands of rows the work splits over threads
+//! With [`Stencil::BANDS`] bands of rows one evaluation splits over threads
 //! (rayon): each band accumulates into its own force arrays (a spring of
 //! one band may end in the next), summed at the gather. The scratch is
 //! allocated with the model; the single-band path allocates nothing, the
-//! parallel one only what rayon's job queue takes now and then.
+//! parallel one only what rayon's job queue takes now and then. That split
+//! pays only on very large grids ([`Stencil::PARALLEL_FROM`]): the
+//! explicit drift–kick schemes use two threads another way, a whole frame
+//! of steps on long-lived workers that each own a band of rows
+//! ([`crate::step::banded`]), through [`Stencil::rows`], the same loops
+//! restricted to the particles of a band, which computes the springs
+//! crossing the band's edges itself so that each particle's force is summed
+//! in the same order as here (the same bits).
 
 use std::sync::{Mutex, TryLockError};
 
@@ -100,13 +107,20 @@ impl Stencil {
     /// pay for the threads' hand-over (two: this project's machines have
     /// two cores; more bands would cost the extra force arrays' sum).
     pub(super) const BANDS: usize = 2;
-    /// Below this many particles one thread does all the rows. Measured
-    /// (README, cloth section): at 64² the hand-over of the three parallel
-    /// phases (positions, bands, gather) to rayon's second thread cost more
-    /// than it saved; at 128² the force alone gained 1.27×, but whole steps
-    /// lost (the second thread goes to sleep during the drift and is woken
-    /// for every force). So two threads are used only from 256² on, where
-    /// a band is four times the work; that size was not measured.
+    /// Below this many particles one thread does all the rows of an
+    /// evaluation. Measured (README, cloth section): at 64² the hand-over
+    /// of the three parallel phases (positions, bands, gather) to rayon's
+    /// second thread cost more than it saved; at 128² the force alone
+    /// gained 1.27×, but whole steps lost (the second thread goes to sleep
+    /// during the drift and is woken for every force). So two threads are
+    /// used only from 256² on, where a band is four times the work; that
+    /// size was not measured. The drift–kick schemes do not come here for
+    /// their threads: they step in bands on workers that live for a frame
+    /// ([`crate::step::banded`], from
+    /// [`BANDED_FROM`](crate::step::banded::BANDED_FROM) particles); this
+    /// split serves every other caller of the model's force (the
+    /// Runge–Kutta tables, the explicit pairs' own steps when banding is
+    /// off, the solvers).
     pub(super) const PARALLEL_FROM: usize = 256 * 256;
 
     /// The stencil of an `nx × ny` grid: `dirs` as
@@ -202,7 +216,7 @@ impl Stencil {
             self.band(&pos, 0..self.ny, &mut bands[0]);
         } else {
             bands.par_iter_mut().enumerate().for_each(|(b, buf)| {
-                self.band(&pos, self.rows(b, used), buf);
+                self.band(&pos, self.band_rows(b, used), buf);
             });
         }
         // Gather to the free particles, with the weight: each band's force
@@ -211,7 +225,7 @@ impl Stencil {
         let nx = self.nx;
         let mut written: [std::ops::Range<usize>; Self::BANDS] = std::array::from_fn(|_| 0..0);
         for (b, w) in written.iter_mut().enumerate().take(used) {
-            let rows = self.written(&self.rows(b, used));
+            let rows = self.written(&self.band_rows(b, used));
             *w = rows.start * nx..rows.end * nx;
         }
         let bands = &bands[..used];
@@ -243,59 +257,116 @@ impl Stencil {
     /// The rows a band starting springs in `rows` writes: its own and the
     /// rows its springs reach below it.
     fn written(&self, rows: &std::ops::Range<usize>) -> std::ops::Range<usize> {
-        let reach = self.dirs.iter().map(|d| d.dj).max().unwrap_or(0);
-        rows.start..(rows.end + reach).min(self.ny)
+        rows.start..(rows.end + self.reach()).min(self.ny)
     }
 
     /// The rows of band `b` of `bands`.
-    fn rows(&self, b: usize, bands: usize) -> std::ops::Range<usize> {
+    fn band_rows(&self, b: usize, bands: usize) -> std::ops::Range<usize> {
         let per = self.ny.div_ceil(bands);
         (b * per).min(self.ny)..((b + 1) * per).min(self.ny)
     }
 
-    /// [`band_body`](Self::band_body) compiled for the widest vectors the
-    /// CPU has (AVX-512, AVX2, else the target's baseline, SSE2 on
+    /// The springs of the band of rows `rows` (those that start there),
+    /// into `buf.force` (zeroed first over the rows they reach).
+    fn band(&self, pos: &[&[f64]; 3], rows: std::ops::Range<usize>, buf: &mut Band) {
+        let nx = self.nx;
+        let written = self.written(&rows);
+        let Band { force, row } = buf;
+        let [fx, fy, fz] = force;
+        let cut = written.start * nx..written.end * nx;
+        let force = [&mut fx[cut.clone()], &mut fy[cut.clone()], &mut fz[cut]];
+        self.rows(pos, rows, written, force, row);
+    }
+
+    /// The rows any spring reaches beyond the row it starts in (2 with bend
+    /// springs, 1 without, 0 with stretch along rows only).
+    pub(super) fn reach(&self) -> usize {
+        self.dirs.iter().map(|d| d.dj).max().unwrap_or(0)
+    }
+
+    /// The tensions of the springs that start in rows `starts`, accumulated
+    /// at both ends into `force` (zeroed first), but only at particles in
+    /// rows `writes`: `force[c][k]` belongs to particle `writes.start·nx +
+    /// k`. [`band_body`](Self::band_body) compiled for the widest vectors
+    /// the CPU has (AVX-512, AVX2, else the target's baseline, SSE2 on
     /// x86-64): the same loops, so the same bits on every path (vector
     /// square roots and divisions round as the scalar ones do, and Rust
     /// never fuses a multiply and an add on its own).
-    fn band(&self, pos: &[&[f64]; 3], rows: std::ops::Range<usize>, buf: &mut Band) {
+    ///
+    /// Each particle's contributions are summed in one fixed order
+    /// (direction by direction, in each the spring it ends before the one
+    /// it starts, or for springs along a row the one it starts first),
+    /// whatever `starts` and `writes` are, as long as `starts` holds every
+    /// spring reaching `writes`: so a band of rows that computes the
+    /// springs crossing its edges itself ([`crate::step::banded`]) gets
+    /// its particles' forces to the bit as one pass over the whole grid.
+    pub(super) fn rows(
+        &self,
+        pos: &[&[f64]; 3],
+        starts: std::ops::Range<usize>,
+        writes: std::ops::Range<usize>,
+        force: [&mut [f64]; 3],
+        row: &mut [Vec<f64>; 3],
+    ) {
         #[cfg(target_arch = "x86_64")]
         {
             if std::arch::is_x86_feature_detected!("avx512f") {
                 // SAFETY: the CPU has AVX-512F, checked just above.
-                return unsafe { self.band_avx512(pos, rows, buf) };
+                return unsafe { self.rows_avx512(pos, starts, writes, force, row) };
             }
             if std::arch::is_x86_feature_detected!("avx2") {
                 // SAFETY: the CPU has AVX2, checked just above.
-                return unsafe { self.band_avx2(pos, rows, buf) };
+                return unsafe { self.rows_avx2(pos, starts, writes, force, row) };
             }
         }
-        self.band_body(pos, rows, buf)
+        self.band_body(pos, starts, writes, force, row)
     }
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx512f")]
-    fn band_avx512(&self, pos: &[&[f64]; 3], rows: std::ops::Range<usize>, buf: &mut Band) {
-        self.band_body(pos, rows, buf)
+    fn rows_avx512(
+        &self,
+        pos: &[&[f64]; 3],
+        starts: std::ops::Range<usize>,
+        writes: std::ops::Range<usize>,
+        force: [&mut [f64]; 3],
+        row: &mut [Vec<f64>; 3],
+    ) {
+        self.band_body(pos, starts, writes, force, row)
     }
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
-    fn band_avx2(&self, pos: &[&[f64]; 3], rows: std::ops::Range<usize>, buf: &mut Band) {
-        self.band_body(pos, rows, buf)
+    fn rows_avx2(
+        &self,
+        pos: &[&[f64]; 3],
+        starts: std::ops::Range<usize>,
+        writes: std::ops::Range<usize>,
+        force: [&mut [f64]; 3],
+        row: &mut [Vec<f64>; 3],
+    ) {
+        self.band_body(pos, starts, writes, force, row)
     }
 
-    /// The tensions of the springs that start in rows `rows`, accumulated
-    /// into `buf.force` (zeroed first) at both ends.
+    /// The loops of [`rows`](Self::rows): per direction and starting row,
+    /// the tension `d·(k/L − k/L·L/|d|)` of every spring of the row into the
+    /// row buffer, added to the first ends and subtracted from the second
+    /// (each where it lies in `writes`).
     #[inline(always)]
-    fn band_body(&self, pos: &[&[f64]; 3], rows: std::ops::Range<usize>, buf: &mut Band) {
+    fn band_body(
+        &self,
+        pos: &[&[f64]; 3],
+        starts: std::ops::Range<usize>,
+        writes: std::ops::Range<usize>,
+        force: [&mut [f64]; 3],
+        row: &mut [Vec<f64>; 3],
+    ) {
         let nx = self.nx;
-        let written = self.written(&rows);
-        for c in buf.force.iter_mut() {
-            c[written.start * nx..written.end * nx].fill(0.0);
-        }
-        let Band { force, row } = buf;
         let [fx, fy, fz] = force;
+        for c in [&mut *fx, &mut *fy, &mut *fz] {
+            c.fill(0.0);
+        }
+        let base = writes.start * nx;
         let [tx, ty, tz] = row;
         let [px, py, pz] = *pos;
         for d in &self.dirs {
@@ -308,10 +379,11 @@ impl Stencil {
             let len = i1 - i0;
             let off = d.dj * nx;
             let (kl, klr) = (d.kl, d.kl * d.rest);
-            for j in rows.clone() {
-                if j + d.dj >= self.ny {
-                    break;
-                }
+            // Rows whose springs start in `starts` and end in the grid with
+            // an end in `writes`.
+            let j0 = starts.start.max(writes.start.saturating_sub(d.dj));
+            let j1 = starts.end.min(writes.end).min(self.ny.saturating_sub(d.dj));
+            for j in j0..j1 {
                 let a = j * nx + i0;
                 let b = (a + off).wrapping_add_signed(d.di);
                 let (tx, ty, tz) = (&mut tx[..len], &mut ty[..len], &mut tz[..len]);
@@ -323,12 +395,18 @@ impl Stencil {
                     let s = kl - klr / l;
                     (tx[i], ty[i], tz[i]) = (dx * s, dy * s, dz * s);
                 }
-                add(&mut fx[a..a + len], tx);
-                add(&mut fy[a..a + len], ty);
-                add(&mut fz[a..a + len], tz);
-                sub(&mut fx[b..b + len], tx);
-                sub(&mut fy[b..b + len], ty);
-                sub(&mut fz[b..b + len], tz);
+                if j >= writes.start {
+                    let a = a - base;
+                    add(&mut fx[a..a + len], tx);
+                    add(&mut fy[a..a + len], ty);
+                    add(&mut fz[a..a + len], tz);
+                }
+                if j + d.dj < writes.end {
+                    let b = b - base;
+                    sub(&mut fx[b..b + len], tx);
+                    sub(&mut fy[b..b + len], ty);
+                    sub(&mut fz[b..b + len], tz);
+                }
             }
         }
     }

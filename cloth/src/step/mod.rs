@@ -1,11 +1,13 @@
 //! One stepper per mechanism behind one trait, [`ClothStepper`]: explicit
-//! schemes ([`explicit`]), the sparse stage solver ([`stage`]), the
+//! schemes ([`explicit`]; drift–kick schemes also in bands of rows on two
+//! threads, [`banded`]), the sparse stage solver ([`stage`]), the
 //! minimisations ([`minimise`]: the midpoint family and the average vector
 //! field), the discrete gradient ([`discrete_gradient`]) and RATTLE on the
 //! inextensible cloth's constraint manifold ([`rattle`]). No frame loop
 //! here: [`Simulation`](crate::Simulation) owns the one loop, its
 //! non-finite check and its energy guard, and calls a stepper.
 
+pub mod banded;
 pub mod discrete_gradient;
 pub mod dispatch;
 pub mod explicit;
@@ -17,6 +19,7 @@ use integrator_core::SolveError;
 
 use crate::model::ClothModel;
 
+pub use banded::{BandedStepper, Banding, Sequence};
 pub use dispatch::{SchemeVisitor, TableVisitor, with_explicit_scheme, with_scheme, with_table};
 pub use explicit::SchemeStepper;
 pub use minimise::{MinimiseSettings, MinimiseStepper, Minimiser, Solver};
@@ -35,6 +38,23 @@ pub enum StepError {
     /// RATTLE's constraint solve.
     #[error(transparent)]
     Constraint(#[from] rattle::RattleError),
+}
+
+/// Where [`ClothStepper::steps`] stopped: step `done` (from 0; `done`
+/// steps went well before it) and why.
+#[derive(Debug)]
+pub struct Halt {
+    pub done: usize,
+    pub why: Halted,
+}
+
+/// Why a frame's steps stopped.
+#[derive(Debug)]
+pub enum Halted {
+    /// The step failed.
+    Failed(StepError),
+    /// The step left a non-finite `value` at `index` of `z = [q; p]`.
+    NonFinite { index: usize, value: f64 },
 }
 
 /// What the solver of a run did.
@@ -64,6 +84,36 @@ pub trait ClothStepper {
     /// One step from `t` to `t + h` in place. On error `z` may be anything:
     /// the loop restores the frame's start.
     fn step(&mut self, model: &ClothModel, t: f64, h: f64, z: &mut [f64]) -> Result<(), StepError>;
+    /// The `n` steps of a frame from `enter` to `leave`, step `k` (from 0)
+    /// from time `t(k)`, stopping at the first that fails or leaves a
+    /// non-finite value in the state ([`Halt`]). The default calls
+    /// [`step`](Self::step) `n` times and looks at `z` after each; a
+    /// stepper that works in coordinates of its own looks at those.
+    fn steps(
+        &mut self,
+        model: &ClothModel,
+        t: &dyn Fn(usize) -> f64,
+        h: f64,
+        n: usize,
+        z: &mut [f64],
+    ) -> Result<(), Halt> {
+        for done in 0..n {
+            self.step(model, t(done), h, z).map_err(|e| Halt {
+                done,
+                why: Halted::Failed(e),
+            })?;
+            if let Some(index) = z.iter().position(|x| !x.is_finite()) {
+                return Err(Halt {
+                    done,
+                    why: Halted::NonFinite {
+                        index,
+                        value: z[index],
+                    },
+                });
+            }
+        }
+        Ok(())
+    }
     /// At the end of a frame at time `t`: move `z` back to `[q; p]`.
     fn leave(&mut self, _model: &ClothModel, _t: f64, _z: &mut [f64]) {}
     /// What the solver did so far.

@@ -1,0 +1,75 @@
+//! The banded stepper allocates nothing per step: a frame of 200 steps
+//! allocates what a frame of one does (starting the second band's worker,
+//! once per frame). Counted on the test's own thread, which works the first
+//! band (the second band's worker runs the same code on its thread); see
+//! `no_alloc.rs` for why only one thread is counted.
+
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::cell::Cell;
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use cloth::step::{BandedStepper, ClothStepper, Sequence};
+use cloth::{ClothModel, Scene};
+
+struct Counting;
+static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
+
+thread_local! {
+    static COUNTING: Cell<bool> = const { Cell::new(false) };
+}
+
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        if COUNTING.with(Cell::get) {
+            ALLOCATIONS.fetch_add(1, Ordering::SeqCst);
+        }
+        unsafe { System.alloc(layout) }
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        unsafe { System.dealloc(ptr, layout) }
+    }
+}
+
+#[global_allocator]
+static GLOBAL: Counting = Counting;
+
+fn allocations(f: impl FnOnce()) -> usize {
+    let before = ALLOCATIONS.load(Ordering::SeqCst);
+    COUNTING.with(|c| c.set(true));
+    f();
+    COUNTING.with(|c| c.set(false));
+    ALLOCATIONS.load(Ordering::SeqCst) - before
+}
+
+#[test]
+fn a_frame_allocates_the_same_whatever_its_steps() {
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../scenes/sphere.toml"
+    ))
+    .unwrap();
+    let scene = Scene::from_toml(&text, "sphere.toml").unwrap();
+    let model = ClothModel::new(&scene).unwrap();
+    let h = scene.simulation.step_size();
+    let time = |_| 0.0;
+    for bands in [1, 2] {
+        for id in ["leapfrog", "stormer-verlet", "forest-ruth"] {
+            let seq = Sequence::of(id).unwrap();
+            let mut stepper = BandedStepper::new(seq, &model, bands);
+            let mut z = model.initial_state();
+            let mut frame = |steps: usize| {
+                allocations(|| {
+                    stepper.enter(&model, 0.0, &mut z);
+                    stepper.steps(&model, &time, h, steps, &mut z).unwrap();
+                    stepper.leave(&model, 0.0, &mut z);
+                })
+            };
+            frame(1); // the first frame may start what lives on (thread-locals)
+            let (one, many) = (frame(1), frame(200));
+            assert_eq!(one, many, "{id} in {bands} bands");
+            if bands == 1 {
+                assert_eq!(many, 0, "{id}: one band starts no thread");
+            }
+        }
+    }
+}
