@@ -1,6 +1,6 @@
 //! A spinning barrier for the few long-lived workers of a banded frame.
 
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 
 /// Spins of a waiting worker before it starts yielding its core
 /// ([`std::thread::yield_now`]) between looks: the bands' shares of a phase
@@ -13,12 +13,28 @@ const SPINS: u32 = 1 << 10;
 /// `n` workers wait until all have arrived; reusable (a generation counter,
 /// so a fast worker that arrives at the next barrier cannot be confused
 /// with the last one). Arriving releases what the worker wrote before it to
-/// every worker that leaves after it (acquire/release).
+/// every worker that leaves after it (acquire/release). A worker that
+/// panics poisons it ([`PoisonOnPanic`]), and whoever waits at it then
+/// panics too, so that a bug in one band is a panic of the frame, never a
+/// partner spinning forever.
 #[derive(Debug)]
 pub(super) struct SpinBarrier {
     n: usize,
     arrived: AtomicUsize,
     generation: AtomicUsize,
+    poisoned: AtomicBool,
+}
+
+/// Held by a worker for its whole frame: poisons the barrier if the worker
+/// unwinds.
+pub(super) struct PoisonOnPanic<'a>(pub &'a SpinBarrier);
+
+impl Drop for PoisonOnPanic<'_> {
+    fn drop(&mut self) {
+        if std::thread::panicking() {
+            self.0.poisoned.store(true, Ordering::Release);
+        }
+    }
 }
 
 impl SpinBarrier {
@@ -27,6 +43,7 @@ impl SpinBarrier {
             n,
             arrived: AtomicUsize::new(0),
             generation: AtomicUsize::new(0),
+            poisoned: AtomicBool::new(false),
         }
     }
 
@@ -45,6 +62,9 @@ impl SpinBarrier {
         }
         let mut spins = 0u32;
         while self.generation.load(Ordering::Acquire) == generation {
+            if self.poisoned.load(Ordering::Acquire) {
+                panic!("a banded worker panicked, so its partner stops waiting for it");
+            }
             if spins < SPINS {
                 spins += 1;
                 std::hint::spin_loop();
@@ -79,5 +99,27 @@ mod tests {
             }
         });
         assert_eq!(counter.load(Ordering::Relaxed), 600);
+    }
+
+    /// A worker that panics mid-frame makes its partner's wait panic
+    /// instead of spinning forever; the scope then reports the panic.
+    #[test]
+    fn a_panicking_worker_does_not_leave_its_partner_waiting() {
+        let barrier = SpinBarrier::new(2);
+        let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+            std::thread::scope(|s| {
+                s.spawn(|| {
+                    let _guard = PoisonOnPanic(&barrier);
+                    barrier.wait();
+                    barrier.wait();
+                });
+                s.spawn(|| {
+                    let _guard = PoisonOnPanic(&barrier);
+                    barrier.wait();
+                    panic!("a bug in one band");
+                });
+            });
+        }));
+        assert!(outcome.is_err());
     }
 }

@@ -3,7 +3,7 @@
 
 use std::ops::Range;
 
-use super::barrier::SpinBarrier;
+use super::barrier::{PoisonOnPanic, SpinBarrier};
 use super::grid::Positions;
 use super::sequence::{Flow, Sequence};
 use crate::model::ClothModel;
@@ -60,6 +60,7 @@ pub(super) type NonFinite = (usize, usize, f64);
 /// again), which no worker reads until after the next barrier (see
 /// [`super::grid`]).
 pub(super) fn run(frame: &Frame<'_>, band: Band<'_>) -> (Phase, Option<NonFinite>) {
+    let _poison = PoisonOnPanic(frame.barrier);
     #[cfg(target_arch = "x86_64")]
     {
         if std::arch::is_x86_feature_detected!("avx512f") {
