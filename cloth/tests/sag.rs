@@ -182,3 +182,22 @@ fn a_swinging_hammock_keeps_its_constraints_and_its_energy() {
     assert!(moved > 0.02, "moved {moved}");
     assert!(worst < 1e-4, "energy error {worst}");
 }
+
+#[test]
+fn the_shipped_hammock_loads_and_swings_on_its_constraints() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../scenes/hammock-inextensible.toml");
+    let mut s = Scene::load(&path).unwrap();
+    assert_eq!(s.cloth.sag, 0.25);
+    assert_eq!(s.simulation.frames, 36_000, "ten minutes at 60 Hz");
+    s.simulation.frames = 20;
+    let mut sim = Simulation::new(&s).unwrap();
+    let n = 3 * sim.model.free_count();
+    let settings = RunSettings::from_scene(&s);
+    sim.run(&cloth::Method::parse("rattle").unwrap(), &settings, |f| {
+        assert!(f.model.constraint_residual(&f.state[..n]).unwrap() <= cloth::CONSTRAINT_TOLERANCE);
+        assert!(f.model.constraint_velocity_residual(f.state).unwrap() <= 1e-12);
+        Ok(())
+    })
+    .unwrap();
+}

@@ -83,7 +83,10 @@ pub struct RattleSettings {
     pub parallel: bool,
     /// Factorise `G·Gᵀ` afresh every this many steps (default 6; 1: every
     /// step; 0: only when the conjugate gradients of a frame's velocity
-    /// projection fail). The factor serves the position solves of the
+    /// projection fail), and after every step whose position solve had to
+    /// refresh the LU of the true Jacobian (the factor was too old for the
+    /// sheet's motion: without that, the hammock scene refreshed an LU at
+    /// 0.59 of its steps and ran 1.65× slower). The factor serves the position solves of the
     /// steps after it (an older one costs them a few more iterations) and
     /// the projections at the frames. The default was measured on the
     /// paper's sheet released 45° (README, "Inextensible cloth"): at 64²
@@ -212,6 +215,8 @@ pub struct RattleStepper {
     ap: Vec<f64>,
     /// Steps since the last factorisation.
     since_factor: usize,
+    /// Whether the last position solve refreshed the true Jacobian's LU.
+    stale: bool,
     /// The largest `h·ω` of the last step solved.
     last_wave_number: f64,
     /// The force at `cached_q`; `valid`: `cached_q`, `force`, `d` and the
@@ -281,6 +286,7 @@ impl RattleStepper {
             pdir: vec![0.0; nc],
             ap: vec![0.0; nc],
             since_factor: 0,
+            stale: false,
             last_wave_number: 0.0,
             force: vec![0.0; n3],
             cached_q: vec![0.0; n3],
@@ -364,6 +370,7 @@ impl RattleStepper {
                 self.stats.symbolic_lu += usize::from(matches!(refreshed, Ok(true)));
                 refreshed.map_err(|_| RattleError::Singular)?;
                 exact = true;
+                self.stale = true;
             }
             previous = residual;
             let t = Instant::now();
@@ -505,8 +512,11 @@ impl RattleStepper {
         q.copy_from_slice(&self.q1);
         self.cached_q.copy_from_slice(&self.q1);
         let t4 = Instant::now();
-        let due = self.settings.refactor_every != 0
-            && self.since_factor + 1 >= self.settings.refactor_every;
+        // Renewed early when this step's solve had to leave the factor for
+        // the LU of the true Jacobian: the sheet turns too fast for it.
+        let due = (self.settings.refactor_every != 0
+            && self.since_factor + 1 >= self.settings.refactor_every)
+            || std::mem::take(&mut self.stale);
         if due {
             let factored = self.gram.factorize(&self.d);
             self.stats.factorizations += 1;
