@@ -552,13 +552,12 @@ impl RattleStepper {
         self.constraints
             .apply_g(&self.d, &self.phalf, &mut self.b, par);
         let t5 = Instant::now();
-        let reuse = self.since_factor == 0 || self.pcg();
-        let t6 = Instant::now();
         let mut factorizing = 0.0;
         if self.since_factor == 0 {
             self.delta.copy_from_slice(&self.b);
             self.gram.solve(&mut self.delta);
-        } else if !reuse {
+        } else if !self.pcg() {
+            let t6 = Instant::now();
             let factored = self.gram.factorize(&self.d);
             factorizing = t6.elapsed().as_secs_f64();
             self.stats.factorizations += 1;
