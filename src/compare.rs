@@ -72,7 +72,7 @@ long_fit.csv and long_energy.svg; on kepler-hard it runs logh:kahan-li8, adaptiv
 and dop853 over 10⁴ orbits (--quick: 100) at equal work (about 4000 force evaluations per
 orbit each; dop853 at the tolerance nearest to that, in calls of 100 orbits), h being the
 mean step; on outer-solar it runs the --methods named (default wh:leapfrog, wh:kahan-li8,
-kahan-li8, stormer-verlet) at h = Jupiter's period / 20 over 10⁷ days (--quick: 10⁵);
+kahan-li8, stormer-verlet) at h = Jupiter's period / 20 over 10⁷ days (--quick: 1000 steps);
 --hard writes hard.csv and hard.md.
 
 rebound:NAME[:KEY=VALUE...] in --methods (outer-solar, kepler, kepler-hard) runs REBOUND's
@@ -461,6 +461,9 @@ fn peer_study(args: &CompareArgs) -> Result<()> {
     }
     let dir = out_dir(args, "peer")?;
     let study = compare::peer_study::run(settings)?;
+    for n in &study.notes {
+        eprintln!("note: {n}");
+    }
     study.write(&dir)?;
     print!("{}", study.verdict());
     println!(

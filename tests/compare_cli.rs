@@ -4,7 +4,7 @@
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 
-mod common;
+use crate::common;
 use common::symlab;
 
 /// A fresh directory under the system temp dir.
@@ -445,10 +445,11 @@ fn quick_run_writes_a_report_with_a_sorted_time_table() {
 }
 
 #[test]
+#[cfg_attr(
+    not(feature = "peer"),
+    ignore = "needs the `peer` feature (DOP853, on by default)"
+)]
 fn quick_peer_study_writes_rows_for_each_run_length() {
-    if !cfg!(feature = "peer") {
-        return;
-    }
     let dir = temp_dir("peer");
     let (code, out, err) = symlab(&[
         "compare",

@@ -4,7 +4,7 @@
 //! (the built-in "gyroscopic" problem, a flag that was not given, a derived
 //! quantity).
 
-mod common;
+use crate::common;
 
 use common::symlab;
 use std::path::PathBuf;

@@ -15,7 +15,7 @@ use std::path::{Path, PathBuf};
 use serde_json::Value;
 use tableau::algebraic::family::{Generator, Method, PairMethod};
 
-mod common;
+use crate::common;
 use common::symlab;
 
 /// A table written with `root(...)` entries.

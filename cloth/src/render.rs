@@ -768,6 +768,27 @@ mod tests {
     }
 
     #[test]
+    fn a_picture_past_its_budget_says_what_it_left_out() {
+        // 20 000 triangles that each cover a large part of the picture.
+        let pts: Vec<Vec3> = [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0)]
+            .map(|(x, z)| Vec3::new(x, 0.0, z))
+            .to_vec();
+        let big = [[0, 1, 3], [0, 3, 2]];
+        let stage = Stage {
+            colliders: vec![],
+            triangles: big.iter().copied().cycle().take(20_000).collect(),
+            nx: 2,
+        };
+        let camera = Camera::fit(&pts, &[]);
+        let picture = rasterise(&stage, &camera, &pts);
+        let simplified = picture.simplified.as_ref().expect("the budget ran out");
+        assert!(simplified.not_drawn > 0);
+        let note = simplified.to_string();
+        assert!(note.contains("not drawn"), "{note}");
+        assert!(picture.caption("test").contains("not drawn"));
+    }
+
+    #[test]
     fn the_cloth_covers_the_middle_of_the_picture() {
         let (pts, triangles) = sheet(6, 0.0);
         let stage = Stage {

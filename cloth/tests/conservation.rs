@@ -5,7 +5,7 @@
 //! to zero at every configuration), bounded energy error for the symplectic
 //! ones over 10⁵ steps, and the energy growth of explicit Euler.
 
-mod common;
+use crate::common;
 use common::{STAGE_TABLES, run_id, run_stage};
 
 use cloth::{ClothModel, FrameStats, Method, RunOptions, Scene, Simulation};

@@ -7,7 +7,7 @@
 
 use std::path::PathBuf;
 
-mod common;
+use crate::common;
 use common::{run_id, run_stage};
 
 use cloth::step::stage::MAX_FREE_PARTICLES;

@@ -3,7 +3,7 @@
 //! and Gauss–Legendre (bounded), steps beyond the explicit stability limit,
 //! and the sparse solver's bookkeeping (one symbolic factorisation per run).
 
-mod common;
+use crate::common;
 use common::{STAGE_TABLES, run_stage, stage_stats};
 
 use cloth::{Method, RunError, RunOptions, RunSettings, Scene, Simulation};

@@ -4,7 +4,7 @@
 //! settings are refused, the discrete gradient and the average vector field
 //! keep energy, and a user's table of midpoint shape takes this path.
 
-mod common;
+use crate::common;
 use common::{minimise_stats, run_minimise, run_stage};
 
 use cloth::step::minimise::{MinimiseError, MinimiseStepper, Minimiser};

@@ -315,9 +315,17 @@ fn bad_scenes_name_the_field() {
     // A degenerate edge: L² is not a normal number.
     let e = scene_error(&base("1e-200", "1.0", r#"edges = ["top"]"#));
     assert!(e.contains("cloth.width"), "{e}");
-    // Two pins of one edge pulled apart beyond its length.
+    // Two pins of one edge pulled apart beyond its length by the
+    // prestretch: the prestretch is the field to change (issue 35: it was
+    // blamed on the pins alone), and the message says both.
     let e = scene_error(&base("1.0", "1.1", r#"edges = ["top"]"#));
-    assert!(e.contains("pins") && e.contains("cannot hold"), "{e}");
+    assert!(
+        e.starts_with("bad: cloth.prestretch")
+            && e.contains("both pinned")
+            && e.contains("cannot hold")
+            && e.contains("unpin"),
+        "{e}"
+    );
     // Without pins, a prestretched start is off the constraints.
     let e = scene_error(&base("1.0", "1.1", ""));
     assert!(e.contains("cloth.prestretch"), "{e}");

@@ -4,7 +4,7 @@
 
 use std::collections::BTreeSet;
 
-mod common;
+use crate::common;
 use common::run_id;
 
 use cloth::MethodError;

@@ -3,7 +3,7 @@
 
 use std::path::PathBuf;
 
-mod common;
+use crate::common;
 use common::run_id;
 
 use cloth::{ClothModel, RunOptions, Scene, SceneError, Simulation};
@@ -411,7 +411,7 @@ fn shipped_scenes_run_a_few_frames() {
 /// no blow-up, and the energy error stays small. Slow in debug builds:
 /// `cargo test -p cloth --release -- --ignored`.
 #[test]
-#[ignore]
+#[ignore = "every shipped scene to its last frame: minutes in release, hours in debug; cargo test -p cloth --release --test integration scenes:: -- --ignored"]
 fn shipped_scenes_run_to_the_end() {
     for name in SHIPPED {
         let scene = Scene::load(scenes_dir().join(format!("{name}.toml"))).unwrap();

@@ -2,7 +2,7 @@
 energy error over 10⁷ days at Jupiter's period / 20, with the fitted growth
 exponent for ours and REBOUND's).
 
-    cargo test -p integrator-core --test wisdom_holman ten_million_days -- --ignored --nocapture
+    cargo test -p integrator-core --test integration wisdom_holman::ten_million_days -- --ignored --nocapture
     python3 compare/peers/rebound_long.py PATH [--integrator whfast]
     python3 compare/peers/rebound_long.py PATH --time-step 10
 

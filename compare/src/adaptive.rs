@@ -177,19 +177,18 @@ pub fn method<P: Problem>(
     controller: Controller,
     base: &str,
     sys: &P,
+    problem: &str,
 ) -> Result<Method<P>> {
     let id = format!("{prefix}{base}");
     let err = |why: String| Err(CompareError::method(&id, format!("method '{id}': {why}")));
     if !<P::Kind as Kind<P>>::SEPARABLE {
         return err(format!(
-            "the reversible controllers take the problem's step density; the {} problem is an OdeSystem only",
-            sys.name()
+            "the reversible controllers take the problem's step density; the {problem} problem is an OdeSystem only"
         ));
     }
     if sys.step_density().is_none() {
         return err(format!(
-            "the {} problem has no step density (adaptive steps apply to kepler and kepler-hard, whose density is the inverse distance)",
-            sys.name()
+            "the {problem} problem has no step density (adaptive steps apply to kepler and kepler-hard, whose density is the inverse distance)"
         ));
     }
     match <P::Kind as Kind<P>>::adaptive(base, controller) {

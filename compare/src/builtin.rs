@@ -163,12 +163,12 @@ impl Problem for OuterSolarSystem {
     }
     /// Sofroniou–Spaletta order 10 at 5-day steps.
     fn reference(&self, z0: &[f64], t: f64) -> std::result::Result<Vec<f64>, String> {
-        Ok(integrator_core::problems::reference_solution(
+        integrator_core::problems::try_reference_solution(
             self,
             z0,
             t,
             1.0 / OUTER_SOLAR_REFERENCE_STEP,
-        ))
+        )
     }
     fn defaults(&self) -> Defaults {
         OUTER_SOLAR
@@ -215,7 +215,7 @@ impl Problem for HenonHeiles {
     /// Sofroniou–Spaletta order 10 with tiny steps (trustworthy up to
     /// `T ≈ 10`: the motion is chaotic).
     fn reference(&self, z0: &[f64], t: f64) -> std::result::Result<Vec<f64>, String> {
-        Ok(HenonHeiles::reference(self, z0, t))
+        HenonHeiles::try_reference(self, z0, t)
     }
     fn defaults(&self) -> Defaults {
         SHORT
@@ -237,7 +237,7 @@ impl Problem for Fpu {
         Fpu::start(self)
     }
     fn reference(&self, z0: &[f64], t: f64) -> std::result::Result<Vec<f64>, String> {
-        Ok(Fpu::reference(self, z0, t))
+        Fpu::try_reference(self, z0, t)
     }
     fn defaults(&self) -> Defaults {
         SHORT

@@ -32,7 +32,7 @@ use integrator_core::{OdeSystem, SolveError, Step};
 use tableau::Table;
 use tableau::algebraic::file::{AlgAnalysis, AlgFile, Loaded};
 use tableau::algebraic::generated::{Generated, GeneratedTable};
-use tableau::analysis::{Analysis, Class, check_claim};
+use tableau::analysis::{Analysis, Class, check_file_claim};
 use tableau::claims::Claim;
 use tableau::file::TableFile;
 use tableau::rounding::{F64Pair, F64Rounded, F64Table, round_table};
@@ -130,6 +130,13 @@ pub enum Interpretable<'a> {
     },
     /// A partitioned pair in `f64` (`q`: `A, b`; `p`: `Â, b̂`), implicit.
     Pair(&'a F64Pair),
+    /// A processed method: the kernel (a drift–kick sequence or a
+    /// composition) with its corrector `χ`, stepped as `χ Kⁿ χ⁻¹`
+    /// ([`crate::processed`]).
+    Processed {
+        kernel: &'a Table,
+        corrector: &'a tableau::Splitting,
+    },
 }
 
 fn file_error(path: &Path, why: impl Into<String>) -> CompareError {
@@ -200,7 +207,7 @@ fn verify_here(path: &Path) -> Result<VerifiedTable> {
                 .claims
                 .iter()
                 .filter_map(|c| {
-                    check_claim(&file.table, &analysis, c)
+                    check_file_claim(&file, &analysis, c)
                         .err()
                         .map(|e| format!("claim `{c}` does not hold: {e}"))
                 })
@@ -283,6 +290,33 @@ impl<P: Problem> Method<P> {
     /// A verified table as a method (see [`table_file`](Method::table_file)).
     pub fn interpreted(t: &VerifiedTable) -> Result<Self> {
         let (what, order, symplectic, family) = match &t.form {
+            VerifiedForm::Classic { file, analysis: a } if file.corrector.is_some() => {
+                // The claims are the effective method's (checked so by
+                // `verify`); its classical order is the last entry of a
+                // generalised one. Unclaimed, the kernel's order: `χ K χ⁻¹`
+                // is conjugate to `K`, so it has at least that order.
+                let order = file
+                    .claims
+                    .iter()
+                    .find_map(|c| match c {
+                        Claim::Order { p, .. } => Some(*p),
+                        Claim::NearOrder { orders, .. } => orders.last().copied(),
+                        _ => None,
+                    })
+                    .unwrap_or(a.claimed_order_report().order);
+                let symplectic =
+                    crate::method::symplectic_for::<P>(a.symplectic, a.symplectic_separable);
+                let corrector = file.corrector.as_ref().expect("matched on is_some");
+                (
+                    Interpretable::Processed {
+                        kernel: &file.table,
+                        corrector,
+                    },
+                    order,
+                    symplectic,
+                    Family::Splitting,
+                )
+            }
             VerifiedForm::Classic { file, analysis: a } => {
                 let order = claimed_order(&file.claims).unwrap_or(a.claimed_order_report().order);
                 let family = if !a.explicit_separable {
@@ -440,6 +474,9 @@ pub(crate) fn rk<P: Problem>(what: Interpretable<'_>, id: &str) -> Result<Box<dy
         }
         Interpretable::Rk { table, explicit } => f64_rk::<P>(table, explicit, id),
         Interpretable::Pair(_) => Err(pair_refused("partitioned pair")),
+        Interpretable::Processed { .. } => Err(pair_refused(
+            "processed method (a kernel with a corrector, stepped χ Kⁿ χ⁻¹)",
+        )),
     }
 }
 
@@ -465,6 +502,11 @@ where
         Interpretable::Table(table) => table,
         Interpretable::Rk { .. } => return rk(what, id),
         Interpretable::Pair(pair) => return implicit_stepper::<P>(&pair.q, Some(&pair.p), id),
+        Interpretable::Processed { kernel, corrector } => {
+            return crate::processed::processed(kernel, corrector)
+                .map(|m| Box::new(m) as Box<dyn Stepper<P>>)
+                .map_err(|e| analysis_error(id, e));
+        }
     };
     match table {
         Table::Rk(_) => rk(what, id),

@@ -90,6 +90,7 @@ pub mod peer_study;
 pub mod plan;
 pub mod plot;
 mod problem;
+pub mod processed;
 pub mod rebound;
 pub mod report;
 pub mod stepper;

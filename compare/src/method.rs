@@ -156,6 +156,14 @@ impl<P: Problem> Method<P> {
     /// this kind of system, a propagator off the linear problem, a REBOUND
     /// method on a problem that is not point masses.
     pub fn by_id(id: &str, sys: &P) -> Result<Self> {
+        Self::by_id_named(id, sys, &sys.name())
+    }
+
+    /// [`by_id`](Method::by_id) with the problem called `problem` in the
+    /// errors: a [`Setup`](crate::Setup)'s name, which for a user's problem
+    /// file is the file's, not the type's (every linear system is a
+    /// `LinearHamiltonian`, whose own name is `gyroscopic`).
+    pub fn by_id_named(id: &str, sys: &P, problem: &str) -> Result<Self> {
         if let Some(m) = sys.special_method(id) {
             return m;
         }
@@ -163,20 +171,19 @@ impl<P: Problem> Method<P> {
             return Ok(m);
         }
         if let Some(base) = id.strip_prefix("logh:") {
-            return Self::logh(base, sys);
+            return Self::logh_named(base, problem);
         }
         for (prefix, controller) in crate::adaptive::PREFIXES {
             if let Some(base) = id.strip_prefix(prefix) {
-                return crate::adaptive::method(prefix, controller, base, sys);
+                return crate::adaptive::method(prefix, controller, base, sys, problem);
             }
         }
         if id == "dop853" {
             return Self::dop853();
         }
         if id.starts_with("rebound:") {
-            return crate::rebound::method(id, sys).map(Method::Rebound);
+            return crate::rebound::method(id, sys, problem).map(Method::Rebound);
         }
-        let problem = sys.name();
         if id.ends_with("-propagator") && crate::library::is_propagator(id) {
             return Err(CompareError::method(
                 id,
@@ -236,6 +243,11 @@ impl<P: Problem> Method<P> {
     /// logarithmic Hamiltonian of the problem (see
     /// [`time_transformed`](crate::time_transformed)).
     pub fn logh(base: &str, sys: &P) -> Result<Self> {
+        Self::logh_named(base, &sys.name())
+    }
+
+    /// [`logh`](Method::logh) with the problem called `problem` in errors.
+    fn logh_named(base: &str, problem: &str) -> Result<Self> {
         let id = format!("logh:{base}");
         if let Some(stepper) = <P::Kind as Kind<P>>::logh(base) {
             let i = info(base).expect("library ids are in the registry");
@@ -251,8 +263,7 @@ impl<P: Problem> Method<P> {
         }
         let why = if !<P::Kind as Kind<P>>::SEPARABLE {
             format!(
-                "method '{id}': the logarithmic Hamiltonian needs a separable H = T(p) + V(q); the {} problem is an OdeSystem only",
-                sys.name()
+                "method '{id}': the logarithmic Hamiltonian needs a separable H = T(p) + V(q); the {problem} problem is an OdeSystem only"
             )
         } else if let Some(i) = info(base) {
             format!(

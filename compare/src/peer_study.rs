@@ -218,6 +218,10 @@ pub struct LegRows {
 pub struct PeerStudy {
     pub settings: PeerStudySettings,
     pub legs: Vec<LegRows>,
+    /// What was left out and why (a `rebound:` method whose interpreter or
+    /// REBOUND is missing): the front end shows these, and `peer.md` has
+    /// them.
+    pub notes: Vec<String>,
 }
 
 /// Run the study: for each run length a sweep (see [`sweep::sweep`]).
@@ -226,13 +230,27 @@ pub fn run(settings: PeerStudySettings) -> Result<PeerStudy> {
     settings.validate()?;
     let repeats = settings.repeats;
     let mut results = Vec::new();
-    for &e in &settings.eccentricities {
+    let mut notes = Vec::new();
+    let mut left_out: Vec<String> = Vec::new();
+    for (k, &e) in settings.eccentricities.iter().enumerate() {
         let sys = Kepler { e };
-        let methods: Vec<Method<Kepler>> = settings
+        let mut methods: Vec<Method<Kepler>> = settings
             .methods
             .iter()
             .map(|id| Method::by_id(id, &sys))
             .collect::<Result<_>>()?;
+        // REBOUND's methods are probed once, as the sweep does: one whose
+        // interpreter or REBOUND is missing is left out with a note rather
+        // than run to a column of failures.
+        if k == 0 {
+            let rebound = crate::rebound::availability(methods.iter().filter_map(|m| match m {
+                Method::Rebound(r) => Some(r),
+                _ => None,
+            }));
+            notes = rebound.notes;
+            left_out = rebound.left_out;
+        }
+        methods.retain(|m| !left_out.iter().any(|id| id == m.id()));
         for &leg in &settings.legs {
             let t_end = 2.0 * PI * leg.orbits;
             let setup = if e == 0.6 || e == 0.9 {
@@ -267,6 +285,7 @@ pub fn run(settings: PeerStudySettings) -> Result<PeerStudy> {
     Ok(PeerStudy {
         settings,
         legs: results,
+        notes,
     })
 }
 
@@ -297,6 +316,7 @@ impl PeerStudy {
         markdown(
             &self.legs,
             &s.methods,
+            &self.notes,
             &s.targets,
             s.energy_target,
             &s.tolerances,
@@ -393,13 +413,14 @@ fn and(v: &[String]) -> String {
 fn markdown(
     results: &[LegRows],
     ids: &[String],
+    notes: &[String],
     targets: &[f64],
     energy_target: f64,
     tols: &[f64],
     repeats: usize,
 ) -> String {
     let mut s = String::new();
-    set_up(&mut s, results, ids, tols, repeats);
+    set_up(&mut s, results, ids, notes, tols, repeats);
     verdict_section(&mut s, results, targets);
     for l in results {
         leg_section(&mut s, l, targets, energy_target);
@@ -409,7 +430,14 @@ fn markdown(
 
 /// The title and the set-up: problem, methods, step counts, tolerances,
 /// timing and round-off.
-fn set_up(s: &mut String, results: &[LegRows], ids: &[String], tols: &[f64], repeats: usize) {
+fn set_up(
+    s: &mut String,
+    results: &[LegRows],
+    ids: &[String],
+    notes: &[String],
+    tols: &[f64],
+    repeats: usize,
+) {
     let lengths = distinct(results.iter().map(|l| orbits(&l.leg)).collect());
     let es = distinct(results.iter().map(|l| l.e.to_string()).collect());
     let _ = writeln!(
@@ -430,7 +458,20 @@ fn set_up(s: &mut String, results: &[LegRows], ids: &[String], tols: &[f64], rep
          symmetric scheme ID under the reversible integrating controller with step density 1/r; both start \
          with a step of T/n for a step count n and take the steps they need (the `steps` column), landing on T."
     );
-    let _ = writeln!(s, "- Methods: {}.", ids.join(", "));
+    // DOP853 and REBOUND's integrators are peers, never "ours".
+    let (peers, ours): (Vec<&String>, Vec<&String>) = ids
+        .iter()
+        .partition(|id| *id == PEER || crate::rebound::is_rebound(id));
+    let list = |v: &[&String]| v.iter().map(|x| x.as_str()).collect::<Vec<_>>().join(", ");
+    let _ = writeln!(
+        s,
+        "- Methods: ours {}; peers {}.",
+        list(&ours),
+        list(&peers)
+    );
+    for n in notes {
+        let _ = writeln!(s, "- Note: {n}");
+    }
     for l in results {
         let steps = sweep::step_counts(
             l.t_end,
@@ -645,7 +686,11 @@ mod tests {
                 rows: rows(scale),
             })
             .collect();
-        PeerStudy { settings, legs }
+        PeerStudy {
+            settings,
+            legs,
+            notes: Vec::new(),
+        }
     }
 
     #[test]

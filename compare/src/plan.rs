@@ -191,10 +191,15 @@ pub const OUTER_SOLAR_LONG_H: f64 = 4332.59 / 20.0;
 
 /// The outer solar system's long runs: `steps` steps of
 /// [`OUTER_SOLAR_LONG_H`], by default 10⁷ days (about 27 000 years;
-/// 10⁵ days when `quick`).
+/// when `quick`, the fewest steps a long run takes, [`LONG_STEPS`]' start:
+/// 1000 steps, about 2.2·10⁵ days).
 pub fn outer_solar_long_settings(steps: Option<u64>, quick: bool) -> LongSettings {
-    let days = if quick { 1e5 } else { 1e7 };
-    let steps = steps.unwrap_or((days / OUTER_SOLAR_LONG_H).ceil() as u64);
+    let default = if quick {
+        *LONG_STEPS.start()
+    } else {
+        (1e7 / OUTER_SOLAR_LONG_H).ceil() as u64
+    };
+    let steps = steps.unwrap_or(default);
     LongSettings {
         h: OUTER_SOLAR_LONG_H,
         steps,

@@ -284,4 +284,17 @@ mod tests {
         assert!(lines(&dir.join("c.jpg"), &plot).is_err());
         std::fs::remove_dir_all(&dir).unwrap();
     }
+
+    #[test]
+    fn a_captioned_bitmap_is_written_as_a_png_and_a_wrong_size_is_an_error() {
+        let dir = std::env::temp_dir().join(format!("symlab-captioned-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("x.png");
+        captioned_png(&path, (40, 30), vec![200; 40 * 30 * 3], "test").unwrap();
+        let bytes = std::fs::read(&path).unwrap();
+        assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n");
+        let e = captioned_png(&path, (40, 30), vec![0; 10], "test").unwrap_err();
+        assert!(e.to_string().contains("wrong size"), "{e}");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
 }

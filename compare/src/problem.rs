@@ -371,7 +371,7 @@ impl<P: Problem> Setup<P> {
     /// ([`Problem::special_method`]), a library scheme, or `dop853`. The
     /// error lists the valid ids.
     pub fn method(&self, id: &str) -> Result<Method<P>> {
-        Method::by_id(id, &self.sys)
+        Method::by_id_named(id, &self.sys, &self.name)
     }
 
     /// Every method id that applies to this problem (library schemes, the

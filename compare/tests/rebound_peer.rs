@@ -3,9 +3,12 @@
 //! sweep without REBOUND (the install command, the other rows), and the
 //! errors for bad names.
 //!
-//! REBOUND is not a dependency: a test that needs it prints why it is
-//! skipped where `python3 -c "import rebound"` fails
-//! (`pip install rebound==5.2.2`).
+//! REBOUND is not a dependency, so the tests that run it are `#[ignore]`d
+//! with the reason; `scripts/test` (the README's test command, which CI
+//! runs) installs `rebound==5.2.2` into its `.venv` and runs them with
+//! `SYMLAB_PYTHON` pointing there: `cargo test -p compare --test
+//! rebound_peer -- --ignored`. Run so, they fail where REBOUND does not
+//! answer; none of them passes without running.
 
 use std::path::{Path, PathBuf};
 
@@ -14,14 +17,13 @@ use compare::rebound::{self, Bodies, Point, ReboundMethod};
 use compare::{Method, Problem, Setup, SweepSettings, work_precision};
 use integrator_core::problems::{HenonHeiles, Kepler};
 
-/// Whether REBOUND answers here; prints why not.
-fn rebound_here(test: &str) -> bool {
-    match rebound::probe(&rebound::python()) {
-        Ok(_) => true,
-        Err(why) => {
-            println!("{test}: skipped, {why}");
-            false
-        }
+/// REBOUND must answer: these tests are run on purpose (`--ignored`).
+fn require_rebound() {
+    if let Err(why) = rebound::probe(&rebound::python()) {
+        panic!(
+            "{why}\nThis test needs REBOUND: run scripts/test, or `{}` and set SYMLAB_PYTHON to that interpreter",
+            rebound::INSTALL
+        );
     }
 }
 
@@ -37,10 +39,9 @@ fn rebound_method<P: Problem>(id: &str, setup: &Setup<P>) -> ReboundMethod {
 }
 
 #[test]
+#[ignore = "needs REBOUND 5.2.2 under $SYMLAB_PYTHON; scripts/test installs it into .venv and runs these"]
 fn the_initial_state_reaches_rebound_and_comes_back_bit_for_bit() {
-    if !rebound_here("round trip") {
-        return;
-    }
+    require_rebound();
     let outer = builtin::outer_solar(1e5, false).unwrap();
     let b = bodies(&outer);
     // The velocities REBOUND is given are HLW's, and m·v gives back our p.
@@ -81,10 +82,9 @@ fn leapfrog_pair<P: Problem>(setup: &Setup<P>, steps: &[u64]) -> Vec<(u64, f64, 
 }
 
 #[test]
+#[ignore = "needs REBOUND 5.2.2 under $SYMLAB_PYTHON; scripts/test installs it into .venv and runs these"]
 fn rebound_leapfrog_and_ours_agree_to_round_off() {
-    if !rebound_here("leapfrog") {
-        return;
-    }
+    require_rebound();
     // Kepler e = 0.6 over 10 orbits: the same error at every step count to
     // many digits (the two differ only in the rounding of the force).
     let kepler = builtin::kepler(false, 20.0 * std::f64::consts::PI, true).unwrap();
@@ -106,10 +106,9 @@ fn rebound_leapfrog_and_ours_agree_to_round_off() {
 }
 
 #[test]
+#[ignore = "needs REBOUND 5.2.2 under $SYMLAB_PYTHON; scripts/test installs it into .venv and runs these"]
 fn a_sweep_runs_rebound_beside_ours_and_reports_it() {
-    if !rebound_here("sweep") {
-        return;
-    }
+    require_rebound();
     let setup = builtin::outer_solar(1e5, true).unwrap();
     let methods: Vec<Method<_>> = ["leapfrog", "rebound:whfast", "rebound:ias15"]
         .iter()
@@ -164,18 +163,32 @@ fn a_sweep_runs_rebound_beside_ours_and_reports_it() {
     assert!(summary.contains("ours / REBOUND"), "{summary}");
 }
 
+/// On a CPU with AVX-512, WHFast512 runs and matches WHFast; on one
+/// without, the probe says so and a sweep leaves it out with that note
+/// while the rest runs. Either way the test checks what this machine has.
 #[test]
-fn whfast512_where_the_cpu_has_avx512() {
-    if !rebound_here("whfast512") {
-        return;
-    }
+#[ignore = "needs REBOUND 5.2.2 under $SYMLAB_PYTHON; scripts/test installs it into .venv and runs these"]
+fn whfast512_runs_where_the_cpu_has_avx512_and_is_left_out_with_a_note_elsewhere() {
+    require_rebound();
     let python = rebound::python();
-    if let Err(why) = rebound::probe_whfast512(&python) {
-        println!("whfast512: skipped, {why}");
-        return;
-    }
     let setup = builtin::outer_solar(1e5, true).unwrap();
     let w512 = rebound_method("rebound:whfast512", &setup);
+    if !rebound::cpu_has_avx512() {
+        println!("whfast512: this CPU has no AVX-512F: checking that it is left out with a note");
+        let why = rebound::probe_whfast512(&python).unwrap_err();
+        assert!(why.contains("AVX-512"), "{why}");
+        let methods = vec![setup.method("leapfrog").unwrap(), Method::Rebound(w512)];
+        let mut settings = SweepSettings::new(setup.sys.defaults(), setup.t_end);
+        settings.points = 2;
+        settings.repeats = 1;
+        let result = work_precision(&setup, &methods, &settings).unwrap();
+        assert_eq!(result.methods, vec!["leapfrog".to_string()]);
+        let notes = result.notes.join("\n");
+        assert!(notes.contains("rebound:whfast512") && notes.contains("AVX-512"), "{notes}");
+        return;
+    }
+    println!("whfast512: this CPU has AVX-512F: running it beside WHFast");
+    rebound::probe_whfast512(&python).unwrap();
     let whfast = rebound_method("rebound:whfast", &setup);
     for n in [1000, 4000] {
         let a = rebound::row(&setup, &w512, Point::Steps(n), 1.0, 1);
@@ -240,10 +253,13 @@ fn without_rebound_the_sweep_says_how_to_install_it_and_runs_the_rest() {
     // An interpreter without the package.
     let dir = std::env::temp_dir().join(format!("symlab-rebound-missing-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    match python_without_rebound(&dir) {
-        Some(python) => sweep_without_rebound(&python),
-        None => println!("python without rebound: skipped, no python3 here"),
-    }
+    let python = python_without_rebound(&dir).unwrap_or_else(|| {
+        panic!(
+            "no Python interpreter at '{}' to run without its site-packages (set SYMLAB_PYTHON; scripts/test does)",
+            rebound::python().display()
+        )
+    });
+    sweep_without_rebound(&python);
     let _ = std::fs::remove_dir_all(&dir);
 }
 

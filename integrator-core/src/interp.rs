@@ -72,6 +72,18 @@ pub enum InterpError {
         "a drift–kick sequence needs as many drifts as kicks, or one more of either; got {drifts} drifts and {kicks} kicks"
     )]
     Sequence { drifts: usize, kicks: usize },
+    /// A sequence whose every coefficient is zero: nothing is left once the
+    /// zeros are dropped (`compose = ["0"]`).
+    #[error(
+        "every coefficient of `{field}` is 0: once its zeros are dropped the sequence has no flows, so it is the identity map, not a method"
+    )]
+    Empty { field: &'static str },
+    /// A coefficient whose double is not finite: the interpreters step in
+    /// `f64`, and a coefficient of `10^5000` would step to NaN.
+    #[error(
+        "{what} is not a finite double{value}: the interpreters step in f64 (at most ±1.8e308)"
+    )]
+    NotFinite { what: String, value: String },
     #[error("{found} table where {wanted} was expected")]
     Form {
         wanted: &'static str,
@@ -148,6 +160,20 @@ impl RkInterpreter {
                 got: c.len(),
                 stages: s,
             });
+        }
+        let named = a
+            .iter()
+            .enumerate()
+            .flat_map(|(i, r)| r.iter().enumerate().map(move |(j, x)| (format!("a[{i}][{j}]"), *x)))
+            .chain(b.iter().enumerate().map(|(i, x)| (format!("b[{i}]"), *x)))
+            .chain(c.iter().enumerate().map(|(i, x)| (format!("c[{i}]"), *x)));
+        for (what, x) in named {
+            if !x.is_finite() {
+                return Err(InterpError::NotFinite {
+                    what,
+                    value: format!(" ({x})"),
+                });
+            }
         }
         for (row, r) in a.iter().enumerate() {
             if let Some((col, &value)) = r.iter().enumerate().skip(row).find(|(_, x)| **x != 0.0) {
@@ -271,6 +297,16 @@ pub struct SplittingInterpreter {
 
 impl SplittingInterpreter {
     pub fn new(drift: Vec<f64>, kick: Vec<f64>) -> Result<Self, InterpError> {
+        let named = (drift.iter().enumerate().map(|(i, x)| (format!("drift[{i}]"), *x)))
+            .chain(kick.iter().enumerate().map(|(i, x)| (format!("kick[{i}]"), *x)));
+        for (what, x) in named {
+            if !x.is_finite() {
+                return Err(InterpError::NotFinite {
+                    what,
+                    value: format!(" ({x})"),
+                });
+            }
+        }
         let (nd, nk) = (drift.len(), kick.len());
         if nd.abs_diff(nk) > 1 || nd + nk == 0 {
             return Err(InterpError::Sequence {
@@ -321,6 +357,24 @@ impl SplittingInterpreter {
         // The normal form (zeros dropped, neighbours merged), its drift and
         // kick values rounded as weight vectors, as `butcher!` does.
         let nf = s.normal_form();
+        // Named by the exact value, before rounding turns it into inf.
+        if let Some(o) = nf.iter().find(|o| !o.1.to_f64().is_finite()) {
+            return Err(InterpError::NotFinite {
+                what: format!(
+                    "a {} coefficient",
+                    if o.0 == Op::Drift { "drift" } else { "kick" }
+                ),
+                value: format!(" (≈ {})", o.1.approx_text()),
+            });
+        }
+        if nf.is_empty() {
+            return Err(InterpError::Empty {
+                field: match table {
+                    Table::Composition(_) => "compose",
+                    _ => "drift` and `kick",
+                },
+            });
+        }
         let values = |op: Op| -> Vec<Number> {
             nf.iter()
                 .filter(|o| o.0 == op)

@@ -15,7 +15,7 @@
 use integrator_core::constrained::{ConstrainedPair, integrate_constrained};
 use integrator_core::problems::{PendulumChain, SphericalPendulum};
 
-mod common;
+use crate::common;
 use common::{jacobian, symplecticity_defect};
 
 const TOL: f64 = 1e-11;

@@ -12,7 +12,7 @@ use std::cell::RefCell;
 
 use integrator_core::problems::wisdom_holman::Jacobi;
 
-mod quartic;
+use crate::quartic;
 use integrator_core::processed::{self, Processed, Sequence};
 use integrator_core::scheme::SplitWorkspace;
 use integrator_core::{FlowError, Part, PartBuffers, SolveError, Split, StateSpace, StepError};

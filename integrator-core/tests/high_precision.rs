@@ -11,7 +11,7 @@
 //!
 //! The 10⁶-step energy measurement and the time-to-error race over 1000
 //! orbits are `#[ignore]`d (release measurements):
-//! `cargo test -p integrator-core --release --test high_precision -- --ignored --nocapture`
+//! `cargo test -p integrator-core --release --test integration high_precision:: -- --ignored --nocapture`
 //! (`ORBITS=100` in the environment: the race over 100 orbits).
 
 // Tables are built entry by entry.
@@ -27,7 +27,7 @@ use integrator_core::library::{
 };
 use integrator_core::problems::{Kepler, RandomSeparable};
 
-mod common;
+use crate::common;
 use common::symplecticity_defect;
 
 /// Gauss–Legendre with `S` stages in `f64`, for tests only.
@@ -433,7 +433,7 @@ fn energy_round_off_grows_like_sqrt_t() {
 /// The release measurement: 10⁶ steps (10⁴ orbits), 4 runs; with the
 /// symplectic form and compensated update, and without both.
 #[test]
-#[ignore]
+#[ignore = "a release measurement (10⁶ steps, 4 runs): cargo test -p integrator-core --release --test integration high_precision:: -- --ignored --nocapture"]
 fn energy_round_off_over_a_million_steps() {
     for (name, settings) in [
         ("symplectic form, compensated", Settings::default()),
@@ -485,7 +485,7 @@ fn timed_run(method: &Run, orbits: usize, n: usize) -> (f64, f64) {
 /// into a phase error growing like t^{3/2}, Brouwer's law), so 1e-12 and
 /// 1e-13 are reported as not reached.
 #[test]
-#[ignore]
+#[ignore = "a release measurement (1000 orbits): cargo test -p integrator-core --release --test integration high_precision:: -- --ignored --nocapture"]
 fn time_to_error_over_a_thousand_orbits() {
     use integrator_core::Step;
     use integrator_core::library::{KahanLi8, SofroniouSpaletta10};

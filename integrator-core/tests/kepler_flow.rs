@@ -12,7 +12,7 @@
 //! velocities to `|v|`, in and out), the error of an evaluation that is
 //! exact up to rounding is a few `ε·(1 + κ)`.
 
-mod double_double;
+use crate::double_double;
 
 use double_double::Dd;
 use integrator_core::kepler::{KeplerError, KeplerSolver, LANES, drift};
@@ -557,7 +557,7 @@ fn the_rounding_error_grows_like_rounding_error() {
 }
 
 #[test]
-#[ignore = "a measurement (10⁶ orbits, about a minute in release): cargo test --release -p integrator-core --test kepler_flow a_million_orbits -- --ignored --nocapture"]
+#[ignore = "a measurement (10⁶ orbits, about a minute in release): cargo test --release -p integrator-core --test integration kepler_flow::a_million_orbits -- --ignored --nocapture"]
 fn a_million_orbits() {
     for frac in [0.1 / 1.618033988749895, 0.6 / 1.618033988749895] {
         let g = growth(frac, 6.0);
@@ -700,7 +700,7 @@ fn a_failing_lane_is_named_and_the_lanes_after_it_are_left_alone() {
 }
 
 #[test]
-#[ignore = "a diagnostic: KEP_BIAS_STEPS=… cargo test -p integrator-core --test kepler_flow energy_bias -- --ignored --nocapture"]
+#[ignore = "a diagnostic: KEP_BIAS_STEPS=… cargo test -p integrator-core --test integration kepler_flow::energy_bias -- --ignored --nocapture"]
 fn energy_bias_per_step() {
     // The signed mean over many orbits of the energy change after n
     // steps, divided by n: a systematic error per step, with its standard
@@ -745,7 +745,7 @@ fn energy_bias_per_step() {
 }
 
 #[test]
-#[ignore = "a measurement (the evaluation counts quoted at KeplerSolver::DEFAULT_MAX_ITERATIONS): cargo test --release -p integrator-core --test kepler_flow evaluation_counts -- --ignored --nocapture"]
+#[ignore = "a measurement (the evaluation counts quoted at KeplerSolver::DEFAULT_MAX_ITERATIONS): cargo test --release -p integrator-core --test integration kepler_flow::evaluation_counts -- --ignored --nocapture"]
 fn evaluation_counts() {
     // The fewest evaluations (Halley or bisection steps) with which each
     // solve of the accuracy grid succeeds: `max_iterations` probed from 1.

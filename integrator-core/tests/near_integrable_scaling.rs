@@ -23,7 +23,7 @@ use integrator_core::library::{KahanLi8, Saba2, Saba3, Sbab2, Sbab3};
 use integrator_core::{Scheme, Separable, Step, integrate};
 
 /// `H = (q² + p²)/2 + ε q⁴/4`, split as the oscillator and the quartic kick.
-mod quartic;
+use crate::quartic;
 use quartic::Quartic as Perturbed;
 
 /// The same `H` as a separable Hamiltonian, for the reference.

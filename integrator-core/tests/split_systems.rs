@@ -32,7 +32,7 @@ use integrator_core::{
     StateSpace, Step, StepError, integrate,
 };
 
-mod common;
+use crate::common;
 use common::{jacobian, symplecticity_defect};
 
 // ---------------------------------------------------------------------------

@@ -22,7 +22,7 @@ use integrator_core::problems::RandomSeparable;
 use integrator_core::{Info, Scheme, Step};
 use proptest::prelude::*;
 
-mod common;
+use crate::common;
 use common::symplecticity_defect;
 use proptest::test_runner::FailurePersistence;
 

@@ -7,7 +7,7 @@ use integrator_core::problems::Kepler;
 use integrator_core::time_transform::{LogHamiltonian, TimeTransformError};
 use integrator_core::{Separable, Step, energy};
 
-mod common;
+use crate::common;
 use common::symplecticity_defect as defect;
 
 type Sys = LogHamiltonian<Kepler>;

@@ -7,7 +7,7 @@
 use integrator_core::problems::wisdom_holman::{DemocraticHeliocentric, Jacobi, WhError};
 use integrator_core::problems::{OuterSolarSystem, reference_solution};
 
-mod common;
+use crate::common;
 use common::{jacobian, symplecticity_defect};
 
 /// The project's error measure (`compare`): `‖z − z_ref‖₂/‖z_ref‖₂`.
@@ -435,7 +435,7 @@ fn both_coordinate_systems_agree_on_the_outer_solar_system() {
 }
 
 #[test]
-#[ignore = "a measurement: cargo test --release -p integrator-core --test wisdom_holman work_precision -- --ignored --nocapture"]
+#[ignore = "a measurement: cargo test --release -p integrator-core --test integration wisdom_holman::work_precision -- --ignored --nocapture"]
 fn work_precision() {
     // The error at 10⁵ days (the project's measure, against the converged
     // reference) and the wall time per step, over the step counts of
@@ -502,7 +502,7 @@ fn windowed_growth(errors: &[f64], h: f64) -> (Vec<(usize, f64)>, f64) {
 }
 
 #[test]
-#[ignore = "a measurement (10⁷ days of the outer solar system, issue 21): cargo test -p integrator-core --test wisdom_holman ten_million_days -- --ignored --nocapture; then python3 compare/peers/rebound_long.py PATH (the path it prints) for REBOUND's WHFast on the same state"]
+#[ignore = "a measurement (10⁷ days of the outer solar system, issue 21): cargo test -p integrator-core --test integration wisdom_holman::ten_million_days -- --ignored --nocapture; then python3 compare/peers/rebound_long.py PATH (the path it prints) for REBOUND's WHFast on the same state"]
 fn outer_solar_ten_million_days() {
     // Wisdom–Holman (Jacobi, leapfrog kernel, no corrector) at Jupiter's
     // period / 20 for 10⁷ days (about 27 000 years), the energy error at

@@ -10,7 +10,6 @@
 //! regridding are the cloth crate's.
 
 pub(crate) mod energy;
-mod growth;
 mod render;
 mod stability;
 mod summary;
@@ -659,10 +658,7 @@ fn blown_up(
     }
     eprintln!("error: {err}");
     let growth = energy_growth(&col.stats, e_ref);
-    eprintln!(
-        "  energy up to the last good frame: {}",
-        growth::describe(&growth)
-    );
+    eprintln!("  energy up to the last good frame: {growth}");
     if growth.exponential() {
         eprintln!(
             "  the energy was growing exponentially before the run stopped (see energy.svg): the method is unstable at this step, whatever the solver"

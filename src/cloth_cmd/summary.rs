@@ -8,7 +8,7 @@ use cloth::study::energy::worst_relative_error;
 use cloth::{ClothModel, Method, RunOptions, RunReport, Scene, SolverStats};
 use compare::format::{MISSING, fixed, sci};
 
-use super::{energy_growth, growth};
+use super::energy_growth;
 
 /// What the summary shows.
 pub struct Summary<'a> {
@@ -184,7 +184,7 @@ impl Summary<'_> {
         let _ = writeln!(
             s,
             "  growth       {}",
-            growth::describe(&energy_growth(&r.frames, self.e_ref))
+            energy_growth(&r.frames, self.e_ref)
         );
         let (strain, frame) = r.frames.iter().fold((0.0f64, 0usize), |(m, k), f| {
             if f.max_strain > m {

@@ -16,6 +16,7 @@
 //! | [`MAX_FILE_BYTES`] | 1 MiB | a table file ([`crate::file::load`]) |
 //! | [`MAX_LITERAL_DIGITS`] | 1000 digits | an integer or decimal literal in an entry |
 //! | [`MAX_STAGES`] | 100 stages | the stages of a table, of its equivalent pair (drift–kick sequences, compositions) |
+//! | [`MAX_CLAIMED_ORDER`] | order 64 | an order in a claim (`order = N`, each entry of `order = (P1, …)`); each analysis refuses earlier at its own limit |
 //! | [`MAX_INVERSE_DEGREE`] | degree 256 | a divisor: the degree over Q of the field its radicals span |
 //! | [`crate::expr::MAX_BITS`] | 2²² bits | the size of a product or power in an entry |
 //! | [`crate::expr::MAX_TERM_PRODUCTS`] | 2²⁰ | the term products of one multiplication in an entry |
@@ -31,7 +32,7 @@
 //! | [`MAX_ZERO_TEST_WORK`] | 2³² word products | one zero test, sign, rounding, gcd or root isolation, estimated before it is done: at the limit about 1.6 s (a zero test in six quintic roots, 1.7·10⁹ in 0.64 s; isolating a root of degree 64, 10⁹ in 0.44 s), under 10 MB |
 //! | [`crate::near_integrable::MAX_NEAR_DEGREE`] | degree 24 | the power of `h` to which a generalised order (`order = (8, 6, 4)`) is examined |
 //! | [`crate::near_integrable::MAX_NEAR_WORDS`] | 2¹⁶ words | the free algebra on {A, B} truncated by (number of B's, degree) for a generalised order |
-//! | [`crate::near_integrable::MAX_NEAR_WORK`] | 2²⁰ products | words × flows × degree (a gradient kick counting degree + 4), plus m³/6 per Lyndon word of m letters, estimated before the work: at the limit about 15 s with 40-digit decimals |
+//! | [`crate::near_integrable::MAX_NEAR_WORK`] | 2²⁰ products | words × flows × degree (a gradient kick counting degree + 4), plus m³/6 per Lyndon word of m letters, times (bits / 320)² for coefficients longer than 640 bits ([`crate::near_integrable::CALIBRATED_BITS`]), estimated before the work: at the limit about 15 s with 40-digit decimals |
 //! | [`crate::near_integrable::MAX_NEAR_FIELD_DEGREE`] | 16 | the degree over Q of the field the coefficients of a near-integrable claim span |
 //! | [`MAX_ANALYSIS_WORK`] | 2³³ word products | parsing and analysing one root-file table together; the tests past it are reported undecided: at the limit about 3.6 s (36 such zero tests, 6.6·10⁹ in 2.8 s), under 10 MB |
 //!
@@ -41,7 +42,7 @@
 //! Measured there: every collocation table with s ≤ 8 of every family, and
 //! the Lobatto IIIA–IIIB pair, written with `root(...)` entries (`c` given
 //! or not) is decided, nothing refused, in at most about 2 s and 8 MB
-//! (`cargo test -p tableau --release --test root_files -- --ignored`).
+//! (`cargo test -p tableau --release --test integration root_files:: -- --ignored`).
 
 pub use crate::number::MAX_INVERSE_DEGREE;
 
@@ -59,6 +60,14 @@ pub const MAX_LITERAL_DIGITS: usize = 1000;
 /// `m + 1`). The order conditions of a 100-stage table are checked in
 /// seconds; published methods have at most a few dozen stages.
 pub const MAX_STAGES: usize = 100;
+
+/// The largest order a claim may state (`order = N`, `order_rkn = N`, each
+/// entry of `order = (P1, P2, …)`). Every analysis has a lower limit of its
+/// own ([`crate::trees::MAX_ORDER`], [`crate::near_integrable::MAX_NEAR_DEGREE`],
+/// …) and refuses past it with its own message; this bound only keeps a
+/// claim such as `order = 18446744073709551615` from reaching code that
+/// sizes a list by the order.
+pub const MAX_CLAIMED_ORDER: usize = 64;
 
 /// The stability function of a rational table: the number of 61-bit primes
 /// its characteristic polynomials need (from Hadamard's bound, so about the

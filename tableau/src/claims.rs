@@ -12,6 +12,7 @@ use std::fmt;
 use std::str::FromStr;
 
 use crate::Number;
+use crate::budget::MAX_CLAIMED_ORDER;
 use crate::expr::{decimal_text, parse_number};
 
 /// One claim of a table.
@@ -82,13 +83,7 @@ pub fn parse_claim(text: &str) -> Result<Claim, String> {
                     "`{t}`: expected whole numbers in `order = (P1, P2, …)`, found `{item}`"
                 ));
             }
-            let p: usize = item
-                .parse()
-                .map_err(|_| format!("`{t}`: the order {item} is too large"))?;
-            if p == 0 {
-                return Err(format!("`{t}`: an order is at least 1"));
-            }
-            orders.push(p);
+            orders.push(order_number(t, item)?);
         }
         if orders.windows(2).any(|w| w[1] > w[0]) {
             let items: Vec<String> = orders.iter().map(usize::to_string).collect();
@@ -126,12 +121,7 @@ fn parse_order(t: &str, keyword: &str, rest: &str) -> Result<(usize, Option<Numb
             "`{t}`: expected a whole number after `{keyword} =`, found `{found}`"
         ));
     }
-    let p: usize = digits
-        .parse()
-        .map_err(|_| format!("`{t}`: the order {digits} is too large"))?;
-    if p == 0 {
-        return Err(format!("`{t}`: an order is at least 1"));
-    }
+    let p = order_number(t, digits)?;
     let rest = rest.trim();
     if rest.is_empty() {
         return Ok((p, None));
@@ -157,6 +147,26 @@ fn parse_order(t: &str, keyword: &str, rest: &str) -> Result<(usize, Option<Numb
         ));
     }
     Ok((p, Some(bound)))
+}
+
+/// One order of a claim, `digits` being ASCII digits: at least 1 and at
+/// most [`MAX_CLAIMED_ORDER`]. The bound is checked here, before any
+/// analysis sees the number, because several analyses build a list with an
+/// entry per order (`order = (99999999999)` once asked for 8 GB).
+fn order_number(t: &str, digits: &str) -> Result<usize, String> {
+    let beyond = || {
+        format!(
+            "`{t}`: the order {digits} is beyond every budget of the verifier: it decides orders up to {MAX_CLAIMED_ORDER} at most (tableau::budget::MAX_CLAIMED_ORDER)"
+        )
+    };
+    let p: usize = digits.parse().map_err(|_| beyond())?;
+    if p == 0 {
+        return Err(format!("`{t}`: an order is at least 1"));
+    }
+    if p > MAX_CLAIMED_ORDER {
+        return Err(beyond());
+    }
+    Ok(p)
 }
 
 fn unknown(t: &str) -> String {
@@ -270,7 +280,12 @@ mod tests {
             ("order = four", "found `four`"),
             ("order =", "found `nothing`"),
             ("order = 0", "at least 1"),
-            ("order = 99999999999999999999999", "too large"),
+            ("order = 99999999999999999999999", "beyond every budget"),
+            ("order = 18446744073709551615", "beyond every budget"),
+            ("order = 65", "up to 64 at most"),
+            ("order = (99999999999)", "the order 99999999999 is beyond every budget"),
+            ("order = (65, 4)", "the order 65 is beyond"),
+            ("order = (8, 18446744073709551616)", "beyond every budget"),
             ("order = 4 residual", "expected `(residual < BOUND)`"),
             ("order = 4 (residual < )", "empty expression"),
             ("order = 4 (residual < 1/0)", "division by zero"),
@@ -283,7 +298,7 @@ mod tests {
             ("order_rkn = five", "after `order_rkn =`, found `five`"),
             ("order_rkn =", "found `nothing`"),
             ("order_rkn = 0", "at least 1"),
-            ("order_rkn = 99999999999999999999999", "too large"),
+            ("order_rkn = 99999999999999999999999", "beyond every budget"),
             (
                 "order_rkn = 4 (residual 1e-16)",
                 "expected `(residual < BOUND)`",

@@ -99,7 +99,7 @@ fn families_up_to_4_stages_decided_or_refused() {
 }
 
 /// Every family with s ≤ 8, with and without `c`; prints the time per case
-/// (`cargo test -p tableau --release --test root_files -- --ignored
+/// (`cargo test -p tableau --release --test integration root_files:: -- --ignored
 /// --nocapture`).
 #[test]
 #[ignore = "about a minute in release; run with --release --ignored"]

@@ -386,11 +386,26 @@ pub(super) fn build(
         match (free_index[a], free_index[b]) {
             (PINNED, PINNED) => {
                 if off > CONSTRAINT_TOLERANCE {
+                    // With a prestretch the pinned pair sits off its edge's
+                    // length because of the prestretch, which is the field
+                    // to change (an inextensible cloth cannot be
+                    // prestretched); without one, the pins are.
+                    let (field, why) = if scene.cloth.prestretch != 1.0 {
+                        (
+                            "cloth.prestretch",
+                            format!(
+                                "; prestretch {} put them there (an inextensible cloth starts on its constraints, so it takes prestretch = 1), or unpin one of them",
+                                scene.cloth.prestretch
+                            ),
+                        )
+                    } else {
+                        ("pins", String::new())
+                    };
                     problem = Some(field_err(
                         scene,
-                        "pins",
+                        field,
                         format!(
-                            "particles {:?} and {:?} are both pinned {:e} m apart, but the inextensible edge between them has length {rest:e} m: the constraint cannot hold",
+                            "particles {:?} and {:?} are both pinned {:e} m apart, but the inextensible edge between them has length {rest:e} m: the constraint cannot hold{why}",
                             grid(a),
                             grid(b),
                             apart.norm()

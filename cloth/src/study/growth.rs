@@ -192,6 +192,40 @@ impl Growth {
     }
 }
 
+/// The line a run's summary gives the fit, on success and on failure alike:
+/// the envelope per quarter and the verdict.
+impl std::fmt::Display for Growth {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match *self {
+            Growth::TooShort { frames } => write!(
+                f,
+                "{frames} frames: too few to fit a growth (at least {MIN_FRAMES} are needed)"
+            ),
+            Growth::Fitted {
+                envelope,
+                power,
+                e_folding,
+                trend,
+            } => {
+                write!(
+                    f,
+                    "max |H − H₀|/E_ref per quarter of the run {:.2e}, {:.2e}, {:.2e}, {:.2e}: ",
+                    envelope[0], envelope[1], envelope[2], envelope[3]
+                )?;
+                match trend {
+                    Trend::Exponential => write!(
+                        f,
+                        "grows exponentially, ×e every {e_folding:.3} s (×10 every {:.3} s): not energy-stable at this step",
+                        e_folding * std::f64::consts::LN_10
+                    ),
+                    Trend::Bounded => write!(f, "bounded, no drift (fitted t^{power:.2})"),
+                    Trend::Power => write!(f, "grows like t^{power:.2}"),
+                }
+            }
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -211,6 +245,7 @@ mod tests {
         };
         assert!(power.abs() < BOUNDED_POWER, "{g:?}");
         assert_eq!(g.trend(), Some(Trend::Bounded));
+        assert!(g.to_string().contains("bounded, no drift"), "{g}");
     }
 
     #[test]
@@ -221,6 +256,7 @@ mod tests {
         };
         assert!((power - 1.0).abs() < 1e-9, "{power}");
         assert_eq!(fit(&t, &e).trend(), Some(Trend::Power));
+        assert!(fit(&t, &e).to_string().contains("grows like t^1.00"));
     }
 
     #[test]
@@ -232,6 +268,7 @@ mod tests {
             panic!()
         };
         assert!((e_folding - 0.1).abs() < 1e-9, "{e_folding}");
+        assert!(g.to_string().contains("not energy-stable"), "{g}");
     }
 
     #[test]
@@ -251,16 +288,19 @@ mod tests {
         assert!(power >= EXPONENTIAL_POWER, "{power}");
         assert!(!g.exponential(), "{g:?}");
         assert_eq!(g.trend(), Some(Trend::Power));
+        assert!(g.to_string().contains("grows like t^"), "{g}");
     }
 
     #[test]
     fn short_and_exact_runs_are_said_so() {
         let (t, e) = series(5, |t| t);
         assert_eq!(fit(&t, &e), Growth::TooShort { frames: 5 });
+        assert!(fit(&t, &e).to_string().contains("too few"));
         let (t, e) = series(100, |_| 0.0);
         let g = fit(&t, &e);
         assert!(!g.exponential());
         assert_eq!(g.trend(), Some(Trend::Bounded));
+        assert!(g.to_string().contains("bounded"), "{g}");
     }
 
     #[test]

@@ -69,25 +69,23 @@ pub fn python() -> PathBuf {
 
 /// The method `rebound:…` for `sys`: an error when the problem has no
 /// bodies for REBOUND.
-pub fn method<P: Problem>(id: &str, sys: &P) -> Result<ReboundMethod> {
+pub fn method<P: Problem>(id: &str, sys: &P, problem: &str) -> Result<ReboundMethod> {
     let m = ReboundMethod::parse(id)?;
     match sys.rebound_bodies(&sys.start()) {
         Some(Ok(_)) => Ok(m),
         Some(Err(why)) => Err(CompareError::method(
             &m.id,
             format!(
-                "method '{}': the {} problem cannot be given to REBOUND: {why}",
+                "method '{}': the {problem} problem cannot be given to REBOUND: {why}",
                 m.id,
-                sys.name()
             ),
         )),
         None => Err(CompareError::method(
             &m.id,
             format!(
-                "method '{}': REBOUND integrates point masses under gravity; the {} problem is not one \
+                "method '{}': REBOUND integrates point masses under gravity; the {problem} problem is not one \
                  (rebound: methods run on outer-solar, kepler and kepler-hard)",
                 m.id,
-                sys.name()
             ),
         )),
     }

@@ -43,10 +43,40 @@ pub fn request(python: &Path, req: &Value) -> std::result::Result<Value, Failure
         // A script that died early closes its end; its answer says why.
         let _ = stdin.write_all(text.as_bytes());
     }
-    let out = child.wait_with_output().map_err(|e| Failure {
+    // Both pipes read at most a bound each, stderr on a thread of its own
+    // (so a script that fills one pipe while we wait on the other cannot
+    // block us both). A pipe past its bound is closed: the interpreter then
+    // fails on its next write, and one flooding stdout is killed.
+    let stderr_pipe = child.stderr.take();
+    let stderr_reader = std::thread::spawn(move || {
+        stderr_pipe.map_or((Vec::new(), false), |p| read_capped(p, MAX_STDERR_BYTES))
+    });
+    let (stdout_bytes, flooded) = child
+        .stdout
+        .take()
+        .map_or((Vec::new(), false), |p| read_capped(p, MAX_ANSWER_BYTES));
+    if flooded {
+        let _ = child.kill();
+    }
+    let status = child.wait().map_err(|e| Failure {
         missing: false,
         message: format!("waiting for '{}': {e}", python.display()),
     })?;
+    let (stderr_bytes, _) = stderr_reader.join().unwrap_or_default();
+    if flooded {
+        return Err(Failure {
+            missing: false,
+            message: format!(
+                "the REBOUND script under '{}' wrote more than {MAX_ANSWER_BYTES} bytes; an answer is far smaller, so it was stopped",
+                python.display()
+            ),
+        });
+    }
+    let out = std::process::Output {
+        status,
+        stdout: stdout_bytes,
+        stderr: stderr_bytes,
+    };
     let stdout = String::from_utf8_lossy(&out.stdout);
     let answer: Value = match serde_json::from_str(stdout.trim()) {
         Ok(v) => v,
@@ -79,6 +109,26 @@ pub fn request(python: &Path, req: &Value) -> std::result::Result<Value, Failure
                 .to_string(),
         })
     }
+}
+
+/// The most bytes of an answer read from the script: a run's answer holds
+/// the end state and [`super::ENERGY_SAMPLES`] sampled states of a few
+/// bodies, a few hundred kilobytes at most.
+pub const MAX_ANSWER_BYTES: u64 = 64 << 20;
+
+/// The most bytes of the script's standard error kept (its last line is
+/// shown when there is no answer).
+pub const MAX_STDERR_BYTES: u64 = 1 << 20;
+
+/// At most `limit` bytes of `pipe`, and whether it had more (then the rest
+/// is not read, and the pipe is closed when it is dropped here).
+fn read_capped(pipe: impl std::io::Read, limit: u64) -> (Vec<u8>, bool) {
+    use std::io::Read as _;
+    let mut buf = Vec::new();
+    let _ = pipe.take(limit + 1).read_to_end(&mut buf);
+    let over = buf.len() as u64 > limit;
+    buf.truncate(limit as usize);
+    (buf, over)
 }
 
 /// REBOUND's version under `python`, or the message saying what is missing

@@ -53,10 +53,25 @@ pub fn run_bodies(
         .as_array()
         .map(|s| s.iter().map(|x| state_of(bodies, x)).collect())
         .unwrap_or_else(|| Ok(vec![]))?;
-    let times = a["times"]
-        .as_array()
-        .map(|t| t.iter().filter_map(Value::as_f64).collect())
-        .unwrap_or_default();
+    // One wall time per timed run, each a finite number of seconds ≥ 0: an
+    // answer with fewer, or with anything else in their place, has no
+    // timing to report (a NaN time beside "ok" would be nonsense).
+    let times: Vec<f64> = match a["times"].as_array() {
+        Some(t) => t
+            .iter()
+            .map(|x| x.as_f64().filter(|s| s.is_finite() && *s >= 0.0))
+            .collect::<Option<Vec<f64>>>()
+            .ok_or_else(|| {
+                format!("the REBOUND script's timings {} are not all finite times in seconds", a["times"])
+            })?,
+        None => return Err("the REBOUND script's answer has no timings (`times`)".into()),
+    };
+    if times.is_empty() || times.len() != repeats {
+        return Err(format!(
+            "the REBOUND script returned {} timings for {repeats} timed runs",
+            times.len()
+        ));
+    }
     Ok(Outcome {
         end,
         samples,

@@ -23,8 +23,16 @@ impl HenonHeiles {
     /// its error is below 1e-13 up to `t = 10` (checked against a run with
     /// half the step in the tests).
     pub fn reference(&self, z0: &[f64], t: f64) -> Vec<f64> {
-        reference_solution(self, z0, t, 2000.0)
+        reference_solution(self, z0, t, Self::REFERENCE_STEPS_PER_UNIT)
     }
+
+    /// [`HenonHeiles::reference`], or why there is none (a span beyond the
+    /// budget, [`super::try_reference_solution`]).
+    pub fn try_reference(&self, z0: &[f64], t: f64) -> Result<Vec<f64>, String> {
+        super::try_reference_solution(self, z0, t, Self::REFERENCE_STEPS_PER_UNIT)
+    }
+
+    const REFERENCE_STEPS_PER_UNIT: f64 = 2000.0;
 }
 
 impl Separable for HenonHeiles {

@@ -54,17 +54,54 @@ pub trait ExactFlow {
     fn flow(&self, z0: &[f64], t: f64) -> Option<Vec<f64>>;
 }
 
+/// The most steps [`try_reference_solution`] takes: about 30 s of the
+/// order-10 composition on the outer solar system (10⁸ days at its
+/// reference step), far beyond every built-in experiment (10⁵ days: 2·10⁴
+/// steps).
+pub const MAX_REFERENCE_STEPS: u64 = 10_000_000;
+
 /// A high-accuracy numerical solution for problems without a closed-form
 /// flow: Sofroniou–Spaletta's order-10 composition with about
 /// `steps_per_unit` steps per unit time (rounded up to a whole number over
 /// `[0, t]`).
+///
+/// # Panics
+/// Where [`try_reference_solution`] returns an error (a time span beyond
+/// [`MAX_REFERENCE_STEPS`], or a solution that leaves the finite numbers):
+/// for tests and examples whose spans are fixed; code that takes `t` from
+/// a user calls [`try_reference_solution`].
 pub fn reference_solution<S: crate::Separable>(
     sys: &S,
     z0: &[f64],
     t: f64,
     steps_per_unit: f64,
 ) -> Vec<f64> {
-    let n = ((t.abs() * steps_per_unit).ceil() as usize).max(1);
+    try_reference_solution(sys, z0, t, steps_per_unit).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// [`reference_solution`], or why there is none: the span needs more than
+/// [`MAX_REFERENCE_STEPS`] steps (checked before any step is taken, so a
+/// `t = 1e15` is refused at once rather than run for years), `t` is not
+/// finite, or the integration failed or left the finite numbers.
+pub fn try_reference_solution<S: crate::Separable>(
+    sys: &S,
+    z0: &[f64],
+    t: f64,
+    steps_per_unit: f64,
+) -> Result<Vec<f64>, String> {
+    let steps = (t.abs() * steps_per_unit).ceil();
+    if !steps.is_finite() {
+        return Err(format!(
+            "the reference solution to t = {t} cannot be computed: the time is not finite"
+        ));
+    }
+    if steps > MAX_REFERENCE_STEPS as f64 {
+        return Err(format!(
+            "the reference solution to t = {t} needs {steps:.3e} steps of the order-10 composition ({steps_per_unit} per unit time), more than its budget of {MAX_REFERENCE_STEPS} (integrator_core::problems::MAX_REFERENCE_STEPS); a shorter span is at most t = {:.4e}",
+            MAX_REFERENCE_STEPS as f64 / steps_per_unit
+        ));
+    }
+    let n = (steps as usize).max(1);
     let h = t / n as f64;
     let mut z = z0.to_vec();
     if t != 0.0 {
@@ -77,7 +114,12 @@ pub fn reference_solution<S: crate::Separable>(
             n,
             |_, _, _| {},
         )
-        .expect("the reference integration stays finite");
+        .map_err(|e| format!("the reference solution to t = {t} failed: {e}"))?;
     }
-    z
+    if z.iter().any(|x| !x.is_finite()) {
+        return Err(format!(
+            "the reference solution to t = {t} left the finite numbers"
+        ));
+    }
+    Ok(z)
 }

@@ -77,6 +77,12 @@ pub const MAX_NEAR_FIELD_DEGREE: u64 = 16;
 /// radicals far less (SBAB₄: 50 ms); so the limit is about 15 s at worst.
 pub const MAX_NEAR_WORK: u64 = 1 << 20;
 
+/// The coefficient size (bits of numerators, denominators and radicands,
+/// [`Number::size_bits`]) that [`MAX_NEAR_WORK`]'s unit was measured with,
+/// rounded up: 40-digit decimals have about 270. Coefficients `k` times as
+/// long count `k²` units a product.
+pub const CALIBRATED_BITS: u64 = 320;
+
 /// The degrees `symlab check` examines: `D(j)` for `j = 1, 2, …`. The last
 /// entry, 8, is examined for every `j` from 3 to 7, i.e. every Lie term of
 /// degree at most 8, so a classical order below 8 is decided; `p₁` is
@@ -115,12 +121,12 @@ impl fmt::Display for NearCondition {
         };
         write!(
             f,
-            "the {} condition fails: the coefficient of {} in log Φ (the leading word of {}) is {} ≈ {:.3e}, not {}",
+            "the {} condition fails: the coefficient of {} in log Φ (the leading word of {}) is {} ≈ {}, not {}",
             power_label(self.bs, self.degree),
             self.word,
             self.lie,
             value,
-            self.value.to_f64(),
+            self.value.approx_text(),
             self.expected
         )
     }
@@ -540,15 +546,40 @@ fn prepare(ops: &[Factor], degrees: &[usize]) -> Result<(Vec<usize>, Vec<Vec<Wor
             Factor::Gradient { .. } => top as u64 + 4,
         })
         .sum();
-    let work = count.saturating_mul(factor_work)
-        + lyndon
+    // Products of long numbers cost more than the calibrated unit (40-digit
+    // decimals, a few hundred bits): a coefficient of degree n in the flows'
+    // coefficients has about n times their bits, and a product costs at
+    // most the square of its length. `1/2 + 1/3^10000` ran 35 s on a budget
+    // that counted products alone.
+    let bits = ops
+        .iter()
+        .flat_map(|f| match f {
+            Factor::Letter(_, x) => vec![x],
+            Factor::Gradient { kick, gradient } => vec![kick, gradient],
+        })
+        .map(Number::size_bits)
+        .max()
+        .unwrap_or(0);
+    let size_factor = (bits / CALIBRATED_BITS).max(1).saturating_pow(2);
+    let work = count
+        .saturating_mul(factor_work)
+        .saturating_mul(size_factor)
+        .saturating_add(
+            lyndon
             .iter()
             .flatten()
             .map(|w| log_work(usize::from(w.len)))
-            .sum::<u64>();
+                .sum::<u64>()
+                .saturating_mul(size_factor),
+        );
     if work > MAX_NEAR_WORK {
+        let size = if size_factor > 1 {
+            format!(" (coefficients of up to {bits} bits count {size_factor}× a product of the calibrated size)")
+        } else {
+            String::new()
+        };
         return Err(BeyondBudget(format!(
-            "deciding degrees {degrees:?} for {} flows needs about {work} exact products, more than the {MAX_NEAR_WORK} the near-integrable verifier takes on (tableau::near_integrable::MAX_NEAR_WORK)",
+            "deciding degrees {degrees:?} for {} flows needs about {work} exact products{size}, more than the {MAX_NEAR_WORK} the near-integrable verifier takes on (tableau::near_integrable::MAX_NEAR_WORK)",
             ops.len()
         ))
         .into());

@@ -411,6 +411,47 @@ impl Number {
         }
     }
 
+    /// A short decimal approximation, `1.235e-7`, with four significant
+    /// digits and the exact decimal exponent even where the number is far
+    /// outside `f64`'s range (`10^5000` reads `1.000e5000`, never `inf`).
+    pub fn approx_text(&self) -> String {
+        let x = self.to_f64();
+        if x == 0.0 && self.is_zero() {
+            return "0".into();
+        }
+        if x.is_finite() && x.abs() >= f64::MIN_POSITIVE {
+            return format!("{x:.3e}");
+        }
+        // A rational close enough for four digits (the number is not zero:
+        // an irrational's enclosures tighten around it), then scaled by an
+        // exact power of ten into f64's range.
+        let r = match self.as_rational() {
+            Some(r) => r,
+            None => {
+                let mut bits = 64;
+                loop {
+                    let (lo, hi) = self.enclosure(bits);
+                    let width = &hi - &lo;
+                    if width * BigRational::from_integer(BigInt::from(1u32 << 16)) < lo.abs() {
+                        break lo;
+                    }
+                    bits *= 2;
+                }
+            }
+        };
+        let bits = r.numer().bits() as i64 - r.denom().bits() as i64;
+        let e10 = (bits as f64 * std::f64::consts::LOG10_2).floor() as i64;
+        let ten = BigInt::from(10u32);
+        let scale = BigRational::from_integer(num_traits::pow(ten, e10.unsigned_abs() as usize));
+        let scaled = if e10 >= 0 { &r / &scale } else { &r * &scale };
+        let m = round::rational_to_f64(&scaled);
+        // m is within a factor of ten of 1: renormalise its printed form.
+        let text = format!("{m:.3e}");
+        let (mant, exp) = text.split_once('e').expect("{:e} has an exponent");
+        let exp: i64 = exp.parse().expect("{:e}'s exponent is an integer");
+        format!("{mant}e{}", exp + e10)
+    }
+
     /// Compare two numbers exactly.
     pub fn cmp_exact(&self, other: &Number) -> Ordering {
         (self - other).signum()
