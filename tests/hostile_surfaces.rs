@@ -71,7 +71,13 @@ fn rows(path: &Path) -> Vec<std::collections::HashMap<String, String>> {
         .map(str::to_string)
         .collect();
     lines
-        .map(|l| header.iter().cloned().zip(l.split(',').map(str::to_string)).collect())
+        .map(|l| {
+            header
+                .iter()
+                .cloned()
+                .zip(l.split(',').map(str::to_string))
+                .collect()
+        })
         .collect()
 }
 
@@ -81,10 +87,7 @@ fn huge_orders_are_refused_in_check_and_compare_naming_the_claim() {
     let near = "name = \"near\"\ndrift = [\"1/4\", \"1/2\", \"1/4\"]\nkick = [\"1/2\", \"1/2\"]\n";
     let gradient =
         "name = \"grad\"\ndrift = [\"1/2\", \"1/2\"]\nkick = [\"1\"]\nkick_gradient = [\"1/24\"]\n";
-    for claim in [
-        "order = (99999999999)",
-        "order = 18446744073709551615",
-    ] {
+    for claim in ["order = (99999999999)", "order = 18446744073709551615"] {
         for (kind, body) in [
             ("near", near.to_string()),
             ("gradient", gradient.to_string()),
@@ -99,8 +102,17 @@ fn huge_orders_are_refused_in_check_and_compare_naming_the_claim() {
             for args in [
                 vec!["check", path.as_str()],
                 vec![
-                    "compare", "--problem", "kepler", "--methods", "leapfrog", "--table",
-                    path.as_str(), "--points", "2", "--repeats", "1",
+                    "compare",
+                    "--problem",
+                    "kepler",
+                    "--methods",
+                    "leapfrog",
+                    "--table",
+                    path.as_str(),
+                    "--points",
+                    "2",
+                    "--repeats",
+                    "1",
                 ],
             ] {
                 let (code, _, err, secs) = symlab(&args);
@@ -161,16 +173,31 @@ fn a_processed_table_runs_with_its_corrector_and_its_effective_claims_hold() {
     for ((n, a), (m, b)) in lf.iter().zip(&lf3) {
         assert_eq!(n, m);
         // The corrector changes the output: not the kernel's rows.
-        assert!(a != b, "n = {n}: the processed method gave the kernel's error {a}");
+        assert!(
+            a != b,
+            "n = {n}: the processed method gave the kernel's error {a}"
+        );
     }
     // A claim false of the effective method is refused, naming the claim.
     let bad = write(&dir, "bad.toml", &processed_file("\"order = (6, 2)\""));
     let (code, _, err, _) = symlab(&[
-        "compare", "--problem", "kepler", "--methods", "leapfrog", "--table", &bad, "--points",
-        "2", "--repeats", "1",
+        "compare",
+        "--problem",
+        "kepler",
+        "--methods",
+        "leapfrog",
+        "--table",
+        &bad,
+        "--points",
+        "2",
+        "--repeats",
+        "1",
     ]);
     assert_eq!(code, 2, "{err}");
-    assert!(err.contains("order = (6, 2)") && err.contains(&bad), "{err}");
+    assert!(
+        err.contains("order = (6, 2)") && err.contains(&bad),
+        "{err}"
+    );
     // A processed method steps split systems only: the linear model refuses
     // it, saying so.
     let (code, _, err, _) = symlab(&[
@@ -185,14 +212,33 @@ fn a_processed_table_runs_with_its_corrector_and_its_effective_claims_hold() {
         "1",
     ]);
     assert_eq!(code, 2, "{err}");
-    assert!(err.contains("processed method") && err.contains("mylf3"), "{err}");
+    assert!(
+        err.contains("processed method") && err.contains("mylf3"),
+        "{err}"
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
 fn an_end_time_beyond_the_reference_budget_is_refused_at_once() {
     for problem in ["outer-solar", "henon-heiles", "fpu"] {
-        let (code, _, err, secs) = symlab(&["compare", "--problem", problem, "--t-end", "1e15"]);
+        // A sweep of few steps (so the step-count check lets it through),
+        // whose reference would take 10¹⁴ steps and more.
+        let (code, _, err, secs) = symlab(&[
+            "compare",
+            "--problem",
+            problem,
+            "--t-end",
+            "1e15",
+            "--h-min",
+            "1e13",
+            "--h-max",
+            "1e14",
+            "--points",
+            "2",
+            "--repeats",
+            "1",
+        ]);
         assert_eq!(code, 2, "{problem}: {err}");
         assert!(
             err.contains("MAX_REFERENCE_STEPS") && err.contains(problem),
@@ -275,7 +321,9 @@ fn the_peer_study_without_rebound_says_so_and_counts_rebound_as_a_peer() {
     );
     assert_eq!(code, 0, "{err}");
     assert!(
-        err.contains("note:") && err.contains("rebound:whfast") && err.contains("pip install rebound"),
+        err.contains("note:")
+            && err.contains("rebound:whfast")
+            && err.contains("pip install rebound"),
         "{err}"
     );
     let md = std::fs::read_to_string(dir.join("peer.md")).unwrap();
@@ -298,7 +346,10 @@ fn a_prestretch_that_makes_the_pins_impossible_is_blamed_on_the_prestretch() {
     )
     .unwrap();
     let scene = scene.replacen("[cloth]\n", "[cloth]\nprestretch = 1.01\n", 1);
-    assert!(scene.contains("prestretch = 1.01"), "the scene has a [cloth] table");
+    assert!(
+        scene.contains("prestretch = 1.01"),
+        "the scene has a [cloth] table"
+    );
     let path = write(&dir, "stretched.toml", &scene);
     let (code, _, err, _) = symlab(&["cloth", &path, "--grid", "8x8", "--frames", "1"]);
     assert_eq!(code, 2, "{err}");
@@ -309,14 +360,22 @@ fn a_prestretch_that_makes_the_pins_impossible_is_blamed_on_the_prestretch() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-
 #[test]
 fn a_composition_of_zero_steps_is_refused_naming_compose() {
     let dir = temp_dir("compose");
     let path = write(&dir, "zero.toml", "name = \"zero\"\ncompose = [\"0\"]\n");
     let (code, _, err, _) = symlab(&[
-        "compare", "--problem", "kepler", "--methods", "leapfrog", "--table", &path, "--points",
-        "2", "--repeats", "1",
+        "compare",
+        "--problem",
+        "kepler",
+        "--methods",
+        "leapfrog",
+        "--table",
+        &path,
+        "--points",
+        "2",
+        "--repeats",
+        "1",
     ]);
     assert_eq!(code, 2, "{err}");
     assert!(
@@ -350,8 +409,17 @@ fn a_coefficient_far_beyond_f64_is_printed_with_its_exponent_not_inf() {
         "name = \"huge\"\ndrift = [\"10^5000\", \"1 - 10^5000\"]\nkick = [\"1\"]\n",
     );
     let (code, _, err, _) = symlab(&[
-        "compare", "--problem", "kepler", "--methods", "leapfrog", "--table", &unclaimed,
-        "--points", "2", "--repeats", "1",
+        "compare",
+        "--problem",
+        "kepler",
+        "--methods",
+        "leapfrog",
+        "--table",
+        &unclaimed,
+        "--points",
+        "2",
+        "--repeats",
+        "1",
     ]);
     assert_eq!(code, 2, "{err}");
     assert!(

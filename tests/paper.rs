@@ -438,8 +438,14 @@ fn bad_arguments_are_exit_2_with_a_message() {
         (&["paper", "--out", out, "--steps", "-3"], "--steps"),
         (&["paper", "--out", out, "--h", "0.1,0"], "--h"),
         (&["paper", "--out", out, "--h", "0.1,nan"], "--h"),
-        (&["paper", "--out", out, "--h", "0.1,0.1"], "--h: step size 0.1 is given twice"),
-        (&["paper", "--out", out, "--steps", "100000000000"], "--steps"),
+        (
+            &["paper", "--out", out, "--h", "0.1,0.1"],
+            "--h: step size 0.1 is given twice",
+        ),
+        (
+            &["paper", "--out", out, "--steps", "100000000000"],
+            "--steps",
+        ),
         (&["paper", "--out", out, "--q0", "nan"], "--q0"),
         (&["paper", "--out", out, "--q0", "0", "--p0", "0"], "--q0"),
         // Energies that underflow or overflow make relative errors meaningless.

@@ -33,14 +33,25 @@ fn script(dir: &Path, name: &str, text: &str) -> PathBuf {
     path
 }
 
-/// The interpreter our rows are run with (it runs the stand-ins, which are
-/// Python scripts).
-fn python3() -> PathBuf {
-    rebound::python()
+/// The interpreter line of the stand-ins, which are Python scripts: the
+/// comparisons' interpreter (`SYMLAB_PYTHON`, default `python3`), through
+/// `env` where it is a bare name.
+fn shebang() -> String {
+    let python = rebound::python();
+    if python.is_absolute() {
+        python.display().to_string()
+    } else {
+        format!("/usr/bin/env {}", python.display())
+    }
 }
 
 /// `rebound:whfast` on Kepler (e = 0.6) with `python` as its interpreter.
-fn whfast_with(python: &Path) -> (compare::Setup<integrator_core::problems::Kepler>, rebound::ReboundMethod) {
+fn whfast_with(
+    python: &Path,
+) -> (
+    compare::Setup<integrator_core::problems::Kepler>,
+    rebound::ReboundMethod,
+) {
     let setup = builtin::kepler(false, 2.0 * std::f64::consts::PI, true).unwrap();
     let m = match setup.method("rebound:whfast").unwrap() {
         Method::Rebound(r) => r.with_python(python),
@@ -60,7 +71,7 @@ fn an_answer_without_timings_is_a_failed_row_not_ok_with_a_nan_time() {
         "python-no-times",
         &format!(
             "#!{}\nimport json, sys\nreq = json.loads(sys.stdin.read())\nif 'probe' in req:\n    print(json.dumps({{'ok': True, 'rebound': '5.2.2'}}))\nelse:\n    s = req['run']\n    print(json.dumps({{'ok': True, 'rebound': '5.2.2', 'positions': s['positions'], 'velocities': s['velocities'], 'steps': req['steps'] or 10, 'times': [], 'reproducible': True, 'samples': []}}))\n",
-            python3().display()
+            shebang()
         ),
     );
     let (setup, m) = whfast_with(&fake);
@@ -108,7 +119,10 @@ fn a_flooding_interpreter_is_stopped_with_a_message() {
         let availability = rebound::availability([&m]);
         assert_eq!(availability.left_out, vec!["rebound:whfast".to_string()]);
         assert!(
-            availability.notes.iter().any(|n| n.contains("rebound:whfast")),
+            availability
+                .notes
+                .iter()
+                .any(|n| n.contains("rebound:whfast")),
             "{:?}",
             availability.notes
         );

@@ -184,7 +184,10 @@ fn whfast512_runs_where_the_cpu_has_avx512_and_is_left_out_with_a_note_elsewhere
         let result = work_precision(&setup, &methods, &settings).unwrap();
         assert_eq!(result.methods, vec!["leapfrog".to_string()]);
         let notes = result.notes.join("\n");
-        assert!(notes.contains("rebound:whfast512") && notes.contains("AVX-512"), "{notes}");
+        assert!(
+            notes.contains("rebound:whfast512") && notes.contains("AVX-512"),
+            "{notes}"
+        );
         return;
     }
     println!("whfast512: this CPU has AVX-512F: running it beside WHFast");

@@ -164,7 +164,11 @@ impl RkInterpreter {
         let named = a
             .iter()
             .enumerate()
-            .flat_map(|(i, r)| r.iter().enumerate().map(move |(j, x)| (format!("a[{i}][{j}]"), *x)))
+            .flat_map(|(i, r)| {
+                r.iter()
+                    .enumerate()
+                    .map(move |(j, x)| (format!("a[{i}][{j}]"), *x))
+            })
             .chain(b.iter().enumerate().map(|(i, x)| (format!("b[{i}]"), *x)))
             .chain(c.iter().enumerate().map(|(i, x)| (format!("c[{i}]"), *x)));
         for (what, x) in named {
@@ -297,8 +301,15 @@ pub struct SplittingInterpreter {
 
 impl SplittingInterpreter {
     pub fn new(drift: Vec<f64>, kick: Vec<f64>) -> Result<Self, InterpError> {
-        let named = (drift.iter().enumerate().map(|(i, x)| (format!("drift[{i}]"), *x)))
-            .chain(kick.iter().enumerate().map(|(i, x)| (format!("kick[{i}]"), *x)));
+        let named = (drift
+            .iter()
+            .enumerate()
+            .map(|(i, x)| (format!("drift[{i}]"), *x)))
+        .chain(
+            kick.iter()
+                .enumerate()
+                .map(|(i, x)| (format!("kick[{i}]"), *x)),
+        );
         for (what, x) in named {
             if !x.is_finite() {
                 return Err(InterpError::NotFinite {

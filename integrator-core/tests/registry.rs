@@ -173,7 +173,7 @@ mod by_path {
 #[test]
 fn the_callback_may_be_named_by_a_path() {
     let a: &[&str] = integrator_core::for_each_scheme!(by_path::ids);
-    let b: &[&str] = integrator_core::for_each_scheme!(crate::by_path::ids);
+    let b: &[&str] = integrator_core::for_each_scheme!(crate::registry::by_path::ids);
     let registry: Vec<&str> = REGISTRY.iter().map(|(id, _)| *id).collect();
     assert_eq!(a, registry.as_slice());
     assert_eq!(a, b);

@@ -181,11 +181,7 @@ impl Summary<'_> {
             fixed(at, 3),
             sci(self.e_ref, 4)
         );
-        let _ = writeln!(
-            s,
-            "  growth       {}",
-            energy_growth(&r.frames, self.e_ref)
-        );
+        let _ = writeln!(s, "  growth       {}", energy_growth(&r.frames, self.e_ref));
         let (strain, frame) = r.frames.iter().fold((0.0f64, 0usize), |(m, k), f| {
             if f.max_strain > m {
                 (f.max_strain, f.frame)

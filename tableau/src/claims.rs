@@ -283,7 +283,10 @@ mod tests {
             ("order = 99999999999999999999999", "beyond every budget"),
             ("order = 18446744073709551615", "beyond every budget"),
             ("order = 65", "up to 64 at most"),
-            ("order = (99999999999)", "the order 99999999999 is beyond every budget"),
+            (
+                "order = (99999999999)",
+                "the order 99999999999 is beyond every budget",
+            ),
             ("order = (65, 4)", "the order 65 is beyond"),
             ("order = (8, 18446744073709551616)", "beyond every budget"),
             ("order = 4 residual", "expected `(residual < BOUND)`"),

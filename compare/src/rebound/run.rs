@@ -62,7 +62,10 @@ pub fn run_bodies(
             .map(|x| x.as_f64().filter(|s| s.is_finite() && *s >= 0.0))
             .collect::<Option<Vec<f64>>>()
             .ok_or_else(|| {
-                format!("the REBOUND script's timings {} are not all finite times in seconds", a["times"])
+                format!(
+                    "the REBOUND script's timings {} are not all finite times in seconds",
+                    a["times"]
+                )
             })?,
         None => return Err("the REBOUND script's answer has no timings (`times`)".into()),
     };

@@ -566,15 +566,17 @@ fn prepare(ops: &[Factor], degrees: &[usize]) -> Result<(Vec<usize>, Vec<Vec<Wor
         .saturating_mul(size_factor)
         .saturating_add(
             lyndon
-            .iter()
-            .flatten()
-            .map(|w| log_work(usize::from(w.len)))
+                .iter()
+                .flatten()
+                .map(|w| log_work(usize::from(w.len)))
                 .sum::<u64>()
                 .saturating_mul(size_factor),
         );
     if work > MAX_NEAR_WORK {
         let size = if size_factor > 1 {
-            format!(" (coefficients of up to {bits} bits count {size_factor}× a product of the calibrated size)")
+            format!(
+                " (coefficients of up to {bits} bits count {size_factor}× a product of the calibrated size)"
+            )
         } else {
             String::new()
         };
