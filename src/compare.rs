@@ -276,15 +276,23 @@ struct Saving<'a> {
     done: Vec<compare::Row>,
 }
 
-fn run_or_resume(args: &CompareArgs, argv: &[String], resumed: Option<Resumed>) -> Result<ExitCode> {
+fn run_or_resume(
+    args: &CompareArgs,
+    argv: &[String],
+    resumed: Option<Resumed>,
+) -> Result<ExitCode> {
     let start = Instant::now();
     let every = match args.checkpoint_every {
         None => Some(crate::cloth_cmd::DEFAULT_EVERY),
         Some(crate::cloth_cmd::Every::Off) => None,
         Some(crate::cloth_cmd::Every::After(d)) => Some(d),
     };
-    if args.checkpoint_every.is_some() && (args.peer_study || args.hard || args.long || args.from.is_some()) {
-        bail!("--checkpoint-every: only work-precision sweeps (--problem, --problem-file) are checkpointed");
+    if args.checkpoint_every.is_some()
+        && (args.peer_study || args.hard || args.long || args.from.is_some())
+    {
+        bail!(
+            "--checkpoint-every: only work-precision sweeps (--problem, --problem-file) are checkpointed"
+        );
     }
     let saving = Saving {
         argv,
@@ -455,7 +463,10 @@ fn sweep_problem<P: Problem>(
         plan.settings.repeats
     );
     if resuming {
-        println!("resuming: {} rows done are not run again", saving.done.len());
+        println!(
+            "resuming: {} rows done are not run again",
+            saving.done.len()
+        );
     }
     crate::signals::install();
     let mut last = Instant::now();
@@ -534,7 +545,11 @@ fn save(path: &Path, argv: &[String], rows: &[compare::Row]) -> Result<()> {
         e.str(a);
     }
     compare::sweep::encode_rows(&mut e, rows);
-    integrator_core::checkpoint::write(path, integrator_core::checkpoint::Kind::Compare, &e.finish())?;
+    integrator_core::checkpoint::write(
+        path,
+        integrator_core::checkpoint::Kind::Compare,
+        &e.finish(),
+    )?;
     Ok(())
 }
 

@@ -218,7 +218,10 @@ fn killed_at_several_points_and_resumed_gives_the_same_bytes() {
         assert_eq!(code, -1, "killed by SIGKILL");
         // Never a half-written checkpoint under its own name.
         let (code, stdout, stderr) = symlab(&["resume", &out]);
-        assert_eq!(code, 0, "delay {delay_ms} ms\nstdout: {stdout}\nstderr: {stderr}");
+        assert_eq!(
+            code, 0,
+            "delay {delay_ms} ms\nstdout: {stdout}\nstderr: {stderr}"
+        );
         assert_same_outputs(&reference, &dir);
     }
 }
@@ -269,26 +272,41 @@ fn a_damaged_checkpoint_is_refused_with_exit_2_naming_the_file() {
     let good = std::fs::read(&ckpt).unwrap();
     let name = ckpt.display().to_string();
     let cases: Vec<(&str, Vec<u8>, &str)> = vec![
-        ("garbage in the middle", {
-            let mut b = good.clone();
-            let mid = b.len() / 2;
-            b[mid..mid + 16].copy_from_slice(b"garbage garbage!");
-            b
-        }, "corrupted"),
+        (
+            "garbage in the middle",
+            {
+                let mut b = good.clone();
+                let mid = b.len() / 2;
+                b[mid..mid + 16].copy_from_slice(b"garbage garbage!");
+                b
+            },
+            "corrupted",
+        ),
         ("truncated", good[..good.len() - 100].to_vec(), "truncated"),
         ("cut in its header", good[..12].to_vec(), "truncated"),
         ("empty", Vec::new(), "truncated"),
-        ("not a checkpoint", b"this is not a checkpoint at all".to_vec(), "not a symlab checkpoint"),
-        ("bytes appended", {
-            let mut b = good.clone();
-            b.extend_from_slice(b"junk");
-            b
-        }, "appended"),
+        (
+            "not a checkpoint",
+            b"this is not a checkpoint at all".to_vec(),
+            "not a symlab checkpoint",
+        ),
+        (
+            "bytes appended",
+            {
+                let mut b = good.clone();
+                b.extend_from_slice(b"junk");
+                b
+            },
+            "appended",
+        ),
     ];
     for (what, bytes, says) in cases {
         std::fs::write(&ckpt, &bytes).unwrap();
         let (code, stdout, stderr) = symlab(&["resume", out]);
-        assert_eq!(code, 2, "{what}: exit 2\nstdout: {stdout}\nstderr: {stderr}");
+        assert_eq!(
+            code, 2,
+            "{what}: exit 2\nstdout: {stdout}\nstderr: {stderr}"
+        );
         assert!(stderr.contains(&name), "{what}: names the file: {stderr}");
         assert!(stderr.contains(says), "{what}: says {says:?}: {stderr}");
         assert!(!stderr.contains("panicked"), "{what}: {stderr}");
@@ -319,15 +337,30 @@ fn checkpoint_flag_and_output_folder_are_checked_before_the_run() {
     let dir = temp_dir("flags");
     let out = dir.to_str().unwrap();
     let (code, _, stderr) = symlab(&[
-        "cloth", SCENE, "--grid", GRID, "--frames", "2", "--checkpoint-every", "5 fortnights",
-        "--out", out,
+        "cloth",
+        SCENE,
+        "--grid",
+        GRID,
+        "--frames",
+        "2",
+        "--checkpoint-every",
+        "5 fortnights",
+        "--out",
+        out,
     ]);
     assert_eq!(code, 2);
     assert!(stderr.contains("--checkpoint-every"), "{stderr}");
     // A spring scene's explicit method cannot be checkpointed yet: said,
     // not ignored.
     let (code, _, stderr) = symlab(&[
-        "cloth", "scenes/paper.toml", "--frames", "1", "--checkpoint-every", "1s", "--out", out,
+        "cloth",
+        "scenes/paper.toml",
+        "--frames",
+        "1",
+        "--checkpoint-every",
+        "1s",
+        "--out",
+        out,
     ]);
     assert_eq!(code, 2);
     assert!(stderr.contains("cannot be checkpointed"), "{stderr}");
@@ -335,7 +368,14 @@ fn checkpoint_flag_and_output_folder_are_checked_before_the_run() {
     let file = dir.join("a-file");
     std::fs::write(&file, "x").unwrap();
     let (code, _, stderr) = symlab(&[
-        "cloth", SCENE, "--grid", GRID, "--frames", "2", "--out", file.to_str().unwrap(),
+        "cloth",
+        SCENE,
+        "--grid",
+        GRID,
+        "--frames",
+        "2",
+        "--out",
+        file.to_str().unwrap(),
     ]);
     assert_eq!(code, 2);
     assert!(stderr.contains(file.to_str().unwrap()), "{stderr}");
@@ -391,7 +431,10 @@ fn a_compare_sweep_stopped_and_resumed_has_the_same_rows() {
     let (code, stdout, stderr) = finish(child);
     assert_eq!(code, 143, "stdout: {stdout}\nstderr: {stderr}");
     assert!(stdout.contains("stopped by SIGTERM"), "{stdout}");
-    assert!(!dir.join("runs.csv").exists(), "no runs.csv of a partial sweep");
+    assert!(
+        !dir.join("runs.csv").exists(),
+        "no runs.csv of a partial sweep"
+    );
     let (code, stdout, stderr) = symlab(&["resume", &out]);
     assert_eq!(code, 0, "stderr: {stderr}");
     assert!(stdout.contains("rows done are not run again"), "{stdout}");

@@ -202,11 +202,7 @@ fn decode_frame(d: &mut Decoder<'_>) -> Result<FrameStats, CheckpointError> {
             gravity: d.f64("gravity")?,
             colliders: d.f64("colliders")?,
         },
-        momentum: Vector3::new(
-            d.f64("momentum")?,
-            d.f64("momentum")?,
-            d.f64("momentum")?,
-        ),
+        momentum: Vector3::new(d.f64("momentum")?, d.f64("momentum")?, d.f64("momentum")?),
         max_strain: d.f64("max_strain")?,
     })
 }

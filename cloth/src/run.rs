@@ -728,7 +728,14 @@ impl Simulation {
                 };
                 let mut frames = Vec::with_capacity(opts.frames.min(1 << 16) + 1);
                 frames.extend_from_slice(&rs.frames);
-                (stepper, frames, rs.h0, clock, rs.first_frame, rs.stepping_seconds)
+                (
+                    stepper,
+                    frames,
+                    rs.h0,
+                    clock,
+                    rs.first_frame,
+                    rs.stepping_seconds,
+                )
             }
         };
         let mut saved = self.state.clone();

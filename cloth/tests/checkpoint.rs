@@ -4,9 +4,7 @@
 //! run that was never stopped; checkpointing after every frame does not
 //! change a run's bits; a state that does not fit the run is refused.
 
-use cloth::checkpoint::{
-    Action, Decoder, Encoder, NoControl, RunControl, RunState, resumable,
-};
+use cloth::checkpoint::{Action, Decoder, Encoder, NoControl, RunControl, RunState, resumable};
 use cloth::{
     CallbackError, FrameStats, Method, RunError, RunReport, RunSettings, Scene, Simulation,
     SolverStats,
@@ -118,7 +116,11 @@ fn a_stopped_rattle_run_continues_to_the_same_bits_from_any_frame() {
         let (resumed, rest, seen) = run(&scene, Some(&state), &mut NoControl);
         let rest = rest.unwrap();
         assert_eq!(seen.len(), frames - stop, "only the frames after {stop}");
-        assert_eq!(bits(&resumed.state), bits(&whole.state), "stopped at {stop}");
+        assert_eq!(
+            bits(&resumed.state),
+            bits(&whole.state),
+            "stopped at {stop}"
+        );
         assert_eq!(resumed.time.to_bits(), whole.time.to_bits());
         assert_eq!(resumed.steps, whole.steps);
         assert_eq!(rest.frames, report.frames, "every frame's statistics");

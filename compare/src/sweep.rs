@@ -221,9 +221,15 @@ pub fn sweep_each<'a, P: Problem>(
     tols: &[f64],
     repeats: usize,
 ) -> Vec<Row> {
-    sweep_each_from(setup, methods, steps, tols, repeats, Vec::new(), &mut |_| {
-        RowControl::Continue
-    })
+    sweep_each_from(
+        setup,
+        methods,
+        steps,
+        tols,
+        repeats,
+        Vec::new(),
+        &mut |_| RowControl::Continue,
+    )
     .rows
 }
 

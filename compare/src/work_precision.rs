@@ -219,21 +219,24 @@ pub fn work_precision_from<P: Problem>(
         }
         None => format!("T = {:.4}", setup.t_end),
     };
-    Ok((WorkPrecision {
-        problem: setup.name.clone(),
-        description: setup.description.clone(),
-        t_end: setup.t_end,
-        run_length,
-        settings: settings.clone(),
-        steps,
-        methods: run.iter().map(|m| m.id().to_string()).collect(),
-        separable: <P::Kind as Kind<P>>::SEPARABLE,
-        rebound: rebound
-            .version
-            .filter(|_| rows.iter().any(|r| crate::rebound::is_rebound(&r.method))),
-        notes: rebound.notes,
-        rows,
-    }, stopped))
+    Ok((
+        WorkPrecision {
+            problem: setup.name.clone(),
+            description: setup.description.clone(),
+            t_end: setup.t_end,
+            run_length,
+            settings: settings.clone(),
+            steps,
+            methods: run.iter().map(|m| m.id().to_string()).collect(),
+            separable: <P::Kind as Kind<P>>::SEPARABLE,
+            rebound: rebound
+                .version
+                .filter(|_| rows.iter().any(|r| crate::rebound::is_rebound(&r.method))),
+            notes: rebound.notes,
+            rows,
+        },
+        stopped,
+    ))
 }
 
 impl WorkPrecision {

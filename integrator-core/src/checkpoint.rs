@@ -531,7 +531,10 @@ mod tests {
     fn garbage_and_appended_bytes_are_refused() {
         let path = Path::new("checkpoint.symlab");
         let err = decode(path, b"garbage written over the file, nothing else").unwrap_err();
-        assert!(matches!(err, CheckpointError::NotCheckpoint { .. }), "{err}");
+        assert!(
+            matches!(err, CheckpointError::NotCheckpoint { .. }),
+            "{err}"
+        );
         // Garbage over the payload, the header intact.
         let mut bytes = encode(Kind::Cloth, &sample());
         for b in &mut bytes[HEADER + 3..HEADER + 20] {
@@ -590,10 +593,11 @@ mod tests {
         let mut e = Encoder::new();
         e.f64s(&[1.0, 2.0, 3.0]);
         let b = e.finish();
-        let err = Decoder::new(path, &b)
-            .f64s_into(&mut out, "q")
-            .unwrap_err();
-        assert!(err.to_string().contains("3 values, this run has 2"), "{err}");
+        let err = Decoder::new(path, &b).f64s_into(&mut out, "q").unwrap_err();
+        assert!(
+            err.to_string().contains("3 values, this run has 2"),
+            "{err}"
+        );
     }
 
     #[test]

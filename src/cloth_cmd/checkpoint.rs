@@ -100,7 +100,9 @@ pub fn remove(path: &Path) -> Result<()> {
     match std::fs::remove_file(path) {
         Ok(()) => Ok(()),
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(()),
-        Err(e) => Err(e).with_context(|| format!("{}: cannot remove the checkpoint", path.display())),
+        Err(e) => {
+            Err(e).with_context(|| format!("{}: cannot remove the checkpoint", path.display()))
+        }
     }
 }
 

@@ -606,23 +606,24 @@ fn simulate(
         state.as_ref(),
         &mut control,
         |frame| {
-        let mut col = col.borrow_mut();
-        let k = frame.stats.frame;
-        col.stats.push(frame.stats);
-        if every > 0 && (k % every == 0 || k == opts.frames) {
-            let path = frames_dir.join(format!("frame_{k:04}.obj"));
-            cloth::write_obj(&path, &frame.positions(), &triangles)?;
-            col.objs += 1;
-        }
-        if plan.renders.binary_search(&k).is_ok() {
-            col.kept.insert(k, (frame.stats.time, frame.positions()));
-        }
-        if k > 0 {
-            bar.inc(1);
-            bar.set_message(format!("t = {:.3} s", frame.stats.time));
-        }
-        Ok(())
-    });
+            let mut col = col.borrow_mut();
+            let k = frame.stats.frame;
+            col.stats.push(frame.stats);
+            if every > 0 && (k % every == 0 || k == opts.frames) {
+                let path = frames_dir.join(format!("frame_{k:04}.obj"));
+                cloth::write_obj(&path, &frame.positions(), &triangles)?;
+                col.objs += 1;
+            }
+            if plan.renders.binary_search(&k).is_ok() {
+                col.kept.insert(k, (frame.stats.time, frame.positions()));
+            }
+            if k > 0 {
+                bar.inc(1);
+                bar.set_message(format!("t = {:.3} s", frame.stats.time));
+            }
+            Ok(())
+        },
+    );
     bar.finish_and_clear();
     let wall = wall_before + clock.elapsed().as_secs_f64();
     let report_note = control.note();
@@ -822,7 +823,9 @@ fn render_kept(
     Ok((names, (!notes.is_empty()).then(|| notes.join("; "))))
 }
 
-pub use checkpoint::{DEFAULT_EVERY, Every, check_writable, parse_every, remove as remove_checkpoint};
+pub use checkpoint::{
+    DEFAULT_EVERY, Every, check_writable, parse_every, remove as remove_checkpoint,
+};
 
 /// `symlab resume DIR` of a cloth run.
 pub fn resume(dir: &Path, path: &Path, payload: &[u8]) -> Result<ExitCode> {
