@@ -192,6 +192,13 @@ pub struct CompareArgs {
     /// writes peer.csv and peer.md (default directory out/compare/peer/).
     #[arg(long, conflicts_with_all = ["hard", "long", "from"])]
     peer_study: bool,
+    /// Of a work-precision sweep: write a checkpoint (DIR/checkpoint.symlab)
+    /// after a row once DURATION of wall time has passed since the last
+    /// (e.g. 30s, 5m, 0: after every row, off; default 60s), from which
+    /// `symlab resume DIR` continues without running the finished rows
+    /// again. SIGINT and SIGTERM write one and stop (exit 130, 143).
+    #[arg(long, value_name = "DURATION", value_parser = crate::cloth_cmd::parse_every)]
+    checkpoint_every: Option<crate::cloth_cmd::Every>,
 }
 
 impl CompareArgs {
@@ -251,8 +258,47 @@ fn method_ids(args: &CompareArgs) -> Result<Option<Vec<String>>> {
     Ok(Some(out))
 }
 
-pub fn run(args: &CompareArgs) -> Result<ExitCode> {
+/// `symlab compare`: `argv` are the arguments after `compare`, kept in a
+/// sweep's checkpoint so that `symlab resume` plans the same sweep.
+pub fn run(args: &CompareArgs, argv: &[String]) -> Result<ExitCode> {
+    run_or_resume(args, argv, None)
+}
+
+/// The saved rows of a stopped sweep.
+struct Resumed {
+    rows: Vec<compare::Row>,
+}
+
+/// What a sweep's checkpoints hold beside its rows.
+struct Saving<'a> {
+    argv: &'a [String],
+    every: Option<std::time::Duration>,
+    done: Vec<compare::Row>,
+}
+
+fn run_or_resume(
+    args: &CompareArgs,
+    argv: &[String],
+    resumed: Option<Resumed>,
+) -> Result<ExitCode> {
     let start = Instant::now();
+    let every = match args.checkpoint_every {
+        None => Some(crate::cloth_cmd::DEFAULT_EVERY),
+        Some(crate::cloth_cmd::Every::Off) => None,
+        Some(crate::cloth_cmd::Every::After(d)) => Some(d),
+    };
+    if args.checkpoint_every.is_some()
+        && (args.peer_study || args.hard || args.long || args.from.is_some())
+    {
+        bail!(
+            "--checkpoint-every: only work-precision sweeps (--problem, --problem-file) are checkpointed"
+        );
+    }
+    let saving = Saving {
+        argv,
+        every,
+        done: resumed.map(|r| r.rows).unwrap_or_default(),
+    };
     if let Some(t) = args.target {
         positive("target", t)?;
     }
@@ -291,14 +337,18 @@ pub fn run(args: &CompareArgs) -> Result<ExitCode> {
         };
         let plan = sweep_plan(&request(args, from_file), file.defaults)?;
         let setup = file.setup(plan.t_end)?;
-        sweep_problem(args, &plan, setup, None)?;
+        if let Some(code) = sweep_problem(args, &plan, setup, None, saving)? {
+            return Ok(code);
+        }
     } else {
         let Some(problem) = args.problem else {
             bail!(
                 "--problem is required: oscillator, gyroscopic, kepler, kepler-hard, henon-heiles, fpu or pendulum (or --problem-file FILE)"
             );
         };
-        work_precision(args, problem)?;
+        if let Some(code) = work_precision(args, problem, saving)? {
+            return Ok(code);
+        }
     }
     println!("done in {:.1} s", start.elapsed().as_secs_f64());
     Ok(ExitCode::SUCCESS)
@@ -354,7 +404,10 @@ fn resolve<P: Problem>(
     Ok(methods)
 }
 
-fn work_precision(args: &CompareArgs, problem: Builtin) -> Result<()> {
+/// A sweep's outcome: `Some(status)` when a signal stopped it.
+type Stopped = Option<ExitCode>;
+
+fn work_precision(args: &CompareArgs, problem: Builtin, saving: Saving<'_>) -> Result<Stopped> {
     if args.steps.is_some() {
         bail!("--steps belongs to --long");
     }
@@ -364,17 +417,19 @@ fn work_precision(args: &CompareArgs, problem: Builtin) -> Result<()> {
         args: &'a CompareArgs,
         plan: &'a SweepPlan,
         problem: Builtin,
+        saving: Saving<'a>,
     }
     impl OnSetup for Sweep<'_> {
-        type Output = Result<()>;
-        fn run<P: Problem>(self, setup: Setup<P>) -> Result<()> {
-            sweep_problem(self.args, self.plan, setup, Some(self.problem))
+        type Output = Result<Stopped>;
+        fn run<P: Problem>(self, setup: Setup<P>) -> Result<Stopped> {
+            sweep_problem(self.args, self.plan, setup, Some(self.problem), self.saving)
         }
     }
     let sweep = Sweep {
         args,
         plan: &plan,
         problem,
+        saving,
     };
     plan::with_setup(problem, plan.t_end, true, sweep)?
 }
@@ -384,9 +439,16 @@ fn sweep_problem<P: Problem>(
     plan: &SweepPlan,
     setup: Setup<P>,
     builtin: Option<Builtin>,
-) -> Result<()> {
+    saving: Saving<'_>,
+) -> Result<Stopped> {
     let methods = resolve(args, &setup, builtin)?;
     let dir = out_dir(args, &setup.name)?;
+    crate::cloth_cmd::check_writable(&dir)?;
+    let ckpt = dir.join(integrator_core::checkpoint::FILE_NAME);
+    let resuming = !saving.done.is_empty();
+    if !resuming {
+        crate::cloth_cmd::remove_checkpoint(&ckpt)?;
+    }
     let steps = plan.settings.step_counts(plan.t_end);
     println!(
         "{}: T = {}, {} methods, {} step sizes from h = {:.3e} to {:.3e} ({}–{} steps), {} timed run(s) each",
@@ -400,8 +462,64 @@ fn sweep_problem<P: Problem>(
         steps.last().expect("at least one"),
         plan.settings.repeats
     );
-    let result = compare::work_precision(&setup, &methods, &plan.settings)?;
+    if resuming {
+        println!(
+            "resuming: {} rows done are not run again",
+            saving.done.len()
+        );
+    }
+    crate::signals::install();
+    let mut last = Instant::now();
+    let mut failed: Option<anyhow::Error> = None;
+    let mut saved_rows = None;
+    let mut after_row = |rows: &[compare::Row]| {
+        let signal = crate::signals::requested();
+        if signal.is_some() || saving.every.is_some_and(|d| last.elapsed() >= d) {
+            match save(&ckpt, saving.argv, rows) {
+                Ok(()) => saved_rows = Some(rows.len()),
+                Err(e) => {
+                    failed = Some(e);
+                    return compare::sweep::RowControl::Stop;
+                }
+            }
+            last = Instant::now();
+        }
+        if signal.is_some() {
+            compare::sweep::RowControl::Stop
+        } else {
+            compare::sweep::RowControl::Continue
+        }
+    };
+    let (result, stopped) = compare::work_precision_from(
+        &setup,
+        &methods,
+        &plan.settings,
+        saving.done,
+        &mut after_row,
+    )?;
+    if let Some(e) = failed {
+        return Err(e);
+    }
+    if stopped {
+        let sig = crate::signals::requested().unwrap_or(15);
+        let total = result.methods.len();
+        println!(
+            "stopped by {} after {} rows ({} methods planned)",
+            crate::signals::name(sig),
+            result.rows.len(),
+            total
+        );
+        if saved_rows == Some(result.rows.len()) {
+            println!(
+                "checkpoint {} — continue with: symlab resume {}",
+                ckpt.display(),
+                dir.display()
+            );
+        }
+        return Ok(Some(ExitCode::from(crate::signals::exit_status(sig))));
+    }
     let files = result.write(&dir)?;
+    crate::cloth_cmd::remove_checkpoint(&ckpt)?;
     print!("{}", result.summary());
     if result.rows.iter().any(|r| r.interpreted) {
         println!(
@@ -416,7 +534,60 @@ fn sweep_problem<P: Problem>(
             println!("wrote {}", f.display());
         }
     }
+    Ok(None)
+}
+
+/// Write the sweep's checkpoint: its arguments and rows so far.
+fn save(path: &Path, argv: &[String], rows: &[compare::Row]) -> Result<()> {
+    let mut e = integrator_core::checkpoint::Encoder::new();
+    e.usize(argv.len());
+    for a in argv {
+        e.str(a);
+    }
+    compare::sweep::encode_rows(&mut e, rows);
+    integrator_core::checkpoint::write(
+        path,
+        integrator_core::checkpoint::Kind::Compare,
+        &e.finish(),
+    )?;
     Ok(())
+}
+
+/// The arguments of `symlab compare`, for reading a checkpoint's back.
+#[derive(clap::Parser)]
+#[command(name = "symlab compare")]
+struct Stored {
+    #[command(flatten)]
+    args: CompareArgs,
+}
+
+/// `symlab resume DIR` of a sweep: `payload` read from `path` in `dir`.
+pub fn resume(dir: &Path, path: &Path, payload: &[u8]) -> Result<ExitCode> {
+    let mut d = integrator_core::checkpoint::Decoder::new(path, payload);
+    let n = d.usize("arguments")?;
+    if n > 1000 {
+        return Err(d.error(format!("arguments: {n} of them")).into());
+    }
+    let argv = (0..n)
+        .map(|_| d.str("arguments").map(str::to_string))
+        .collect::<Result<Vec<_>, _>>()?;
+    let rows = compare::sweep::decode_rows(&mut d)?;
+    d.end()?;
+    use clap::Parser as _;
+    let mut args = Stored::try_parse_from(
+        std::iter::once("symlab compare".to_string()).chain(argv.iter().cloned()),
+    )
+    .map_err(|e| {
+        anyhow::anyhow!(
+            "{}: the saved arguments `symlab compare {}` do not parse: {}",
+            path.display(),
+            argv.join(" "),
+            e.to_string().trim()
+        )
+    })?
+    .args;
+    args.out = Some(dir.to_path_buf());
+    run_or_resume(&args, &argv, Some(Resumed { rows }))
 }
 
 fn peer_study(args: &CompareArgs) -> Result<()> {

@@ -6,6 +6,8 @@ mod check;
 mod cloth_cmd;
 mod compare;
 mod paper;
+mod resume;
+mod signals;
 
 use std::process::ExitCode;
 
@@ -40,6 +42,10 @@ enum Command {
     /// an energy plot, OBJ frames, PNG renderings and a summary in
     /// out/cloth/<scene-name>/; or --stability: the largest stable step per method.
     Cloth(cloth_cmd::ClothArgs),
+    /// Continue an interrupted run (cloth or compare) from the checkpoint
+    /// in its output folder (DIR/checkpoint.symlab), to the same bits and
+    /// the same files as a run that was never stopped.
+    Resume(resume::ResumeArgs),
 }
 
 /// A closed pipe ends the process quietly, as `ls | head` does: Rust
@@ -101,13 +107,21 @@ fn main() -> ExitCode {
         eprintln!("error: {msg}");
         return ExitCode::from(2);
     }
+    // The arguments after the subcommand, as text (checked above): a
+    // checkpoint keeps them so that `symlab resume` plans the same run.
+    let rest: Vec<String> = args
+        .iter()
+        .skip(2)
+        .map(|a| a.to_string_lossy().into_owned())
+        .collect();
     let cli = Cli::parse_from(args);
     let result = match cli.command {
         Command::Check(args) => check::run(&args),
         Command::List(args) => check::list(&args),
-        Command::Compare(args) => compare::run(&args),
+        Command::Compare(args) => compare::run(&args, &rest),
         Command::Paper(args) => paper::run(&args),
-        Command::Cloth(args) => cloth_cmd::run(&args),
+        Command::Cloth(args) => cloth_cmd::run(&args, &rest),
+        Command::Resume(args) => resume::run(&args),
     };
     match result {
         Ok(code) => code,

@@ -223,6 +223,7 @@
 //! without allocating, so a CSC matrix can be built once and refreshed in
 //! place. The Jacobian of `z' = [M⁻¹p; F(q)]` is `[[0, M⁻¹], [∂F/∂q, 0]]`.
 
+pub mod checkpoint;
 pub mod method;
 mod model;
 mod output;

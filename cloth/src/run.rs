@@ -45,6 +45,7 @@ use std::time::Instant;
 use integrator_core::{Scheme, SolveError, Step};
 use nalgebra::Vector3;
 
+use crate::checkpoint::{Action, Decoder, Encoder, NoControl, RunControl, RunState};
 use crate::method::{Mechanism, Method, MethodError};
 use crate::model::{ClothModel, Energy};
 use crate::scene::{Scene, SceneError};
@@ -390,6 +391,13 @@ pub enum RunError {
     /// The energy guard stopped the run ([`RunSettings::guard`]).
     #[error("{0}")]
     Blowup(Box<Blowup>),
+    /// The [`RunControl`] stopped the run after `frame` (with a checkpoint
+    /// if it asked for one); the simulation is at that frame.
+    #[error("stopped after frame {frame} (t = {time} s)")]
+    Stopped { frame: usize, time: f64 },
+    /// A saved [`RunState`] does not fit this run or its stepper.
+    #[error("cannot continue the run: {0}")]
+    Resume(String),
     #[error("frame {frame} (t = {time} s): {source}")]
     Callback {
         frame: usize,
@@ -476,6 +484,28 @@ impl Simulation {
         &mut self,
         method: &Method,
         settings: &RunSettings,
+        on_frame: F,
+    ) -> Result<RunReport, RunError>
+    where
+        F: FnMut(&Frame<'_>) -> Result<(), CallbackError>,
+    {
+        self.run_controlled(method, settings, None, &mut NoControl, on_frame)
+    }
+
+    /// [`run`](Self::run), asking `control` after every frame whether to
+    /// save a [`RunState`] or to stop ([`RunError::Stopped`]), and, with
+    /// `resume`, continuing the run that state was saved from instead of
+    /// starting one: the simulation, the stepper's carried data, the
+    /// frames so far and the energy origin are restored, the frames
+    /// already done are not emitted again, and the run ends with the bits,
+    /// frames and solver statistics of the run that was never stopped.
+    /// `settings` must be that run's (the step size is checked).
+    pub fn run_controlled<F>(
+        &mut self,
+        method: &Method,
+        settings: &RunSettings,
+        resume: Option<&RunState>,
+        control: &mut dyn RunControl,
         mut on_frame: F,
     ) -> Result<RunReport, RunError>
     where
@@ -495,6 +525,8 @@ impl Simulation {
             sim: &'a mut Simulation,
             settings: &'a RunSettings,
             on_frame: &'a mut OnFrame<'f>,
+            resume: Option<&'a RunState>,
+            control: &'a mut dyn RunControl,
         }
         match method.mechanism() {
             Mechanism::Explicit => {
@@ -513,6 +545,8 @@ impl Simulation {
                                 },
                                 self.settings,
                                 self.on_frame,
+                                self.resume,
+                                self.control,
                             )
                         } else if S::INFO.explicit {
                             self.sim.drive(
@@ -520,6 +554,8 @@ impl Simulation {
                                 &|sim: &Simulation| Ok(SchemeStepper::new(scheme, &sim.model)),
                                 self.settings,
                                 self.on_frame,
+                                self.resume,
+                                self.control,
                             )
                         } else {
                             Err(MethodError::Implicit(S::INFO.name.to_string()).into())
@@ -531,6 +567,8 @@ impl Simulation {
                     sim: self,
                     settings,
                     on_frame,
+                    resume,
+                    control,
                 };
                 with_scheme(method, drive).expect("every explicit method is a library scheme")
             }
@@ -552,6 +590,8 @@ impl Simulation {
                             },
                             self.settings,
                             self.on_frame,
+                            self.resume,
+                            self.control,
                         )
                     }
                 }
@@ -560,6 +600,8 @@ impl Simulation {
                     sim: self,
                     settings,
                     on_frame,
+                    resume,
+                    control,
                 };
                 with_table(method, drive)
                     .ok_or_else(|| MethodError::NotSteppable(method.id().to_string()))?
@@ -571,6 +613,8 @@ impl Simulation {
                     &|sim: &Simulation| Ok(RattleStepper::new(&sim.model, h, rattle)?),
                     settings,
                     on_frame,
+                    resume,
+                    control,
                 )
             }
             Mechanism::Minimisation(_) | Mechanism::DiscreteGradient => {
@@ -580,6 +624,8 @@ impl Simulation {
                     &|sim: &Simulation| Ok(MinimiseStepper::new(method, &sim.model, minimise)?),
                     settings,
                     on_frame,
+                    resume,
+                    control,
                 )
             }
         }
@@ -619,6 +665,8 @@ impl Simulation {
                 },
                 settings,
                 on_frame,
+                None,
+                &mut NoControl,
             );
         }
         let scheme = *scheme;
@@ -627,6 +675,8 @@ impl Simulation {
             &|sim: &Simulation| Ok(SchemeStepper::new(scheme, &sim.model)),
             settings,
             on_frame,
+            None,
+            &mut NoControl,
         )
     }
 
@@ -638,22 +688,91 @@ impl Simulation {
         make: &dyn Fn(&Simulation) -> Result<St, RunError>,
         settings: &RunSettings,
         on_frame: &mut OnFrame<'_>,
+        resume: Option<&RunState>,
+        control: &mut dyn RunControl,
     ) -> Result<RunReport, RunError> {
         let opts = settings.options;
         let h = opts.step_size();
-        let mut stepper = make(self)?;
-        let mut frames = Vec::with_capacity(opts.frames.min(1 << 16) + 1);
-        let first = self.stats();
-        let h0 = first.energy.total();
-        self.emit(first, &mut frames, on_frame)?;
-        let mut saved = self.state.clone();
-        let clock = Clock {
-            t0: self.time,
-            step0: self.steps,
-            h,
+        let (mut stepper, mut frames, h0, clock, first_frame, mut stepping) = match resume {
+            None => {
+                let stepper = make(self)?;
+                let mut frames = Vec::with_capacity(opts.frames.min(1 << 16) + 1);
+                let first = self.stats();
+                let h0 = first.energy.total();
+                self.emit(first, &mut frames, on_frame)?;
+                let clock = Clock {
+                    t0: self.time,
+                    step0: self.steps,
+                    h,
+                };
+                (stepper, frames, h0, clock, self.frame, 0.0)
+            }
+            Some(rs) => {
+                self.restore(method, h, rs)?;
+                let mut stepper = make(self)?;
+                let Some(bytes) = &rs.stepper else {
+                    return Err(RunError::Resume(format!(
+                        "{method}: the saved run holds no stepper state (this method cannot be resumed)"
+                    )));
+                };
+                let path = std::path::Path::new("stepper");
+                let mut d = Decoder::new(path, bytes);
+                stepper
+                    .restore(&self.model, &mut d)
+                    .and_then(|()| d.end())
+                    .map_err(|e| RunError::Resume(format!("{method}: {e}")))?;
+                let clock = Clock {
+                    t0: rs.t0,
+                    step0: rs.step0,
+                    h,
+                };
+                let mut frames = Vec::with_capacity(opts.frames.min(1 << 16) + 1);
+                frames.extend_from_slice(&rs.frames);
+                (
+                    stepper,
+                    frames,
+                    rs.h0,
+                    clock,
+                    rs.first_frame,
+                    rs.stepping_seconds,
+                )
+            }
         };
-        let mut stepping = 0.0;
-        for _ in 0..opts.frames {
+        let mut saved = self.state.clone();
+        let state_of = |sim: &Simulation, stepper: &St, frames: &[FrameStats], stepping: f64| {
+            let mut e = Encoder::new();
+            let carried = stepper.save(&mut e).then(|| e.finish());
+            RunState {
+                method: method.to_string(),
+                h,
+                state: sim.state.clone(),
+                time: sim.time,
+                steps: sim.steps,
+                frame: sim.frame,
+                first_frame,
+                t0: clock.t0,
+                step0: clock.step0,
+                h0,
+                frames: frames.to_vec(),
+                stepping_seconds: stepping,
+                stepper: carried,
+            }
+        };
+        // After the initial frame of a fresh run (a resumed one was asked
+        // at the frame it was saved at).
+        if resume.is_none() {
+            let last = *frames.last().expect("the initial frame");
+            self.control(control, &last, &|sim| state_of(sim, &stepper, &frames, 0.0))?;
+        }
+        let done = self.frame - first_frame;
+        if done > opts.frames {
+            return Err(RunError::Resume(format!(
+                "the saved run is at frame {}, after the last frame ({}) of this one",
+                self.frame,
+                first_frame + opts.frames
+            )));
+        }
+        for _ in done..opts.frames {
             saved.copy_from_slice(&self.state);
             let started = Instant::now();
             self.advance(&mut stepper, opts.substeps, clock, method, &saved)?;
@@ -680,6 +799,9 @@ impl Simulation {
                 }
             }
             self.emit(stats, &mut frames, on_frame)?;
+            self.control(control, &stats, &|sim| {
+                state_of(sim, &stepper, &frames, stepping)
+            })?;
         }
         Ok(RunReport {
             method,
@@ -689,6 +811,64 @@ impl Simulation {
             stepping_seconds: stepping,
             solver: stepper.stats(),
         })
+    }
+
+    /// Ask `control` what to do after the frame `stats`; `state` makes the
+    /// state it may ask to save.
+    fn control(
+        &self,
+        control: &mut dyn RunControl,
+        stats: &FrameStats,
+        state: &dyn Fn(&Simulation) -> RunState,
+    ) -> Result<(), RunError> {
+        let action = control.after_frame(stats);
+        if action == Action::Continue {
+            return Ok(());
+        }
+        control
+            .checkpoint(&state(self))
+            .map_err(|source| RunError::Callback {
+                frame: stats.frame,
+                time: stats.time,
+                source,
+            })?;
+        if action == Action::Stop {
+            return Err(RunError::Stopped {
+                frame: stats.frame,
+                time: stats.time,
+            });
+        }
+        Ok(())
+    }
+
+    /// Put the simulation where `rs` was saved, checking that it is a
+    /// state of this run: the method, the step size to the bit, the
+    /// state's length.
+    fn restore(&mut self, method: &str, h: f64, rs: &RunState) -> Result<(), RunError> {
+        if rs.method != method {
+            return Err(RunError::Resume(format!(
+                "the saved run steps with {}, this one with {method}",
+                rs.method
+            )));
+        }
+        if rs.h.to_bits() != h.to_bits() {
+            return Err(RunError::Resume(format!(
+                "the saved run's step is {:e} s, this one's {h:e} s",
+                rs.h
+            )));
+        }
+        if rs.state.len() != self.state.len() {
+            return Err(RunError::Resume(format!(
+                "the saved state has {} components, this model {}",
+                rs.state.len(),
+                self.state.len()
+            )));
+        }
+        self.state.copy_from_slice(&rs.state);
+        self.time = rs.time;
+        self.steps = rs.steps;
+        self.frame = rs.frame;
+        Ok(())
     }
 
     /// Record a frame and hand it to the callback.

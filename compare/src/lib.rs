@@ -109,7 +109,9 @@ pub use stepper::{
     observed_caught,
 };
 pub use sweep::Row;
-pub use work_precision::{MAX_SWEEP_STEPS, SweepSettings, WorkPrecision, work_precision};
+pub use work_precision::{
+    MAX_SWEEP_STEPS, SweepSettings, WorkPrecision, work_precision, work_precision_from,
+};
 
 /// The README's Rust examples, compiled and run as doctests so that the
 /// documentation a user reads first cannot go stale. They live here, in the

@@ -402,4 +402,16 @@ impl Family {
             Family::Rebound => "rebound",
         }
     }
+    /// The family [`name`](Self::name) names.
+    pub fn from_name(name: &str) -> Option<Family> {
+        [
+            Family::ExplicitRk,
+            Family::Splitting,
+            Family::Implicit,
+            Family::Peer,
+            Family::Rebound,
+        ]
+        .into_iter()
+        .find(|f| f.name() == name)
+    }
 }

@@ -221,6 +221,49 @@ pub fn sweep_each<'a, P: Problem>(
     tols: &[f64],
     repeats: usize,
 ) -> Vec<Row> {
+    sweep_each_from(
+        setup,
+        methods,
+        steps,
+        tols,
+        repeats,
+        Vec::new(),
+        &mut |_| RowControl::Continue,
+    )
+    .rows
+}
+
+/// What the front end says after each row of a sweep.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RowControl {
+    Continue,
+    /// End the sweep here (the rows so far are returned).
+    Stop,
+}
+
+/// The rows of a sweep, and whether it was stopped before its end.
+#[derive(Clone, Debug)]
+pub struct Swept {
+    pub rows: Vec<Row>,
+    pub stopped: bool,
+}
+
+/// [`sweep_each`] continuing a sweep that stopped after the rows `done`
+/// (a checkpoint's): the runs are made in the same order, those already
+/// done are taken from `done` instead of run again, and `after_row` is
+/// asked after every new row, with all rows so far, whether to go on (a
+/// front end saves a checkpoint there, or stops on a signal). A row of
+/// `done` that is not the method this sweep has at its place ends the
+/// reuse: from there on the rows are run.
+pub fn sweep_each_from<'a, P: Problem>(
+    setup: &Setup<P>,
+    methods: impl Iterator<Item = &'a Method<P>> + Clone,
+    steps: &[u64],
+    tols: &[f64],
+    repeats: usize,
+    done: Vec<Row>,
+    after_row: &mut dyn FnMut(&[Row]) -> RowControl,
+) -> Swept {
     let total: usize = methods
         .clone()
         .map(|m| match m {
@@ -232,19 +275,42 @@ pub fn sweep_each<'a, P: Problem>(
     let peer_limit = peer_step_limit(steps);
     let pb = progress(total as u64);
     let mut rows = Vec::with_capacity(total);
-    for m in methods {
+    let mut done = done.into_iter();
+    let mut reusing = true;
+    // The next row: the saved one where it is this method's, else run.
+    let mut next = |rows: &mut Vec<Row>, id: &str, run: &mut dyn FnMut() -> Row| -> bool {
+        let saved = if reusing { done.next() } else { None };
+        match saved {
+            Some(row) if row.method == id => {
+                rows.push(row);
+                pb.inc(1);
+                false
+            }
+            _ => {
+                reusing = false;
+                rows.push(run());
+                pb.inc(1);
+                after_row(rows) == RowControl::Stop
+            }
+        }
+    };
+    'sweep: for m in methods {
         pb.set_message(m.id().to_string());
         match m {
             Method::Fixed(f) => {
                 for &n in steps {
-                    rows.push(fixed_run(setup, f, n, repeats));
-                    pb.inc(1);
+                    if next(&mut rows, m.id(), &mut || fixed_run(setup, f, n, repeats)) {
+                        break 'sweep;
+                    }
                 }
             }
             Method::Dop853 => {
                 for &tol in tols {
-                    rows.push(peer_run(setup, tol, repeats, peer_limit));
-                    pb.inc(1);
+                    if next(&mut rows, m.id(), &mut || {
+                        peer_run(setup, tol, repeats, peer_limit)
+                    }) {
+                        break 'sweep;
+                    }
                 }
             }
             Method::Rebound(r) => {
@@ -253,14 +319,77 @@ pub fn sweep_each<'a, P: Problem>(
                     .first()
                     .map_or(setup.t_end, |&n| setup.t_end / n as f64);
                 for point in r.points(steps, tols) {
-                    rows.push(crate::rebound::row(setup, r, point, h_guess, repeats));
-                    pb.inc(1);
+                    if next(&mut rows, m.id(), &mut || {
+                        crate::rebound::row(setup, r, point, h_guess, repeats)
+                    }) {
+                        break 'sweep;
+                    }
                 }
             }
         }
     }
     pb.finish_and_clear();
-    rows
+    let stopped = rows.len() < total;
+    Swept { rows, stopped }
+}
+
+/// Append `rows` to a checkpoint's payload exactly (doubles as bits).
+pub fn encode_rows(e: &mut integrator_core::checkpoint::Encoder, rows: &[Row]) {
+    e.usize(rows.len());
+    for r in rows {
+        e.str(&r.problem)
+            .str(&r.method)
+            .str(r.family.name())
+            .usize(r.order)
+            .bool(r.symplectic)
+            .f64(r.h)
+            .f64(r.tol)
+            .u64(r.steps)
+            .f64(r.error)
+            .f64(r.energy_error)
+            .f64(r.time_s)
+            .u64(r.evals)
+            .usize(r.newton_iterations)
+            .usize(r.fixed_point_iterations)
+            .usize(r.factorizations)
+            .str(&r.status)
+            .bool(r.interpreted);
+    }
+}
+
+/// Read back what [`encode_rows`] wrote.
+pub fn decode_rows(
+    d: &mut integrator_core::checkpoint::Decoder<'_>,
+) -> std::result::Result<Vec<Row>, integrator_core::checkpoint::CheckpointError> {
+    let n = d.usize("rows")?;
+    let mut rows = Vec::with_capacity(n.min(1 << 16));
+    for _ in 0..n {
+        let problem = d.str("row.problem")?.to_string();
+        let method = d.str("row.method")?.to_string();
+        let family_name = d.str("row.family")?;
+        let family = Family::from_name(family_name)
+            .ok_or_else(|| d.error(format!("row.family: unknown family \"{family_name}\"")))?;
+        rows.push(Row {
+            problem,
+            method,
+            family,
+            order: d.usize("row.order")?,
+            symplectic: d.bool("row.symplectic")?,
+            h: d.f64("row.h")?,
+            tol: d.f64("row.tol")?,
+            steps: d.u64("row.steps")?,
+            error: d.f64("row.error")?,
+            energy_error: d.f64("row.energy_error")?,
+            time_s: d.f64("row.time_s")?,
+            evals: d.u64("row.evals")?,
+            newton_iterations: d.usize("row.newton_iterations")?,
+            fixed_point_iterations: d.usize("row.fixed_point_iterations")?,
+            factorizations: d.usize("row.factorizations")?,
+            status: d.str("row.status")?.to_string(),
+            interpreted: d.bool("row.interpreted")?,
+        });
+    }
+    Ok(rows)
 }
 
 /// One fixed-step run of `n` steps over `[0, t_end]`.

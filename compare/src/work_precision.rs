@@ -150,6 +150,23 @@ pub fn work_precision<P: Problem>(
     methods: &[Method<P>],
     settings: &SweepSettings,
 ) -> Result<WorkPrecision> {
+    work_precision_from(setup, methods, settings, Vec::new(), &mut |_| {
+        sweep::RowControl::Continue
+    })
+    .map(|(wp, _)| wp)
+}
+
+/// [`work_precision`] continuing from the rows `done` of a sweep that was
+/// stopped (they are not run again), asking `after_row` after every new
+/// row whether to go on ([`sweep::sweep_each_from`]); `true` beside the
+/// result when it stopped before the end (its rows are then a prefix).
+pub fn work_precision_from<P: Problem>(
+    setup: &Setup<P>,
+    methods: &[Method<P>],
+    settings: &SweepSettings,
+    done: Vec<sweep::Row>,
+    after_row: &mut dyn FnMut(&[sweep::Row]) -> sweep::RowControl,
+) -> Result<(WorkPrecision, bool)> {
     settings.validate(setup.t_end)?;
     if methods.is_empty() {
         return Err(CompareError::setting("methods", "no method to compare"));
@@ -185,12 +202,14 @@ pub fn work_precision<P: Problem>(
         .iter()
         .filter(|m| !rebound.left_out.iter().any(|id| id == m.id()))
         .collect();
-    let rows = sweep::sweep_each(
+    let sweep::Swept { rows, stopped } = sweep::sweep_each_from(
         setup,
         run.iter().copied(),
         &steps,
         &settings.tolerances,
         settings.repeats,
+        done,
+        after_row,
     );
     let run_length = match setup.sys.period() {
         Some((period, unit)) => {
@@ -200,21 +219,24 @@ pub fn work_precision<P: Problem>(
         }
         None => format!("T = {:.4}", setup.t_end),
     };
-    Ok(WorkPrecision {
-        problem: setup.name.clone(),
-        description: setup.description.clone(),
-        t_end: setup.t_end,
-        run_length,
-        settings: settings.clone(),
-        steps,
-        methods: run.iter().map(|m| m.id().to_string()).collect(),
-        separable: <P::Kind as Kind<P>>::SEPARABLE,
-        rebound: rebound
-            .version
-            .filter(|_| rows.iter().any(|r| crate::rebound::is_rebound(&r.method))),
-        notes: rebound.notes,
-        rows,
-    })
+    Ok((
+        WorkPrecision {
+            problem: setup.name.clone(),
+            description: setup.description.clone(),
+            t_end: setup.t_end,
+            run_length,
+            settings: settings.clone(),
+            steps,
+            methods: run.iter().map(|m| m.id().to_string()).collect(),
+            separable: <P::Kind as Kind<P>>::SEPARABLE,
+            rebound: rebound
+                .version
+                .filter(|_| rows.iter().any(|r| crate::rebound::is_rebound(&r.method))),
+            notes: rebound.notes,
+            rows,
+        },
+        stopped,
+    ))
 }
 
 impl WorkPrecision {

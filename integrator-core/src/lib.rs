@@ -37,6 +37,7 @@
 extern crate self as integrator_core;
 
 pub mod adaptive;
+pub mod checkpoint;
 pub mod constrained;
 mod error;
 pub mod fixed;

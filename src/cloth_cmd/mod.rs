@@ -9,11 +9,13 @@
 //! runs, the energy guard, the blow-up replay, the reference energy and the
 //! regridding are the cloth crate's.
 
+mod checkpoint;
 pub(crate) mod energy;
 mod render;
 mod stability;
 mod summary;
 
+use std::cell::RefCell;
 use std::collections::BTreeMap;
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -119,6 +121,13 @@ pub struct ClothArgs {
         allow_hyphen_values = true
     )]
     pub methods: Option<String>,
+    /// Write a checkpoint (DIR/checkpoint.symlab, atomically) every
+    /// DURATION of wall-clock time, from which `symlab resume DIR`
+    /// continues the run to the same bits: e.g. 30s, 5m, 1h, 0 (after every
+    /// frame) or off. Default 60s; SIGINT and SIGTERM always write one and
+    /// stop (exit 130, 143). RATTLE runs (inextensible scenes) only, for now.
+    #[arg(long, value_name = "DURATION", value_parser = checkpoint::parse_every)]
+    pub checkpoint_every: Option<checkpoint::Every>,
 }
 
 /// Exit code of a run that blew up or whose Newton iteration failed.
@@ -147,9 +156,32 @@ fn count_parser(min: usize) -> impl Fn(&str) -> Result<usize, String> + Clone {
     }
 }
 
-pub fn run(args: &ClothArgs) -> Result<ExitCode> {
+/// `symlab cloth`: `argv` are the arguments after `cloth`, kept in the
+/// checkpoint so that `symlab resume` plans the same run.
+pub fn run(args: &ClothArgs, argv: &[String]) -> Result<ExitCode> {
+    run_or_resume(args, argv, None)
+}
+
+/// A run, fresh or continued from `resumed` (whose scene text replaces the
+/// file's: the run goes on with the scene it started with).
+fn run_or_resume(
+    args: &ClothArgs,
+    argv: &[String],
+    resumed: Option<checkpoint::Resumed>,
+) -> Result<ExitCode> {
     let file = args.scene.display().to_string();
-    let scene = load_scene(args, &file)?;
+    let (scene, scene_text) = match &resumed {
+        Some(r) => (
+            scene_from_text(args, &r.scene_file, &r.scene_text)?,
+            r.scene_text.clone(),
+        ),
+        None => {
+            let scene = load_scene(args, &file)?;
+            let text = std::fs::read_to_string(&args.scene)
+                .with_context(|| format!("{file}: cannot read the scene again"))?;
+            (scene, text)
+        }
+    };
     let settings = minimise_settings(args)?;
     if args.stability {
         return run_stability(args, &scene, &file, settings);
@@ -183,8 +215,17 @@ pub fn run(args: &ClothArgs) -> Result<ExitCode> {
     let e_ref = reference_energy(&scene, &sim).map_err(|e| anyhow!("{file}: {e}"))?;
     let dir = output_dir(args, &scene)?;
     let render_failure = args.render.as_deref().map(str::trim) != Some("none");
+    let every = checkpoint::interval(args.checkpoint_every, &method)?;
+    let saving = checkpoint::Saving {
+        argv: argv.to_vec(),
+        scene_file: file.clone(),
+        scene_text,
+        every,
+    };
     simulate(
         sim,
+        &saving,
+        resumed,
         &Plan {
             scene: &scene,
             method,
@@ -205,7 +246,18 @@ pub fn run(args: &ClothArgs) -> Result<ExitCode> {
 fn load_scene(args: &ClothArgs, file: &str) -> Result<Scene> {
     // Library errors print their cause in their own message: pass the
     // message on, not the chain (which would print the cause twice).
-    let mut scene = Scene::load(&args.scene).map_err(|e| anyhow!("{e}"))?;
+    let scene = Scene::load(&args.scene).map_err(|e| anyhow!("{e}"))?;
+    regrid(args, scene, file)
+}
+
+/// The scene a checkpoint saved, as [`load_scene`] reads a file.
+fn scene_from_text(args: &ClothArgs, file: &str, text: &str) -> Result<Scene> {
+    let scene = Scene::from_toml(text, file).map_err(|e| anyhow!("{e}"))?;
+    regrid(args, scene, file)
+}
+
+/// `--grid`, if given.
+fn regrid(args: &ClothArgs, mut scene: Scene, file: &str) -> Result<Scene> {
     if let Some(grid) = &args.grid {
         let (nx, ny) = cloth::scene::parse_grid(grid).map_err(|e| match e {
             GridError::Syntax(_) => anyhow!("--grid: {e}"),
@@ -414,6 +466,7 @@ fn output_dir(args: &ClothArgs, scene: &Scene) -> Result<PathBuf> {
             dir.display()
         )
     })?;
+    checkpoint::check_writable(&dir)?;
     Ok(dir)
 }
 
@@ -498,43 +551,83 @@ fn progress_bar(frames: usize) -> ProgressBar {
 }
 
 /// Run the plan, writing OBJ frames and keeping the frames to render as
-/// they come; then the output of a finished run and its summary, or of a
-/// run that blew up.
-fn simulate(mut sim: Simulation, plan: &Plan<'_>) -> Result<ExitCode> {
+/// they come, and checkpoints as `saving` says; then the output of a
+/// finished run and its summary, of a run that blew up, or of a run a
+/// signal stopped. `resumed`: continue the run a checkpoint saved.
+fn simulate(
+    mut sim: Simulation,
+    saving: &checkpoint::Saving,
+    resumed: Option<checkpoint::Resumed>,
+    plan: &Plan<'_>,
+) -> Result<ExitCode> {
     let clock = Instant::now();
     let triangles = sim.model.triangles();
-    clear_stale(plan.dir)?;
+    let ckpt_path = plan.dir.join(cloth::checkpoint::FILE_NAME);
+    if resumed.is_none() {
+        clear_stale(plan.dir)?;
+        // A new run in this folder supersedes an older run's checkpoint.
+        checkpoint::remove(&ckpt_path)?;
+    }
     let frames_dir = plan.dir.join("frames");
+    // From here on the loop polls for SIGINT and SIGTERM between frames.
+    crate::signals::install();
     if plan.obj_every > 0 {
         std::fs::create_dir_all(&frames_dir)
             .with_context(|| format!("{}: cannot create the directory", frames_dir.display()))?;
     }
     let opts = plan.settings.options;
     let bar = progress_bar(opts.frames);
-    let mut col = Collected {
-        stats: Vec::with_capacity(opts.frames.min(1 << 16) + 1),
-        objs: 0,
-        kept: BTreeMap::new(),
+    let (col, state, wall_before) = match resumed {
+        Some(r) => {
+            bar.inc(r.state.frame as u64);
+            let col = Collected {
+                stats: r.state.frames.clone(),
+                objs: r.objs,
+                kept: r.kept,
+            };
+            (col, Some(r.state), r.wall)
+        }
+        None => {
+            let col = Collected {
+                stats: Vec::with_capacity(opts.frames.min(1 << 16) + 1),
+                objs: 0,
+                kept: BTreeMap::new(),
+            };
+            (col, None, 0.0)
+        }
     };
+    let col = RefCell::new(col);
+    let mut control = checkpoint::Control::new(saving, &ckpt_path, &col, wall_before);
     let every = plan.obj_every;
-    let result = sim.run(&plan.method, &plan.settings, |frame| {
-        let k = frame.stats.frame;
-        col.stats.push(frame.stats);
-        if every > 0 && (k % every == 0 || k == opts.frames) {
-            let path = frames_dir.join(format!("frame_{k:04}.obj"));
-            cloth::write_obj(&path, &frame.positions(), &triangles)?;
-            col.objs += 1;
-        }
-        if plan.renders.binary_search(&k).is_ok() {
-            col.kept.insert(k, (frame.stats.time, frame.positions()));
-        }
-        if k > 0 {
-            bar.inc(1);
-            bar.set_message(format!("t = {:.3} s", frame.stats.time));
-        }
-        Ok(())
-    });
+    let result = sim.run_controlled(
+        &plan.method,
+        &plan.settings,
+        state.as_ref(),
+        &mut control,
+        |frame| {
+            let mut col = col.borrow_mut();
+            let k = frame.stats.frame;
+            col.stats.push(frame.stats);
+            if every > 0 && (k % every == 0 || k == opts.frames) {
+                let path = frames_dir.join(format!("frame_{k:04}.obj"));
+                cloth::write_obj(&path, &frame.positions(), &triangles)?;
+                col.objs += 1;
+            }
+            if plan.renders.binary_search(&k).is_ok() {
+                col.kept.insert(k, (frame.stats.time, frame.positions()));
+            }
+            if k > 0 {
+                bar.inc(1);
+                bar.set_message(format!("t = {:.3} s", frame.stats.time));
+            }
+            Ok(())
+        },
+    );
     bar.finish_and_clear();
+    let wall = wall_before + clock.elapsed().as_secs_f64();
+    let report_note = control.note();
+    let saved_frame = control.saved_frame;
+    let col = col.into_inner();
     // The model checks that the initial state is finite, so frame 0 always
     // reaches the callback; should it not, that is an error about the
     // scene, not a panic.
@@ -548,8 +641,19 @@ fn simulate(mut sim: Simulation, plan: &Plan<'_>) -> Result<ExitCode> {
             plan.scene.name
         );
     };
+    if let Some(n) = report_note {
+        eprintln!("note: {n}");
+    }
     match result {
-        Ok(report) => finished(plan, &sim, &report, &triangles, &col, clock),
+        Ok(report) => {
+            let code = finished(plan, &sim, &report, &triangles, &col, wall)?;
+            // The run is complete: nothing is left to resume.
+            checkpoint::remove(&ckpt_path)?;
+            Ok(code)
+        }
+        Err(RunError::Stopped { frame, time }) => {
+            checkpoint::stopped(plan, &col, saved_frame, &ckpt_path, frame, time, wall)
+        }
         Err(err) if err.is_blowup() => {
             blown_up(plan, &sim, &err, good, &triangles, &frames_dir, col)
         }
@@ -574,7 +678,7 @@ fn finished(
     report: &RunReport,
     triangles: &[[usize; 3]],
     col: &Collected,
-    clock: Instant,
+    wall: f64,
 ) -> Result<ExitCode> {
     let e_ref = guard_reference(plan);
     let mut written = vec!["energy.csv".to_string(), "energy.svg".to_string()];
@@ -597,7 +701,7 @@ fn finished(
         method: &plan.method,
         report,
         opts: &plan.settings.options,
-        wall: clock.elapsed().as_secs_f64(),
+        wall,
         e_ref,
         note: plan.note.as_deref(),
         dir: plan.dir,
@@ -713,4 +817,13 @@ fn render_kept(
         names.push(name);
     }
     Ok((names, (!notes.is_empty()).then(|| notes.join("; "))))
+}
+
+pub use checkpoint::{
+    DEFAULT_EVERY, Every, check_writable, parse_every, remove as remove_checkpoint,
+};
+
+/// `symlab resume DIR` of a cloth run.
+pub fn resume(dir: &Path, path: &Path, payload: &[u8]) -> Result<ExitCode> {
+    checkpoint::resume(dir, path, payload)
 }

@@ -321,6 +321,15 @@ impl Gram {
             .map_err(|_| NotPositive)
     }
 
+    /// The numeric factor's values (a checkpoint saves them: the factor
+    /// is of an older configuration than the current one).
+    pub(crate) fn factor(&self) -> &[f64] {
+        &self.factor
+    }
+    pub(crate) fn factor_mut(&mut self) -> &mut [f64] {
+        &mut self.factor
+    }
+
     /// `rhs ← A⁻¹·rhs` with the last factor.
     pub(crate) fn solve(&mut self, rhs: &mut [f64]) {
         let n = rhs.len();

@@ -16,6 +16,7 @@ pub mod rattle;
 pub mod stage;
 
 use integrator_core::SolveError;
+use integrator_core::checkpoint::{CheckpointError, Decoder, Encoder};
 
 use crate::model::ClothModel;
 
@@ -118,6 +119,21 @@ pub trait ClothStepper {
     fn leave(&mut self, _model: &ClothModel, _t: f64, _z: &mut [f64]) {}
     /// What the solver did so far.
     fn stats(&self) -> SolverStats;
+    /// Append everything the next steps depend on beyond the state `z`
+    /// handed out at a frame (carried momenta, warm starts, factors and
+    /// their schedule, compensated-summation residuals) and the solver
+    /// statistics, exactly, for a checkpoint taken between `leave` and the
+    /// next `enter`; `false` (and nothing written) when this stepper cannot
+    /// save its data, so that its runs are not resumable.
+    fn save(&self, _e: &mut Encoder) -> bool {
+        false
+    }
+    /// Take back what [`save`](Self::save) wrote, on a stepper just made
+    /// for the same model and settings, so that the steps go on to the
+    /// bits they would have had.
+    fn restore(&mut self, _model: &ClothModel, d: &mut Decoder<'_>) -> Result<(), CheckpointError> {
+        Err(d.error("this method's stepper cannot be restored"))
+    }
 }
 
 /// A run refused before it started: the settings, the scene or the size do

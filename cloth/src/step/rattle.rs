@@ -63,6 +63,8 @@ use std::time::Instant;
 
 use integrator_core::Separable;
 
+use integrator_core::checkpoint::{CheckpointError, Decoder, Encoder};
+
 use super::{ClothStepper, Refused, SolverStats, StepError};
 use crate::model::constraints::{EdgeConstraints, Gram, Jacobian, q_max};
 use crate::model::{CONSTRAINT_TOLERANCE, ClothModel};
@@ -633,5 +635,86 @@ impl ClothStepper for RattleStepper {
 
     fn stats(&self) -> SolverStats {
         SolverStats::Constrained(self.stats)
+    }
+
+    /// Everything the next steps read before writing: the carried p̃ and
+    /// the momentum handed out (to recognise the frame's state in
+    /// `enter`), the warm-start multipliers and their extrapolation count,
+    /// the factor of `G·Gᵀ` (of the configuration of its last renewal,
+    /// not of the current one) and the steps since it, the force and edge
+    /// vectors at `q`, the flags, and the statistics.
+    fn save(&self, e: &mut Encoder) -> bool {
+        let d: Vec<f64> = self.d.iter().flatten().copied().collect();
+        e.f64s(&self.lambda)
+            .f64s(&self.lambda_prev)
+            .usize(self.solved)
+            .f64(self.lambda_h)
+            .usize(self.since_factor)
+            .bool(self.stale)
+            .f64(self.last_wave_number)
+            .f64s(&self.force)
+            .f64s(&self.cached_q)
+            .bool(self.valid)
+            .f64s(&d)
+            .f64s(self.gram.factor())
+            .f64s(&self.p_carried)
+            .f64s(&self.p_out)
+            .bool(self.resume)
+            .bool(self.carried);
+        let st = &self.stats;
+        e.usize(st.steps)
+            .usize(st.iterations)
+            .usize(st.max_iterations)
+            .usize(st.factorizations)
+            .usize(st.lu_factorizations)
+            .usize(st.symbolic_lu)
+            .usize(st.pcg_iterations)
+            .usize(st.pcg_failures)
+            .f64(st.max_residual)
+            .f64(st.max_wave_number)
+            .f64(st.seconds.forces)
+            .f64(st.seconds.constraints)
+            .f64(st.seconds.factorize)
+            .f64(st.seconds.solve);
+        true
+    }
+
+    fn restore(&mut self, _model: &ClothModel, r: &mut Decoder<'_>) -> Result<(), CheckpointError> {
+        r.f64s_into(&mut self.lambda, "rattle.lambda")?;
+        r.f64s_into(&mut self.lambda_prev, "rattle.lambda_prev")?;
+        self.solved = r.usize("rattle.solved")?;
+        self.lambda_h = r.f64("rattle.lambda_h")?;
+        self.since_factor = r.usize("rattle.since_factor")?;
+        self.stale = r.bool("rattle.stale")?;
+        self.last_wave_number = r.f64("rattle.last_wave_number")?;
+        r.f64s_into(&mut self.force, "rattle.force")?;
+        r.f64s_into(&mut self.cached_q, "rattle.cached_q")?;
+        self.valid = r.bool("rattle.valid")?;
+        let mut d = vec![0.0; 3 * self.d.len()];
+        r.f64s_into(&mut d, "rattle.edge_vectors")?;
+        for (x, c) in self.d.iter_mut().zip(d.chunks_exact(3)) {
+            *x = [c[0], c[1], c[2]];
+        }
+        r.f64s_into(self.gram.factor_mut(), "rattle.factor")?;
+        r.f64s_into(&mut self.p_carried, "rattle.p_carried")?;
+        r.f64s_into(&mut self.p_out, "rattle.p_out")?;
+        self.resume = r.bool("rattle.resume")?;
+        self.carried = r.bool("rattle.carried")?;
+        let st = &mut self.stats;
+        st.steps = r.usize("rattle.stats")?;
+        st.iterations = r.usize("rattle.stats")?;
+        st.max_iterations = r.usize("rattle.stats")?;
+        st.factorizations = r.usize("rattle.stats")?;
+        st.lu_factorizations = r.usize("rattle.stats")?;
+        st.symbolic_lu = r.usize("rattle.stats")?;
+        st.pcg_iterations = r.usize("rattle.stats")?;
+        st.pcg_failures = r.usize("rattle.stats")?;
+        st.max_residual = r.f64("rattle.stats")?;
+        st.max_wave_number = r.f64("rattle.stats")?;
+        st.seconds.forces = r.f64("rattle.stats")?;
+        st.seconds.constraints = r.f64("rattle.stats")?;
+        st.seconds.factorize = r.f64("rattle.stats")?;
+        st.seconds.solve = r.f64("rattle.stats")?;
+        Ok(())
     }
 }
