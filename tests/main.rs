@@ -16,4 +16,5 @@ mod input_messages;
 mod paper;
 mod pipes;
 mod rebound_cli;
+mod resume;
 mod three_readers;
