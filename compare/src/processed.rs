@@ -23,6 +23,10 @@ use crate::stepper::{Outcome, Status, Stepper, Workspace};
 /// A processed method on a separable problem: see the module documentation.
 pub struct ProcessedStepper(pub Processed<SplittingInterpreter>);
 
+/// What [`Stepper::observed`] is handed: called at the start and after each
+/// step with `(step, t, output)`; `false` stops the run.
+type Observer<'a> = &'a mut dyn FnMut(usize, f64, &[f64]) -> bool;
+
 impl ProcessedStepper {
     /// The run on `sys` (the counting wrapper for the observed run, the bare
     /// system for the timed one). With an observer, `χ` of the carried state
@@ -36,7 +40,7 @@ impl ProcessedStepper {
         h: f64,
         n: usize,
         compensated: bool,
-        mut observe: Option<&mut dyn FnMut(usize, f64, &[f64]) -> bool>,
+        mut observe: Option<Observer<'_>>,
     ) -> Status
     where
         S: Split + integrator_core::OdeSystem,
