@@ -33,6 +33,16 @@ fn symlab(args: &[&str]) -> (i32, String, String, f64) {
     symlab_env(args, &[])
 }
 
+/// A two-point sweep on `problem` with the table file at `path`.
+fn compare_table(problem: &str, path: &str) -> (i32, String, String, f64) {
+    let mut args = vec!["compare", "--problem", problem];
+    if problem == "kepler" {
+        args.extend(["--methods", "leapfrog"]);
+    }
+    args.extend(["--table", path, "--points", "2", "--repeats", "1"]);
+    symlab(&args)
+}
+
 fn temp_dir(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("symlab-hostile-{name}-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
@@ -99,23 +109,10 @@ fn huge_orders_are_refused_in_check_and_compare_naming_the_claim() {
                 format!("claims = [\"{claim}\"]\n{body}")
             };
             let path = write(&dir, &format!("{kind}.toml"), &text);
-            for args in [
-                vec!["check", path.as_str()],
-                vec![
-                    "compare",
-                    "--problem",
-                    "kepler",
-                    "--methods",
-                    "leapfrog",
-                    "--table",
-                    path.as_str(),
-                    "--points",
-                    "2",
-                    "--repeats",
-                    "1",
-                ],
+            for (args, (code, _, err, secs)) in [
+                ("check", symlab(&["check", &path])),
+                ("compare --table", compare_table("kepler", &path)),
             ] {
-                let (code, _, err, secs) = symlab(&args);
                 assert_eq!(code, 2, "{kind} {claim} {args:?}: {err}");
                 assert!(
                     err.contains(&path) && err.contains("beyond every budget"),
@@ -180,19 +177,7 @@ fn a_processed_table_runs_with_its_corrector_and_its_effective_claims_hold() {
     }
     // A claim false of the effective method is refused, naming the claim.
     let bad = write(&dir, "bad.toml", &processed_file("\"order = (6, 2)\""));
-    let (code, _, err, _) = symlab(&[
-        "compare",
-        "--problem",
-        "kepler",
-        "--methods",
-        "leapfrog",
-        "--table",
-        &bad,
-        "--points",
-        "2",
-        "--repeats",
-        "1",
-    ]);
+    let (code, _, err, _) = compare_table("kepler", &bad);
     assert_eq!(code, 2, "{err}");
     assert!(
         err.contains("order = (6, 2)") && err.contains(&bad),
@@ -200,17 +185,7 @@ fn a_processed_table_runs_with_its_corrector_and_its_effective_claims_hold() {
     );
     // A processed method steps split systems only: the linear model refuses
     // it, saying so.
-    let (code, _, err, _) = symlab(&[
-        "compare",
-        "--problem",
-        "gyroscopic",
-        "--table",
-        &path,
-        "--points",
-        "2",
-        "--repeats",
-        "1",
-    ]);
+    let (code, _, err, _) = compare_table("gyroscopic", &path);
     assert_eq!(code, 2, "{err}");
     assert!(
         err.contains("processed method") && err.contains("mylf3"),
@@ -364,19 +339,7 @@ fn a_prestretch_that_makes_the_pins_impossible_is_blamed_on_the_prestretch() {
 fn a_composition_of_zero_steps_is_refused_naming_compose() {
     let dir = temp_dir("compose");
     let path = write(&dir, "zero.toml", "name = \"zero\"\ncompose = [\"0\"]\n");
-    let (code, _, err, _) = symlab(&[
-        "compare",
-        "--problem",
-        "kepler",
-        "--methods",
-        "leapfrog",
-        "--table",
-        &path,
-        "--points",
-        "2",
-        "--repeats",
-        "1",
-    ]);
+    let (code, _, err, _) = compare_table("kepler", &path);
     assert_eq!(code, 2, "{err}");
     assert!(
         err.contains("`compose`") && err.contains("identity map") && err.contains("zero"),
@@ -408,19 +371,7 @@ fn a_coefficient_far_beyond_f64_is_printed_with_its_exponent_not_inf() {
         "huge2.toml",
         "name = \"huge\"\ndrift = [\"10^5000\", \"1 - 10^5000\"]\nkick = [\"1\"]\n",
     );
-    let (code, _, err, _) = symlab(&[
-        "compare",
-        "--problem",
-        "kepler",
-        "--methods",
-        "leapfrog",
-        "--table",
-        &unclaimed,
-        "--points",
-        "2",
-        "--repeats",
-        "1",
-    ]);
+    let (code, _, err, _) = compare_table("kepler", &unclaimed);
     assert_eq!(code, 2, "{err}");
     assert!(
         err.contains("not a finite double") && err.contains("1.000e5000"),

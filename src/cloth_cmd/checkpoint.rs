@@ -21,7 +21,7 @@ use cloth::checkpoint::{
 };
 use cloth::{FrameStats, Method, Vec3};
 
-use super::{ClothArgs, Collected, Plan, energy, guard_reference, title};
+use super::{ClothArgs, Collected, Plan, energy_files};
 
 /// `--checkpoint-every`'s default: runs shorter than this write none
 /// (unless a signal stops them); a longer one loses at most this much.
@@ -324,19 +324,8 @@ pub fn stopped(
     wall: f64,
 ) -> Result<ExitCode> {
     let sig = crate::signals::requested().unwrap_or(15);
-    let e_ref = guard_reference(plan);
     let dir = plan.dir;
-    cloth::write_energy_csv(dir.join("energy.csv"), &col.stats, e_ref)?;
-    let mut written = vec!["energy.csv".to_string()];
-    if col.stats.len() >= 2 {
-        energy::plot(
-            &dir.join("energy.svg"),
-            &col.stats,
-            e_ref,
-            &title(plan, plan.method.name()),
-        )?;
-        written.push("energy.svg".into());
-    }
+    let mut written = energy_files(plan, &col.stats)?;
     if col.objs > 0 {
         written.push(format!("{} OBJ in frames/", col.objs));
     }

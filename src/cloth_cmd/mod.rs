@@ -712,6 +712,24 @@ fn finished(
     Ok(ExitCode::SUCCESS)
 }
 
+/// What a run that stopped early keeps of its energy: `energy.csv`, and
+/// with two frames or more the plot; the names written.
+fn energy_files(plan: &Plan<'_>, stats: &[FrameStats]) -> Result<Vec<String>> {
+    let e_ref = guard_reference(plan);
+    cloth::write_energy_csv(plan.dir.join("energy.csv"), stats, e_ref)?;
+    let mut written = vec!["energy.csv".to_string()];
+    if stats.len() >= 2 {
+        energy::plot(
+            &plan.dir.join("energy.svg"),
+            stats,
+            e_ref,
+            &title(plan, plan.method.name()),
+        )?;
+        written.push("energy.svg".into());
+    }
+    Ok(written)
+}
+
 /// `E_ref` of the plan's energy guard.
 fn guard_reference(plan: &Plan<'_>) -> f64 {
     plan.settings.guard.map_or(1.0, |g| g.e_ref)
@@ -732,17 +750,7 @@ fn blown_up(
 ) -> Result<ExitCode> {
     let e_ref = guard_reference(plan);
     let dir = plan.dir;
-    cloth::write_energy_csv(dir.join("energy.csv"), &col.stats, e_ref)?;
-    let mut written = vec!["energy.csv".to_string()];
-    if col.stats.len() >= 2 {
-        energy::plot(
-            &dir.join("energy.svg"),
-            &col.stats,
-            e_ref,
-            &title(plan, plan.method.name()),
-        )?;
-        written.push("energy.svg".into());
-    }
+    let mut written = energy_files(plan, &col.stats)?;
     let positions = sim.model.positions(&sim.state[..sim.state.len() / 2]);
     if plan.obj_every > 0 {
         let path = frames_dir.join(format!("frame_{:04}.obj", good.frame));
