@@ -550,7 +550,8 @@ fn generated_pair_text_says_what_holds() {
     assert!(out.contains("  proof        B(8)"), "{out}");
 }
 
-/// Every field of a root file's JSON is in the README's `--json` paragraph;
+/// Every field of a root file's JSON is in the guide's `--json` section
+/// (`guide/src/check.md`);
 /// W is listed both ways, as for other tables.
 #[test]
 fn root_file_json_is_documented_and_lists_w_both_ways() {
@@ -582,12 +583,12 @@ fn root_file_json_is_documented_and_lists_w_both_ways() {
             "w_nonzero"
         ]
     );
-    let readme =
-        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/README.md")).unwrap();
+    let guide = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/guide/src/check.md"))
+        .unwrap();
     for k in keys.iter().chain(&["zero", "value_f64", "b_hat_levels"]) {
         assert!(
-            readme.contains(&format!("`{k}`")),
-            "README does not document `{k}`"
+            guide.contains(&format!("`{k}`")),
+            "guide/src/check.md does not document `{k}`"
         );
     }
     assert_eq!(v["entries"], "algebraic");
@@ -618,8 +619,8 @@ fn root_file_json_is_documented_and_lists_w_both_ways() {
     let g = check_json(&["--builtin", "lobatto3a3b4"]);
     for k in g.as_object().unwrap().keys() {
         assert!(
-            readme.contains(&format!("`{k}`")),
-            "README does not document `{k}`"
+            guide.contains(&format!("`{k}`")),
+            "guide/src/check.md does not document `{k}`"
         );
     }
     let (_, out, _) = timed(&["check", &path]);

@@ -254,3 +254,10 @@ pub use step::{MinimiseSettings, RattleSettings, Solver, SolverStats, StageSetti
 
 /// Nalgebra's 3-vector of `f64`, as used for positions and momenta.
 pub type Vec3 = nalgebra::Vector3<f64>;
+
+/// The guide's cloth chapter (`guide/src/cloth.md`), compiled and run as
+/// doctests like the other chapters (whose hooks are in the `compare`
+/// crate, which does not depend on this one).
+#[cfg(doctest)]
+#[doc = include_str!("../../guide/src/cloth.md")]
+pub struct GuideCloth;

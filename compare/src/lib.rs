@@ -119,3 +119,37 @@ pub use work_precision::{
 #[cfg(doctest)]
 #[doc = include_str!("../../README.md")]
 pub struct ReadmeDoctests;
+
+/// The guide's chapters (`guide/src/`), each compiled and run as doctests in
+/// the same way: every Rust block of the guide is a test. The cloth chapter's
+/// hook is in the `cloth` crate, which this one does not depend on.
+#[cfg(doctest)]
+#[doc = include_str!("../../guide/src/introduction.md")]
+pub struct GuideIntroduction;
+#[cfg(doctest)]
+#[doc = include_str!("../../guide/src/check.md")]
+pub struct GuideCheck;
+#[cfg(doctest)]
+#[doc = include_str!("../../guide/src/butcher.md")]
+pub struct GuideButcher;
+#[cfg(doctest)]
+#[doc = include_str!("../../guide/src/compare.md")]
+pub struct GuideCompare;
+#[cfg(doctest)]
+#[doc = include_str!("../../guide/src/split.md")]
+pub struct GuideSplit;
+#[cfg(doctest)]
+#[doc = include_str!("../../guide/src/python.md")]
+pub struct GuidePython;
+#[cfg(doctest)]
+#[doc = include_str!("../../guide/src/paper.md")]
+pub struct GuidePaper;
+#[cfg(doctest)]
+#[doc = include_str!("../../guide/src/hostile.md")]
+pub struct GuideHostile;
+#[cfg(doctest)]
+#[doc = include_str!("../../guide/src/adding-a-scheme.md")]
+pub struct GuideAddingAScheme;
+#[cfg(doctest)]
+#[doc = include_str!("../../guide/src/long-runs.md")]
+pub struct GuideLongRuns;
