@@ -6,7 +6,7 @@
 
 use std::path::{Path, PathBuf};
 
-/// The documented header of energy.csv (README, "Cloth").
+/// The documented header of energy.csv (guide/src/cloth.md).
 const ENERGY_HEADER: &str = "frame,step,time,kinetic,potential,total,relative_energy_error,springs,gravity,colliders,momentum_x,momentum_y,momentum_z,max_strain";
 
 use crate::common;

@@ -376,7 +376,7 @@ fn cloth_at_one_step_per_frame_blows_up_every_explicit_method() {
     }
     // The midpoint family as energy minimisation, at one step per frame:
     // over the shared run's 0.2 s its solves converge (its energy blows up
-    // later, at about 0.6 s: README, "Cloth").
+    // later, at about 0.6 s: guide/src/cloth.md).
     for id in ["midpoint", "paper-dirk2", "paper-dirk4"] {
         let r = &runs[&(id.to_string(), 1)];
         assert_eq!(r["completed"], "true", "{id}: {r:?}");
@@ -385,7 +385,7 @@ fn cloth_at_one_step_per_frame_blows_up_every_explicit_method() {
     }
     // The energy-conserving comparison, also a minimisation: it runs and
     // keeps the energy to its solver's tolerance (6.1e-6 of E_ref over
-    // 10 s measured; README).
+    // 10 s measured; docs/results/paper.md).
     let r = &runs[&("avf".to_string(), 1)];
     assert_eq!(r["completed"], "true", "avf: {r:?}");
     let worst: f64 = r["max_relative_energy_error"].parse().unwrap();

@@ -30,6 +30,10 @@ pub enum CompareError {
     /// A table file that does not load, or whose claims do not hold.
     #[error("{}: {why}", path.display())]
     TableFile { path: PathBuf, why: String },
+    /// A table that could not be read or analysed (the message names the
+    /// table and, where there is one, the field).
+    #[error(transparent)]
+    Verdict(#[from] tableau::verdict::VerdictError),
     /// A problem file (e.g. a linear system) that does not load.
     #[error("{}: {why}", path.display())]
     ProblemFile { path: PathBuf, why: String },

@@ -23,27 +23,24 @@
 //! pairs go to the same stage solver as the generated schemes, with the
 //! table as data instead of a constant.
 
-use std::io::Read;
 use std::path::{Path, PathBuf};
 
 use integrator_core::implicit::{self, ImplicitTable, ImplicitWorkspace};
 use integrator_core::interp::{RkInterpreter, SplittingInterpreter};
 use integrator_core::{OdeSystem, SolveError, Step};
 use tableau::Table;
-use tableau::algebraic::file::{AlgAnalysis, AlgFile, Loaded};
+use tableau::algebraic::file::{AlgAnalysis, AlgFile};
 use tableau::algebraic::generated::{Generated, GeneratedTable};
-use tableau::analysis::{Analysis, Class, check_file_claim};
+use tableau::analysis::{Analysis, Class};
 use tableau::claims::Claim;
 use tableau::file::TableFile;
 use tableau::rounding::{F64Pair, F64Rounded, F64Table, round_table};
+use tableau::verdict::{Analysed, Options, Source, Verdict};
 
 use crate::error::{CompareError, Result};
 use crate::method::{Fixed, Method};
 use crate::problem::{Family, Kind, Problem};
 use crate::stepper::{StepStepper, Stepper};
-
-/// The largest table file read (a table of a hundred stages is far below).
-pub const MAX_FILE_BYTES: u64 = 1 << 20;
 
 /// The most stages of an implicit table or pair the interpreter steps (the
 /// stage solver is generic over the stage count; these are instantiated).
@@ -146,128 +143,62 @@ fn file_error(path: &Path, why: impl Into<String>) -> CompareError {
     }
 }
 
-/// Read at most [`MAX_FILE_BYTES`] of a text file.
-pub(crate) fn read_limited(path: &Path, limit: u64) -> std::result::Result<String, String> {
-    let f = std::fs::File::open(path).map_err(|e| format!("cannot read the file: {e}"))?;
-    let mut text = String::new();
-    f.take(limit + 1)
-        .read_to_string(&mut text)
-        .map_err(|e| format!("cannot read the file: {e}"))?;
-    if text.len() as u64 > limit {
-        return Err(format!(
-            "the file is larger than {limit} bytes; a table file is a few hundred bytes"
-        ));
-    }
-    Ok(text)
-}
-
 /// Read a table file of any kind and verify every claim it makes, exactly,
-/// with the analysis `symlab check` runs. A file that does not parse is an
-/// error naming the field; a claim that fails is an error naming the claim
-/// and the evidence (every failing claim is listed).
+/// with the analysis `symlab check` runs ([`tableau::verdict`]). A file
+/// that does not parse is an error naming the field; a claim that fails is
+/// an error naming the claim and the evidence (every failing claim is
+/// listed).
 pub fn verify(path: &Path) -> Result<VerifiedTable> {
-    // On a thread of its own, so that a panic of the analysis is an error
-    // naming the file rather than a crash; its recursion is bounded by the
-    // nesting of an entry (tableau::expr::MAX_DEPTH), and 16 MiB of stack is
-    // margin (every collocation root file with s <= 8 runs on 2 MiB).
-    std::thread::scope(|scope| {
-        let worker = std::thread::Builder::new()
-            .name("verify-table".into())
-            .stack_size(16 << 20)
-            .spawn_scoped(scope, || verify_here(path))
-            .map_err(|e| file_error(path, format!("cannot start the analysis thread: {e}")))?;
-        worker.join().unwrap_or_else(|_| {
-            Err(file_error(
-                path,
-                "internal error: the exact analysis panicked; please report it with the table",
-            ))
-        })
-    })
-}
-
-fn verify_here(path: &Path) -> Result<VerifiedTable> {
-    let text = read_limited(path, MAX_FILE_BYTES).map_err(|why| file_error(path, why))?;
-    let loaded =
-        tableau::algebraic::file::parse(&path.display().to_string(), &text).map_err(|e| {
-            file_error(
-                path,
-                match &e.field {
-                    Some(field) => format!("field {field}: {}", e.message),
-                    None => e.message.clone(),
-                },
-            )
-        })?;
-    let refused = |failed: Vec<String>| file_error(path, failed.join("; "));
-    let form = match loaded {
-        Loaded::Classic(file) => {
-            let file = *file;
-            let analysis =
-                Analysis::of(&file.table).map_err(|e| file_error(path, format!("field {e}")))?;
-            let failed: Vec<String> = file
-                .claims
-                .iter()
-                .filter_map(|c| {
-                    check_file_claim(&file, &analysis, c)
-                        .err()
-                        .map(|e| format!("claim `{c}` does not hold: {e}"))
-                })
-                .collect();
-            if !failed.is_empty() {
-                return Err(refused(failed));
-            }
-            VerifiedForm::Classic {
-                file: Box::new(file),
-                analysis: Box::new(analysis),
-            }
-        }
-        Loaded::Generated(g) => {
-            let failed: Vec<String> = g
-                .claims
-                .iter()
-                .filter_map(|(c, v)| {
-                    v.as_ref()
-                        .err()
-                        .map(|e| format!("claim `{c}` does not hold: {e}"))
-                })
-                .collect();
-            if !failed.is_empty() {
-                return Err(refused(failed));
-            }
-            VerifiedForm::Generated(g)
-        }
-        Loaded::Algebraic(file) => {
-            let analysis = file.analyse();
-            let failed: Vec<String> = file
-                .claims
-                .iter()
-                .filter_map(|c| {
-                    file.check_claim(&analysis, c)
-                        .err()
-                        .map(|e| format!("claim `{c}` does not hold: {e}"))
-                })
-                .collect();
-            if !failed.is_empty() {
-                return Err(refused(failed));
-            }
-            let coefficients =
-                root_coefficients(&file, &analysis).map_err(|e| file_error(path, e))?;
-            VerifiedForm::Algebraic {
-                file,
-                analysis: Box::new(analysis),
-                coefficients: Box::new(coefficients),
-            }
-        }
-    };
+    let verdict = tableau::verdict::check(&Source::File(path), &Options::default())?;
     let id = path
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())
         .filter(|s| !s.is_empty())
         .unwrap_or_else(|| "table".into());
-    Ok(VerifiedTable {
-        path: path.to_path_buf(),
-        id,
-        form,
-    })
+    VerifiedTable::from_verdict(path.to_path_buf(), id, verdict)
+        .map_err(|why| file_error(path, why.to_string()))
+}
+
+/// Why a verdict is not a table the comparisons step.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum Unverified {
+    /// Claims that do not hold, each with its evidence.
+    #[error("{}", .0.join("; "))]
+    Claims(Vec<String>),
+    /// A `root(...)` table whose doubles could not be decided (beyond a
+    /// budget).
+    #[error("{0}")]
+    Coefficients(String),
+}
+
+impl VerifiedTable {
+    /// A verdict whose claims all hold, as a table the interpreters step
+    /// (`path` and `id` name it); otherwise every failing claim, with its
+    /// evidence. A `root(...)` table's coefficients are rounded here.
+    pub fn from_verdict(
+        path: PathBuf,
+        id: String,
+        verdict: Verdict,
+    ) -> std::result::Result<VerifiedTable, Unverified> {
+        let failed = verdict.failed_claims();
+        if !failed.is_empty() {
+            return Err(Unverified::Claims(failed));
+        }
+        let form = match verdict.analysed {
+            Analysed::Classic { file, analysis, .. } => VerifiedForm::Classic { file, analysis },
+            Analysed::Generated(g) => VerifiedForm::Generated(g),
+            Analysed::Algebraic { file, analysis } => {
+                let coefficients =
+                    root_coefficients(&file, &analysis).map_err(Unverified::Coefficients)?;
+                VerifiedForm::Algebraic {
+                    file,
+                    analysis,
+                    coefficients: Box::new(coefficients),
+                }
+            }
+        };
+        Ok(VerifiedTable { path, id, form })
+    }
 }
 
 fn claimed_order(claims: &[Claim]) -> Option<usize> {

@@ -1,4 +1,4 @@
-"""The speed figures of the README's "From Python" section.
+"""The speed figures of docs/results/python-speed.md.
 
     .venv/bin/python python/examples/speed.py
 

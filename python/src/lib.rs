@@ -7,7 +7,6 @@
 //! neither compiles PyO3 nor links a test binary against libpython.
 #![cfg(feature = "python")]
 
-mod cli_check;
 mod cloth_py;
 mod convert;
 mod errors;

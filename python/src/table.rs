@@ -1,7 +1,8 @@
 //! `symlab.Table` and `symlab.check`: a table read by `tableau`'s own
 //! parser (whatever the Python form it came in, it is turned into the
 //! table-file text first, so every message names the field as `symlab
-//! check` does) and its exact analysis, returned as Python values.
+//! check` does) and its verdict, `tableau::verdict`'s, as `symlab check`
+//! prints it: the dict is that JSON object.
 
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex};
@@ -10,41 +11,15 @@ use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
 use serde_json::{Value, json};
-use tableau::algebraic::file::{AlgFile, Loaded};
+use tableau::algebraic::file::Loaded as Kind;
 use tableau::algebraic::generated::Generated;
-use tableau::analysis::Analysis;
-use tableau::catalogue;
-use tableau::file::TableFile;
+use tableau::verdict::{self, Options, Source, Verdict, VerdictError};
 
-use crate::cli_check;
 use crate::convert::json_to_py;
 use crate::errors::{ClaimError, TableError, table_error};
 
-/// The stack of the thread that parses and analyses a table: as `symlab
-/// check`'s (its recursion is bounded by the nesting of an entry; 16 MiB is
-/// margin), and its own thread turns a panic into an exception.
-const ANALYSIS_STACK_BYTES: usize = 16 << 20;
-
-/// The largest table file or text read (as `compare --table`).
-const MAX_TEXT_BYTES: u64 = 1 << 20;
-
-/// What a table holds, as read: one of the three kinds of table file.
-#[derive(Clone, Debug)]
-pub enum Kind {
-    Classic(Box<TableFile>),
-    Generated(Box<Generated>),
-    Algebraic(Box<AlgFile>),
-}
-
-impl From<Loaded> for Kind {
-    fn from(l: Loaded) -> Self {
-        match l {
-            Loaded::Classic(t) => Kind::Classic(t),
-            Loaded::Generated(g) => Kind::Generated(g),
-            Loaded::Algebraic(a) => Kind::Algebraic(a),
-        }
-    }
-}
+/// The largest table text read (as a table file: `tableau::budget::MAX_FILE_BYTES`).
+const MAX_TEXT_BYTES: u64 = tableau::budget::MAX_FILE_BYTES;
 
 /// A Butcher table, a partitioned pair, a drift–kick sequence or a
 /// composition, read exactly (entries are exact numbers, never floats).
@@ -71,69 +46,24 @@ pub struct Table {
     pub kind: Arc<Mutex<Kind>>,
 }
 
-/// Run `f` on a thread with a large stack, the GIL released; a panic is a
-/// `TableError` naming `origin`.
+/// Run `f` on the verdict's analysis thread
+/// (`tableau::verdict::on_analysis_thread`), the GIL released; an error or
+/// a panic is a `TableError` (or `BudgetError`) with the command line's
+/// message.
 pub fn on_analysis_thread<T: Send>(
     py: Python<'_>,
     origin: &str,
-    f: impl FnOnce() -> Result<T, String> + Send,
+    f: impl FnOnce() -> Result<T, VerdictError> + Send,
 ) -> PyResult<T> {
-    let out = py.detach(|| {
-        std::thread::scope(|scope| {
-            let worker = std::thread::Builder::new()
-                .name("symlab-check".into())
-                .stack_size(ANALYSIS_STACK_BYTES)
-                .spawn_scoped(scope, f)
-                .map_err(|e| format!("{origin}: cannot start the analysis thread: {e}"))?;
-            worker.join().unwrap_or_else(|panic| {
-                let what = panic
-                    .downcast_ref::<&str>()
-                    .map(|s| s.to_string())
-                    .or_else(|| panic.downcast_ref::<String>().cloned())
-                    .unwrap_or_default();
-                Err(format!(
-                    "internal error: the analysis panicked ({what}); please report it with the table"
-                ))
-            })
-        })
-    });
-    out.map_err(table_error)
+    py.detach(|| verdict::on_analysis_thread(origin, f))
+        .map_err(|e| table_error(e.to_string()))
 }
 
-/// Parse table-file text (any of the three kinds), checking the shape of
-/// an ordinary table as `symlab check` does before its analysis.
-fn parse_text(origin: &str, text: &str) -> Result<Kind, String> {
-    let loaded = tableau::algebraic::file::parse(origin, text).map_err(|e| e.to_string())?;
-    let kind = Kind::from(loaded);
-    if let Kind::Classic(tf) = &kind {
-        tf.table
-            .check_shape()
-            .map_err(|e| format!("{origin}: field {e}"))?;
-    }
-    Ok(kind)
-}
-
-/// `symlab check --builtin ID`'s reading of `id`: the catalogue's table,
-/// else a generated one; `gauss(3)` (with parentheses) always generates.
-/// Messages as the command line's.
-fn builtin_kind(id: &str) -> Result<Kind, String> {
-    let generator_syntax = id.contains('(');
-    match catalogue::find(id) {
-        Some(entry) if !generator_syntax => entry
-            .load()
-            .map(|tf| Kind::Classic(Box::new(tf)))
-            .map_err(|e| e.to_string()),
-        _ => match Generated::new(id) {
-            Ok(g) => Ok(Kind::Generated(Box::new(g))),
-            Err(gen_err) if generator_syntax => Err(format!("builtin:{id}: {gen_err}")),
-            Err(gen_err) => match catalogue::load(id) {
-                Err(e) if gen_err.contains("unknown generator") => Err(format!(
-                    "{e} (or a generated table: gauss8, radau2a5, lobatto3a3b4, …)"
-                )),
-                _ => Err(format!("builtin:{id}: {gen_err}")),
-            },
-        },
-    }
+/// `source` read and its kind decided, on the analysis thread.
+fn resolve(py: Python<'_>, source: Source<'_>) -> PyResult<Kind> {
+    on_analysis_thread(py, &source.origin(), || {
+        verdict::resolve(&source).map(|r| r.table)
+    })
 }
 
 /// A Python value as TOML: strings, integers, booleans, floats (which the
@@ -209,22 +139,6 @@ fn toml_value(v: &Bound<'_, PyAny>, field: &str, out: &mut String) -> PyResult<(
     Ok(())
 }
 
-fn read_limited(path: &Path) -> Result<String, String> {
-    use std::io::Read;
-    let shown = path.display();
-    let f = std::fs::File::open(path).map_err(|e| format!("{shown}: cannot read the file: {e}"))?;
-    let mut text = String::new();
-    f.take(MAX_TEXT_BYTES + 1)
-        .read_to_string(&mut text)
-        .map_err(|e| format!("{shown}: cannot read the file: {e}"))?;
-    if text.len() as u64 > MAX_TEXT_BYTES {
-        return Err(format!(
-            "{shown}: the file is larger than {MAX_TEXT_BYTES} bytes; a table file is a few hundred bytes"
-        ));
-    }
-    Ok(text)
-}
-
 /// The method id of a file: its stem (as `symlab compare --table`).
 fn stem(path: &Path) -> String {
     path.file_stem()
@@ -265,8 +179,13 @@ impl Table {
             }
         }
         let origin = "<Table(...)>".to_string();
-        let o = origin.clone();
-        let kind = on_analysis_thread(py, &origin, move || parse_text(&o, &text))?;
+        let kind = resolve(
+            py,
+            Source::Text {
+                origin: &origin,
+                text: &text,
+            },
+        )?;
         Ok(Table {
             origin,
             id: id.unwrap_or_else(|| "table".into()),
@@ -285,8 +204,13 @@ impl Table {
                 "{origin}: the text is larger than {MAX_TEXT_BYTES} bytes; a table file is a few hundred bytes"
             )));
         }
-        let o = origin.clone();
-        let kind = on_analysis_thread(py, &origin, move || parse_text(&o, &text))?;
+        let kind = resolve(
+            py,
+            Source::Text {
+                origin: &origin,
+                text: &text,
+            },
+        )?;
         Ok(Table {
             origin,
             id,
@@ -300,11 +224,7 @@ impl Table {
     #[staticmethod]
     fn from_file(py: Python<'_>, path: PathBuf) -> PyResult<Self> {
         let origin = path.display().to_string();
-        let (o, p) = (origin.clone(), path.clone());
-        let kind = on_analysis_thread(py, &origin, move || {
-            let text = read_limited(&p)?;
-            parse_text(&o, &text)
-        })?;
+        let kind = resolve(py, Source::File(&path))?;
         Ok(Table {
             origin,
             id: stem(&path),
@@ -319,8 +239,7 @@ impl Table {
     #[staticmethod]
     fn builtin(py: Python<'_>, id: String) -> PyResult<Self> {
         let origin = format!("builtin:{id}");
-        let i = id.clone();
-        let kind = on_analysis_thread(py, &origin, move || builtin_kind(&i))?;
+        let kind = resolve(py, Source::Builtin(&id))?;
         Ok(Table {
             origin,
             id,
@@ -335,11 +254,10 @@ impl Table {
     #[staticmethod]
     fn generate(py: Python<'_>, generator: String) -> PyResult<Self> {
         let origin = format!("builtin:{generator}");
-        let (o, g) = (origin.clone(), generator.clone());
-        let kind = on_analysis_thread(py, &origin, move || {
-            Generated::new(&g)
+        let kind = on_analysis_thread(py, &origin, || {
+            Generated::new(&generator)
                 .map(|g| Kind::Generated(Box::new(g)))
-                .map_err(|e| format!("{o}: {e}"))
+                .map_err(|e| VerdictError::Input(format!("{origin}: {e}")))
         })?;
         Ok(Table {
             origin,
@@ -392,97 +310,24 @@ impl Table {
     }
 }
 
-/// The verdicts of a table as JSON (the fields of `symlab check --json`,
-/// plus `report`, `origin`, `claims` and W's entries with exact strings and
-/// floats), and the claims that fail, each as `compare --table` says it.
-fn verdicts(t_origin: &str, kind: &Kind) -> Result<(Value, Vec<String>), String> {
-    let failed_claim = |c: &dyn std::fmt::Display, e: &dyn std::fmt::Display| {
-        format!("claim `{c}` does not hold: {e}")
-    };
-    let mut failed = Vec::new();
-    let v = match kind {
-        Kind::Classic(tf) => {
-            let a = Analysis::of(&tf.table).map_err(|e| format!("{t_origin}: field {e}"))?;
-            let mut v = cli_check::to_json(tf, &a);
-            v["w_nonzero"] = a
-                .w_nonzero
-                .iter()
-                .map(|e| {
-                    json!({"i": e.i, "j": e.j, "value": e.value.to_string(), "value_f64": e.value.to_f64()})
-                })
-                .collect();
-            let claims: Vec<Value> = tf
-                .claims
-                .iter()
-                .map(|c| {
-                    let r = tableau::analysis::check_claim(&tf.table, &a, c);
-                    if let Err(e) = &r {
-                        failed.push(failed_claim(c, e));
-                    }
-                    json!({"claim": c.to_string(), "holds": r.is_ok(), "reason": r.err().map(|e| e.to_string())})
-                })
-                .collect();
-            v["claims"] = claims.into();
-            v["steps"] = cli_check::steps(&tf.name).into();
-            v["report"] = cli_check::readable(t_origin, tf, &a).into();
-            v
-        }
-        Kind::Generated(g) => {
-            for (c, r) in &g.claims {
-                if let Err(e) = r {
-                    failed.push(failed_claim(c, e));
-                }
-            }
-            let mut v = cli_check::generated_json(g);
-            v["report"] = cli_check::generated_readable(t_origin, g).into();
-            v
-        }
-        Kind::Algebraic(f) => {
-            let an = f.analyse();
-            let claims: Vec<Value> = f
-                .claims
-                .iter()
-                .map(|c| {
-                    let r = f.check_claim(&an, c);
-                    if let Err(e) = &r {
-                        failed.push(failed_claim(c, e));
-                    }
-                    json!({"claim": c.to_string(), "holds": r.is_ok(), "reason": r.err()})
-                })
-                .collect();
-            // As `symlab check --json` on a root table: W's entries i ≤ j,
-            // each zero decided (`zero: null` beyond budget).
-            let w: Vec<Value> =
-                an.w.iter()
-                    .filter(|e| e.zero != Some(true))
-                    .map(|e| json!({"i": e.i, "j": e.j, "zero": e.zero, "value_f64": e.value}))
-                    .collect();
-            json!({
-                "name": f.name,
-                "kind": if an.pair { "prk" } else { "rk" },
-                "stages": an.stages,
-                "entries": "algebraic",
-                "roots": f.field.names,
-                "row_sums_ok": an.row_sums_ok,
-                "symplectic": an.symplectic,
-                "symplectic_separable": an.symplectic_separable,
-                "w_nonzero": w,
-                "b_levels": an.b_levels,
-                "refusals": an.refusals,
-                "claims": claims,
-            })
-        }
-    };
-    let mut v = v;
-    v["origin"] = t_origin.into();
-    Ok((v, failed))
+impl Table {
+    /// The table's verdict, on the analysis thread.
+    fn verdict(&self, py: Python<'_>, options: Options) -> PyResult<Verdict> {
+        on_analysis_thread(py, &self.origin, || {
+            let table = self.kind.lock().unwrap_or_else(|e| e.into_inner());
+            Verdict::of(&self.origin, &table, &options)
+        })
+    }
 }
 
 /// Decide a table's properties exactly and return them as a dict: the
-/// fields of ``symlab check --json`` (``symplectic``, ``order``,
-/// ``symmetric``, ``stability_function``, ``w_nonzero`` with each entry as
-/// an exact string and a float, …), ``claims`` with their verdicts and
-/// ``report``, the text ``symlab check`` prints.
+/// object ``symlab check --json`` prints, field for field (``symplectic``,
+/// ``order``, ``symmetric``, ``stability_function``, ``w_nonzero`` with
+/// each entry as an exact string and a float, ``claims`` with their
+/// verdicts, ``report``, the text ``symlab check`` prints, …; the fields
+/// are listed in the documentation of ``tableau::verdict``).
+/// ``near_integrable=True`` also decides the generalised (h, ε) orders, as
+/// ``symlab check --near-integrable``.
 ///
 /// A claim that does not hold raises ``ClaimError`` naming the claim and
 /// the evidence (``claims="report"`` returns them in the dict instead). A
@@ -494,11 +339,12 @@ fn verdicts(t_origin: &str, kind: &Kind) -> Result<(Value, Vec<String>), String>
 /// >>> (v["symplectic"], v["order"], v["symmetric"])
 /// (True, 4, True)
 #[pyfunction]
-#[pyo3(signature = (table, *, claims = "raise"))]
+#[pyo3(signature = (table, *, claims = "raise", near_integrable = false))]
 pub fn check<'py>(
     py: Python<'py>,
     table: &Bound<'py, Table>,
     claims: &str,
+    near_integrable: bool,
 ) -> PyResult<Bound<'py, PyAny>> {
     let raise = match claims {
         "raise" => true,
@@ -510,101 +356,53 @@ pub fn check<'py>(
         }
     };
     let t = table.get();
-    let kind = t.kind.clone();
-    let origin = t.origin.clone();
-    let o = origin.clone();
-    let (v, failed) = on_analysis_thread(py, &origin, move || {
-        verdicts(&o, &kind.lock().unwrap_or_else(|e| e.into_inner()))
-    })?;
+    let v = t.verdict(py, Options { near_integrable })?;
+    let failed = v.failed_claims();
     if raise && !failed.is_empty() {
         return Err(ClaimError::new_err(format!(
-            "{origin}: {}",
+            "{}: {}",
+            t.origin,
             failed.join("; ")
         )));
     }
+    let v = v.to_json();
     json_to_py(py, &v)
 }
 
 /// The built-in tables, as ``symlab list --json``: dicts of ``id``,
-/// ``name``, ``form``, ``steps`` and ``source``.
+/// ``name``, ``form``, ``steps``, ``source`` and ``processed``.
 #[pyfunction]
 pub fn list_tables(py: Python<'_>) -> PyResult<Bound<'_, PyAny>> {
-    let mut rows: Vec<Value> = Vec::new();
-    for (id, info) in integrator_core::library::REGISTRY {
-        let (name, form, source) = match catalogue::find(id) {
-            Some(entry) => {
-                let tf = entry.load().map_err(|e| table_error(e.to_string()))?;
-                (tf.name, form_name(&tf.table), tf.source)
-            }
-            None => (
-                info.name.to_string(),
-                info.form,
-                Some("generated by tableau::algebraic (symlab check --builtin ID)".to_string()),
-            ),
-        };
-        rows.push(json!({"id": id, "name": name, "form": form, "steps": cli_check::steps(id), "source": source}));
-    }
-    for entry in catalogue::entries() {
-        if !rows.iter().any(|r| r["id"] == entry.id) {
-            let tf = entry.load().map_err(|e| table_error(e.to_string()))?;
-            rows.push(json!({"id": entry.id, "name": tf.name, "form": form_name(&tf.table), "steps": cli_check::steps(entry.id), "source": tf.source}));
-        }
-    }
+    let rows: Vec<Value> = integrator_core::library::listing()
+        .map_err(|e| table_error(e.to_string()))?
+        .into_iter()
+        .map(|r| {
+            json!({
+                "id": r.id,
+                "name": r.name,
+                "form": r.form,
+                "steps": r.steps,
+                "source": r.source,
+                "processed": r.processed,
+            })
+        })
+        .collect();
     json_to_py(py, &Value::Array(rows))
-}
-
-fn form_name(t: &tableau::Table) -> &'static str {
-    match t {
-        tableau::Table::Rk(_) => "rk",
-        tableau::Table::Prk(_) => "prk",
-        tableau::Table::Splitting(s) if s.has_gradient() => "gradient-drift-kick",
-        tableau::Table::Splitting(_) => "drift-kick",
-        tableau::Table::Composition(_) => "composition",
-    }
 }
 
 impl Table {
     /// The table as a verified method for the comparisons: every claim must
     /// hold (as `symlab compare --table`: a `ClaimError` otherwise).
     pub fn verified(&self, py: Python<'_>) -> PyResult<compare::interpreted::VerifiedTable> {
-        use compare::interpreted::{VerifiedForm, VerifiedTable, root_coefficients};
-        let kind = self.kind.clone();
-        let origin = self.origin.clone();
-        let o = origin.clone();
-        let form = on_analysis_thread(py, &origin, move || -> Result<_, String> {
-            let kind = kind.lock().unwrap_or_else(|e| e.into_inner());
-            let (_, failed) = verdicts(&o, &kind)?;
-            if !failed.is_empty() {
-                return Ok(Err(format!("{o}: {}", failed.join("; "))));
-            }
-            Ok(Ok(match &*kind {
-                Kind::Classic(tf) => VerifiedForm::Classic {
-                    analysis: Box::new(
-                        Analysis::of(&tf.table).map_err(|e| format!("{o}: field {e}"))?,
-                    ),
-                    file: tf.clone(),
-                },
-                Kind::Generated(g) => VerifiedForm::Generated(g.clone()),
-                Kind::Algebraic(f) => {
-                    let analysis = f.analyse();
-                    let coefficients =
-                        root_coefficients(f, &analysis).map_err(|e| format!("{o}: {e}"))?;
-                    VerifiedForm::Algebraic {
-                        file: f.clone(),
-                        analysis: Box::new(analysis),
-                        coefficients: Box::new(coefficients),
-                    }
-                }
-            }))
-        })?
-        .map_err(ClaimError::new_err)?;
-        Ok(VerifiedTable {
-            path: self
-                .path
-                .clone()
-                .unwrap_or_else(|| PathBuf::from(&self.origin)),
-            id: self.id.clone(),
-            form,
+        let verdict = self.verdict(py, Options::default())?;
+        let path = self
+            .path
+            .clone()
+            .unwrap_or_else(|| PathBuf::from(&self.origin));
+        use compare::interpreted::{Unverified, VerifiedTable};
+        VerifiedTable::from_verdict(path, self.id.clone(), verdict).map_err(|why| match why {
+            Unverified::Claims(_) => ClaimError::new_err(format!("{}: {why}", self.origin)),
+            Unverified::Coefficients(_) => table_error(format!("{}: {why}", self.origin)),
         })
     }
 }

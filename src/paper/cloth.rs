@@ -573,7 +573,7 @@ fn inextensible(w: &mut String, exp: &ClothExperiment) {
     };
     let outcome = match &r.stopped {
         Some(why) => format!(
-            "{why} (README, \"Inextensible cloth\": released flat, the undamped inextensible sheet cracks like a \
+            "{why} (docs/results/cloth-inextensible.md: released flat, the undamped inextensible sheet cracks like a \
              whip when it swings back through the vertical, and a peak of tension outruns the step)"
         ),
         None => format!(

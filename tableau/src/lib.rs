@@ -23,6 +23,7 @@ pub mod order;
 pub mod rounding;
 pub mod table;
 pub mod trees;
+pub mod verdict;
 
 pub use number::{Number, NumberError};
 pub use table::{Composition, Prk, Rk, Splitting, Table};

@@ -380,6 +380,18 @@ fn entries_fit(field: &str, entries: &[Number]) -> Result<(), ShapeError> {
 }
 
 impl Table {
+    /// The form's name in listings and JSON: `"rk"`, `"prk"`,
+    /// `"drift-kick"`, `"gradient-drift-kick"` or `"composition"`.
+    pub fn form_name(&self) -> &'static str {
+        match self {
+            Table::Rk(_) => "rk",
+            Table::Prk(_) => "prk",
+            Table::Splitting(s) if s.has_gradient() => "gradient-drift-kick",
+            Table::Splitting(_) => "drift-kick",
+            Table::Composition(_) => "composition",
+        }
+    }
+
     /// Dimensions that fit together, and entries within
     /// [`MAX_ENTRY_BITS`]; every analysis assumes this.
     pub fn check_shape(&self) -> Result<(), ShapeError> {

@@ -108,7 +108,7 @@ impl Stencil {
     /// two cores; more bands would cost the extra force arrays' sum).
     pub(super) const BANDS: usize = 2;
     /// Below this many particles one thread does all the rows of an
-    /// evaluation. Measured (README, cloth section): at 64² the hand-over
+    /// evaluation. Measured (docs/results/cloth-springs.md): at 64² the hand-over
     /// of the three parallel phases (positions, bands, gather) to rayon's
     /// second thread cost more than it saved; at 128² the force alone
     /// gained 1.27×, but whole steps lost (the second thread goes to sleep

@@ -81,7 +81,7 @@ pub struct RattleSettings {
     /// Assemble, factorise and run the per-edge loops on both cores
     /// (default false: measured on the 64² sheet, the per-edge loops took
     /// 6.1 ms per frame on two threads against 2.2 ms on one, and faer's
-    /// factorisation and solves gained nothing; see the README).
+    /// factorisation and solves gained nothing; see docs/results/cloth-inextensible.md).
     pub parallel: bool,
     /// Factorise `G·Gᵀ` afresh every this many steps (default 6; 1: every
     /// step; 0: only when the conjugate gradients of a frame's velocity
@@ -91,7 +91,7 @@ pub struct RattleSettings {
     /// 0.59 of its steps and ran 1.65× slower). The factor serves the position solves of the
     /// steps after it (an older one costs them a few more iterations) and
     /// the projections at the frames. The default was measured on the
-    /// paper's sheet released 45° (README, "Inextensible cloth"): at 64²
+    /// paper's sheet released 45° (docs/results/cloth-inextensible.md): at 64²
     /// with 6 steps per frame 3 and 6 gave 15.1 and 14.1 ms per frame, at
     /// 128² with 12 per frame 3, 4, 6 and 12 gave 168, 144, 124 and 120 ms.
     pub refactor_every: usize,

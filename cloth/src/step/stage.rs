@@ -254,7 +254,7 @@ pub const MAX_ITERATIONS: usize = 100;
 /// The most free particles an implicit run takes: 2¹⁶ = 65 536 (a 256 ×
 /// 256 grid). The Newton matrix of an `s`-stage method is `6·s·free`
 /// unknowns square, and its sparse LU fills in far beyond the springs:
-/// Gauss–Legendre 2 takes about 3 s per step on 128 × 128 already (README),
+/// Gauss–Legendre 2 takes about 3 s per step on 128 × 128 already (docs/results/cloth-kernels.md),
 /// and the factors of a 2048 × 2048 cloth would not fit in memory. Explicit
 /// methods have no such limit beyond [`MAX_PARTICLES`](crate::MAX_PARTICLES).
 pub const MAX_FREE_PARTICLES: usize = 1 << 16;

@@ -39,7 +39,7 @@ pub const IMPLICIT_SUBSTEPS: usize = 16;
 pub const IMPLICIT_FRAMES: usize = 60;
 
 /// Steps per frame of RATTLE on the inextensible sheet: its largest stable
-/// step on the 25² sheet is about 1.2e-2 s, two per frame (README,
+/// step on the 25² sheet is about 1.2e-2 s, two per frame (docs/results/paper.md,
 /// "Inextensible cloth"); four leave a margin.
 pub const INEXTENSIBLE_SUBSTEPS: usize = 4;
 

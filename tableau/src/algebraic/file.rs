@@ -54,7 +54,7 @@ use crate::expr::{self, BinOp, Expr, ExprKind, Func};
 use crate::file::{FileError, TableFile, parse_table_file};
 
 /// What a table file holds.
-#[derive(Debug)]
+#[derive(Clone, Debug)]
 pub enum Loaded {
     /// An ordinary table file ([`crate::file`]).
     Classic(Box<TableFile>),

@@ -5,7 +5,7 @@
 //! calls the model's force once per kick on the state `[q; p]`, so the
 //! only place for threads is inside the force, where handing each
 //! evaluation to a second thread and back costs more than it saves
-//! (README, cloth section). Here the stepper holds the state in arrays over
+//! (docs/results/cloth-springs.md). Here the stepper holds the state in arrays over
 //! the grid (positions `x, y, z` with the pinned particles in place, in two
 //! buffers; momenta; the carried rounding errors of the compensated
 //! updates) from [`enter`](super::ClothStepper::enter) to
@@ -65,7 +65,7 @@ pub enum Banding {
 pub const BANDS: usize = 2;
 
 /// The fewest particles [`Banding::Auto`] steps in bands. Measured
-/// (README, cloth section; `benches/springs.rs`, group `frame`, a frame of
+/// (docs/results/cloth-springs.md; `benches/springs.rs`, group `frame`, a frame of
 /// 64 steps on an idle two-core machine): two threads against the
 /// scheme's own step gained 1.03–1.17× at 16² (within the noise; a frame
 /// there is a few hundred microseconds, against 66–98 µs to start and join

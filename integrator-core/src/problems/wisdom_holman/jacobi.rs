@@ -232,7 +232,7 @@ impl Jacobi {
         // where it is the scalar drift's (the same bits as below); the
         // planets it leaves go through the groups of four below. Without
         // AVX-512 only the groups of four run: on the portable eight lanes
-        // they are the faster of the two (README), with the same bits.
+        // they are the faster of the two (docs/results/outer-solar-wisdom-holman.md), with the same bits.
         let mut lane_done = 0u8;
         if self.simd.avx512()
             && let Some(jl) = &self.lanes
