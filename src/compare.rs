@@ -434,6 +434,73 @@ fn work_precision(args: &CompareArgs, problem: Builtin, saving: Saving<'_>) -> R
     plan::with_setup(problem, plan.t_end, true, sweep)?
 }
 
+/// The progress bar of a sweep: on a terminal only.
+fn sweep_bar() -> indicatif::ProgressBar {
+    use std::io::IsTerminal;
+    if !std::io::stderr().is_terminal() {
+        return indicatif::ProgressBar::hidden();
+    }
+    let bar = indicatif::ProgressBar::new(0);
+    if let Ok(style) =
+        indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} {msg} [{elapsed}]")
+    {
+        bar.set_style(style);
+    }
+    bar
+}
+
+/// What the command line does while a sweep runs: the bar, a checkpoint
+/// every `every` and at a signal, and the stop at a signal.
+struct SweepFront<'a> {
+    bar: indicatif::ProgressBar,
+    ckpt: &'a Path,
+    argv: &'a [String],
+    every: Option<std::time::Duration>,
+    last: Instant,
+    /// A checkpoint that could not be written (the sweep stops).
+    failed: Option<anyhow::Error>,
+    /// The rows the last checkpoint holds.
+    saved_rows: Option<usize>,
+}
+
+impl compare::SweepObserver for SweepFront<'_> {
+    fn stage(&mut self, what: &str) {
+        self.bar.println(what);
+    }
+    fn start(&mut self, rows: usize) {
+        self.bar.set_length(rows as u64);
+        self.bar.set_position(0);
+    }
+    fn method(&mut self, id: &str) {
+        self.bar.set_message(id.to_string());
+    }
+    fn row(&mut self, rows: &[compare::Row], fresh: bool) -> compare::RowControl {
+        self.bar.inc(1);
+        if !fresh {
+            return compare::RowControl::Continue;
+        }
+        let signal = crate::signals::requested();
+        if signal.is_some() || self.every.is_some_and(|d| self.last.elapsed() >= d) {
+            match save(self.ckpt, self.argv, rows) {
+                Ok(()) => self.saved_rows = Some(rows.len()),
+                Err(e) => {
+                    self.failed = Some(e);
+                    return compare::RowControl::Stop;
+                }
+            }
+            self.last = Instant::now();
+        }
+        if signal.is_some() {
+            compare::RowControl::Stop
+        } else {
+            compare::RowControl::Continue
+        }
+    }
+    fn finish(&mut self) {
+        self.bar.finish_and_clear();
+    }
+}
+
 fn sweep_problem<P: Problem>(
     args: &CompareArgs,
     plan: &SweepPlan,
@@ -469,34 +536,20 @@ fn sweep_problem<P: Problem>(
         );
     }
     crate::signals::install();
-    let mut last = Instant::now();
-    let mut failed: Option<anyhow::Error> = None;
-    let mut saved_rows = None;
-    let mut after_row = |rows: &[compare::Row]| {
-        let signal = crate::signals::requested();
-        if signal.is_some() || saving.every.is_some_and(|d| last.elapsed() >= d) {
-            match save(&ckpt, saving.argv, rows) {
-                Ok(()) => saved_rows = Some(rows.len()),
-                Err(e) => {
-                    failed = Some(e);
-                    return compare::sweep::RowControl::Stop;
-                }
-            }
-            last = Instant::now();
-        }
-        if signal.is_some() {
-            compare::sweep::RowControl::Stop
-        } else {
-            compare::sweep::RowControl::Continue
-        }
+    let mut front = SweepFront {
+        bar: sweep_bar(),
+        ckpt: &ckpt,
+        argv: saving.argv,
+        every: saving.every,
+        last: Instant::now(),
+        failed: None,
+        saved_rows: None,
     };
-    let (result, stopped) = compare::work_precision_from(
-        &setup,
-        &methods,
-        &plan.settings,
-        saving.done,
-        &mut after_row,
-    )?;
+    let (result, stopped) =
+        compare::work_precision_from(&setup, &methods, &plan.settings, saving.done, &mut front)?;
+    let SweepFront {
+        failed, saved_rows, ..
+    } = front;
     if let Some(e) = failed {
         return Err(e);
     }
@@ -631,7 +684,8 @@ fn peer_study(args: &CompareArgs) -> Result<()> {
         settings.energy_target = t;
     }
     let dir = out_dir(args, "peer")?;
-    let study = compare::peer_study::run(settings)?;
+    let mut front = PeerFront { bar: sweep_bar() };
+    let study = compare::peer_study::run(settings, &mut front)?;
     for n in &study.notes {
         eprintln!("note: {n}");
     }
@@ -644,6 +698,29 @@ fn peer_study(args: &CompareArgs) -> Result<()> {
     );
     println!("wrote {}", dir.join("peer.md").display());
     Ok(())
+}
+
+/// The peer study's progress: each leg's line on standard output, a bar
+/// on a terminal.
+struct PeerFront {
+    bar: indicatif::ProgressBar,
+}
+
+impl compare::SweepObserver for PeerFront {
+    fn stage(&mut self, what: &str) {
+        self.bar.suspend(|| println!("{what}"));
+    }
+    fn start(&mut self, rows: usize) {
+        self.bar.set_length(rows as u64);
+        self.bar.set_position(0);
+    }
+    fn method(&mut self, id: &str) {
+        self.bar.set_message(id.to_string());
+    }
+    fn row(&mut self, _rows: &[compare::Row], _fresh: bool) -> compare::RowControl {
+        self.bar.inc(1);
+        compare::RowControl::Continue
+    }
 }
 
 /// `--long --problem kepler-hard`: logh:kahan-li8, adaptive:kahan-li8 and

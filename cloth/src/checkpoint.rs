@@ -24,9 +24,9 @@ pub use integrator_core::checkpoint::{
 };
 use nalgebra::Vector3;
 
+use crate::frame::{CallbackError, FrameStats};
 use crate::method::{Mechanism, Method};
 use crate::model::Energy;
-use crate::run::{CallbackError, FrameStats};
 
 /// Whether runs of `method` can save their stepper's data, and so be
 /// checkpointed and resumed: RATTLE's, for now (the explicit schemes'

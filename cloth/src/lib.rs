@@ -224,6 +224,7 @@
 //! place. The Jacobian of `z' = [M⁻¹p; F(q)]` is `[[0, M⁻¹], [∂F/∂q, 0]]`.
 
 pub mod checkpoint;
+mod frame;
 pub mod method;
 mod model;
 mod output;

@@ -46,8 +46,9 @@ use integrator_core::{Scheme, SolveError, Step};
 use nalgebra::Vector3;
 
 use crate::checkpoint::{Action, Decoder, Encoder, NoControl, RunControl, RunState};
+pub use crate::frame::{CallbackError, FrameStats};
 use crate::method::{Mechanism, Method, MethodError};
-use crate::model::{ClothModel, Energy};
+use crate::model::ClothModel;
 use crate::scene::{Scene, SceneError};
 use crate::step::dispatch::{SchemeVisitor, TableVisitor, with_scheme, with_table};
 use crate::step::minimise::MinimiseError;
@@ -57,9 +58,6 @@ use crate::step::{
     RattleSettings, RattleStepper, Refused, SchemeStepper, Sequence, SolverStats, StageSettings,
     StageStepper, StepError,
 };
-
-/// What a frame callback may fail with; it stops the run.
-pub type CallbackError = Box<dyn std::error::Error + Send + Sync>;
 
 /// Frames, substeps and frame rate of a run (from the scene, or overridden).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -97,22 +95,6 @@ impl RunOptions {
             Some((what, message)) => Err(RunError::Options(format!("{what}: {message}"))),
         }
     }
-}
-
-/// What is known about the state at a frame.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct FrameStats {
-    /// 0 for the initial state.
-    pub frame: usize,
-    /// Steps taken so far.
-    pub step: usize,
-    /// Simulated time (s).
-    pub time: f64,
-    pub energy: Energy,
-    /// Total momentum of the free particles (kg·m/s).
-    pub momentum: Vector3<f64>,
-    /// The largest `|ℓ − L|/L` over all springs.
-    pub max_strain: f64,
 }
 
 /// A frame as the callback sees it.

@@ -108,7 +108,7 @@ pub use stepper::{
     FixedSizeStepper, Outcome, Status, StepStepper, Stepper, Workspace, bare_caught,
     observed_caught,
 };
-pub use sweep::Row;
+pub use sweep::{Quiet, Row, RowControl, SweepObserver};
 pub use work_precision::{
     MAX_SWEEP_STEPS, SweepSettings, WorkPrecision, work_precision, work_precision_from,
 };

@@ -20,6 +20,7 @@ use crate::format::{self, MISSING};
 use crate::method::Method;
 use crate::output::{self, Reach, reach};
 use crate::report::{self, Duel, PEER, duel, time_cell};
+use crate::sweep::SweepObserver;
 use crate::sweep::{self, Row};
 
 /// The methods of the study (`--methods` replaces them).
@@ -224,9 +225,9 @@ pub struct PeerStudy {
     pub notes: Vec<String>,
 }
 
-/// Run the study: for each run length a sweep (see [`sweep::sweep`]).
-/// Progress lines go to standard output.
-pub fn run(settings: PeerStudySettings) -> Result<PeerStudy> {
+/// Run the study: for each run length a sweep (see [`sweep::sweep`]),
+/// each announced to `observer` as a stage, its rows reported as they come.
+pub fn run(settings: PeerStudySettings, observer: &mut dyn SweepObserver) -> Result<PeerStudy> {
     settings.validate()?;
     let repeats = settings.repeats;
     let mut results = Vec::new();
@@ -264,7 +265,7 @@ pub fn run(settings: PeerStudySettings) -> Result<PeerStudy> {
                 t_end / leg.min_steps as f64,
                 leg.points,
             );
-            println!(
+            observer.stage(&format!(
                 "Kepler e = {e}, {} orbits (T = {t_end:.2}): {} methods, {} step counts ({}–{}), dop853 at {} tolerances, {repeats} timed run(s) each",
                 leg.orbits,
                 methods.len(),
@@ -272,8 +273,17 @@ pub fn run(settings: PeerStudySettings) -> Result<PeerStudy> {
                 steps[0],
                 steps.last().expect("at least one"),
                 settings.tolerances.len()
-            );
-            let rows = sweep::sweep(&setup, &methods, &steps, &settings.tolerances, repeats);
+            ));
+            let rows = sweep::sweep_each_from(
+                &setup,
+                methods.iter(),
+                &steps,
+                &settings.tolerances,
+                repeats,
+                Vec::new(),
+                observer,
+            )
+            .rows;
             results.push(LegRows {
                 e,
                 leg,

@@ -40,8 +40,6 @@
 
 use std::time::Instant;
 
-use indicatif::{ProgressBar, ProgressStyle};
-
 use crate::method::{Fixed, Method};
 use crate::peer;
 use crate::problem::{Family, Problem, Setup};
@@ -188,14 +186,6 @@ pub fn tolerance_range(points: usize, from: i32, to: i32) -> Vec<f64> {
         .collect()
 }
 
-fn progress(len: u64) -> ProgressBar {
-    let pb = ProgressBar::new(len);
-    if let Ok(style) = ProgressStyle::with_template("{bar:40} {pos}/{len} {msg} [{elapsed}]") {
-        pb.set_style(style);
-    }
-    pb
-}
-
 /// Run every method: fixed-step methods at each step count, the peer at
 /// each tolerance. For each: one observed run on the counting wrapper
 /// (error, energy error, evaluations, solver counters), then, if it
@@ -221,16 +211,7 @@ pub fn sweep_each<'a, P: Problem>(
     tols: &[f64],
     repeats: usize,
 ) -> Vec<Row> {
-    sweep_each_from(
-        setup,
-        methods,
-        steps,
-        tols,
-        repeats,
-        Vec::new(),
-        &mut |_| RowControl::Continue,
-    )
-    .rows
+    sweep_each_from(setup, methods, steps, tols, repeats, Vec::new(), &mut Quiet).rows
 }
 
 /// What the front end says after each row of a sweep.
@@ -241,6 +222,31 @@ pub enum RowControl {
     Stop,
 }
 
+/// What a sweep tells its caller while it runs, and asks it. The library
+/// draws and prints nothing: a front end draws a bar (`symlab compare`),
+/// saves a checkpoint or stops on a signal; Python reports nothing.
+pub trait SweepObserver {
+    /// A part of a study begins (a leg of the peer study), said in a line.
+    fn stage(&mut self, _what: &str) {}
+    /// Before the first run: how many rows the sweep makes.
+    fn start(&mut self, _rows: usize) {}
+    /// A method's runs begin.
+    fn method(&mut self, _id: &str) {}
+    /// After each row, with every row so far: go on or stop. `fresh` is
+    /// false for a row taken from the rows already done (a checkpoint's).
+    fn row(&mut self, _rows: &[Row], _fresh: bool) -> RowControl {
+        RowControl::Continue
+    }
+    /// The sweep ended, finished or stopped.
+    fn finish(&mut self) {}
+}
+
+/// An observer that reports nothing and never stops a sweep.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Quiet;
+
+impl SweepObserver for Quiet {}
+
 /// The rows of a sweep, and whether it was stopped before its end.
 #[derive(Clone, Debug)]
 pub struct Swept {
@@ -250,11 +256,11 @@ pub struct Swept {
 
 /// [`sweep_each`] continuing a sweep that stopped after the rows `done`
 /// (a checkpoint's): the runs are made in the same order, those already
-/// done are taken from `done` instead of run again, and `after_row` is
-/// asked after every new row, with all rows so far, whether to go on (a
-/// front end saves a checkpoint there, or stops on a signal). A row of
-/// `done` that is not the method this sweep has at its place ends the
-/// reuse: from there on the rows are run.
+/// done are taken from `done` instead of run again, and `observer` is told
+/// the progress and asked after every row, with all rows so far, whether
+/// to go on (a front end saves a checkpoint there, or stops on a signal).
+/// A row of `done` that is not the method this sweep has at its place ends
+/// the reuse: from there on the rows are run.
 pub fn sweep_each_from<'a, P: Problem>(
     setup: &Setup<P>,
     methods: impl Iterator<Item = &'a Method<P>> + Clone,
@@ -262,7 +268,7 @@ pub fn sweep_each_from<'a, P: Problem>(
     tols: &[f64],
     repeats: usize,
     done: Vec<Row>,
-    after_row: &mut dyn FnMut(&[Row]) -> RowControl,
+    observer: &mut dyn SweepObserver,
 ) -> Swept {
     let total: usize = methods
         .clone()
@@ -273,40 +279,42 @@ pub fn sweep_each_from<'a, P: Problem>(
         })
         .sum();
     let peer_limit = peer_step_limit(steps);
-    let pb = progress(total as u64);
+    observer.start(total);
     let mut rows = Vec::with_capacity(total);
     let mut done = done.into_iter();
     let mut reusing = true;
     // The next row: the saved one where it is this method's, else run.
-    let mut next = |rows: &mut Vec<Row>, id: &str, run: &mut dyn FnMut() -> Row| -> bool {
+    let mut next = |rows: &mut Vec<Row>,
+                    observer: &mut dyn SweepObserver,
+                    id: &str,
+                    run: &mut dyn FnMut() -> Row|
+     -> bool {
         let saved = if reusing { done.next() } else { None };
+        let fresh = !matches!(&saved, Some(row) if row.method == id);
         match saved {
-            Some(row) if row.method == id => {
-                rows.push(row);
-                pb.inc(1);
-                false
-            }
+            Some(row) if !fresh => rows.push(row),
             _ => {
                 reusing = false;
                 rows.push(run());
-                pb.inc(1);
-                after_row(rows) == RowControl::Stop
             }
         }
+        observer.row(rows, fresh) == RowControl::Stop
     };
     'sweep: for m in methods {
-        pb.set_message(m.id().to_string());
+        observer.method(m.id());
         match m {
             Method::Fixed(f) => {
                 for &n in steps {
-                    if next(&mut rows, m.id(), &mut || fixed_run(setup, f, n, repeats)) {
+                    if next(&mut rows, observer, m.id(), &mut || {
+                        fixed_run(setup, f, n, repeats)
+                    }) {
                         break 'sweep;
                     }
                 }
             }
             Method::Dop853 => {
                 for &tol in tols {
-                    if next(&mut rows, m.id(), &mut || {
+                    if next(&mut rows, observer, m.id(), &mut || {
                         peer_run(setup, tol, repeats, peer_limit)
                     }) {
                         break 'sweep;
@@ -319,7 +327,7 @@ pub fn sweep_each_from<'a, P: Problem>(
                     .first()
                     .map_or(setup.t_end, |&n| setup.t_end / n as f64);
                 for point in r.points(steps, tols) {
-                    if next(&mut rows, m.id(), &mut || {
+                    if next(&mut rows, observer, m.id(), &mut || {
                         crate::rebound::row(setup, r, point, h_guess, repeats)
                     }) {
                         break 'sweep;
@@ -328,7 +336,7 @@ pub fn sweep_each_from<'a, P: Problem>(
             }
         }
     }
-    pb.finish_and_clear();
+    observer.finish();
     let stopped = rows.len() < total;
     Swept { rows, stopped }
 }

@@ -150,22 +150,20 @@ pub fn work_precision<P: Problem>(
     methods: &[Method<P>],
     settings: &SweepSettings,
 ) -> Result<WorkPrecision> {
-    work_precision_from(setup, methods, settings, Vec::new(), &mut |_| {
-        sweep::RowControl::Continue
-    })
-    .map(|(wp, _)| wp)
+    work_precision_from(setup, methods, settings, Vec::new(), &mut sweep::Quiet).map(|(wp, _)| wp)
 }
 
 /// [`work_precision`] continuing from the rows `done` of a sweep that was
-/// stopped (they are not run again), asking `after_row` after every new
-/// row whether to go on ([`sweep::sweep_each_from`]); `true` beside the
-/// result when it stopped before the end (its rows are then a prefix).
+/// stopped (they are not run again), telling `observer` the progress and
+/// asking it after every row whether to go on
+/// ([`sweep::sweep_each_from`]); `true` beside the result when it stopped
+/// before the end (its rows are then a prefix).
 pub fn work_precision_from<P: Problem>(
     setup: &Setup<P>,
     methods: &[Method<P>],
     settings: &SweepSettings,
     done: Vec<sweep::Row>,
-    after_row: &mut dyn FnMut(&[sweep::Row]) -> sweep::RowControl,
+    observer: &mut dyn sweep::SweepObserver,
 ) -> Result<(WorkPrecision, bool)> {
     settings.validate(setup.t_end)?;
     if methods.is_empty() {
@@ -209,7 +207,7 @@ pub fn work_precision_from<P: Problem>(
         &settings.tolerances,
         settings.repeats,
         done,
-        after_row,
+        observer,
     );
     let run_length = match setup.sys.period() {
         Some((period, unit)) => {

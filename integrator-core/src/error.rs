@@ -76,8 +76,54 @@ pub enum SolveError {
     /// did not converge, or it left a non-finite value).
     #[error("the flow of part {part} failed: {source}")]
     Flow {
-        part: crate::split::Part,
+        part: Part,
         #[source]
-        source: crate::split::FlowError,
+        source: FlowError,
     },
+}
+
+/// One part of a split system: `A` (the part a drift-kick table's drifts
+/// move with) or `B` (its kicks).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Part {
+    A,
+    B,
+}
+
+impl std::fmt::Display for Part {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Part::A => "A",
+            Part::B => "B",
+        })
+    }
+}
+
+/// Why the flow of one part could not be taken. The step adds the part
+/// ([`SolveError::Flow`]), [`integrate`](crate::integrate) the step. Used
+/// by the flows of [`crate::split`] (which re-exports it).
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum FlowError {
+    /// An iterative solve inside the flow did not converge (`what`: e.g.
+    /// "Kepler's equation").
+    #[error("{what} did not converge in {iterations} iterations (last correction {correction:e})")]
+    NotConverged {
+        what: &'static str,
+        iterations: usize,
+        correction: f64,
+    },
+    /// The flow left a value in the state that is not finite (checked by the
+    /// step after every flow of a system with [`Split::CHECK_FINITE`]).
+    #[error("the flow left a non-finite value: z[{index}] = {value}")]
+    NonFinite { index: usize, value: f64 },
+    /// Any other reason, in the flow's words.
+    #[error("{0}")]
+    Failed(String),
+}
+
+impl FlowError {
+    /// A failure described by a message (e.g. another error's text).
+    pub fn failed(why: impl std::fmt::Display) -> Self {
+        FlowError::Failed(why.to_string())
+    }
 }

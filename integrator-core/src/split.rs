@@ -101,50 +101,9 @@ impl<S: OdeSystem + ?Sized> StateSpace for S {
     }
 }
 
-/// One part of a split system: `A` (the part a drift-kick table's drifts
-/// move with) or `B` (its kicks).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Part {
-    A,
-    B,
-}
-
-impl std::fmt::Display for Part {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(match self {
-            Part::A => "A",
-            Part::B => "B",
-        })
-    }
-}
-
-/// Why the flow of one part could not be taken. The step adds the part
-/// ([`SolveError::Flow`]), [`integrate`](crate::integrate) the step.
-#[derive(Clone, Debug, PartialEq, thiserror::Error)]
-pub enum FlowError {
-    /// An iterative solve inside the flow did not converge (`what`: e.g.
-    /// "Kepler's equation").
-    #[error("{what} did not converge in {iterations} iterations (last correction {correction:e})")]
-    NotConverged {
-        what: &'static str,
-        iterations: usize,
-        correction: f64,
-    },
-    /// The flow left a value in the state that is not finite (checked by the
-    /// step after every flow of a system with [`Split::CHECK_FINITE`]).
-    #[error("the flow left a non-finite value: z[{index}] = {value}")]
-    NonFinite { index: usize, value: f64 },
-    /// Any other reason, in the flow's words.
-    #[error("{0}")]
-    Failed(String),
-}
-
-impl FlowError {
-    /// A failure described by a message (e.g. another error's text).
-    pub fn failed(why: impl std::fmt::Display) -> Self {
-        FlowError::Failed(why.to_string())
-    }
-}
+// `Part` and `FlowError` live in `crate::error` (which names them in
+// `SolveError::Flow`); they are this module's vocabulary and re-exported here.
+pub use crate::error::{FlowError, Part};
 
 /// The memory a flow keeps between its calls, owned by the step's
 /// workspace ([`SplitWorkspace`](crate::scheme::SplitWorkspace) on the

@@ -672,7 +672,12 @@ impl Cx<'_> {
                 "`kernel` is the kernel of a processed method and needs a corrector: `corrector_drift` and `corrector_kick`",
             ));
         }
-        let tf = crate::catalogue::load(&id).map_err(|e| self.field_err("kernel", e.message))?;
+        // The catalogue's text, parsed here (`crate::catalogue` parses with
+        // this module; reading its data keeps the two out of a circle).
+        let entry = crate::embedded::find(&id)
+            .ok_or_else(|| self.field_err("kernel", crate::embedded::unknown_message(&id)))?;
+        let tf = parse_table_file(&format!("builtin:{id}"), entry.text)
+            .map_err(|e| self.field_err("kernel", e.message))?;
         if tf.corrector.is_some() {
             return Err(self.field_err(
                 "kernel",

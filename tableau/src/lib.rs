@@ -14,6 +14,7 @@ pub mod analysis;
 pub mod budget;
 pub mod catalogue;
 pub mod claims;
+pub mod embedded;
 pub mod expr;
 pub mod file;
 pub mod midpoint;

@@ -68,8 +68,9 @@
 //!   symmetric `W`), `b_levels` (`B(k)` for k = 1, 2, …: true, false or null),
 //!   for a pair `b_hat_levels`, and `refusals` (what was beyond a budget).
 //!
-//! The timings (`ms`, `verify_ms`, `round_ms`) are the only fields that
-//! differ between two runs on the same table.
+//! The timings (`ms`, `verify_ms`, `round_ms`, and the `time` row of a
+//! generated table's `report`) are all that differs between two runs on the
+//! same table.
 
 mod json;
 mod near;
