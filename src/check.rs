@@ -7,7 +7,6 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use anyhow::Result;
-use serde_json::json;
 use tableau::verdict::{self, Options, Source};
 
 #[derive(clap::Args)]
@@ -64,20 +63,7 @@ pub fn run(args: &CheckArgs) -> Result<ExitCode> {
 pub fn list(args: &ListArgs) -> Result<ExitCode> {
     let rows = integrator_core::library::listing()?;
     if args.json {
-        let v: Vec<_> = rows
-            .iter()
-            .map(|r| {
-                json!({
-                    "id": r.id,
-                    "name": r.name,
-                    "form": r.form,
-                    "steps": r.steps,
-                    "source": r.source,
-                    "processed": r.processed,
-                })
-            })
-            .collect();
-        println!("{}", serde_json::to_string_pretty(&v)?);
+        println!("{}", serde_json::to_string_pretty(&rows)?);
         return Ok(ExitCode::SUCCESS);
     }
     let w = rows.iter().map(|r| r.id.len()).max().unwrap_or(0);

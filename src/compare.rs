@@ -449,23 +449,41 @@ fn sweep_bar() -> indicatif::ProgressBar {
     bar
 }
 
-/// What the command line does while a sweep runs: the bar, a checkpoint
-/// every `every` and at a signal, and the stop at a signal.
+/// What the command line does while a sweep runs: the bar (on a
+/// terminal), each stage's line on standard output and, for a sweep that
+/// saves, a checkpoint every `every` and at a signal, and the stop at a
+/// signal.
 struct SweepFront<'a> {
     bar: indicatif::ProgressBar,
-    ckpt: &'a Path,
-    argv: &'a [String],
-    every: Option<std::time::Duration>,
-    last: Instant,
+    saving: Option<SweepSaving<'a>>,
     /// A checkpoint that could not be written (the sweep stops).
     failed: Option<anyhow::Error>,
     /// The rows the last checkpoint holds.
     saved_rows: Option<usize>,
 }
 
+/// Where and how often a sweep saves its checkpoint.
+struct SweepSaving<'a> {
+    ckpt: &'a Path,
+    argv: &'a [String],
+    every: Option<std::time::Duration>,
+    last: Instant,
+}
+
+impl<'a> SweepFront<'a> {
+    fn new(saving: Option<SweepSaving<'a>>) -> Self {
+        SweepFront {
+            bar: sweep_bar(),
+            saving,
+            failed: None,
+            saved_rows: None,
+        }
+    }
+}
+
 impl compare::SweepObserver for SweepFront<'_> {
     fn stage(&mut self, what: &str) {
-        self.bar.println(what);
+        self.bar.suspend(|| println!("{what}"));
     }
     fn start(&mut self, rows: usize) {
         self.bar.set_length(rows as u64);
@@ -476,19 +494,19 @@ impl compare::SweepObserver for SweepFront<'_> {
     }
     fn row(&mut self, rows: &[compare::Row], fresh: bool) -> compare::RowControl {
         self.bar.inc(1);
-        if !fresh {
+        let Some(saving) = self.saving.as_mut().filter(|_| fresh) else {
             return compare::RowControl::Continue;
-        }
+        };
         let signal = crate::signals::requested();
-        if signal.is_some() || self.every.is_some_and(|d| self.last.elapsed() >= d) {
-            match save(self.ckpt, self.argv, rows) {
+        if signal.is_some() || saving.every.is_some_and(|d| saving.last.elapsed() >= d) {
+            match save(saving.ckpt, saving.argv, rows) {
                 Ok(()) => self.saved_rows = Some(rows.len()),
                 Err(e) => {
                     self.failed = Some(e);
                     return compare::RowControl::Stop;
                 }
             }
-            self.last = Instant::now();
+            saving.last = Instant::now();
         }
         if signal.is_some() {
             compare::RowControl::Stop
@@ -536,15 +554,12 @@ fn sweep_problem<P: Problem>(
         );
     }
     crate::signals::install();
-    let mut front = SweepFront {
-        bar: sweep_bar(),
+    let mut front = SweepFront::new(Some(SweepSaving {
         ckpt: &ckpt,
         argv: saving.argv,
         every: saving.every,
         last: Instant::now(),
-        failed: None,
-        saved_rows: None,
-    };
+    }));
     let (result, stopped) =
         compare::work_precision_from(&setup, &methods, &plan.settings, saving.done, &mut front)?;
     let SweepFront {
@@ -684,7 +699,7 @@ fn peer_study(args: &CompareArgs) -> Result<()> {
         settings.energy_target = t;
     }
     let dir = out_dir(args, "peer")?;
-    let mut front = PeerFront { bar: sweep_bar() };
+    let mut front = SweepFront::new(None);
     let study = compare::peer_study::run(settings, &mut front)?;
     for n in &study.notes {
         eprintln!("note: {n}");
@@ -698,29 +713,6 @@ fn peer_study(args: &CompareArgs) -> Result<()> {
     );
     println!("wrote {}", dir.join("peer.md").display());
     Ok(())
-}
-
-/// The peer study's progress: each leg's line on standard output, a bar
-/// on a terminal.
-struct PeerFront {
-    bar: indicatif::ProgressBar,
-}
-
-impl compare::SweepObserver for PeerFront {
-    fn stage(&mut self, what: &str) {
-        self.bar.suspend(|| println!("{what}"));
-    }
-    fn start(&mut self, rows: usize) {
-        self.bar.set_length(rows as u64);
-        self.bar.set_position(0);
-    }
-    fn method(&mut self, id: &str) {
-        self.bar.set_message(id.to_string());
-    }
-    fn row(&mut self, _rows: &[compare::Row], _fresh: bool) -> compare::RowControl {
-        self.bar.inc(1);
-        compare::RowControl::Continue
-    }
 }
 
 /// `--long --problem kepler-hard`: logh:kahan-li8, adaptive:kahan-li8 and

@@ -266,8 +266,8 @@ pub fn steps(id: &str) -> &'static str {
 }
 
 /// One row of [`listing`]: a built-in table as `symlab list` and
-/// `symlab.list_tables()` show it.
-#[derive(Clone, Debug, PartialEq)]
+/// `symlab.list_tables()` show it (its JSON: these fields, by name).
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct Listed {
     pub id: String,
     pub name: String,

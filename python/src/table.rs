@@ -178,20 +178,12 @@ impl Table {
                 text.push('\n');
             }
         }
-        let origin = "<Table(...)>".to_string();
-        let kind = resolve(
+        Table::from_text(
             py,
-            Source::Text {
-                origin: &origin,
-                text: &text,
-            },
-        )?;
-        Ok(Table {
-            origin,
-            id: id.unwrap_or_else(|| "table".into()),
-            path: None,
-            kind: Arc::new(Mutex::new(kind)),
-        })
+            "<Table(...)>".to_string(),
+            id.unwrap_or_else(|| "table".into()),
+            &text,
+        )
     }
 
     /// A table from the text of a table file (TOML). ``origin`` names it in
@@ -204,19 +196,7 @@ impl Table {
                 "{origin}: the text is larger than {MAX_TEXT_BYTES} bytes; a table file is a few hundred bytes"
             )));
         }
-        let kind = resolve(
-            py,
-            Source::Text {
-                origin: &origin,
-                text: &text,
-            },
-        )?;
-        Ok(Table {
-            origin,
-            id,
-            path: None,
-            kind: Arc::new(Mutex::new(kind)),
-        })
+        Table::from_text(py, origin, id, &text)
     }
 
     /// A table file (TOML), as ``symlab check FILE``; its id in
@@ -311,6 +291,24 @@ impl Table {
 }
 
 impl Table {
+    /// A table from table-file text, named `origin` in messages and `id` in
+    /// comparisons.
+    fn from_text(py: Python<'_>, origin: String, id: String, text: &str) -> PyResult<Self> {
+        let kind = resolve(
+            py,
+            Source::Text {
+                origin: &origin,
+                text,
+            },
+        )?;
+        Ok(Table {
+            origin,
+            id,
+            path: None,
+            kind: Arc::new(Mutex::new(kind)),
+        })
+    }
+
     /// The table's verdict, on the analysis thread.
     fn verdict(&self, py: Python<'_>, options: Options) -> PyResult<Verdict> {
         on_analysis_thread(py, &self.origin, || {
@@ -373,21 +371,9 @@ pub fn check<'py>(
 /// ``name``, ``form``, ``steps``, ``source`` and ``processed``.
 #[pyfunction]
 pub fn list_tables(py: Python<'_>) -> PyResult<Bound<'_, PyAny>> {
-    let rows: Vec<Value> = integrator_core::library::listing()
-        .map_err(|e| table_error(e.to_string()))?
-        .into_iter()
-        .map(|r| {
-            json!({
-                "id": r.id,
-                "name": r.name,
-                "form": r.form,
-                "steps": r.steps,
-                "source": r.source,
-                "processed": r.processed,
-            })
-        })
-        .collect();
-    json_to_py(py, &Value::Array(rows))
+    let rows = integrator_core::library::listing().map_err(|e| table_error(e.to_string()))?;
+    let rows = serde_json::to_value(rows).map_err(|e| table_error(e.to_string()))?;
+    json_to_py(py, &rows)
 }
 
 impl Table {
