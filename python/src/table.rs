@@ -10,7 +10,6 @@ use std::sync::{Arc, Mutex};
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
-use serde_json::{Value, json};
 use tableau::algebraic::file::Loaded as Kind;
 use tableau::algebraic::generated::Generated;
 use tableau::verdict::{self, Options, Source, Verdict, VerdictError};
