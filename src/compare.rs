@@ -197,8 +197,8 @@ pub struct CompareArgs {
     /// (e.g. 30s, 5m, 0: after every row, off; default 60s), from which
     /// `symlab resume DIR` continues without running the finished rows
     /// again. SIGINT and SIGTERM write one and stop (exit 130, 143).
-    #[arg(long, value_name = "DURATION", value_parser = crate::cloth_cmd::parse_every)]
-    checkpoint_every: Option<crate::cloth_cmd::Every>,
+    #[arg(long, value_name = "DURATION", value_parser = integrator_core::checkpoint::parse_every)]
+    checkpoint_every: Option<integrator_core::checkpoint::Every>,
 }
 
 impl CompareArgs {
@@ -283,9 +283,9 @@ fn run_or_resume(
 ) -> Result<ExitCode> {
     let start = Instant::now();
     let every = match args.checkpoint_every {
-        None => Some(crate::cloth_cmd::DEFAULT_EVERY),
-        Some(crate::cloth_cmd::Every::Off) => None,
-        Some(crate::cloth_cmd::Every::After(d)) => Some(d),
+        None => Some(integrator_core::checkpoint::DEFAULT_EVERY),
+        Some(integrator_core::checkpoint::Every::Off) => None,
+        Some(integrator_core::checkpoint::Every::After(d)) => Some(d),
     };
     if args.checkpoint_every.is_some()
         && (args.peer_study || args.hard || args.long || args.from.is_some())
@@ -528,11 +528,11 @@ fn sweep_problem<P: Problem>(
 ) -> Result<Stopped> {
     let methods = resolve(args, &setup, builtin)?;
     let dir = out_dir(args, &setup.name)?;
-    crate::cloth_cmd::check_writable(&dir)?;
+    integrator_core::checkpoint::check_writable(&dir)?;
     let ckpt = dir.join(integrator_core::checkpoint::FILE_NAME);
     let resuming = !saving.done.is_empty();
     if !resuming {
-        crate::cloth_cmd::remove_checkpoint(&ckpt)?;
+        integrator_core::checkpoint::remove(&ckpt)?;
     }
     let steps = plan.settings.step_counts(plan.t_end);
     println!(
@@ -587,7 +587,7 @@ fn sweep_problem<P: Problem>(
         return Ok(Some(ExitCode::from(crate::signals::exit_status(sig))));
     }
     let files = result.write(&dir)?;
-    crate::cloth_cmd::remove_checkpoint(&ckpt)?;
+    integrator_core::checkpoint::remove(&ckpt)?;
     print!("{}", result.summary());
     if result.rows.iter().any(|r| r.interpreted) {
         println!(

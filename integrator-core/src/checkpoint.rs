@@ -149,6 +149,19 @@ pub enum CheckpointError {
     /// a different build of the same version, or a bug).
     #[error("{}: checkpoint payload: {what}", path.display())]
     Payload { path: PathBuf, what: String },
+    /// The output folder cannot take a checkpoint (read-only, full).
+    #[error("{}: the output directory is not writable: {source}", dir.display())]
+    NotWritable {
+        dir: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+    #[error("{}: cannot remove the checkpoint: {source}", path.display())]
+    Remove {
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
 }
 
 /// The container's bytes for `payload`.
@@ -448,6 +461,77 @@ impl<'a> Decoder<'a> {
         } else {
             Err(self.error(format!("{rest} bytes left over after the last field")))
         }
+    }
+}
+
+/// How often a long run writes its checkpoint (`--checkpoint-every`,
+/// Python's `checkpoint_every=`): never, or after at least this much wall
+/// time (zero: after every frame or row).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Every {
+    Off,
+    After(std::time::Duration),
+}
+
+/// The default interval: runs shorter than this write none (unless a
+/// signal stops them); a longer one loses at most this much.
+pub const DEFAULT_EVERY: std::time::Duration = std::time::Duration::from_secs(60);
+
+/// `30s`, `5m`, `1h`, `500ms`, a plain number of seconds, `0` (after
+/// every frame) or `off`; the error says what was expected.
+pub fn parse_every(text: &str) -> Result<Every, String> {
+    let t = text.trim();
+    if matches!(t, "off" | "never" | "none") {
+        return Ok(Every::Off);
+    }
+    let split = t
+        .find(|c: char| !(c.is_ascii_digit() || c == '.'))
+        .unwrap_or(t.len());
+    let (number, unit) = t.split_at(split);
+    let scale = match unit.trim() {
+        "" | "s" => 1.0,
+        "ms" => 1e-3,
+        "m" | "min" => 60.0,
+        "h" => 3600.0,
+        other => {
+            return Err(format!(
+                "unknown unit \"{other}\" (expected e.g. 30s, 5m, 1h, 500ms, 0 for every frame, or off)"
+            ));
+        }
+    };
+    let x: f64 = number
+        .parse()
+        .map_err(|_| format!("\"{t}\" is not a duration (expected e.g. 30s, 5m, 1h, 0 or off)"))?;
+    std::time::Duration::try_from_secs_f64(x * scale)
+        .map(Every::After)
+        .map_err(|_| format!("\"{t}\" is out of range"))
+}
+
+/// Refuse an output directory that cannot be written before a run
+/// starts, naming it (a read-only or full file system), rather than
+/// finding out at its first checkpoint.
+pub fn check_writable(dir: &Path) -> Result<(), CheckpointError> {
+    let probe = dir.join(format!(".symlab-write-test-{}", std::process::id()));
+    let result = std::fs::write(&probe, b"symlab").and_then(|()| std::fs::remove_file(&probe));
+    result.map_err(|source| {
+        let _ = std::fs::remove_file(&probe);
+        CheckpointError::NotWritable {
+            dir: dir.to_path_buf(),
+            source,
+        }
+    })
+}
+
+/// Remove a checkpoint (a finished run's, or an older run's in the folder
+/// of a new one); none there is not an error.
+pub fn remove(path: &Path) -> Result<(), CheckpointError> {
+    match std::fs::remove_file(path) {
+        Ok(()) => Ok(()),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(()),
+        Err(source) => Err(CheckpointError::Remove {
+            path: path.to_path_buf(),
+            source,
+        }),
     }
 }
 

@@ -14,7 +14,7 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::{Duration, Instant};
 
-use anyhow::{Context, Result, anyhow, bail};
+use anyhow::{Result, anyhow, bail};
 use clap::Parser;
 use cloth::checkpoint::{
     Action, CheckpointError, Decoder, Encoder, Kind, RunControl, RunState, resumable,
@@ -23,46 +23,7 @@ use cloth::{FrameStats, Method, Vec3};
 
 use super::{ClothArgs, Collected, Plan, energy_files};
 
-/// `--checkpoint-every`'s default: runs shorter than this write none
-/// (unless a signal stops them); a longer one loses at most this much.
-pub const DEFAULT_EVERY: Duration = Duration::from_secs(60);
-
-/// `--checkpoint-every`.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Every {
-    Off,
-    After(Duration),
-}
-
-/// `30s`, `5m`, `1h`, `500ms`, a plain number of seconds, `0` (after
-/// every frame) or `off`.
-pub fn parse_every(text: &str) -> Result<Every, String> {
-    let t = text.trim();
-    if matches!(t, "off" | "never" | "none") {
-        return Ok(Every::Off);
-    }
-    let split = t
-        .find(|c: char| !(c.is_ascii_digit() || c == '.'))
-        .unwrap_or(t.len());
-    let (number, unit) = t.split_at(split);
-    let scale = match unit.trim() {
-        "" | "s" => 1.0,
-        "ms" => 1e-3,
-        "m" | "min" => 60.0,
-        "h" => 3600.0,
-        other => {
-            return Err(format!(
-                "unknown unit \"{other}\" (expected e.g. 30s, 5m, 1h, 500ms, 0 for every frame, or off)"
-            ));
-        }
-    };
-    let x: f64 = number
-        .parse()
-        .map_err(|_| format!("\"{t}\" is not a duration (expected e.g. 30s, 5m, 1h, 0 or off)"))?;
-    Duration::try_from_secs_f64(x * scale)
-        .map(Every::After)
-        .map_err(|_| format!("\"{t}\" is out of range"))
-}
+pub use integrator_core::checkpoint::{DEFAULT_EVERY, Every, parse_every};
 
 /// The interval of a run of `method`: the flag's, or the default where
 /// the method's runs can be resumed. A flag asking for checkpoints of a
@@ -79,31 +40,14 @@ pub fn interval(flag: Option<Every>, method: &Method) -> Result<Option<Duration>
     }
 }
 
-/// Refuse an output directory that cannot be written before the run
-/// starts, naming it (a read-only or full file system).
+/// The output folder is writable (checked before a run starts).
 pub fn check_writable(dir: &Path) -> Result<()> {
-    let probe = dir.join(format!(".symlab-write-test-{}", std::process::id()));
-    let result = std::fs::write(&probe, b"symlab").and_then(|()| std::fs::remove_file(&probe));
-    if let Err(e) = result {
-        let _ = std::fs::remove_file(&probe);
-        bail!(
-            "{}: the output directory is not writable: {e}",
-            dir.display()
-        );
-    }
-    Ok(())
+    Ok(integrator_core::checkpoint::check_writable(dir)?)
 }
 
-/// Remove a checkpoint (a finished run's, or an older run's in the folder
-/// of a new one).
+/// Remove a checkpoint (none there is not an error).
 pub fn remove(path: &Path) -> Result<()> {
-    match std::fs::remove_file(path) {
-        Ok(()) => Ok(()),
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(()),
-        Err(e) => {
-            Err(e).with_context(|| format!("{}: cannot remove the checkpoint", path.display()))
-        }
-    }
+    Ok(integrator_core::checkpoint::remove(path)?)
 }
 
 /// What every checkpoint of a run repeats.

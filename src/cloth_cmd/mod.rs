@@ -827,10 +827,6 @@ fn render_kept(
     Ok((names, (!notes.is_empty()).then(|| notes.join("; "))))
 }
 
-pub use checkpoint::{
-    DEFAULT_EVERY, Every, check_writable, parse_every, remove as remove_checkpoint,
-};
-
 /// `symlab resume DIR` of a cloth run.
 pub fn resume(dir: &Path, path: &Path, payload: &[u8]) -> Result<ExitCode> {
     checkpoint::resume(dir, path, payload)

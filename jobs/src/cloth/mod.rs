@@ -1,0 +1,1 @@
+//! A cloth scene run into files (see the crate documentation).

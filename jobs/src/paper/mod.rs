@@ -1,0 +1,1 @@
+//! The paper reproduction (see the crate documentation).
