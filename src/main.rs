@@ -120,7 +120,7 @@ fn main() -> ExitCode {
         Command::List(args) => check::list(&args),
         Command::Compare(args) => compare::run(&args, &rest),
         Command::Paper(args) => paper::run(&args),
-        Command::Cloth(args) => cloth_cmd::run(&args, &rest),
+        Command::Cloth(args) => cloth_cmd::run(&args),
         Command::Resume(args) => resume::run(&args),
     };
     match result {

@@ -52,7 +52,9 @@ pub const MAGIC: &[u8; 8] = b"SYMLABCK";
 /// The version of the layout and of the payloads this build writes; a
 /// file of another version is refused (the payloads hold a run's internal
 /// state, which changes with the code that reads it).
-pub const FORMAT_VERSION: u32 = 1;
+// 2: a cloth checkpoint holds the run's request (`jobs::cloth`), no longer the
+// command line's arguments.
+pub const FORMAT_VERSION: u32 = 2;
 /// The name of a run's checkpoint in its output folder.
 pub const FILE_NAME: &str = "checkpoint.symlab";
 /// The header's length in bytes.

@@ -1,4 +1,4 @@
-//! The one-screen summary of a finished `symlab cloth` run: one function
+//! The one-screen summary of a finished cloth run: one function
 //! per line or group of lines, from what the crate returned.
 
 use std::fmt::Write as _;
@@ -8,7 +8,7 @@ use cloth::study::energy::worst_relative_error;
 use cloth::{ClothModel, Method, RunOptions, RunReport, Scene, SolverStats};
 use compare::format::{MISSING, fixed, sci};
 
-use super::energy_growth;
+use super::run::energy_growth;
 
 /// What the summary shows.
 pub struct Summary<'a> {

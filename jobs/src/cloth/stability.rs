@@ -1,7 +1,7 @@
-//! `symlab cloth SCENE --stability`: the largest stable step of each
-//! method on a scene ([`cloth::study::stability`] searches), beside the
-//! linear estimates `2/ω_max` and `2/ω_bound`, as a table on the terminal
-//! and `stability.csv`.
+//! The stability study of a scene (`symlab cloth SCENE --stability`): the
+//! largest stable step of each method ([`cloth::study::stability`]
+//! searches), beside the linear estimates `2/ω_max` and `2/ω_bound`, as a
+//! table to print and `stability.csv`.
 //!
 //! Methods are searched in parallel (rayon), one per thread; the time to
 //! simulate the duration at the step found is then measured again alone,
@@ -9,21 +9,38 @@
 
 use std::fmt::Write as _;
 use std::fs;
-use std::path::Path;
-use std::process::ExitCode;
+use std::path::PathBuf;
 use std::time::Instant;
 
-use anyhow::{Context, Result, anyhow};
 use cloth::study::energy::reference_energy;
 use cloth::study::stability::{
-    Found, Outcome, Scales, StabilitySettings, Status, search, seconds_per_simulated_second,
+    Found, Outcome, Scales, StabilityError, StabilitySettings, Status, search,
+    seconds_per_simulated_second,
 };
-use cloth::{Method, Scene, Simulation};
+use cloth::{Method, MinimiseSettings, Simulation};
 use compare::format::{self, MISSING};
 use compare::output::csv_field;
 use rayon::prelude::*;
 
+use super::plan::{Source, applicable, output_dir, rename, solver, solver_named_applies};
+use super::{Field, InputError, JobError, Request, SceneSource};
+
 pub use cloth::study::stability::default_methods;
+
+/// The stability study as asked: the scene (at `grid`), the methods
+/// (default [`default_methods`]), the simulated seconds per trial, the
+/// largest relative energy error a stable run may show, and the
+/// minimisation solver of the methods that need one.
+#[derive(Clone, Debug)]
+pub struct StabilityRequest {
+    pub scene: SceneSource,
+    pub grid: Option<String>,
+    pub out: Option<PathBuf>,
+    pub methods: Option<Vec<String>>,
+    pub duration: f64,
+    pub tolerance: Option<f64>,
+    pub solver: Option<String>,
+}
 
 /// How a trial ended, in words.
 fn describe(outcome: &Outcome) -> String {
@@ -62,25 +79,71 @@ fn status(s: Status) -> &'static str {
     }
 }
 
-pub fn run(
-    scene: &Scene,
-    file: &str,
-    methods: &[String],
-    study: &StabilitySettings,
-    dir: &Path,
-) -> Result<ExitCode> {
-    let sim = Simulation::new(scene).map_err(|e| match e {
-        cloth::SceneError::Field { field, message, .. } => anyhow!("{file}: {field}: {message}"),
-        other => anyhow!("{other}"),
+/// Search the largest stable step of each method (in parallel), time
+/// each at its step (alone), write `stability.csv`; the table to print.
+pub fn run(asked: &StabilityRequest) -> Result<String, JobError> {
+    let request = Request {
+        grid: asked.grid.clone(),
+        out: asked.out.clone(),
+        solver: asked.solver.clone(),
+        ..Request::new(asked.scene.clone())
+    };
+    let file = asked.scene.file_name();
+    let scene = super::plan::load(&request)?.0;
+    let study = StabilitySettings {
+        duration: asked.duration,
+        tolerance: asked
+            .tolerance
+            .unwrap_or(StabilitySettings::default().tolerance),
+        minimise: MinimiseSettings::new(solver(asked.solver.as_deref())?),
+        ..StabilitySettings::default()
+    };
+    study.check().map_err(|e| match e {
+        StabilityError::Setting { field, message } => InputError {
+            origin: super::Origin::Field(
+                match field {
+                    "duration" => Field::Duration,
+                    "tolerance" => Field::Tolerance,
+                    _ => Field::Stability,
+                },
+                None,
+            ),
+            message,
+        },
+        other => InputError::field(Field::Stability, other.to_string()),
     })?;
-    let e_ref = reference_energy(scene, &sim).map_err(|e| anyhow!("{file}: {e}"))?;
+    let methods = match &asked.methods {
+        Some(names) => {
+            if names.is_empty() {
+                return Err(InputError::field(Field::Methods, "no method given").into());
+            }
+            names
+                .iter()
+                .map(|m| {
+                    Method::parse(m).map_err(|e| InputError::field(Field::Methods, e.to_string()))
+                })
+                .collect::<Result<Vec<_>, _>>()?
+        }
+        None => default_methods(),
+    };
+    for m in &methods {
+        applicable(
+            m,
+            &Source::Field(Field::Methods, m.id().to_string()),
+            &scene,
+            &file,
+            study.minimise.solver,
+        )?;
+    }
+    solver_named_applies(asked.solver.as_deref(), &methods)?;
+    let dir = output_dir(&request, &scene)?;
+    let scene = &scene;
+    let sim = Simulation::new(scene).map_err(|e| JobError::Scene(rename(&e, &file)))?;
+    let e_ref =
+        reference_energy(scene, &sim).map_err(|e| InputError::scene(&file, None, e.to_string()))?;
     let stab = sim.model.stability();
     let h_lin = stab.h_max;
     let h_bound = 2.0 / stab.omega_bound;
-    let methods = methods
-        .iter()
-        .map(|m| Method::parse(m).map_err(|e| anyhow!("--methods {m}: {e}")))
-        .collect::<Result<Vec<_>>>()?;
     let scales = Scales {
         e_ref,
         h_linear: h_lin,
@@ -88,14 +151,14 @@ pub fn run(
     let clock = Instant::now();
     let found: Vec<Found> = methods
         .par_iter()
-        .map(|m| search(scene, m, &scales, study))
+        .map(|m| search(scene, m, &scales, &study))
         .collect();
     let search_seconds = clock.elapsed().as_secs_f64();
     // Time each method alone at its step.
     let seconds: Vec<Option<f64>> = found
         .iter()
         .map(|f| {
-            f.h.and_then(|h| seconds_per_simulated_second(scene, &f.method, h, e_ref, study))
+            f.h.and_then(|h| seconds_per_simulated_second(scene, &f.method, h, e_ref, &study))
         })
         .collect();
     let (nx, ny) = sim.model.grid();
@@ -200,13 +263,12 @@ pub fn run(
         "kind: E explicit, I implicit, S symplectic; h·ω/2 = h/(2/ω_max); steps/fr = steps per 60 Hz frame; error = max relative energy error at the step found; wall s / 1s = stepping time per simulated second at that step, one method at a time on one core"
     );
     let path = dir.join("stability.csv");
-    fs::write(&path, csv).with_context(|| format!("{}: cannot write", path.display()))?;
+    fs::write(&path, csv).map_err(|e| JobError::io(&path, "cannot write", e))?;
     let _ = writeln!(
         out,
         "search: {} trials in {search_seconds:.1} s (methods in parallel); table in {}",
         found.iter().map(|f| f.trials).sum::<usize>(),
         path.display()
     );
-    print!("{out}");
-    Ok(ExitCode::SUCCESS)
+    Ok(out)
 }

@@ -3,15 +3,16 @@
 
 use std::path::Path;
 
-use anyhow::{Context, Result, anyhow};
 use cloth::FrameStats;
 use cloth::study::energy::relative_errors;
 use plotters::prelude::*;
 
+use super::JobError;
+
 /// Two panels: kinetic, potential and total energy against time, and the
 /// relative energy error `|H − H₀|/E_ref` on a log axis. SVG or PNG by the
 /// file's extension, 1000 × 800.
-pub fn plot(path: &Path, frames: &[FrameStats], e_ref: f64, title: &str) -> Result<()> {
+pub fn plot(path: &Path, frames: &[FrameStats], e_ref: f64, title: &str) -> Result<(), JobError> {
     compare::plot::register_font();
     let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
     let size = (1000, 800);
@@ -28,9 +29,14 @@ pub fn plot(path: &Path, frames: &[FrameStats], e_ref: f64, title: &str) -> Resu
             e_ref,
             title,
         ),
-        _ => Err(anyhow!("{}: plots are .svg or .png", path.display())),
+        _ => Err(format!("{}: plots are .svg or .png", path.display())),
     }
-    .with_context(|| format!("{}: cannot draw the energy plot", path.display()))
+    .map_err(|e| {
+        JobError::Output(format!(
+            "{}: cannot draw the energy plot: {e}",
+            path.display()
+        ))
+    })
 }
 
 fn draw<DB: DrawingBackend>(
@@ -38,11 +44,11 @@ fn draw<DB: DrawingBackend>(
     frames: &[FrameStats],
     e_ref: f64,
     title: &str,
-) -> Result<()>
+) -> Result<(), String>
 where
     DB::ErrorType: 'static,
 {
-    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| anyhow!("{e:?}");
+    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| format!("{e:?}");
     root.fill(&WHITE).map_err(err)?;
     let root = root.titled(title, ("sans-serif", 22)).map_err(err)?;
     let (top, bottom) = root.split_vertically(430);
