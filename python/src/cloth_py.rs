@@ -1,98 +1,166 @@
-//! `symlab.cloth.run`: a cloth scene stepped by the `cloth` crate, the
-//! positions of every particle at each frame returned as NumPy arrays.
+//! `symlab.cloth.run` and `symlab.cloth.resume`: the cloth job
+//! ([`jobs::cloth`]) that `symlab cloth` runs — the same plan, energy
+//! guard, files and summary — with the positions of every particle at each
+//! frame returned as NumPy arrays.
+use std::path::PathBuf;
+
+use jobs::cloth::{Job, JobError, Observer, Outcome, Request, SceneSource, Stop};
 use numpy::{PyArray1, PyArrayMethods};
-use pyo3::exceptions::PyValueError;
+use pyo3::exceptions::{PyKeyboardInterrupt, PyOSError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::errors::{IntegrationError, ProblemError};
 
+/// A job's error as Python's exception: a refused argument is a
+/// `ValueError` naming the keyword, a scene that cannot be read or
+/// simulated a `ProblemError`, an output that cannot be written an
+/// `OSError`, a failed run an `IntegrationError`.
+fn job_error(e: JobError) -> PyErr {
+    let msg = e.keyword_message();
+    match e {
+        JobError::Input(_) => PyValueError::new_err(msg),
+        JobError::Scene(_) => ProblemError::new_err(msg),
+        JobError::Io { .. } | JobError::Output(_) | JobError::Checkpoint(_) => {
+            PyOSError::new_err(msg)
+        }
+        JobError::Run(_) => IntegrationError::new_err(msg),
+    }
+}
+
+/// What Python keeps of each frame, and Ctrl-C (checked between frames
+/// with the GIL taken back for a moment) as a stop with a checkpoint.
+#[derive(Default)]
+struct Keep {
+    positions: Vec<f64>,
+    particles: usize,
+    time: Vec<f64>,
+    energy: Vec<f64>,
+    strain: Vec<f64>,
+}
+
+impl Observer for Keep {
+    fn frame(&mut self, frame: &cloth::Frame<'_>) {
+        let ps = frame.positions();
+        self.particles = ps.len();
+        for p in ps {
+            self.positions.extend_from_slice(&[p.x, p.y, p.z]);
+        }
+        self.time.push(frame.stats.time);
+        self.energy.push(frame.stats.energy.total());
+        self.strain.push(frame.stats.max_strain);
+    }
+    fn stop_requested(&mut self) -> Option<Stop> {
+        Python::attach(|py| py.check_signals().err()).map(|_| Stop {
+            reason: "KeyboardInterrupt".into(),
+        })
+    }
+}
+
+/// Run `job` with the GIL released, and turn its outcome into the dict.
+fn run_job<'py>(py: Python<'py>, job: Job) -> PyResult<Bound<'py, PyDict>> {
+    let dir = job.dir().to_path_buf();
+    let (keep, outcome) = py.detach(|| {
+        let mut keep = Keep::default();
+        let outcome = job.run(&mut keep);
+        (keep, outcome)
+    });
+    let (summary, report, notes) = match outcome.map_err(job_error)? {
+        Outcome::Finished {
+            summary,
+            report,
+            notes,
+        } => (summary, report, notes),
+        Outcome::BlownUp { error, lines, .. } => {
+            return Err(IntegrationError::new_err(format!(
+                "{error}\n{}",
+                lines.join("\n")
+            )));
+        }
+        Outcome::Stopped { text, .. } => return Err(PyKeyboardInterrupt::new_err(text)),
+    };
+    // The frames this call ran (a resumed run's arrays start after the
+    // frame it resumed from).
+    let n = keep.time.len();
+    let d = PyDict::new(py);
+    d.set_item(
+        "positions",
+        PyArray1::from_vec(py, keep.positions).reshape([n, keep.particles, 3])?,
+    )?;
+    d.set_item("time", PyArray1::from_vec(py, keep.time))?;
+    d.set_item("energy", PyArray1::from_vec(py, keep.energy))?;
+    d.set_item("max_strain", PyArray1::from_vec(py, keep.strain))?;
+    d.set_item("method", report.method)?;
+    d.set_item("h", report.h)?;
+    d.set_item("steps", report.steps)?;
+    d.set_item("stepping_seconds", report.stepping_seconds)?;
+    d.set_item("summary", summary)?;
+    d.set_item("notes", notes)?;
+    d.set_item("dir", dir)?;
+    Ok(d)
+}
+
 /// Run `scene` (a path to a scene file, or its TOML text when it contains
-/// a newline) with `method` (default: the scene's) for `frames` frames
-/// (default: the scene's). Returns a dict: `positions` (shape
-/// `(frames + 1, particles, 3)`, pinned particles included, particle id
-/// `j·nx + i`), `time`, `energy` (total, per frame), `max_strain`, `method`,
-/// `h`, `steps` and `stepping_seconds`. The GIL is released while it runs.
+/// a newline) as `symlab cloth` does; see `symlab.cloth.run`.
 #[pyfunction]
-#[pyo3(signature = (scene, method = None, frames = None, substeps = None))]
+#[pyo3(signature = (scene, method = None, frames = None, substeps = None, dt = None, grid = None, out = None, obj_every = 10, render = None, tolerance = None, solver = None, checkpoint_every = None))]
+#[allow(clippy::too_many_arguments)] // the job's request, one keyword each
 pub fn cloth_run<'py>(
     py: Python<'py>,
     scene: String,
     method: Option<String>,
     frames: Option<usize>,
     substeps: Option<usize>,
+    dt: Option<f64>,
+    grid: Option<String>,
+    out: Option<PathBuf>,
+    obj_every: usize,
+    render: Option<String>,
+    tolerance: Option<f64>,
+    solver: Option<String>,
+    checkpoint_every: Option<String>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let sc = if scene.contains('\n') {
-        cloth::Scene::from_toml(&scene, "<scene>")
+    let source = if scene.contains('\n') {
+        SceneSource::Text {
+            name: "<scene>".into(),
+            text: scene,
+        }
     } else {
-        cloth::Scene::load(&scene)
-    }
-    .map_err(|e| ProblemError::new_err(format!("scene: {e}")))?;
-    let method_id = method.unwrap_or_else(|| sc.simulation.method.clone());
-    let m = cloth::Method::parse(&method_id)
-        .map_err(|e| PyValueError::new_err(format!("method: {e}")))?;
-    let mut options = cloth::RunOptions::from_scene(&sc);
-    if let Some(f) = frames {
-        options.frames = f;
-    }
-    if let Some(s) = substeps {
-        options.substeps = s;
-    }
-    options
-        .check()
-        .map_err(|e| PyValueError::new_err(e.to_string()))?;
-    let settings = cloth::RunSettings::new(options);
-    struct Out {
-        positions: Vec<f64>,
-        particles: usize,
-        time: Vec<f64>,
-        energy: Vec<f64>,
-        strain: Vec<f64>,
-        report: cloth::RunReport,
-    }
-    let out = py
-        .detach(|| -> Result<Out, String> {
-            let mut sim = cloth::Simulation::new(&sc).map_err(|e| format!("scene: {e}"))?;
-            let mut positions = Vec::new();
-            let mut particles = 0;
-            let mut time = Vec::new();
-            let mut energy = Vec::new();
-            let mut strain = Vec::new();
-            let report = sim
-                .run(&m, &settings, |frame| {
-                    let ps = frame.positions();
-                    particles = ps.len();
-                    for p in ps {
-                        positions.extend_from_slice(&[p.x, p.y, p.z]);
-                    }
-                    time.push(frame.stats.time);
-                    energy.push(frame.stats.energy.total());
-                    strain.push(frame.stats.max_strain);
-                    Ok(())
-                })
-                .map_err(|e| e.to_string())?;
-            Ok(Out {
-                positions,
-                particles,
-                time,
-                energy,
-                strain,
-                report,
-            })
+        SceneSource::File(PathBuf::from(scene))
+    };
+    let checkpoint_every = checkpoint_every
+        .map(|t| {
+            integrator_core::checkpoint::parse_every(&t)
+                .map_err(|e| PyValueError::new_err(format!("checkpoint_every: {e}")))
         })
-        .map_err(IntegrationError::new_err)?;
-    let n = out.time.len();
-    let d = PyDict::new(py);
-    d.set_item(
-        "positions",
-        PyArray1::from_vec(py, out.positions).reshape([n, out.particles, 3])?,
-    )?;
-    d.set_item("time", PyArray1::from_vec(py, out.time))?;
-    d.set_item("energy", PyArray1::from_vec(py, out.energy))?;
-    d.set_item("max_strain", PyArray1::from_vec(py, out.strain))?;
-    d.set_item("method", out.report.method)?;
-    d.set_item("h", out.report.h)?;
-    d.set_item("steps", out.report.steps)?;
-    d.set_item("stepping_seconds", out.report.stepping_seconds)?;
-    Ok(d)
+        .transpose()?;
+    let request = Request {
+        method,
+        frames,
+        substeps,
+        dt,
+        grid,
+        out,
+        obj_every,
+        render,
+        tolerance,
+        solver,
+        checkpoint_every,
+        ..Request::new(source)
+    };
+    let job = py.detach(|| jobs::cloth::plan(&request)).map_err(job_error)?;
+    run_job(py, job)
+}
+
+/// Continue the interrupted cloth run whose output folder is `dir` (from
+/// its checkpoint), as `symlab resume DIR` does.
+#[pyfunction]
+pub fn cloth_resume<'py>(py: Python<'py>, dir: PathBuf) -> PyResult<Bound<'py, PyDict>> {
+    use integrator_core::checkpoint::{FILE_NAME, Kind, read};
+    let path = dir.join(FILE_NAME);
+    let payload = read(&path, Kind::Cloth).map_err(|e| PyOSError::new_err(e.to_string()))?;
+    let job = py
+        .detach(|| jobs::cloth::resume(&dir, &path, &payload))
+        .map_err(job_error)?;
+    run_job(py, job)
 }

@@ -39,6 +39,7 @@ fn _symlab(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(run::compare_local, m)?)?;
     m.add_function(wrap_pyfunction!(run::problems, m)?)?;
     m.add_function(wrap_pyfunction!(cloth_py::cloth_run, m)?)?;
+    m.add_function(wrap_pyfunction!(cloth_py::cloth_resume, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

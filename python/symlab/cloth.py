@@ -1,4 +1,4 @@
-"""Cloth scenes (scenes/*.toml) stepped by symlab's cloth crate."""
+"""Cloth scenes (scenes/*.toml) run by the same job as ``symlab cloth``."""
 
 from __future__ import annotations
 
@@ -7,14 +7,27 @@ import os
 from . import _symlab
 
 
-def run(scene, method=None, frames=None, *, substeps=None):
-    """Run a cloth ``scene`` (a path to a scene file, or its TOML text) with
-    ``method`` (a scheme id; default: the scene's) for ``frames`` frames
-    (default: the scene's). Returns a dict whose ``positions`` is a float64
-    array of shape ``(frames + 1, particles, 3)`` (the initial state first;
-    pinned particles included), with ``time``, ``energy`` and
-    ``max_strain`` per frame, and ``method``, ``h``, ``steps``,
-    ``stepping_seconds``.
+def run(scene, method=None, frames=None, *, substeps=None, dt=None, grid=None, out=None,
+        obj_every=10, render=None, tolerance=None, solver=None, checkpoint_every=None):
+    """Run a cloth ``scene`` (a path to a scene file, or its TOML text) as
+    ``symlab cloth`` does: the same plan (``method``, ``frames``,
+    ``substeps`` or ``dt``, ``grid``, ``tolerance``, ``solver`` mean what
+    the flags of the same names mean, and are refused with the same
+    messages naming the keyword), the same energy guard, and the same files
+    in ``out`` (default ``out/cloth/<scene name>/``, as the command line):
+    ``energy.csv``, ``energy.svg``, an OBJ every ``obj_every`` frames (0:
+    none), the PNG renderings ``render`` asks for (``"none"``, or frames
+    comma-separated; default first, middle and last), and checkpoints
+    (``checkpoint_every``: ``"30s"``, ``"5m"``, ``"off"``, …; Ctrl-C writes
+    one, then raises ``KeyboardInterrupt``; :func:`resume` goes on).
+
+    Returns a dict whose ``positions`` is a float64 array of shape
+    ``(frames + 1, particles, 3)`` (the initial state first; pinned
+    particles included), with ``time``, ``energy`` and ``max_strain`` per
+    frame, ``method``, ``h``, ``steps``, ``stepping_seconds``, the
+    ``summary`` that ``symlab cloth`` prints, ``notes`` and ``dir``. A run
+    that blows up raises ``IntegrationError`` saying where, after writing
+    what was good up to its last good frame.
 
     >>> import symlab
     >>> out = symlab.cloth.run("scenes/corners.toml", "stormer-verlet", frames=2)  # doctest: +SKIP
@@ -28,4 +41,19 @@ def run(scene, method=None, frames=None, *, substeps=None):
     for name, v in (("frames", frames), ("substeps", substeps)):
         if v is not None and (isinstance(v, bool) or not isinstance(v, int) or v < 1):
             raise ValueError(f"{name} must be an int ≥ 1, got {v!r}")
-    return _symlab.cloth_run(scene, method, frames, substeps)
+    if isinstance(obj_every, bool) or not isinstance(obj_every, int) or obj_every < 0:
+        raise ValueError(f"obj_every must be an int ≥ 0, got {obj_every!r}")
+    if isinstance(render, (list, tuple)):
+        render = ",".join(str(int(k)) for k in render) if render else "none"
+    if out is not None:
+        out = os.fspath(out)
+    return _symlab.cloth_run(scene, method, frames, substeps, dt, grid, out, obj_every, render,
+                             tolerance, solver, checkpoint_every)
+
+
+def resume(dir):
+    """Continue the interrupted cloth run whose output folder is ``dir``
+    from its checkpoint (as ``symlab resume DIR``), to the same bits and
+    the same files as a run never stopped. Returns what :func:`run` returns;
+    the arrays hold the frames this call ran."""
+    return _symlab.cloth_resume(os.fspath(dir))

@@ -1,4 +1,6 @@
-"""symlab.cloth.run: positions per frame as NumPy arrays."""
+"""symlab.cloth.run: positions per frame as NumPy arrays (the files it
+writes beside them are compared with the command line's in
+test_cloth_same_as_cli.py)."""
 
 import numpy as np
 import pytest
@@ -23,8 +25,8 @@ method = "gauss2"
 """
 
 
-def test_positions_per_frame():
-    out = symlab.cloth.run(SCENE, "stormer-verlet", frames=2)
+def test_positions_per_frame(tmp_path):
+    out = symlab.cloth.run(SCENE, "stormer-verlet", frames=2, out=tmp_path)
     pos = out["positions"]
     assert pos.dtype == np.float64 and pos.shape == (3, 16, 3)
     assert out["steps"] == 40
@@ -36,14 +38,27 @@ def test_positions_per_frame():
     assert not np.array_equal(pos[0], pos[-1])
 
 
-def test_scene_file(root):
-    out = symlab.cloth.run(root / "scenes" / "corners.toml", "stormer-verlet", frames=1, substeps=5)
+def test_scene_file(root, tmp_path):
+    out = symlab.cloth.run(root / "scenes" / "corners.toml", "stormer-verlet", frames=1,
+                           out=tmp_path)
+    assert (tmp_path / "energy.csv").exists() and "stormer-verlet" in out["summary"]
     assert out["positions"].shape[0] == 2
 
 
-def test_bad_method_and_scene():
+def test_a_blow_up_is_stopped_by_the_energy_guard(root, tmp_path):
+    # 5 steps per frame is far beyond Störmer–Verlet's stable step on this
+    # scene: the guard stops the run (as the command line's does), says
+    # where, and keeps what was good.
+    with pytest.raises(symlab.IntegrationError, match=r"blew up at step \d+ .*\|H − H₀\|/E_ref") as e:
+        symlab.cloth.run(root / "scenes" / "corners.toml", "stormer-verlet", frames=1, substeps=5,
+                         out=tmp_path)
+    assert "output up to the last good frame, 0" in str(e.value)
+    assert (tmp_path / "energy.csv").read_text().count("\n") == 2
+
+
+def test_bad_method_and_scene(tmp_path):
     with pytest.raises(ValueError, match="method"):
-        symlab.cloth.run(SCENE, "no-such-method", frames=1)
+        symlab.cloth.run(SCENE, "no-such-method", frames=1, out=tmp_path)
     with pytest.raises(symlab.ProblemError, match="scene"):
         symlab.cloth.run("/no/such/scene.toml", frames=1)
     with pytest.raises(ValueError, match="frames"):

@@ -353,3 +353,65 @@ pub(crate) fn stopped_text(
     }
     s
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn roundtrip(r: &Request) -> Request {
+        let mut e = Encoder::new();
+        encode_request(&mut e, r);
+        let bytes = e.finish();
+        let path = Path::new("test.symlab");
+        let mut d = Decoder::new(path, &bytes);
+        let (name, back) = decode_request(&mut d).unwrap();
+        d.end().unwrap();
+        assert_eq!(name, r.scene.file_name());
+        back
+    }
+
+    /// Every field of the request survives the checkpoint, set or not:
+    /// `symlab resume` plans the run that was asked.
+    #[test]
+    fn the_request_survives_the_checkpoint() {
+        let full = Request {
+            method: Some("rattle".into()),
+            frames: Some(240),
+            substeps: Some(6),
+            dt: Some(2.5e-3),
+            grid: Some("10x10".into()),
+            out: Some(PathBuf::from("out/x")),
+            obj_every: 40,
+            render: Some("0,1,120".into()),
+            tolerance: Some(1e-10),
+            solver: Some("local-global".into()),
+            checkpoint_every: Some(Every::After(Duration::from_millis(1500))),
+            ..Request::new(SceneSource::File(PathBuf::from("scenes/a b.toml")))
+        };
+        let back = roundtrip(&full);
+        assert_eq!(back.method, full.method);
+        assert_eq!(back.frames, full.frames);
+        assert_eq!(back.substeps, full.substeps);
+        assert_eq!(back.dt.map(f64::to_bits), full.dt.map(f64::to_bits));
+        assert_eq!(back.grid, full.grid);
+        assert_eq!(back.out, full.out);
+        assert_eq!(back.obj_every, full.obj_every);
+        assert_eq!(back.render, full.render);
+        assert_eq!(back.tolerance, full.tolerance);
+        assert_eq!(back.solver, full.solver);
+        assert_eq!(back.checkpoint_every, full.checkpoint_every);
+
+        let bare = Request::new(SceneSource::Text {
+            name: "<scene>".into(),
+            text: "x".into(),
+        });
+        let back = roundtrip(&bare);
+        assert!(back.method.is_none() && back.frames.is_none() && back.dt.is_none());
+        assert!(back.out.is_none() && back.render.is_none() && back.checkpoint_every.is_none());
+        let off = Request {
+            checkpoint_every: Some(Every::Off),
+            ..bare
+        };
+        assert_eq!(roundtrip(&off).checkpoint_every, Some(Every::Off));
+    }
+}
