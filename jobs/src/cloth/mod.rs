@@ -43,7 +43,7 @@
 //!
 //! // A wrong field is named, for each front end in its own words.
 //! let bad = Request { frames: Some(2_000_000), ..request };
-//! let err = plan(&bad).unwrap_err();
+//! let Err(err) = plan(&bad) else { panic!("two million frames were accepted") };
 //! assert!(err.to_string().starts_with("--frames"), "{err}");
 //! assert!(err.keyword_message().starts_with("frames"), "{err}");
 //! # std::fs::remove_dir_all(&out).ok();
