@@ -1,16 +1,42 @@
-//! The oscillator's plots, the counterparts of the paper's figures 2–4: per
-//! step size, `q(t)` and `p(t)` of every method against the exact solution,
-//! and `|H − H₀|` against time on a log axis.
+//! The oscillator's files: the CSV of errors, the CSV of every step, and
+//! the plots, the counterparts of the paper's figures 2–4: per step size,
+//! `q(t)` and `p(t)` of every method against the exact solution, and
+//! `|H − H₀|` against time on a log axis.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
-use anyhow::Result;
-
-use compare::paper_oscillator::{ENERGY_CEILING, ENERGY_FLOOR, Experiment, h_name};
+use compare::paper_oscillator::{
+    Config, ENERGY_CEILING, ENERGY_FLOOR, Experiment, errors_csv, h_name, series_csv,
+};
 use compare::plot::{self, Plot, Series};
 
+use super::{PaperError, write};
+
+/// The names of every file the oscillator part writes, in the report's order.
+pub(super) fn oscillator_files(config: &Config) -> Vec<String> {
+    let mut names = vec!["oscillator_errors.csv".to_string()];
+    for &h in &config.step_sizes {
+        names.push(format!("oscillator_h{}_series.csv", h_name(h)));
+        names.extend(plot_names(h));
+    }
+    names
+}
+
+/// Write the oscillator's tables and plots into `dir`.
+pub(super) fn write_oscillator(exp: &Experiment, dir: &Path) -> Result<(), PaperError> {
+    write(&dir.join("oscillator_errors.csv"), &errors_csv(exp))?;
+    for &h in &exp.config.step_sizes {
+        write(
+            &dir.join(format!("oscillator_h{}_series.csv", h_name(h))),
+            &series_csv(exp, h),
+        )?;
+        write_plots(exp, h, dir)?;
+    }
+    Ok(())
+}
+
 /// The file names of the three plots at step size `h`.
-pub fn plot_names(h: f64) -> [String; 3] {
+fn plot_names(h: f64) -> [String; 3] {
     [
         format!("oscillator_h{}_q.svg", h_name(h)),
         format!("oscillator_h{}_p.svg", h_name(h)),
@@ -18,16 +44,16 @@ pub fn plot_names(h: f64) -> [String; 3] {
     ]
 }
 
-/// Write the three plots of step size `h` into `dir`; returns their paths.
-pub fn write_plots(exp: &Experiment, h: f64, dir: &Path) -> Result<Vec<PathBuf>> {
+/// Write the three plots of step size `h` into `dir` (none where no method
+/// ran at `h`).
+fn write_plots(exp: &Experiment, h: f64, dir: &Path) -> Result<(), PaperError> {
     let runs: Vec<_> = exp.at(h).collect();
     // The longest run carries the exact solution (a run may stop early).
     let Some(first) = runs.iter().max_by_key(|r| r.t.len()) else {
-        return Ok(Vec::new());
+        return Ok(());
     };
     let steps = first.steps();
     let [q_name, p_name, e_name] = plot_names(h);
-    let mut written = Vec::new();
 
     for (name, what, exact, num) in [
         (&q_name, "q", &first.q_exact, 0usize),
@@ -59,7 +85,6 @@ pub fn write_plots(exp: &Experiment, h: f64, dir: &Path) -> Result<Vec<PathBuf>>
                 series: &series,
             },
         )?;
-        written.push(path);
     }
 
     let series: Vec<Series> = runs
@@ -99,6 +124,5 @@ pub fn write_plots(exp: &Experiment, h: f64, dir: &Path) -> Result<Vec<PathBuf>>
             series: &series,
         },
     )?;
-    written.push(path);
-    Ok(written)
+    Ok(())
 }

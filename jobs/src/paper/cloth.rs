@@ -30,7 +30,6 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use anyhow::{Context, Result, anyhow};
 use cloth::render::{Camera, Stage, rasterise};
 use cloth::study::energy::relative_errors;
 use cloth::study::figure5::{
@@ -40,12 +39,14 @@ use cloth::study::figure5::{
 use cloth::{AVERAGE_VECTOR_FIELD, Mechanism, Method, Simulation, Vec3};
 use compare::format;
 use compare::output::csv_field;
+use compare::plot::{self, Plot, Series};
 
-pub use cloth::study::figure5::DEFAULT_FRAMES;
+use super::{PaperError, write};
 
-/// The method of a run's id (the plan names library methods only).
-fn method_of(id: &str) -> Result<Method> {
-    Method::parse(id).map_err(|e| anyhow!("{id}: {e}"))
+/// The method of a run's id (the plan names library methods only, so
+/// `None` does not occur).
+fn method_of(id: &str) -> Option<Method> {
+    Method::parse(id).ok()
 }
 
 /// A run's label in the plots.
@@ -58,8 +59,6 @@ fn file_stem(r: &ClothRun) -> String {
     format!("cloth_{}_x{}", r.id, r.substeps)
 }
 
-use compare::plot::{self, Plot, Series};
-
 /// The frame interval (s).
 fn frame_h(exp: &ClothExperiment) -> f64 {
     1.0 / exp.scene.simulation.frame_rate
@@ -67,7 +66,7 @@ fn frame_h(exp: &ClothExperiment) -> f64 {
 
 /// Write `cloth_runs.csv`, `cloth_energy.svg` and the renderings; returns
 /// the file names written.
-pub fn write_files(exp: &ClothExperiment, dir: &Path) -> Result<Vec<String>> {
+fn write_files(exp: &ClothExperiment, dir: &Path) -> Result<Vec<String>, PaperError> {
     let mut files = Vec::new();
     // CSV: one row per run.
     let mut csv = String::from(
@@ -98,8 +97,7 @@ pub fn write_files(exp: &ClothExperiment, dir: &Path) -> Result<Vec<String>> {
             )
         );
     }
-    let path = dir.join("cloth_runs.csv");
-    std::fs::write(&path, csv).with_context(|| format!("writing {}", path.display()))?;
+    write(&dir.join("cloth_runs.csv"), &csv)?;
     files.push("cloth_runs.csv".to_string());
 
     // The energy plot: |H − H₀|/E_ref against time, log axis.
@@ -142,10 +140,7 @@ pub fn write_files(exp: &ClothExperiment, dir: &Path) -> Result<Vec<String>> {
     // for the runs that completed, its own for a run that blew up.
     let stage = Stage {
         colliders: exp.scene.colliders.clone(),
-        triangles: Simulation::new(&exp.scene)
-            .map_err(|e| anyhow!("{e}"))?
-            .model
-            .triangles(),
+        triangles: Simulation::new(&exp.scene)?.model.triangles(),
         nx: exp.scene.cloth.nx,
     };
     let shown: Vec<&ClothRun> = exp.runs.iter().filter(|r| r.substeps > 1).collect();
@@ -209,7 +204,7 @@ fn ms_per_frame(r: &ClothRun) -> f64 {
 }
 
 /// The report's section (without its heading), one function per part.
-pub fn markdown(exp: &ClothExperiment, files: &[String]) -> String {
+fn markdown(exp: &ClothExperiment, files: &[String]) -> String {
     let mut w = String::new();
     claim(&mut w);
     this_run(&mut w, exp, files);
@@ -302,7 +297,7 @@ fn one_step_explicit(w: &mut String, exp: &ClothExperiment) {
     let one_step_explicit: Vec<&ClothRun> = exp
         .runs
         .iter()
-        .filter(|r| r.substeps == 1 && method_of(r.id).is_ok_and(|m| m.explicit()))
+        .filter(|r| r.substeps == 1 && method_of(r.id).is_some_and(|m| m.explicit()))
         .collect();
     let all_blew = one_step_explicit.iter().all(|r| r.stopped.is_some());
     let longest = one_step_explicit
@@ -387,7 +382,7 @@ fn minimisation(w: &mut String, exp: &ClothExperiment) {
         .runs
         .iter()
         .filter(|r| {
-            r.substeps == 1 && method_of(r.id).is_ok_and(|m| m.midpoint_weights().is_some())
+            r.substeps == 1 && method_of(r.id).is_some_and(|m| m.midpoint_weights().is_some())
         })
         .map(|r| match &r.stopped {
             Some(why) => format!("{} {why}", r.name),
@@ -437,7 +432,7 @@ fn implicit_one_step(w: &mut String, exp: &ClothExperiment) {
         .iter()
         .filter(|r| {
             r.substeps == 1
-                && method_of(r.id).is_ok_and(|m| m.mechanism() == Mechanism::StageSolver)
+                && method_of(r.id).is_some_and(|m| m.mechanism() == Mechanism::StageSolver)
         })
         .collect();
     let imp_failed: Vec<String> = imp1
@@ -597,7 +592,7 @@ fn inextensible(w: &mut String, exp: &ClothExperiment) {
 }
 
 /// One line per run, for the terminal.
-pub fn terminal(exp: &ClothExperiment) -> String {
+pub(super) fn terminal(exp: &ClothExperiment) -> String {
     let mut s = String::new();
     for r in &exp.runs {
         let _ = writeln!(
@@ -619,25 +614,24 @@ pub fn terminal(exp: &ClothExperiment) -> String {
 }
 
 /// What the cloth part produced.
-pub struct Section {
+pub(super) struct Section {
     /// The report's section (without its heading).
     pub markdown: String,
     /// The files written.
     pub files: Vec<String>,
-    /// What the terminal shows.
-    pub terminal: String,
+    /// The runs; `None` when the comparison was skipped.
+    pub experiment: Option<ClothExperiment>,
 }
 
 /// Run, write the files, return the section. `frames = 0` skips the
 /// comparison (the section then says so).
-pub fn section(dir: &Path, frames: usize) -> Result<Section> {
+pub(super) fn section(dir: &Path, frames: usize) -> Result<Section, PaperError> {
     if frames == 0 {
-        let text = "skipped (--cloth-frames 0)".to_string();
         return Ok(Section {
             markdown: "Skipped (`--cloth-frames 0`); run `symlab paper` without it for the figure-5 comparison."
                 .to_string(),
             files: Vec::new(),
-            terminal: text,
+            experiment: None,
         });
     }
     let exp = experiment(frames)?;
@@ -645,6 +639,6 @@ pub fn section(dir: &Path, frames: usize) -> Result<Section> {
     Ok(Section {
         markdown: markdown(&exp, &files),
         files,
-        terminal: terminal(&exp),
+        experiment: Some(exp),
     })
 }

@@ -14,6 +14,8 @@ pub(super) fn write(w: &mut String, exp: &Experiment, f: &Findings) {
     methods(w);
 }
 
+/// The title, and the version that wrote the report: this crate's (the
+/// jobs crate is released with the `symlab` program; both are 0.1.0).
 fn title(w: &mut String) {
     let _ = writeln!(w, "# Tan et al., section 5, reproduced\n");
     let _ = writeln!(
