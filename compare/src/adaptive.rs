@@ -15,10 +15,10 @@ use integrator_core::adaptive::{Controller, Reversible};
 use integrator_core::library::*;
 use integrator_core::{Scheme, Separable, Step};
 
-use crate::counting::{AsSeparable, Counting};
+use crate::counting::{AsOde, AsSeparable, Counting};
 use crate::error::{CompareError, Result};
 use crate::method::{Fixed, Method, family_of, symplectic_for};
-use crate::problem::{Kind, Problem};
+use crate::problem::{ByKind, Kind, Problem};
 use crate::stepper::{Outcome, Status, Stepper, Workspace};
 
 /// A symmetric scheme under a reversible controller.
@@ -191,7 +191,7 @@ pub fn method<P: Problem>(
             "the {problem} problem has no step density (adaptive steps apply to kepler and kepler-hard, whose density is the inverse distance)"
         ));
     }
-    match <P::Kind as Kind<P>>::adaptive(base, controller) {
+    match stepper_for::<P>(base, controller) {
         Some((stepper, i)) => Ok(Method::Fixed(Fixed {
             id,
             order: i.order,
@@ -211,6 +211,31 @@ pub fn method<P: Problem>(
             )),
         },
     }
+}
+
+/// The symmetric scheme `id` under `controller` as a stepper of `P`, with
+/// its facts: `None` if `id` is not symmetric or `P` is not separable.
+fn stepper_for<P: Problem>(
+    id: &str,
+    controller: Controller,
+) -> Option<(Box<dyn Stepper<P>>, integrator_core::Info)> {
+    struct Symmetric<'a>(&'a str, Controller);
+    impl<P: Problem> ByKind<P> for Symmetric<'_> {
+        type Output = Option<(Box<dyn Stepper<P>>, integrator_core::Info)>;
+        fn separable(self) -> Self::Output
+        where
+            P: Problem<Kind = AsSeparable> + Separable,
+        {
+            stepper(self.0, self.1)
+        }
+        fn ode(self) -> Self::Output
+        where
+            P: Problem<Kind = AsOde>,
+        {
+            None
+        }
+    }
+    <P::Kind as Kind<P>>::by_kind(Symmetric(id, controller))
 }
 
 /// The symmetric scheme `id` under `controller` on a separable problem.

@@ -9,11 +9,8 @@ use integrator_core::problems::{
 
 use crate::counting::{AsOde, AsSeparable};
 use crate::error::{CompareError, Result};
-use crate::library::propagator_tables;
-use crate::method::{Fixed, Method};
-use crate::problem::{Defaults, Family, Problem, Setup};
-use crate::rebound::Bodies;
-use crate::stepper::PropagatorStepper;
+use crate::nbody::Bodies;
+use crate::problem::{Defaults, Problem, Setup};
 
 use std::f64::consts::PI;
 
@@ -177,18 +174,10 @@ impl Problem for OuterSolarSystem {
     fn period(&self) -> Option<(f64, &'static str)> {
         Some((4332.59, "Jupiter orbit"))
     }
-    /// `wh:ID`: the library's splittings on the Wisdom–Holman (Jacobi)
-    /// split of the same bodies, masses and `G`.
-    fn special_method(&self, id: &str) -> Option<Result<Method<Self>>> {
-        id.starts_with(crate::wisdom_holman::PREFIX).then(|| {
-            Method::wisdom_holman(
-                id,
-                &integrator_core::problems::wisdom_holman::Jacobi::outer_solar(),
-            )
-        })
-    }
-    fn special_ids(&self) -> Vec<String> {
-        crate::wisdom_holman::ids()
+    /// The Wisdom–Holman (Jacobi) split of the same bodies, masses and `G`
+    /// (`wh:ID`: the library's splittings on it).
+    fn wisdom_holman(&self) -> Option<integrator_core::problems::wisdom_holman::Jacobi> {
+        Some(integrator_core::problems::wisdom_holman::Jacobi::outer_solar())
     }
     /// The six bodies in the same units and frame (not moved to the centre
     /// of mass), velocities `p/m`.
@@ -272,26 +261,9 @@ impl Problem for LinearHamiltonian {
     fn defaults(&self) -> Defaults {
         SHORT
     }
-    fn special_method(&self, id: &str) -> Option<Result<Method<Self>>> {
-        let (pid, p, q) = propagator_tables()
-            .into_iter()
-            .find(|(pid, _, _)| *pid == id)?;
-        let base = pid.trim_end_matches("-propagator");
-        let i = integrator_core::library::info(base)?;
-        Some(Ok(Method::Fixed(Fixed {
-            id: pid.to_string(),
-            order: i.order,
-            symplectic: i.symplectic,
-            family: Family::Implicit,
-            interpreted: false,
-            stepper: Box::new(PropagatorStepper { p, q }),
-        })))
-    }
-    fn special_ids(&self) -> Vec<String> {
-        propagator_tables()
-            .into_iter()
-            .map(|(id, _, _)| id.to_string())
-            .collect()
+    /// Linear: the exact one-step maps of the Gauss tables apply.
+    fn linear(&self) -> Option<&LinearHamiltonian> {
+        Some(self)
     }
 }
 
@@ -494,24 +466,6 @@ mod tests {
         let sys = linear::gyroscopic(10, 7, 1e4).unwrap();
         let w = omega_max(&sys);
         assert!((0.99e4..=1.0e4 + 0.3).contains(&w), "{w}");
-    }
-
-    #[test]
-    fn separable_methods_on_the_linear_problem_say_why_not() {
-        let sys = linear::gyroscopic(3, 1, 10.0).unwrap();
-        let err = match Method::by_id("leapfrog", &sys) {
-            Err(e) => e.to_string(),
-            Ok(_) => panic!("leapfrog cannot step the linear system"),
-        };
-        assert!(err.contains("separable"), "{err}");
-        assert!(Method::by_id("gauss2-propagator", &sys).is_ok());
-        let kepler = Kepler { e: 0.6 };
-        assert!(Method::by_id("gauss2-propagator", &kepler).is_err());
-        let err = match Method::by_id("nope", &kepler) {
-            Err(e) => e.to_string(),
-            Ok(_) => panic!(),
-        };
-        assert!(err.contains("leapfrog") && err.contains("unknown"), "{err}");
     }
 
     #[test]

@@ -27,6 +27,17 @@ pub enum CompareError {
     /// sentence that names the method).
     #[error("{why}")]
     Method { id: String, why: String },
+    /// Two methods of one sweep with the same id (a table's id is its
+    /// file's stem): `index` is the second's place in the list the caller
+    /// gave ([`sweep_methods`](crate::plan::sweep_methods): the methods
+    /// named, or, when `added`, those added), for a message in the caller's
+    /// terms.
+    #[error("methods: the id '{id}' appears twice (a table's id is its file's stem)")]
+    DuplicateMethod {
+        id: String,
+        index: usize,
+        added: bool,
+    },
     /// A table file that does not load, or whose claims do not hold.
     #[error("{}: {why}", path.display())]
     TableFile { path: PathBuf, why: String },

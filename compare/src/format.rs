@@ -167,6 +167,19 @@ pub fn plain(x: f64) -> String {
     }
 }
 
+/// One CSV field as RFC 4180 writes it: as it is, or — when it holds a
+/// comma, a double quote, a CR or an LF — wrapped in double quotes with its
+/// quotes doubled. Every CSV file of the workspace writes its text fields
+/// through this (names come from user files and may hold anything), and
+/// [`read_runs`](crate::output::read_runs) reads them back.
+pub fn csv_field(s: &str) -> std::borrow::Cow<'_, str> {
+    if s.contains([',', '"', '\r', '\n']) {
+        format!("\"{}\"", s.replace('"', "\"\"")).into()
+    } else {
+        s.into()
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

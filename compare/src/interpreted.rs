@@ -37,9 +37,10 @@ use tableau::file::TableFile;
 use tableau::rounding::{F64Pair, F64Rounded, F64Table, round_table};
 use tableau::verdict::{Analysed, Options, Source, Verdict};
 
+use crate::counting::{AsOde, AsSeparable};
 use crate::error::{CompareError, Result};
 use crate::method::{Fixed, Method};
-use crate::problem::{Family, Kind, Problem};
+use crate::problem::{ByKind, Family, Kind, Problem};
 use crate::stepper::{StepStepper, Stepper};
 
 /// The most stages of an implicit table or pair the interpreter steps (the
@@ -297,7 +298,7 @@ impl<P: Problem> Method<P> {
                 (what, k.order, symplectic, family)
             }
         };
-        let stepper = <P::Kind as Kind<P>>::interpreted(what, &t.id)?;
+        let stepper = stepper_for::<P>(what, &t.id)?;
         Ok(Method::Fixed(Fixed {
             id: t.id.clone(),
             order,
@@ -382,7 +383,7 @@ fn analysis_error(id: &str, e: impl std::fmt::Display) -> CompareError {
 }
 
 /// A Runge–Kutta table on any problem.
-pub(crate) fn rk<P: Problem>(what: Interpretable<'_>, id: &str) -> Result<Box<dyn Stepper<P>>> {
+fn rk<P: Problem>(what: Interpretable<'_>, id: &str) -> Result<Box<dyn Stepper<P>>> {
     let pair_refused = |form: &str| {
         CompareError::method(
             id,
@@ -424,10 +425,32 @@ fn f64_rk<P: Problem>(t: &F64Table, explicit: bool, id: &str) -> Result<Box<dyn 
     }
 }
 
+/// A table as a stepper of `P`, or why it cannot step `P`: any form on a
+/// separable problem, Runge–Kutta tables on any other.
+fn stepper_for<P: Problem>(what: Interpretable<'_>, id: &str) -> Result<Box<dyn Stepper<P>>> {
+    struct Interpret<'a, 'b>(Interpretable<'a>, &'b str);
+    impl<P: Problem> ByKind<P> for Interpret<'_, '_> {
+        type Output = Result<Box<dyn Stepper<P>>>;
+        fn separable(self) -> Self::Output
+        where
+            P: Problem<Kind = AsSeparable> + integrator_core::Separable,
+        {
+            separable(self.0, self.1)
+        }
+        fn ode(self) -> Self::Output
+        where
+            P: Problem<Kind = AsOde>,
+        {
+            rk(self.0, self.1)
+        }
+    }
+    <P::Kind as Kind<P>>::by_kind(Interpret(what, id))
+}
+
 /// Any table on a separable problem.
-pub(crate) fn separable<P>(what: Interpretable<'_>, id: &str) -> Result<Box<dyn Stepper<P>>>
+fn separable<P>(what: Interpretable<'_>, id: &str) -> Result<Box<dyn Stepper<P>>>
 where
-    P: Problem<Kind = crate::counting::AsSeparable> + integrator_core::Separable,
+    P: Problem<Kind = AsSeparable> + integrator_core::Separable,
 {
     let table = match what {
         Interpretable::Table(table) => table,

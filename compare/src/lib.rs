@@ -28,6 +28,26 @@
 //!   reversible adaptive) against DOP853 over 100 and 1000 Kepler orbits at
 //!   e = 0.6 and 0.9.
 //!
+//! What a method id means (`gauss2`, `wh:ID`, `logh:ID`, `adaptive:ID`,
+//! `rebound:NAME`, `dop853`, `gaussN-propagator`, table files) is decided in
+//! one place, the [`registry`]: each family's prefix, ids, resolution and
+//! the problems it applies to; its module docs show the one way to resolve
+//! and run any id on any problem. [`plan::sweep_methods`] resolves the
+//! methods of a sweep for every front end, and [`mode`] runs each mode of
+//! `symlab compare` (sweep, peer study, long runs, hard cases) as one call
+//! that returns data; the library prints nothing.
+//!
+//! The modules are arranged in rooms that import only downwards, with no
+//! circle: the base ([`error`](CompareError), [`guard`], [`counting`],
+//! [`format`], [`plot`]); problems ([`Problem`], [`builtin`],
+//! [`linear_file`], [`nbody`]); run loops and their data ([`stepper`],
+//! [`peer`], [`row`]); methods ([`Method`], [`library`], [`adaptive`],
+//! [`time_transformed`], [`processed`], [`interpreted`],
+//! [`wisdom_holman`], [`rebound`], then the [`registry`] over them);
+//! output ([`output`], [`report`]); studies ([`sweep`], [`work_precision`],
+//! [`long`], [`long_variable`], [`hard`], [`peer_study`], [`plan`],
+//! [`sweep_plan`], [`mode`], [`paper_oscillator`]).
+//!
 //! [`paper_oscillator`] is the oscillator experiment of the paper's
 //! section 5 (six schemes against the closed form), which `symlab paper`
 //! reports on.
@@ -83,6 +103,8 @@ pub mod linear_file;
 pub mod long;
 pub mod long_variable;
 mod method;
+pub mod mode;
+pub mod nbody;
 pub mod output;
 pub mod paper_oscillator;
 pub mod peer;
@@ -92,7 +114,9 @@ pub mod plot;
 mod problem;
 pub mod processed;
 pub mod rebound;
+pub mod registry;
 pub mod report;
+pub mod row;
 pub mod stepper;
 pub mod sweep;
 pub mod sweep_plan;
@@ -103,7 +127,7 @@ mod work_precision;
 pub use counting::{AsOde, AsSeparable, Counting, Counts};
 pub use error::{CompareError, Result};
 pub use method::{Fixed, Method, family_of};
-pub use problem::{Counted, Defaults, Family, Kind, Problem, Setup};
+pub use problem::{ByKind, Counted, Defaults, Family, Kind, Problem, Setup};
 pub use stepper::{
     FixedSizeStepper, Outcome, Status, StepStepper, Stepper, Workspace, bare_caught,
     observed_caught,

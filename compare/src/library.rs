@@ -5,15 +5,17 @@
 use integrator_core::Separable;
 use integrator_core::library::*;
 
-use crate::counting::AsSeparable;
-use crate::problem::Problem;
+use crate::counting::{AsOde, AsSeparable};
+use crate::method::{Fixed, Method, family_of, symplectic_for};
+use crate::problem::{ByKind, Kind, Problem};
 use crate::stepper::{FixedSizeStepper, StepStepper, Stepper};
 
 /// Declares the library by id from integrator-core's one list
 /// ([`integrator_core::for_each_scheme!`]): which schemes step any
 /// `OdeSystem` (`explicit_rk`, `implicit_rk`: Runge–Kutta tables) and which
 /// only separable Hamiltonians (`explicit_pairs`, and `splittings`: drift–kick
-/// sequences and compositions, which also step Wisdom–Holman splits; `implicit_pairs`, which step
+/// sequences and compositions, which also step Wisdom–Holman splits, see
+/// [`wisdom_holman`](crate::wisdom_holman); `implicit_pairs`, which step
 /// `Hamiltonian`s — all our Hamiltonian problems are separable). Emits the
 /// id lists and the constructors, among them the time-transformed variants
 /// of the explicit separable schemes (`logh:ID`);
@@ -41,44 +43,6 @@ macro_rules! library {
         /// those that also step the Wisdom–Holman split of an N-body
         /// problem (`wh:ID`).
         pub const SPLITTING_IDS: &[&str] = &[$($sid),*];
-
-        /// The splitting `base` on the Wisdom–Holman split `split` of an
-        /// N-body problem, as the method `id` (`wh:BASE`); `None` for a
-        /// `base` that is not a splitting.
-        pub fn wh_method<P: Problem>(
-            id: &str,
-            base: &str,
-            split: &integrator_core::problems::wisdom_holman::Jacobi,
-        ) -> Option<crate::method::Method<P>> {
-            match base {
-                $($sid => crate::wisdom_holman::fixed(id, $sty, split),)*
-                _ => None,
-            }
-        }
-
-        /// A processed method `wh:ID` (a catalogue file with a corrector)
-        /// whose kernel is the library splitting `kernel`: the kernel's
-        /// `butcher!` step, the corrector `chi` at output only. `None` for a
-        /// `kernel` that is not a splitting of the library.
-        pub fn wh_processed<P: Problem>(
-            id: &str,
-            kernel: &str,
-            chi: integrator_core::processed::Sequence,
-            order: usize,
-            split: &integrator_core::problems::wisdom_holman::Jacobi,
-        ) -> Option<crate::method::Method<P>> {
-            Some(match kernel {
-                $($sid => crate::wisdom_holman::processed(
-                    id,
-                    $sty,
-                    integrator_core::processed::Sequence::from_catalogue($sid)?,
-                    chi,
-                    order,
-                    split,
-                ),)*
-                _ => return None,
-            })
-        }
 
         /// The time-transformed variant `logh:ID` of an explicit separable
         /// scheme on a separable problem, `None` for any other id.
@@ -121,6 +85,77 @@ macro_rules! library {
 }
 
 integrator_core::for_each_scheme!(library);
+
+/// The library scheme `id` as a stepper of `P`: `None` for an id that is
+/// not in the library or whose scheme cannot step `P` (a splitting on a
+/// system that is not separable).
+pub fn stepper<P: Problem>(id: &str) -> Option<Box<dyn Stepper<P>>> {
+    struct Library<'a>(&'a str);
+    impl<P: Problem> ByKind<P> for Library<'_> {
+        type Output = Option<Box<dyn Stepper<P>>>;
+        fn separable(self) -> Self::Output
+        where
+            P: Problem<Kind = AsSeparable> + Separable,
+        {
+            separable_stepper::<P>(self.0)
+        }
+        fn ode(self) -> Self::Output
+        where
+            P: Problem<Kind = AsOde>,
+        {
+            rk_stepper::<P>(self.0)
+        }
+    }
+    <P::Kind as Kind<P>>::by_kind(Library(id))
+}
+
+/// The library schemes that step `P`: every one on a separable problem,
+/// the Runge–Kutta tables on any other.
+pub fn ids<P: Problem>() -> Vec<&'static str> {
+    if <P::Kind as Kind<P>>::SEPARABLE {
+        RK_IDS.iter().chain(SEPARABLE_IDS).copied().collect()
+    } else {
+        RK_IDS.to_vec()
+    }
+}
+
+/// The explicit separable scheme `id` on the logarithmic Hamiltonian of
+/// `P` (`logh:ID`): `None` if `id` is not one or `P` is not separable.
+pub fn logh<P: Problem>(id: &str) -> Option<Box<dyn Stepper<P>>> {
+    struct LogH<'a>(&'a str);
+    impl<P: Problem> ByKind<P> for LogH<'_> {
+        type Output = Option<Box<dyn Stepper<P>>>;
+        fn separable(self) -> Self::Output
+        where
+            P: Problem<Kind = AsSeparable> + Separable,
+        {
+            logh_stepper::<P>(self.0)
+        }
+        fn ode(self) -> Self::Output
+        where
+            P: Problem<Kind = AsOde>,
+        {
+            None
+        }
+    }
+    <P::Kind as Kind<P>>::by_kind(LogH(id))
+}
+
+impl<P: Problem> Method<P> {
+    /// A library scheme by id (`symlab list`), if it can step `P`.
+    pub fn library(id: &str) -> Option<Self> {
+        let stepper = stepper::<P>(id)?;
+        let i = info(id)?;
+        Some(Method::Fixed(Fixed {
+            id: id.to_string(),
+            order: i.order,
+            symplectic: symplectic_for::<P>(i.symplectic, i.symplectic_separable),
+            family: family_of(i),
+            interpreted: false,
+            stepper,
+        }))
+    }
+}
 
 /// The Gauss tables whose propagators are offered on the linear system, as
 /// `(id, P, Q)` of their stability functions.

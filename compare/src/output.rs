@@ -9,20 +9,9 @@ use crate::error::{CompareError, Result, write};
 use crate::format;
 use crate::plot::{self, Plot, Series};
 use crate::problem::Family;
-use crate::sweep::{COLUMNS, Row};
+use crate::row::{COLUMNS, Row};
 
-/// One CSV field as RFC 4180 writes it: as it is, or — when it holds a
-/// comma, a double quote, a CR or an LF — wrapped in double quotes with its
-/// quotes doubled. Every CSV file of the workspace writes its text fields
-/// through this (names come from user files and may hold anything), and
-/// [`read_runs`] reads them back.
-pub fn csv_field(s: &str) -> std::borrow::Cow<'_, str> {
-    if s.contains([',', '"', '\r', '\n']) {
-        format!("\"{}\"", s.replace('"', "\"\"")).into()
-    } else {
-        s.into()
-    }
-}
+pub use crate::format::csv_field;
 
 /// `runs.csv`: the [`COLUMNS`], and `interpreted` after them when a table
 /// file ran (the rows of built-in and generated schemes keep the documented
@@ -577,6 +566,19 @@ pub fn summary(rows: &[Row], target: f64) -> String {
         );
     }
     s
+}
+
+/// The summary and the time-to-error table of a `runs.csv` read back
+/// (what `symlab compare --from` prints); an error when it has no runs.
+pub fn summary_of_file(path: &Path, target: f64) -> Result<String> {
+    let rows = read_runs(path)?;
+    if rows.is_empty() {
+        return Err(CompareError::Csv {
+            path: path.to_path_buf(),
+            why: "no runs".into(),
+        });
+    }
+    Ok(summary(&rows, target) + &time_to_error_table(&rows, target, &path.display().to_string()))
 }
 
 /// The time-to-error table, fastest first, as printed.

@@ -7,9 +7,11 @@
 use std::ops::RangeInclusive;
 
 use crate::builtin::{self, Builtin};
-use crate::error::Result;
+use crate::error::{CompareError, Result};
 use crate::long::LongSettings;
+use crate::method::Method;
 use crate::problem::{Defaults, Problem, Setup};
+use crate::registry::MethodSpec;
 use crate::sweep::PEER_TOLERANCES;
 
 /// A computation over a problem of any type, for [`with_setup`]: a
@@ -89,6 +91,65 @@ pub fn default_methods<P: Problem>(setup: &Setup<P>, problem: Option<Builtin>) -
         .into_iter()
         .filter(|m| peer || m != "dop853")
         .collect()
+}
+
+/// The methods of a sweep of `setup` (the built-in problem `builtin`, if it
+/// is one), as every front end resolves them: those `named` in order, else
+/// the defaults — with `quick` or with methods `added`, the
+/// [`table_references`]; else [`default_methods`] — then those `added` (the
+/// command line's `--table` files). Two with the same id are refused
+/// ([`CompareError::DuplicateMethod`], whose `index` is the second's place
+/// among the named or the added).
+///
+/// ```
+/// use compare::builtin::kepler;
+/// use compare::plan::sweep_methods;
+/// use compare::registry::MethodSpec;
+///
+/// let setup = kepler(false, 62.8, false)?;
+/// let named = vec![MethodSpec::Id("gauss2".into()), MethodSpec::Id("logh:kahan-li8".into())];
+/// let methods = sweep_methods(&setup, None, Some(named), vec![], false)?;
+/// assert_eq!(methods.len(), 2);
+/// let twice = vec![MethodSpec::Id("rk4".into()), MethodSpec::Id("rk4".into())];
+/// let e = sweep_methods(&setup, None, Some(twice), vec![], false).err().unwrap();
+/// assert!(e.to_string().contains("'rk4' appears twice"));
+/// # Ok::<(), compare::CompareError>(())
+/// ```
+pub fn sweep_methods<P: Problem>(
+    setup: &Setup<P>,
+    builtin: Option<Builtin>,
+    named: Option<Vec<MethodSpec<P>>>,
+    added: Vec<MethodSpec<P>>,
+    quick: bool,
+) -> Result<Vec<Method<P>>> {
+    let named = match named {
+        Some(named) => named,
+        None => {
+            // With tables and no methods named: the tables beside a few
+            // references (the quick set), not the whole library.
+            let ids = if quick || !added.is_empty() {
+                table_references(builtin)
+            } else {
+                default_methods(setup, builtin)
+            };
+            ids.into_iter().map(MethodSpec::Id).collect()
+        }
+    };
+    let named = named.into_iter().enumerate().map(|(i, m)| (i, false, m));
+    let added = added.into_iter().enumerate().map(|(i, m)| (i, true, m));
+    let mut methods: Vec<Method<P>> = Vec::new();
+    for (index, added, spec) in named.chain(added) {
+        let m = spec.resolve(setup)?;
+        if methods.iter().any(|x| x.id() == m.id()) {
+            return Err(CompareError::DuplicateMethod {
+                id: m.id().to_string(),
+                index,
+                added,
+            });
+        }
+        methods.push(m);
+    }
+    Ok(methods)
 }
 
 /// The methods of the hard cases: every fixed-step method that applies

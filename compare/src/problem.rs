@@ -9,9 +9,6 @@ use integrator_core::{OdeSystem, Separable};
 
 use crate::counting::{AsOde, AsSeparable, Counting, Counts};
 use crate::error::{CompareError, Result};
-use crate::library;
-use crate::method::Method;
-use crate::stepper::Stepper;
 
 /// The default work–precision sweep of a problem: the end time and the
 /// range of step sizes (from about 100 to about 10⁵ steps is a good start).
@@ -84,15 +81,20 @@ pub trait Problem: OdeSystem + Clone + Send + Sync + Sized + 'static {
     fn period(&self) -> Option<(f64, &'static str)> {
         None
     }
-    /// Methods of this problem beyond the scheme library (the gyroscopic
-    /// problem's exact propagators): `None` for an id it does not know.
-    fn special_method(&self, id: &str) -> Option<Result<Method<Self>>> {
-        let _ = id;
+    /// The system as a linear one, `z' = Hz + u` (the gyroscopic problem
+    /// and linear problem files): the exact one-step maps of the Gauss
+    /// tables, `gaussN-propagator`, apply to it. `None` (the default): not
+    /// linear.
+    fn linear(&self) -> Option<&integrator_core::linear::LinearHamiltonian> {
         None
     }
-    /// The ids [`special_method`](Problem::special_method) knows.
-    fn special_ids(&self) -> Vec<String> {
-        vec![]
+    /// The N-body ability for Wisdom–Holman methods (`wh:ID`,
+    /// [`wisdom_holman`](crate::wisdom_holman)): the Jacobi split of the
+    /// same bodies, masses and `G`, for a problem whose state is the
+    /// inertial `[x; p]` with body 0 the central mass. `None` (the
+    /// default): no `wh:` methods.
+    fn wisdom_holman(&self) -> Option<integrator_core::problems::wisdom_holman::Jacobi> {
+        None
     }
     /// The step-size function of the reversible adaptive methods
     /// (`adaptive:ID`, [`adaptive`](crate::adaptive)): `σ = |q|^α` for a
@@ -109,16 +111,18 @@ pub trait Problem: OdeSystem + Clone + Send + Sync + Sized + 'static {
     fn rebound_bodies(
         &self,
         z: &[f64],
-    ) -> Option<std::result::Result<crate::rebound::Bodies, String>> {
+    ) -> Option<std::result::Result<crate::nbody::Bodies, String>> {
         let _ = z;
         None
     }
 }
 
 /// How the harness treats a problem type: the counting wrapper it runs the
-/// observed runs on, and which library schemes and table forms can step it.
-/// Implemented by the two markers [`AsSeparable`] and [`AsOde`]; a problem
-/// names one as its [`Problem::Kind`].
+/// observed runs on, and which of the two kinds it is — which decides the
+/// library schemes and table forms that can step it (the method families
+/// ask through [`Kind::by_kind`]). Implemented by the two markers
+/// [`AsSeparable`] and [`AsOde`]; a problem names one as its
+/// [`Problem::Kind`].
 pub trait Kind<P>: Sized + 'static {
     /// `P` with its evaluations counted.
     type Counted: OdeSystem;
@@ -127,27 +131,24 @@ pub trait Kind<P>: Sized + 'static {
     /// Wrap a copy of the system.
     fn counted(p: &P) -> Self::Counted;
     fn counts(c: &Self::Counted) -> Counts;
-    /// The library scheme `id` as a stepper of `P`, `None` if `id` is not
-    /// one of [`library_ids`](Kind::library_ids).
-    fn library(id: &str) -> Option<Box<dyn Stepper<P>>>;
-    /// The library schemes that step `P`.
-    fn library_ids() -> Vec<&'static str>;
-    /// A table file's table (rounded as `butcher!` rounds it) stepped by the
-    /// run-time interpreters, or why this table cannot step `P`.
-    fn interpreted(
-        table: crate::interpreted::Interpretable<'_>,
-        id: &str,
-    ) -> Result<Box<dyn Stepper<P>>>;
-    /// The explicit separable scheme `id` on the logarithmic Hamiltonian of
-    /// `P` (`logh:ID`), `None` if `id` is not one or `P` is not separable.
-    fn logh(id: &str) -> Option<Box<dyn Stepper<P>>>;
-    /// The symmetric scheme `id` under a reversible step-size controller
-    /// (`adaptive:ID`) with its facts, `None` if `id` is not symmetric or
-    /// `P` is not separable.
-    fn adaptive(
-        id: &str,
-        controller: integrator_core::adaptive::Controller,
-    ) -> Option<(Box<dyn Stepper<P>>, integrator_core::Info)>;
+    /// `f` for `P` as what it is: [`ByKind::separable`] for a separable
+    /// Hamiltonian, [`ByKind::ode`] for any other `OdeSystem`.
+    fn by_kind<F: ByKind<P>>(f: F) -> F::Output;
+}
+
+/// A computation that needs to know which [`Kind`] a problem type is (a
+/// method family building a stepper: only a separable problem takes a
+/// splitting), handed the problem type with the bounds of its kind.
+pub trait ByKind<P> {
+    type Output;
+    /// For a separable Hamiltonian.
+    fn separable(self) -> Self::Output
+    where
+        P: Problem<Kind = AsSeparable> + Separable;
+    /// For an `OdeSystem` only.
+    fn ode(self) -> Self::Output
+    where
+        P: Problem<Kind = AsOde>;
 }
 
 /// `P`'s counting wrapper.
@@ -162,30 +163,8 @@ impl<P: Problem<Kind = AsSeparable> + Separable> Kind<P> for AsSeparable {
     fn counts(c: &Counting<P>) -> Counts {
         c.counts()
     }
-    fn library(id: &str) -> Option<Box<dyn Stepper<P>>> {
-        library::separable_stepper::<P>(id)
-    }
-    fn library_ids() -> Vec<&'static str> {
-        library::RK_IDS
-            .iter()
-            .chain(library::SEPARABLE_IDS)
-            .copied()
-            .collect()
-    }
-    fn interpreted(
-        table: crate::interpreted::Interpretable<'_>,
-        id: &str,
-    ) -> Result<Box<dyn Stepper<P>>> {
-        crate::interpreted::separable(table, id)
-    }
-    fn logh(id: &str) -> Option<Box<dyn Stepper<P>>> {
-        library::logh_stepper::<P>(id)
-    }
-    fn adaptive(
-        id: &str,
-        controller: integrator_core::adaptive::Controller,
-    ) -> Option<(Box<dyn Stepper<P>>, integrator_core::Info)> {
-        crate::adaptive::adaptive_stepper::<P>(id, controller)
+    fn by_kind<F: ByKind<P>>(f: F) -> F::Output {
+        f.separable()
     }
 }
 
@@ -198,26 +177,8 @@ impl<P: Problem<Kind = AsOde>> Kind<P> for AsOde {
     fn counts(c: &Counting<P, AsOde>) -> Counts {
         c.counts()
     }
-    fn library(id: &str) -> Option<Box<dyn Stepper<P>>> {
-        library::rk_stepper::<P>(id)
-    }
-    fn library_ids() -> Vec<&'static str> {
-        library::RK_IDS.to_vec()
-    }
-    fn interpreted(
-        table: crate::interpreted::Interpretable<'_>,
-        id: &str,
-    ) -> Result<Box<dyn Stepper<P>>> {
-        crate::interpreted::rk(table, id)
-    }
-    fn logh(_id: &str) -> Option<Box<dyn Stepper<P>>> {
-        None
-    }
-    fn adaptive(
-        _id: &str,
-        _controller: integrator_core::adaptive::Controller,
-    ) -> Option<(Box<dyn Stepper<P>>, integrator_core::Info)> {
-        None
+    fn by_kind<F: ByKind<P>>(f: F) -> F::Output {
+        f.ode()
     }
 }
 
@@ -365,19 +326,6 @@ impl<P: Problem> Setup<P> {
             .sum();
         let r: f64 = self.reference.iter().map(|b| b * b).sum();
         (d / r.max(f64::MIN_POSITIVE)).sqrt()
-    }
-
-    /// The method with this id for this problem: the problem's own
-    /// ([`Problem::special_method`]), a library scheme, or `dop853`. The
-    /// error lists the valid ids.
-    pub fn method(&self, id: &str) -> Result<Method<P>> {
-        Method::by_id_named(id, &self.sys, &self.name)
-    }
-
-    /// Every method id that applies to this problem (library schemes, the
-    /// problem's own, and `dop853` when the `peer` feature is on).
-    pub fn method_ids(&self) -> Vec<String> {
-        Method::ids(&self.sys)
     }
 }
 

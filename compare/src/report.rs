@@ -7,7 +7,7 @@ use std::fmt::Write as _;
 use crate::format::{self, MISSING};
 use crate::output::{Reach, ladder, not_bracketed, reach, stats};
 use crate::rebound::is_rebound;
-use crate::sweep::Row;
+use crate::row::Row;
 
 /// The method id of the peer.
 pub const PEER: &str = "dop853";

@@ -10,7 +10,7 @@
 use integrator_core::fixed::StepFixed;
 use integrator_core::implicit::ImplicitWorkspace;
 use integrator_core::interp::RkInterpWorkspace;
-use integrator_core::linear::{LinearHamiltonian, Propagator};
+use integrator_core::linear::Propagator;
 use integrator_core::scheme::{PrkWorkspace, RkWorkspace, SplitWorkspace};
 use integrator_core::{OdeSystem, Step, check_start};
 
@@ -376,16 +376,32 @@ pub struct PropagatorStepper {
     pub q: Vec<f64>,
 }
 
-impl Stepper<LinearHamiltonian> for PropagatorStepper {
+/// Why a propagator cannot step a problem that is not linear.
+const NOT_LINEAR: &str = "the problem is not a linear system z' = Hz + u";
+
+impl<P: Problem> Stepper<P> for PropagatorStepper {
     fn observed(
         &self,
-        sys: &LinearHamiltonian,
+        sys: &P,
         z: &mut [f64],
         h: f64,
         n: usize,
         _compensated: bool,
         observe: &mut dyn FnMut(usize, f64, &[f64]) -> bool,
     ) -> Outcome {
+        let Some(sys) = sys.linear() else {
+            return Outcome {
+                status: Status::SolverFailed {
+                    step: 0,
+                    reason: NOT_LINEAR.into(),
+                },
+                evals: 0,
+                newton_iterations: 0,
+                fixed_point_iterations: 0,
+                factorizations: 0,
+                steps: None,
+            };
+        };
         let (status, steps) = match Propagator::new(sys, h, &self.p, &self.q) {
             Ok(prop) => {
                 let mut ws = prop.workspace();
@@ -414,7 +430,10 @@ impl Stepper<LinearHamiltonian> for PropagatorStepper {
         }
     }
 
-    fn bare(&self, sys: &LinearHamiltonian, z: &mut [f64], h: f64, n: usize) -> bool {
+    fn bare(&self, sys: &P, z: &mut [f64], h: f64, n: usize) -> bool {
+        let Some(sys) = sys.linear() else {
+            return false;
+        };
         let Ok(prop) = Propagator::new(sys, h, &self.p, &self.q) else {
             return false;
         };

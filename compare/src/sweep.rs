@@ -45,85 +45,8 @@ use crate::peer;
 use crate::problem::{Family, Problem, Setup};
 use crate::stepper::Status;
 
-/// One run: a row of `runs.csv` (see the module docs for the columns).
-#[derive(Clone, Debug)]
-pub struct Row {
-    pub problem: String,
-    pub method: String,
-    pub family: Family,
-    pub order: usize,
-    pub symplectic: bool,
-    /// Step size (the average step for the adaptive peer and `logh:ID`).
-    pub h: f64,
-    /// `rtol = atol` of the adaptive peer; NaN for fixed-step methods.
-    pub tol: f64,
-    pub steps: u64,
-    /// `‖z − z_ref‖₂/‖z_ref‖₂` at `t_end`; NaN unless `status` is ok.
-    pub error: f64,
-    /// `max |E − E₀|/|E₀|` over the run (the steps taken).
-    pub energy_error: f64,
-    /// Median wall time of the timed runs, seconds; NaN unless ok.
-    pub time_s: f64,
-    pub evals: u64,
-    pub newton_iterations: usize,
-    pub fixed_point_iterations: usize,
-    pub factorizations: usize,
-    pub status: String,
-    /// Stepped by a run-time interpreter (a table file): the error and the
-    /// evaluations compare with generated code, the wall time does not.
-    pub interpreted: bool,
-}
-
-impl Row {
-    pub fn ok(&self) -> bool {
-        self.status == "ok"
-    }
-}
-
-/// The CSV header of `runs.csv`.
-pub const COLUMNS: &[&str] = &[
-    "problem",
-    "method",
-    "order",
-    "symplectic",
-    "h",
-    "tol",
-    "steps",
-    "error",
-    "energy_error",
-    "time_s",
-    "evals",
-    "newton_iterations",
-    "fixed_point_iterations",
-    "factorizations",
-    "status",
-];
-
-impl Row {
-    /// The row as a line of `runs.csv` (no newline); text fields quoted as
-    /// RFC 4180 says ([`csv_field`](crate::output::csv_field)).
-    pub fn csv(&self) -> String {
-        use crate::output::csv_field;
-        format!(
-            "{},{},{},{},{:e},{:e},{},{:e},{:e},{:e},{},{},{},{},{}",
-            csv_field(&self.problem),
-            csv_field(&self.method),
-            self.order,
-            self.symplectic,
-            self.h,
-            self.tol,
-            self.steps,
-            self.error,
-            self.energy_error,
-            self.time_s,
-            self.evals,
-            self.newton_iterations,
-            self.fixed_point_iterations,
-            self.factorizations,
-            csv_field(&self.status)
-        )
-    }
-}
+pub use crate::peer::{PEER_TOLERANCES, tolerance_range, tolerances};
+pub use crate::row::{COLUMNS, Row};
 
 fn median(mut v: Vec<f64>) -> f64 {
     if v.is_empty() {
@@ -155,35 +78,6 @@ pub fn step_counts(t_end: f64, h_min: f64, h_max: f64, points: usize) -> Vec<u64
         .collect();
     out.dedup();
     out
-}
-
-/// Tolerances of the peer, log-spaced from 1e-4 to 1e-18 (one per decade
-/// for [`PEER_TOLERANCES`] points). ode_solvers checks no lower limit (its
-/// error estimate is scaled by `atol + rtol·|y|`), and on Kepler the runs
-/// finish down to 1e-20 at least (measured over 100 and 1000 orbits; from
-/// 1e-15 down no step is rejected). The error still falls about tenfold per
-/// decade of tolerance at 1e-15 and levels off near 1e-17 as round-off takes
-/// over: 1e-15 alone would cut DOP853 off above its best (over 100 orbits
-/// 4.9e-10 at 1e-15, 6.6e-11 at 1e-16, 1.7e-11 at 1e-17).
-pub fn tolerances(points: usize) -> Vec<f64> {
-    tolerance_range(points, 4, 18)
-}
-
-/// The default number of peer tolerances: one per decade of [`tolerances`].
-pub const PEER_TOLERANCES: usize = 15;
-
-/// `points` tolerances log-spaced from `10^-from` to `10^-to`.
-pub fn tolerance_range(points: usize, from: i32, to: i32) -> Vec<f64> {
-    (0..points)
-        .map(|i| {
-            let f = if points == 1 {
-                0.0
-            } else {
-                i as f64 / (points - 1) as f64
-            };
-            10f64.powf(-(from as f64) - (to - from) as f64 * f)
-        })
-        .collect()
 }
 
 /// Run every method: fixed-step methods at each step count, the peer at
@@ -398,6 +292,107 @@ pub fn decode_rows(
         });
     }
     Ok(rows)
+}
+
+/// A stopped sweep as its checkpoint holds it: the caller's arguments
+/// (the command line's, after `compare`, from which a resumed sweep is
+/// planned again) and the rows done, exactly.
+#[derive(Clone, Debug)]
+pub struct Checkpoint {
+    pub argv: Vec<String>,
+    pub rows: Vec<Row>,
+}
+
+/// The most arguments a checkpoint is read back with.
+const MAX_ARGUMENTS: usize = 1000;
+
+impl Checkpoint {
+    /// Write the checkpoint of a sweep (`argv` and `rows`) to `path`,
+    /// atomically ([`integrator_core::checkpoint::write`]).
+    pub fn write(
+        path: &std::path::Path,
+        argv: &[String],
+        rows: &[Row],
+    ) -> std::result::Result<(), integrator_core::checkpoint::CheckpointError> {
+        let mut e = integrator_core::checkpoint::Encoder::new();
+        e.usize(argv.len());
+        for a in argv {
+            e.str(a);
+        }
+        encode_rows(&mut e, rows);
+        integrator_core::checkpoint::write(
+            path,
+            integrator_core::checkpoint::Kind::Compare,
+            &e.finish(),
+        )
+    }
+
+    /// Read back the `payload` of the checkpoint file `path`.
+    pub fn read(
+        path: &std::path::Path,
+        payload: &[u8],
+    ) -> std::result::Result<Self, integrator_core::checkpoint::CheckpointError> {
+        let mut d = integrator_core::checkpoint::Decoder::new(path, payload);
+        let n = d.usize("arguments")?;
+        if n > MAX_ARGUMENTS {
+            return Err(d.error(format!("arguments: {n} of them")));
+        }
+        let argv = (0..n)
+            .map(|_| d.str("arguments").map(str::to_string))
+            .collect::<std::result::Result<Vec<_>, _>>()?;
+        let rows = decode_rows(&mut d)?;
+        d.end()?;
+        Ok(Checkpoint { argv, rows })
+    }
+}
+
+/// Saves a sweep's [`Checkpoint`] as its rows come (for a
+/// [`SweepObserver`] of a front end): after a fresh row once `every` of
+/// wall time has passed since the last save, and when the sweep is
+/// stopping.
+pub struct CheckpointSaver {
+    path: std::path::PathBuf,
+    argv: Vec<String>,
+    every: Option<std::time::Duration>,
+    last: std::time::Instant,
+    /// The rows the last checkpoint written holds.
+    pub saved_rows: Option<usize>,
+}
+
+impl CheckpointSaver {
+    /// Save to `path` every `every` (`None`: only when stopping).
+    pub fn new(
+        path: &std::path::Path,
+        argv: &[String],
+        every: Option<std::time::Duration>,
+    ) -> Self {
+        CheckpointSaver {
+            path: path.to_path_buf(),
+            argv: argv.to_vec(),
+            every,
+            last: std::time::Instant::now(),
+            saved_rows: None,
+        }
+    }
+
+    /// After a row (`fresh`: run now, not read back from a checkpoint):
+    /// save the `rows` when due or when `stopping`.
+    pub fn row(
+        &mut self,
+        rows: &[Row],
+        fresh: bool,
+        stopping: bool,
+    ) -> std::result::Result<(), integrator_core::checkpoint::CheckpointError> {
+        if !fresh {
+            return Ok(());
+        }
+        if stopping || self.every.is_some_and(|d| self.last.elapsed() >= d) {
+            Checkpoint::write(&self.path, &self.argv, rows)?;
+            self.saved_rows = Some(rows.len());
+            self.last = std::time::Instant::now();
+        }
+        Ok(())
+    }
 }
 
 /// One fixed-step run of `n` steps over `[0, t_end]`.

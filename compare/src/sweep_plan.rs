@@ -91,6 +91,23 @@ pub struct SweepPlan {
     pub settings: SweepSettings,
 }
 
+impl SweepPlan {
+    /// The line that says what the sweep of the problem described as
+    /// `description` runs, with `methods` methods.
+    pub fn headline(&self, description: &str, methods: usize) -> String {
+        let steps = self.settings.step_counts(self.t_end);
+        let (first, last) = (steps[0], *steps.last().expect("at least one"));
+        format!(
+            "{description}: T = {}, {methods} methods, {} step sizes from h = {:.3e} to {:.3e} ({first}–{last} steps), {} timed run(s) each",
+            format::plain(self.t_end),
+            steps.len(),
+            self.t_end / first as f64,
+            self.t_end / last as f64,
+            self.settings.repeats
+        )
+    }
+}
+
 /// `x` if it is a finite, normal number > 0; otherwise an error naming it.
 /// A subnormal time or step has lost its precision (5e-324 is the only
 /// number between 0 and 1e-323): no run means anything there.

@@ -149,7 +149,7 @@ fn failed(step: usize, reason: impl ToString) -> Status {
 /// parts `A`, `B`: see [`integrator_core::split`]) and symplecticity; stepped
 /// as a processed method with no corrector (`χ` the identity). `None` where
 /// the catalogue has no table of the id (every library splitting has one).
-pub(crate) fn fixed<P, M>(id: &str, scheme: M, split: &Jacobi) -> Option<Method<P>>
+fn fixed<P, M>(id: &str, scheme: M, split: &Jacobi) -> Option<Method<P>>
 where
     P: Problem,
     M: Scheme
@@ -294,7 +294,7 @@ where
 /// The row of a processed `wh:ID`: `kernel` with the corrector `chi`, of the
 /// effective classical `order`; `kernel_sequence` the kernel's drift–kick
 /// sequence for the timed run (merged across steps).
-pub(crate) fn processed<P, M>(
+fn processed<P, M>(
     id: &str,
     kernel: M,
     kernel_sequence: Sequence,
@@ -320,6 +320,55 @@ where
     })
 }
 
+/// Generates [`wh_method`] and [`wh_processed`] from the library's one
+/// scheme list (`integrator_core::for_each_scheme!`): its splittings (drift–kick
+/// sequences and compositions) are the kernels the Jacobi split takes.
+macro_rules! splittings {
+    (
+        explicit_rk: [$($eid:literal => $ety:ident),* $(,)?],
+        implicit_rk: [$($rid:literal => $rty:ident),* $(,)?],
+        explicit_pairs: [$($xid:literal => $xty:ident),* $(,)?],
+        splittings: [$($sid:literal => $sty:ident),* $(,)?],
+        implicit_pairs: [$($iid:literal => $ity:ident),* $(,)?] $(,)?
+    ) => {
+        /// The splitting `base` on the Wisdom–Holman split `split` of an
+        /// N-body problem, as the method `id` (`wh:BASE`); `None` for a
+        /// `base` that is not a splitting.
+        fn wh_method<P: Problem>(id: &str, base: &str, split: &Jacobi) -> Option<Method<P>> {
+            match base {
+                $($sid => fixed(id, integrator_core::library::$sty, split),)*
+                _ => None,
+            }
+        }
+
+        /// A processed method `wh:ID` (a catalogue file with a corrector)
+        /// whose kernel is the library splitting `kernel`: the kernel's
+        /// `butcher!` step, the corrector `chi` at output only. `None` for a
+        /// `kernel` that is not a splitting of the library.
+        fn wh_processed<P: Problem>(
+            id: &str,
+            kernel: &str,
+            chi: Sequence,
+            order: usize,
+            split: &Jacobi,
+        ) -> Option<Method<P>> {
+            Some(match kernel {
+                $($sid => processed(
+                    id,
+                    integrator_core::library::$sty,
+                    Sequence::from_catalogue($sid)?,
+                    chi,
+                    order,
+                    split,
+                ),)*
+                _ => return None,
+            })
+        }
+    };
+}
+
+integrator_core::for_each_scheme!(splittings);
+
 /// The catalogue's processed method `base` as `wh:ID` (`None` when `base`
 /// is not a processed method of the catalogue): the corrector as doubles,
 /// the kernel the library's scheme of the id it names, else its sequence.
@@ -338,7 +387,7 @@ fn processed_method<P: Problem>(id: &str, base: &str, split: &Jacobi) -> Option<
         })
         .unwrap_or(2);
     if let Some(kernel) = &file.kernel
-        && let Some(m) = crate::library::wh_processed(id, kernel, chi.clone(), order, split)
+        && let Some(m) = wh_processed(id, kernel, chi.clone(), order, split)
     {
         return Some(m);
     }
@@ -388,7 +437,7 @@ pub fn method<P: Problem>(id: &str, split: &Jacobi) -> Result<Method<P>> {
     if let Some(m) = exact {
         return Ok(m);
     }
-    crate::library::wh_method(id, base, split)
+    wh_method(id, base, split)
         .or_else(|| processed_method(id, base, split))
         .ok_or_else(|| {
             CompareError::method(

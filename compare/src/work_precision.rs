@@ -328,6 +328,31 @@ impl WorkPrecision {
         s
     }
 
+    /// What a front end says after [`write`](Self::write) left `files`:
+    /// the note on interpreted rows, if any, and a `wrote FILE` line per
+    /// file (`runs.csv` with its row count).
+    pub fn wrote(&self, files: &[PathBuf]) -> String {
+        let mut out = String::new();
+        if self.rows.iter().any(|r| r.interpreted) {
+            out.push_str(
+                "interpreted: rows of table files are stepped by the run-time interpreter; their errors and \
+                 evaluations compare with generated code, their times do not (see report.md)\n",
+            );
+        }
+        for f in files {
+            if f.ends_with("runs.csv") {
+                out.push_str(&format!(
+                    "wrote {} ({} rows)\n",
+                    f.display(),
+                    self.rows.len()
+                ));
+            } else {
+                out.push_str(&format!("wrote {}\n", f.display()));
+            }
+        }
+        out
+    }
+
     /// `runs.csv`, the plots (when some run succeeded) and `report.md` in
     /// `dir` (created if missing); returns the files written.
     pub fn write(&self, dir: &Path) -> Result<Vec<PathBuf>> {

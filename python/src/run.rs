@@ -11,6 +11,7 @@ use std::sync::{Arc, Mutex, OnceLock};
 use compare::builtin::Builtin;
 use compare::interpreted::VerifiedTable;
 use compare::plan::{self, OnSetup};
+use compare::registry::MethodSpec;
 use compare::sweep_plan::{FromFile, Names, SweepRequest};
 use compare::{Method, Problem as CmpProblem, Row, Setup};
 use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2};
@@ -43,11 +44,18 @@ impl MethodArg {
         )))
     }
 
-    fn method<P: CmpProblem>(&self, setup: &Setup<P>) -> Result<Method<P>, Fail> {
+    /// The method as the registry takes it.
+    fn spec<P: CmpProblem>(&self) -> MethodSpec<P> {
         match self {
-            MethodArg::Id(id) => setup.method(id).map_err(|e| Fail::Problem(e.to_string())),
-            MethodArg::Table(t) => Method::interpreted(t).map_err(|e| Fail::Problem(e.to_string())),
+            MethodArg::Id(id) => MethodSpec::Id(id.clone()),
+            MethodArg::Table(t) => MethodSpec::Table(t.clone()),
         }
+    }
+
+    fn method<P: CmpProblem>(&self, setup: &Setup<P>) -> Result<Method<P>, Fail> {
+        self.spec()
+            .resolve(setup)
+            .map_err(|e| Fail::Problem(e.to_string()))
     }
 }
 
@@ -533,37 +541,24 @@ fn methods_arg(
     Ok(Some(out))
 }
 
-/// The methods of a sweep, as `symlab compare` resolves them: those given,
-/// else its defaults (with tables: the table references).
+/// The methods of a sweep, as `symlab compare` resolves them
+/// ([`plan::sweep_methods`]): those given, else its defaults (with tables:
+/// the table references).
 fn resolve<P: CmpProblem>(
     setup: &Setup<P>,
     builtin: Option<Builtin>,
     given: &Option<Vec<MethodArg>>,
     quick: bool,
 ) -> Result<Vec<Method<P>>, Fail> {
-    let mut out: Vec<Method<P>> = Vec::new();
-    let ids: Vec<MethodArg> = match given {
-        Some(g) => g.clone(),
-        None if quick => plan::table_references(builtin)
-            .into_iter()
-            .map(MethodArg::Id)
-            .collect(),
-        None => plan::default_methods(setup, builtin)
-            .into_iter()
-            .map(MethodArg::Id)
-            .collect(),
-    };
-    for m in &ids {
-        let method = m.method(setup)?;
-        if out.iter().any(|x| x.id() == method.id()) {
-            return Err(Fail::Problem(format!(
-                "methods: the id '{}' appears twice (a table's id is its file's stem or Table(id=...))",
-                method.id()
-            )));
-        }
-        out.push(method);
-    }
-    Ok(out)
+    let named = given
+        .as_ref()
+        .map(|g| g.iter().map(MethodArg::spec).collect());
+    plan::sweep_methods(setup, builtin, named, vec![], quick).map_err(|e| match e {
+        compare::CompareError::DuplicateMethod { id, .. } => Fail::Problem(format!(
+            "methods: the id '{id}' appears twice (a table's id is its file's stem or Table(id=...))"
+        )),
+        e => Fail::Problem(e.to_string()),
+    })
 }
 
 pub fn row_to_py<'py>(py: Python<'py>, r: &Row) -> PyResult<Bound<'py, PyDict>> {

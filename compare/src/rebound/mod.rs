@@ -25,8 +25,6 @@
 //! `p = m v`) and the planar Kepler problems (a massless body about a unit
 //! mass at rest, `G = 1`).
 
-mod bodies;
-mod hexfloat;
 mod names;
 mod process;
 mod run;
@@ -36,8 +34,7 @@ use std::path::PathBuf;
 use crate::error::{CompareError, Result};
 use crate::problem::Problem;
 
-pub use bodies::{Bodies, Layout};
-pub use hexfloat::{hex, unhex};
+pub use crate::nbody::{Bodies, Layout, hex, unhex};
 pub use names::{ReboundMethod, Sweep, names};
 pub use process::{
     Availability, Failure, availability, cpu_has_avx512, echo, probe, probe_whfast512, request,

@@ -7,7 +7,7 @@ use serde_json::{Value, json};
 
 use super::{Point, hex, python};
 use crate::error::{CompareError, Result};
-use crate::sweep::tolerance_range;
+use crate::peer::tolerance_range;
 
 /// How a REBOUND method is swept.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

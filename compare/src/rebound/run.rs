@@ -5,7 +5,7 @@ use serde_json::{Value, json};
 
 use super::{Bodies, ENERGY_SAMPLES, Point, ReboundMethod, hex, request, state_of};
 use crate::problem::{Family, Problem, Setup};
-use crate::sweep::Row;
+use crate::row::Row;
 
 /// What one REBOUND run gave.
 #[derive(Clone, Debug, PartialEq)]

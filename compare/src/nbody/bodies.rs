@@ -127,7 +127,7 @@ impl Bodies {
     }
 
     /// The system part of a request.
-    pub(super) fn request(&self) -> Value {
+    pub(crate) fn request(&self) -> Value {
         let triples = |v: &[[f64; 3]]| -> Vec<Vec<String>> {
             v.iter()
                 .map(|p| p.iter().map(|&x| hex(x)).collect())
