@@ -148,7 +148,9 @@ pub fn cloth_run<'py>(
         checkpoint_every,
         ..Request::new(source)
     };
-    let job = py.detach(|| jobs::cloth::plan(&request)).map_err(job_error)?;
+    let job = py
+        .detach(|| jobs::cloth::plan(&request))
+        .map_err(job_error)?;
     run_job(py, job)
 }
 
