@@ -19,9 +19,18 @@ use cloth::checkpoint::{
 use cloth::{FrameStats, Method, Vec3};
 use integrator_core::checkpoint::{DEFAULT_EVERY, Every};
 
-use super::plan::{Job, from_text, plan_with};
-use super::run::Collected;
-use super::{Field, InputError, JobError, Observer, Request, SceneSource, Stop};
+use super::observer::{Observer, Stop};
+use super::request::{Field, InputError, Request, SceneSource};
+
+/// What a run collects as it goes, beside the simulation's state, and a
+/// checkpoint keeps: the statistics of every frame, the OBJ count, and
+/// the positions of the frames still to render.
+pub(crate) struct Collected {
+    pub stats: Vec<FrameStats>,
+    pub objs: usize,
+    /// Positions of the frames to render, with their time.
+    pub kept: BTreeMap<usize, (f64, Vec<Vec3>)>,
+}
 
 /// The interval of a run of `method`: the request's, or the default where
 /// the method's runs can be resumed. Checkpoints asked of a method that
@@ -154,7 +163,10 @@ fn encode(
     e.finish()
 }
 
-fn decode(path: &Path, payload: &[u8]) -> Result<(Request, String, Resumed), CheckpointError> {
+pub(crate) fn decode(
+    path: &Path,
+    payload: &[u8],
+) -> Result<(Request, String, Resumed), CheckpointError> {
     let mut d = Decoder::new(path, payload);
     let (_, request) = decode_request(&mut d)?;
     let scene_text = d.str("scene text")?.to_string();
@@ -187,24 +199,6 @@ fn decode(path: &Path, payload: &[u8]) -> Result<(Request, String, Resumed), Che
             state,
         },
     ))
-}
-
-/// The job that continues the run whose checkpoint is `path` in `dir`
-/// (its payload already read, a cloth one): the saved request and scene,
-/// writing into `dir` (the folder may have moved since).
-pub fn resume(dir: &Path, path: &Path, payload: &[u8]) -> Result<Job, JobError> {
-    let (mut request, text, resumed) = decode(path, payload)?;
-    request.out = Some(dir.to_path_buf());
-    let SceneSource::Text { name, .. } = &request.scene else {
-        unreachable!("decode_request makes a text source")
-    };
-    let name = name.clone();
-    request.scene = SceneSource::Text {
-        name: name.clone(),
-        text: text.clone(),
-    };
-    let scene = from_text(&request, &name, &text)?;
-    plan_with(&request, scene, text, Some(resumed))
 }
 
 /// The [`RunControl`] of a cloth job: the observer's stop, and the
@@ -314,44 +308,6 @@ impl RunControl for Control<'_, '_> {
         self.last = Instant::now();
         Ok(())
     }
-}
-
-/// The text of a run stopped after `frame`: what ran, what was written,
-/// and how to continue.
-#[allow(clippy::too_many_arguments)] // one line each, all of them printed
-pub(crate) fn stopped_text(
-    job: &Job,
-    stop: &Stop,
-    written: &[String],
-    checkpoint: Option<&Path>,
-    frame: usize,
-    time: f64,
-    wall: f64,
-) -> String {
-    let dir = &job.dir;
-    let total = job.settings.options.frames;
-    let mut s = format!(
-        "cloth: {} — {} stopped by {} after frame {frame} of {total} (t = {time:.4} s), {wall:.1} s of wall time\n",
-        job.scene.name,
-        job.method.id(),
-        stop.reason
-    );
-    s += &format!(
-        "  written      {}: {} (up to frame {frame})\n",
-        dir.display(),
-        written.join(", ")
-    );
-    match checkpoint {
-        Some(path) => {
-            s += &format!(
-                "  checkpoint   {} — continue with: symlab resume {}\n",
-                path.display(),
-                dir.display()
-            )
-        }
-        None => s += "  checkpoint   none: this run cannot be resumed\n",
-    }
-    s
 }
 
 #[cfg(test)]

@@ -7,7 +7,7 @@ use cloth::FrameStats;
 use cloth::study::energy::relative_errors;
 use plotters::prelude::*;
 
-use super::JobError;
+use super::request::JobError;
 
 /// Two panels: kinetic, potential and total energy against time, and the
 /// relative energy error `|H − H₀|/E_ref` on a log axis. SVG or PNG by the

@@ -11,7 +11,7 @@ use cloth::study::energy::reference_energy;
 use cloth::{EnergyGuard, Method, MinimiseSettings, RunSettings, Scene, Simulation, Solver};
 
 use super::checkpoint::{self, Resumed};
-use super::{Field, InputError, JobError, Request, SceneSource};
+use super::request::{Field, InputError, JobError, Request, SceneSource};
 
 /// A planned run: everything checked, the model built.
 pub struct Job {
@@ -364,4 +364,22 @@ pub(crate) fn solver(name: Option<&str>) -> Result<Solver, InputError> {
             )
         }),
     }
+}
+
+/// The job that continues the run whose checkpoint is `path` in `dir`
+/// (its payload already read, a cloth one): the saved request and scene,
+/// writing into `dir` (the folder may have moved since).
+pub fn resume(dir: &Path, path: &Path, payload: &[u8]) -> Result<Job, JobError> {
+    let (mut request, text, resumed) = checkpoint::decode(path, payload)?;
+    request.out = Some(dir.to_path_buf());
+    let SceneSource::Text { name, .. } = &request.scene else {
+        unreachable!("decode_request makes a text source")
+    };
+    let name = name.clone();
+    request.scene = SceneSource::Text {
+        name: name.clone(),
+        text: text.clone(),
+    };
+    let scene = from_text(&request, &name, &text)?;
+    plan_with(&request, scene, text, Some(resumed))
 }

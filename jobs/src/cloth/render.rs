@@ -9,7 +9,7 @@ use cloth::render::rasterise;
 
 use cloth::render::{Camera, Stage};
 
-use super::JobError;
+use super::request::JobError;
 
 /// Render the cloth at `positions` (all particles, by id) to a PNG file;
 /// a note when the picture left triangles out

@@ -8,22 +8,14 @@ use std::collections::BTreeMap;
 use std::path::Path;
 use std::time::Instant;
 
-use cloth::study::energy::relative_errors;
-use cloth::study::growth::Growth;
 use cloth::{FrameStats, RunError, Vec3};
 
-use super::checkpoint::{Control, stopped_text};
+use super::checkpoint::{Collected, Control};
+use super::observer::{Observer, Outcome, Stop};
 use super::plan::Job;
-use super::summary::Summary;
-use super::{JobError, Observer, Outcome, energy, render};
-
-/// What the frame callback collects.
-pub(crate) struct Collected {
-    pub stats: Vec<FrameStats>,
-    pub objs: usize,
-    /// Positions of the frames to render, with their time.
-    pub kept: BTreeMap<usize, (f64, Vec<Vec3>)>,
-}
+use super::request::JobError;
+use super::summary::{Summary, energy_growth};
+use super::{energy, render};
 
 impl Job {
     /// Run the job to its outcome, telling `observer` of each frame and
@@ -160,7 +152,7 @@ impl Job {
                 })
             }
             Err(RunError::Stopped { frame, time }) => {
-                let stop = stopped_by.unwrap_or_else(|| super::Stop {
+                let stop = stopped_by.unwrap_or_else(|| Stop {
                     reason: "the observer".into(),
                 });
                 let mut written = self.energy_files(&col.stats)?;
@@ -315,12 +307,6 @@ impl Job {
     }
 }
 
-/// The fitted growth of the relative energy error over `frames`.
-pub(crate) fn energy_growth(frames: &[FrameStats], e_ref: f64) -> Growth {
-    let times: Vec<f64> = frames.iter().map(|f| f.time).collect();
-    cloth::study::growth::fit(&times, &relative_errors(frames, e_ref))
-}
-
 /// Remove what an earlier run left that this one may not overwrite:
 /// `frames/frame_*.obj` and `render_*.png`.
 fn clear_stale(dir: &Path) -> Result<(), JobError> {
@@ -339,4 +325,42 @@ fn clear_stale(dir: &Path) -> Result<(), JobError> {
     };
     remove(&dir.join("frames"), "frame_", ".obj")?;
     remove(dir, "render_", ".png")
+}
+
+/// The text of a run stopped after `frame`: what ran, what was written,
+/// and how to continue.
+#[allow(clippy::too_many_arguments)] // one line each, all of them printed
+fn stopped_text(
+    job: &Job,
+    stop: &Stop,
+    written: &[String],
+    checkpoint: Option<&Path>,
+    frame: usize,
+    time: f64,
+    wall: f64,
+) -> String {
+    let dir = &job.dir;
+    let total = job.settings.options.frames;
+    let mut s = format!(
+        "cloth: {} — {} stopped by {} after frame {frame} of {total} (t = {time:.4} s), {wall:.1} s of wall time\n",
+        job.scene.name,
+        job.method.id(),
+        stop.reason
+    );
+    s += &format!(
+        "  written      {}: {} (up to frame {frame})\n",
+        dir.display(),
+        written.join(", ")
+    );
+    match checkpoint {
+        Some(path) => {
+            s += &format!(
+                "  checkpoint   {} — continue with: symlab resume {}\n",
+                path.display(),
+                dir.display()
+            )
+        }
+        None => s += "  checkpoint   none: this run cannot be resumed\n",
+    }
+    s
 }

@@ -23,7 +23,7 @@ use compare::output::csv_field;
 use rayon::prelude::*;
 
 use super::plan::{Source, applicable, output_dir, rename, solver, solver_named_applies};
-use super::{Field, InputError, JobError, Request, SceneSource};
+use super::request::{Field, InputError, JobError, Origin, Request, SceneSource};
 
 pub use cloth::study::stability::default_methods;
 
@@ -100,7 +100,7 @@ pub fn run(asked: &StabilityRequest) -> Result<String, JobError> {
     };
     study.check().map_err(|e| match e {
         StabilityError::Setting { field, message } => InputError {
-            origin: super::Origin::Field(
+            origin: Origin::Field(
                 match field {
                     "duration" => Field::Duration,
                     "tolerance" => Field::Tolerance,

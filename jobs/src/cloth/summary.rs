@@ -4,11 +4,10 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use cloth::study::energy::worst_relative_error;
-use cloth::{ClothModel, Method, RunOptions, RunReport, Scene, SolverStats};
+use cloth::study::energy::{relative_errors, worst_relative_error};
+use cloth::study::growth::Growth;
+use cloth::{ClothModel, FrameStats, Method, RunOptions, RunReport, Scene, SolverStats};
 use compare::format::{MISSING, fixed, sci};
-
-use super::run::energy_growth;
 
 /// What the summary shows.
 pub struct Summary<'a> {
@@ -297,4 +296,10 @@ pub fn facts(method: &Method) -> String {
         method.order(),
         method.conserves().describe()
     )
+}
+
+/// The fitted growth of the relative energy error over `frames`.
+pub(crate) fn energy_growth(frames: &[FrameStats], e_ref: f64) -> Growth {
+    let times: Vec<f64> = frames.iter().map(|f| f.time).collect();
+    cloth::study::growth::fit(&times, &relative_errors(frames, e_ref))
 }
