@@ -42,7 +42,7 @@ pub fn interval(asked: Option<Every>, method: &Method) -> Result<Option<Duration
         Some(Every::After(_)) => Err(InputError::field(
             Field::CheckpointEvery,
             format!(
-                "{} runs cannot be checkpointed yet (RATTLE runs of inextensible scenes can); use --checkpoint-every off",
+                "{} runs cannot be checkpointed yet (RATTLE runs of inextensible scenes can); set it to off",
                 method.id()
             ),
         )),

@@ -59,14 +59,3 @@ pub enum Outcome {
         notes: Vec<String>,
     },
 }
-
-impl Outcome {
-    /// The notes of any outcome.
-    pub fn notes(&self) -> &[String] {
-        match self {
-            Outcome::Finished { notes, .. }
-            | Outcome::BlownUp { notes, .. }
-            | Outcome::Stopped { notes, .. } => notes,
-        }
-    }
-}

@@ -42,18 +42,6 @@ impl Job {
     pub fn dir(&self) -> &Path {
         &self.dir
     }
-    /// The scene, as planned (at the requested grid).
-    pub fn scene(&self) -> &Scene {
-        &self.scene
-    }
-    /// The method that will step it.
-    pub fn method(&self) -> &Method {
-        &self.method
-    }
-    /// Frames in all (after the initial one).
-    pub fn frames(&self) -> usize {
-        self.settings.options.frames
-    }
 }
 
 /// Check `request` and build its run; nothing is written but the output
@@ -105,7 +93,7 @@ pub(crate) fn plan_with(
         }
     };
     applicable(&method, &from, &scene, &file, minimise.solver)?;
-    solver_applies(request, std::slice::from_ref(&method))?;
+    solver_applies(request.solver.as_deref(), std::slice::from_ref(&method))?;
     let (options, note) = run_options(&scene, request, &file)?;
     let renders = render_frames(request.render.as_deref(), options.frames)?;
     // Build the model (proportional to the springs), refusing a scene
@@ -203,17 +191,7 @@ pub(crate) fn applicable(
 
 /// `solver` is the minimisation solver's: refused when none of the
 /// methods is solved by minimisation, rather than silently ignored.
-pub(crate) fn solver_applies(
-    request_solver: &Request,
-    methods: &[Method],
-) -> Result<(), InputError> {
-    solver_named_applies(request_solver.solver.as_deref(), methods)
-}
-
-pub(crate) fn solver_named_applies(
-    solver: Option<&str>,
-    methods: &[Method],
-) -> Result<(), InputError> {
+pub(crate) fn solver_applies(solver: Option<&str>, methods: &[Method]) -> Result<(), InputError> {
     let Some(solver) = solver else {
         return Ok(());
     };

@@ -22,7 +22,7 @@ use compare::format::{self, MISSING};
 use compare::output::csv_field;
 use rayon::prelude::*;
 
-use super::plan::{Source, applicable, output_dir, rename, solver, solver_named_applies};
+use super::plan::{Source, applicable, output_dir, rename, solver, solver_applies};
 use super::request::{Field, InputError, JobError, Origin, Request, SceneSource};
 
 pub use cloth::study::stability::default_methods;
@@ -135,7 +135,7 @@ pub fn run(asked: &StabilityRequest) -> Result<String, JobError> {
             study.minimise.solver,
         )?;
     }
-    solver_named_applies(asked.solver.as_deref(), &methods)?;
+    solver_applies(asked.solver.as_deref(), &methods)?;
     let dir = output_dir(&request, &scene)?;
     let scene = &scene;
     let sim = Simulation::new(scene).map_err(|e| JobError::Scene(rename(&e, &file)))?;
