@@ -1,0 +1,477 @@
+//! The order conditions of a family as exact polynomials in its unknowns.
+//!
+//! **Where they come from.** The same Lie-word theory tableau decides orders
+//! with: a drift–kick sequence `exp(a₁A) exp(b₁B) ⋯` has
+//! `log Φ = A + B + Σ` Lie terms, a term of degree `n` being of size `hⁿ`
+//! (see `tableau::near_integrable`); a composition of a symmetric
+//! second-order method `exp(γY₁ + γ³Y₃ + γ⁵Y₅ + …)` has
+//! `log Φ = Y₁ + Σ` Lie terms in the free algebra on `Y₁, Y₃, …`, `Y_k` of
+//! weight `k` (see `tableau::order::composition_order`). The product of
+//! exponentials is formed in the free associative algebra truncated at
+//! weight `p + 1`, with coefficients that are polynomials in the unknowns;
+//! its logarithm is taken word by word; a Lie element vanishes exactly when
+//! its coefficients on the Lyndon words do, so the conditions are those
+//! coefficients (minus `1` for the letters of weight one).
+//!
+//! **Which conditions.** The families are palindromic, so `log Φ` is odd in
+//! `h` and every even-degree Lyndon coefficient is identically zero: those
+//! polynomials are computed and dropped when they are exactly zero, never
+//! assumed. The consistency conditions (`Σ a = Σ b = 1`, `Σ γ = 1`) are
+//! linear: they are solved exactly for the middle coefficient (the
+//! literature's `a₃ = 1/2 − a₁ − a₂`) before anything else, and checked to
+//! hold identically afterwards. What remains are the odd-degree Lyndon
+//! coefficients of degree `3..=p`: coordinates of the Lie element, so
+//! independent as functionals on the free Lie algebra (a family may still
+//! make them dependent; the solver checks the Jacobian's rank at each
+//! solution). The objective's terms are the Lyndon coefficients of degree
+//! `p + 1`, the first order not imposed.
+
+use std::collections::HashMap;
+
+use num_bigint::BigInt;
+use num_rational::BigRational;
+use num_traits::{One, Signed, Zero};
+
+use crate::family::{Family, FamilyError, Form};
+use crate::poly::Poly;
+
+/// One condition (or error term): the Lyndon word, its degree, the
+/// polynomial that must vanish.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Condition {
+    /// The Lyndon word, `AAB` or `Y₁Y₁Y₃`.
+    pub word: String,
+    /// The power of `h`.
+    pub degree: usize,
+    /// Coefficient minus target, in the unknowns.
+    pub poly: Poly,
+}
+
+/// A family's unknowns, coefficients and conditions.
+#[derive(Clone, Debug)]
+pub struct System {
+    pub form: Form,
+    pub order: usize,
+    pub stages: usize,
+    /// The unknowns' names (a subset of the family's parameters).
+    pub names: Vec<String>,
+    /// Every parameter of the family, in the unknowns (affine).
+    pub parameters: Vec<(String, Poly)>,
+    /// The drifts in the order applied (empty for a composition), affine in
+    /// the unknowns.
+    pub drift: Vec<Poly>,
+    pub kick: Vec<Poly>,
+    /// The step sizes of a composition.
+    pub gamma: Vec<Poly>,
+    /// The conditions imposed (degrees `2..=p`, not identically zero).
+    pub conditions: Vec<Condition>,
+    /// The error terms of degree `p + 1` (the objective's).
+    pub error_terms: Vec<Condition>,
+}
+
+impl System {
+    /// The number of unknowns.
+    pub fn unknowns(&self) -> usize {
+        self.names.len()
+    }
+}
+
+/// Letters: `A = 0`, `B = 1` for drift–kick sequences; `Y₁ = 0`, `Y₃ = 1`,
+/// … for compositions.
+type Word = Vec<u8>;
+
+fn letter_weight(form: Form, l: u8) -> usize {
+    match form {
+        Form::Composition => 2 * usize::from(l) + 1,
+        Form::Aba | Form::Bab => 1,
+    }
+}
+
+fn word_weight(form: Form, w: &[u8]) -> usize {
+    w.iter().map(|&l| letter_weight(form, l)).sum()
+}
+
+fn word_label(form: Form, w: &[u8]) -> String {
+    const SUB: [&str; 8] = ["₁", "₃", "₅", "₇", "₉", "₁₁", "₁₃", "₁₅"];
+    w.iter()
+        .map(|&l| match form {
+            Form::Composition => format!("Y{}", SUB[usize::from(l)]),
+            Form::Aba | Form::Bab => if l == 0 { "A" } else { "B" }.to_string(),
+        })
+        .collect()
+}
+
+/// Every word of weight exactly `n`.
+fn words_of_weight(form: Form, n: usize) -> Vec<Word> {
+    let letters: Vec<u8> = match form {
+        Form::Composition => (0..)
+            .take_while(|&l| 2 * l + 1 <= n)
+            .map(|l| l as u8)
+            .collect(),
+        Form::Aba | Form::Bab => vec![0, 1],
+    };
+    let mut out = Vec::new();
+    let mut stack: Vec<(Word, usize)> = vec![(Vec::new(), 0)];
+    while let Some((w, wt)) = stack.pop() {
+        if wt == n {
+            out.push(w);
+            continue;
+        }
+        for &l in &letters {
+            let lw = letter_weight(form, l);
+            if wt + lw <= n {
+                let mut v = w.clone();
+                v.push(l);
+                stack.push((v, wt + lw));
+            }
+        }
+    }
+    out.sort();
+    out
+}
+
+/// Lyndon: strictly smaller than each of its proper suffixes.
+fn is_lyndon(w: &[u8]) -> bool {
+    !w.is_empty() && (1..w.len()).all(|i| w < &w[i..])
+}
+
+fn factorial(n: usize) -> BigInt {
+    (1..=n).map(BigInt::from).product()
+}
+
+/// One factor of the product: `exp(x·L)` for a drift or kick, or
+/// `exp(γY₁ + γ³Y₃ + …)` for a step of the base method.
+enum Factor<'a> {
+    Letter(u8, &'a Poly),
+    Step(&'a Poly),
+}
+
+/// The coefficients of every word of weight `≤ top` in the product of the
+/// factors' exponentials, with polynomial coefficients.
+fn product(form: Form, factors: &[Factor<'_>], top: usize, nvars: usize) -> HashMap<Word, Poly> {
+    let mut words: Vec<Word> = vec![Vec::new()];
+    for n in 1..=top {
+        words.extend(words_of_weight(form, n));
+    }
+    let one = Poly::constant(nvars, BigRational::one());
+    let mut p: HashMap<Word, Poly> = words
+        .iter()
+        .map(|w| {
+            (
+                w.clone(),
+                if w.is_empty() {
+                    one.clone()
+                } else {
+                    Poly::zero(nvars)
+                },
+            )
+        })
+        .collect();
+    let max_len = words.iter().map(Vec::len).max().unwrap_or(0);
+    for f in factors {
+        // The factor's coefficient of a word v: x^k/k! for v = L^k; γ^weight(v)/len(v)! for a step.
+        let x = match f {
+            Factor::Letter(_, x) | Factor::Step(x) => *x,
+        };
+        let mut powers = vec![one.clone()];
+        for k in 1..=top {
+            powers.push(powers[k - 1].mul(x));
+        }
+        let inv_fact: Vec<BigRational> = (0..=max_len)
+            .map(|k| BigRational::new(BigInt::one(), factorial(k)))
+            .collect();
+        let e = |v: &[u8]| -> Option<Poly> {
+            match f {
+                Factor::Letter(l, _) => v
+                    .iter()
+                    .all(|c| c == l)
+                    .then(|| powers[v.len()].scale(&inv_fact[v.len()])),
+                Factor::Step(_) => Some(powers[word_weight(form, v)].scale(&inv_fact[v.len()])),
+            }
+        };
+        let mut next = HashMap::with_capacity(p.len());
+        for w in &words {
+            let mut acc = p[w].clone();
+            for i in 0..w.len() {
+                let u = &p[&w[..i]];
+                if u.is_zero() {
+                    continue;
+                }
+                if let Some(ev) = e(&w[i..]) {
+                    acc = acc.add(&u.mul(&ev));
+                }
+            }
+            next.insert(w.clone(), acc);
+        }
+        p = next;
+    }
+    p
+}
+
+/// The coefficient of `w` in `log P`: `Σ_k (−1)^{k+1}/k Σ P[w₁]⋯P[w_k]` over
+/// the ways of cutting `w` into `k` nonempty consecutive pieces.
+fn log_coefficient(p: &HashMap<Word, Poly>, w: &[u8], nvars: usize) -> Poly {
+    let n = w.len();
+    // s[k][i]: Σ over cuttings of w[i..] into k pieces of the products.
+    let mut s: Vec<Vec<Poly>> = vec![vec![Poly::zero(nvars); n + 1]; n + 1];
+    s[0][n] = Poly::constant(nvars, BigRational::one());
+    for k in 1..=n {
+        for i in (0..n).rev() {
+            let mut acc = Poly::zero(nvars);
+            for j in i + 1..=n {
+                let rest = &s[k - 1][j];
+                if rest.is_zero() {
+                    continue;
+                }
+                let piece = &p[&w[i..j]];
+                if !piece.is_zero() {
+                    acc = acc.add(&piece.mul(rest));
+                }
+            }
+            s[k][i] = acc;
+        }
+    }
+    let mut out = Poly::zero(nvars);
+    for (k, row) in s.iter().enumerate().skip(1) {
+        let sign = if k % 2 == 1 { 1 } else { -1 };
+        out = out.add(&row[0].scale(&BigRational::new(sign.into(), (k as i64).into())));
+    }
+    out
+}
+
+/// The family's parameters after the fixed values, the ties and the
+/// consistency conditions: each parameter as a polynomial in the raw
+/// parameters (fixed ones constant, tied ones replaced, the middle ones
+/// solved for).
+fn reduce(family: &Family, file: &str) -> Result<(Vec<String>, Vec<Poly>), FamilyError> {
+    let layout = family.layout();
+    let n = layout.names.len();
+    let index = |name: &str| layout.names.iter().position(|m| m == name);
+    let mut map: Vec<Poly> = (0..n).map(|i| Poly::var(n, i)).collect();
+    let substitute_all = |map: &mut Vec<Poly>, i: usize, value: &Poly| {
+        let mut subs: Vec<Poly> = (0..n).map(|j| Poly::var(n, j)).collect();
+        subs[i] = value.clone();
+        for m in map.iter_mut() {
+            *m = m.substitute(&subs, n);
+        }
+    };
+    for (name, value) in &family.fixed {
+        let i = index(name).expect("validated");
+        substitute_all(&mut map, i, &Poly::constant(n, value.clone()));
+    }
+    for (x, y) in &family.equal {
+        let (i, j) = (index(x).expect("validated"), index(y).expect("validated"));
+        let value = map[i].clone();
+        substitute_all(&mut map, j, &value);
+    }
+    // Consistency: Σ drift = 1, Σ kick = 1 (or Σ γ = 1), solved for the
+    // highest-numbered parameter occurring (the middle coefficient).
+    let groups: Vec<(&str, &Vec<usize>)> = match family.form {
+        Form::Composition => vec![("g", &layout.gamma)],
+        Form::Aba | Form::Bab => vec![("a", &layout.drift), ("b", &layout.kick)],
+    };
+    for (letter, group) in groups {
+        let mut sum = Poly::constant(n, -BigRational::one());
+        for &i in group {
+            sum = sum.add(&map[i]);
+        }
+        let vars = sum.variables();
+        match vars.last() {
+            None => {
+                let c = sum.as_constant().expect("no variables");
+                if !c.is_zero() {
+                    return Err(FamilyError {
+                        file: file.to_string(),
+                        field: Some("fixed".into()),
+                        message: format!(
+                            "the fixed values make the {letter} coefficients sum to {}, not 1 (consistency)",
+                            c + BigRational::one()
+                        ),
+                    });
+                }
+            }
+            Some(&v) => {
+                // sum is affine: sum = c·x_v + rest; x_v = −rest / c.
+                let c = sum.derivative(v).as_constant().expect("affine");
+                let rest = sum.sub(&Poly::var(n, v).scale(&c));
+                let value = rest.scale(&(-BigRational::one() / c));
+                substitute_all(&mut map, v, &value);
+            }
+        }
+    }
+    Ok((layout.names, map))
+}
+
+/// Build the system of a family; `file` names it in messages.
+pub fn system(family: &Family, file: &str) -> Result<System, FamilyError> {
+    family.validate(file)?;
+    let layout = family.layout();
+    let (names, map) = reduce(family, file)?;
+    let n = names.len();
+    // The unknowns: the raw parameters that still occur.
+    let used: Vec<usize> = (0..n)
+        .filter(|&i| map.iter().any(|m| m.variables().contains(&i)))
+        .collect();
+    let m = used.len();
+    let mut subs = vec![Poly::zero(m); n];
+    for (k, &i) in used.iter().enumerate() {
+        subs[i] = Poly::var(m, k);
+    }
+    let params: Vec<Poly> = map.iter().map(|p| p.substitute(&subs, m)).collect();
+    let unknown_names: Vec<String> = used.iter().map(|&i| names[i].clone()).collect();
+    let drift: Vec<Poly> = layout.drift.iter().map(|&i| params[i].clone()).collect();
+    let kick: Vec<Poly> = layout.kick.iter().map(|&i| params[i].clone()).collect();
+    let gamma: Vec<Poly> = layout.gamma.iter().map(|&i| params[i].clone()).collect();
+    let factors: Vec<Factor<'_>> = match family.form {
+        Form::Composition => gamma.iter().map(Factor::Step).collect(),
+        Form::Aba => {
+            let mut f = Vec::new();
+            for (i, d) in drift.iter().enumerate() {
+                f.push(Factor::Letter(0, d));
+                if i < kick.len() {
+                    f.push(Factor::Letter(1, &kick[i]));
+                }
+            }
+            f
+        }
+        Form::Bab => {
+            let mut f = Vec::new();
+            for (i, k) in kick.iter().enumerate() {
+                f.push(Factor::Letter(1, k));
+                if i < drift.len() {
+                    f.push(Factor::Letter(0, &drift[i]));
+                }
+            }
+            f
+        }
+    };
+    let p_order = family.order;
+    let top = p_order + 1;
+    let prod = product(family.form, &factors, top, m);
+    let mut conditions = Vec::new();
+    let mut error_terms = Vec::new();
+    for degree in 1..=top {
+        for w in words_of_weight(family.form, degree) {
+            if !is_lyndon(&w) {
+                continue;
+            }
+            let mut poly = log_coefficient(&prod, &w, m);
+            // Target: 1 for the letters of weight one (A, B, Y₁).
+            if degree == 1 {
+                poly = poly.sub(&Poly::constant(m, BigRational::one()));
+            }
+            let label = word_label(family.form, &w);
+            if degree == 1 || degree % 2 == 0 {
+                // Consistency was solved for; even degrees vanish for a
+                // palindrome. Both are checked, not assumed.
+                if !poly.is_zero() {
+                    return Err(FamilyError {
+                        file: file.to_string(),
+                        field: None,
+                        message: format!(
+                            "internal error: the condition for {label} (degree {degree}) does not vanish identically for this symmetric family; please report it"
+                        ),
+                    });
+                }
+                continue;
+            }
+            if let Some(c) = poly.as_constant()
+                && degree <= p_order
+                && !c.is_zero()
+            {
+                return Err(FamilyError {
+                    file: file.to_string(),
+                    field: None,
+                    message: format!(
+                        "the fixed values leave the degree-{degree} condition for {label} equal to {c}, so order {p_order} is impossible in this family"
+                    ),
+                });
+            }
+            if poly.is_zero() {
+                continue;
+            }
+            let cond = Condition {
+                word: label,
+                degree,
+                poly,
+            };
+            if degree <= p_order {
+                conditions.push(cond);
+            } else {
+                error_terms.push(cond);
+            }
+        }
+    }
+    if conditions.len() > m {
+        return Err(FamilyError {
+            file: file.to_string(),
+            field: Some("stages".into()),
+            message: format!(
+                "order {p_order} imposes {} conditions ({}) on {m} unknowns ({}): too few stages",
+                conditions.len(),
+                conditions
+                    .iter()
+                    .map(|c| c.word.clone())
+                    .collect::<Vec<_>>()
+                    .join(", "),
+                unknown_names.join(", ")
+            ),
+        });
+    }
+    let parameters = names.iter().cloned().zip(params).collect();
+    Ok(System {
+        form: family.form,
+        order: p_order,
+        stages: family.stages,
+        names: unknown_names,
+        parameters,
+        drift,
+        kick,
+        gamma,
+        conditions,
+        error_terms,
+    })
+}
+
+/// `|x|` of a rational, for messages.
+pub fn abs(x: &BigRational) -> BigRational {
+    x.abs()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lyndon_words() {
+        assert!(is_lyndon(&[0, 0, 1]));
+        assert!(is_lyndon(&[0, 1, 1]));
+        assert!(!is_lyndon(&[0, 1, 0]));
+        assert!(!is_lyndon(&[0, 0]));
+        let n5 = words_of_weight(Form::Aba, 5)
+            .into_iter()
+            .filter(|w| is_lyndon(w))
+            .count();
+        assert_eq!(n5, 6);
+        let w5: Vec<Word> = words_of_weight(Form::Composition, 5)
+            .into_iter()
+            .filter(|w| is_lyndon(w))
+            .collect();
+        assert_eq!(w5, vec![vec![0, 0, 1], vec![2]]);
+    }
+
+    #[test]
+    fn triple_jump_conditions() {
+        let f = Family::new("y", Form::Composition, 3, 4);
+        let s = system(&f, "test").unwrap();
+        assert_eq!(s.names, ["g1"]);
+        assert_eq!(s.conditions.len(), 1);
+        assert_eq!(s.conditions[0].word, "Y₃");
+        // 2g³ + (1 − 2g)³ = −6g³ + 12g² − 6g + 1.
+        assert_eq!(
+            s.conditions[0].poly.to_text(&s.names),
+            "-6*g1^3 + 12*g1^2 - 6*g1 + 1"
+        );
+        assert_eq!(s.error_terms.len(), 2);
+    }
+}

@@ -1,0 +1,274 @@
+//! One design run: family → conditions → search → polish → exact value or
+//! certificate → table files and a report. The library prints nothing; the
+//! caller gets the progress through a callback and writes the files with
+//! [`Outcome::write`].
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use crate::certify::{Certificate, Refusal, certify};
+use crate::conditions::{System, system};
+use crate::emit::{Proof, table_text};
+use crate::exact::{Exact, exact_value};
+use crate::family::{Family, FamilyError};
+use crate::polish::{DIGITS, PolishError, Polished, decimal_text, polish};
+use crate::poly::to_f64;
+use crate::solve::{Progress, Search, Solution, search};
+
+/// The most solutions polished, certified and emitted (the best by the
+/// objective).
+pub const MAX_EMITTED: usize = 8;
+
+/// One solution carried through to its table.
+#[derive(Clone, Debug)]
+pub struct Designed {
+    pub solution: Solution,
+    pub polished: Result<Polished, PolishError>,
+    pub exact: Option<Exact>,
+    /// `None` when the value is exact (no certificate needed) or the polish
+    /// failed.
+    pub certificate: Option<Result<Certificate, Refusal>>,
+    /// The table file's name and text, when the solution was proven.
+    pub table: Option<(String, String)>,
+}
+
+/// A whole run.
+#[derive(Clone, Debug)]
+pub struct Outcome {
+    pub family: Family,
+    pub family_file: String,
+    pub system: System,
+    pub search: Search,
+    pub designs: Vec<Designed>,
+}
+
+/// A file-name stem from the family's name: `yoshida-triple-jump`.
+fn stem(name: &str) -> String {
+    let mut s = String::new();
+    for ch in name.chars() {
+        if ch.is_ascii_alphanumeric() {
+            s.push(ch.to_ascii_lowercase());
+        } else if !s.ends_with('-') && !s.is_empty() {
+            s.push('-');
+        }
+    }
+    let s = s.trim_end_matches('-').to_string();
+    if s.is_empty() { "design".into() } else { s }
+}
+
+/// Run a family (read from `family_file`, which messages and the emitted
+/// tables name).
+pub fn design(
+    family: &Family,
+    family_file: &str,
+    progress: &mut dyn FnMut(Progress),
+) -> Result<Outcome, FamilyError> {
+    let system = system(family, family_file)?;
+    let found = search(&system, family, progress);
+    let mut designs = Vec::new();
+    for (rank, solution) in found.solutions.iter().take(MAX_EMITTED).enumerate() {
+        let rank = rank + 1;
+        let polished = polish(&system, solution);
+        let exact = exact_value(&system, solution.x.first().copied().unwrap_or(0.0))
+            .filter(|e| e.radicals.is_some());
+        let mut certificate = None;
+        let mut table = None;
+        if let Ok(p) = &polished {
+            let name = format!("{}-{rank}.toml", stem(&family.name));
+            match &exact {
+                Some(e) => {
+                    let text = table_text(
+                        family,
+                        family_file,
+                        &system,
+                        &p.x,
+                        rank,
+                        solution.effective_error,
+                        &Proof::Exact(e),
+                    );
+                    table = Some((name, text));
+                }
+                None => {
+                    let c = certify(&system, &p.x, &p.determined, DIGITS - 4);
+                    if let Ok(cert) = &c {
+                        let text = table_text(
+                            family,
+                            family_file,
+                            &system,
+                            &p.x,
+                            rank,
+                            solution.effective_error,
+                            &Proof::Certified {
+                                certificate: cert,
+                                determined: &p.determined,
+                            },
+                        );
+                        table = Some((name, text));
+                    }
+                    certificate = Some(c);
+                }
+            }
+        }
+        designs.push(Designed {
+            solution: solution.clone(),
+            polished,
+            exact,
+            certificate,
+            table,
+        });
+    }
+    Ok(Outcome {
+        family: family.clone(),
+        family_file: family_file.to_string(),
+        system,
+        search: found,
+        designs,
+    })
+}
+
+impl Outcome {
+    /// The report, in Markdown.
+    pub fn report(&self) -> String {
+        let f = &self.family;
+        let s = &self.system;
+        let mut r = String::new();
+        let _ = writeln!(r, "# Design: {}\n", f.name);
+        let _ = writeln!(
+            r,
+            "Family `{}`: {} with {} stages, order {} imposed; seed {}, {} starts in [-{}, {}], cap {} s.\n",
+            self.family_file,
+            f.form.name(),
+            f.stages,
+            f.order,
+            f.seed,
+            f.starts,
+            f.range,
+            f.range,
+            f.max_seconds
+        );
+        let _ = writeln!(
+            r,
+            "Unknowns: {} ({}); conditions: {} ({}); error terms of degree {}: {}.\n",
+            s.unknowns(),
+            s.names.join(", "),
+            s.conditions.len(),
+            s.conditions
+                .iter()
+                .map(|c| c.word.clone())
+                .collect::<Vec<_>>()
+                .join(", "),
+            s.order + 1,
+            s.error_terms.len()
+        );
+        let _ = writeln!(r, "Parameters in the unknowns:\n");
+        for (name, p) in &s.parameters {
+            let _ = writeln!(r, "- {name} = {}", p.to_text(&s.names));
+        }
+        let _ = writeln!(r, "\nConditions (each must vanish):\n");
+        for c in &s.conditions {
+            let text = c.poly.to_text(&s.names);
+            let shown = if text.len() > 400 {
+                format!(
+                    "{}… ({} terms)",
+                    &text[..text.char_indices().nth(400).map_or(text.len(), |(i, _)| i)],
+                    c.poly.terms().count()
+                )
+            } else {
+                text
+            };
+            let _ = writeln!(r, "- {} (h^{}): {shown}", c.word, c.degree);
+        }
+        let se = &self.search;
+        let _ = writeln!(
+            r,
+            "\nSearch: {} starts run in {:.2} s{}, {} converged onto the conditions, {} distinct solutions.\n",
+            se.starts_run,
+            se.elapsed.as_secs_f64(),
+            if se.capped {
+                " (stopped by the time cap)"
+            } else {
+                ""
+            },
+            se.converged,
+            se.solutions.len()
+        );
+        let _ = writeln!(
+            r,
+            "Effective error E_f = s·(Σ e²)^(1/(2p)), e the Lyndon coefficients of degree p + 1 in log Φ.\n"
+        );
+        let _ = writeln!(
+            r,
+            "| rank | {} | Σ e² | E_f | hits | proof | table |",
+            s.names.join(" | ")
+        );
+        let _ = writeln!(r, "|{}", "---|".repeat(s.names.len() + 6));
+        for (i, d) in self.designs.iter().enumerate() {
+            let proof = match (&d.exact, &d.certificate, &d.polished) {
+                (Some(e), _, _) => format!(
+                    "exact: {} = {}",
+                    s.names[0],
+                    e.radicals.as_deref().unwrap_or(&e.root)
+                ),
+                (_, Some(Ok(c)), _) => format!("certified, radius {:.1e}", to_f64(&c.radius)),
+                (_, Some(Err(e)), _) => format!("refused: {e}"),
+                (_, None, Err(e)) => format!("polish failed: {e}"),
+                _ => "—".into(),
+            };
+            let _ = writeln!(
+                r,
+                "| {} | {} | {:.6e} | {:.6} | {} | {proof} | {} |",
+                i + 1,
+                d.solution
+                    .x
+                    .iter()
+                    .map(|v| format!("{v:.16}"))
+                    .collect::<Vec<_>>()
+                    .join(" | "),
+                d.solution.objective,
+                d.solution.effective_error,
+                d.solution.hits,
+                d.table.as_ref().map_or("—", |t| t.0.as_str())
+            );
+        }
+        for (i, d) in self.designs.iter().enumerate() {
+            if let Ok(p) = &d.polished {
+                let _ = writeln!(
+                    r,
+                    "\nSolution {} in high precision ({} Newton steps):\n",
+                    i + 1,
+                    p.steps
+                );
+                for (k, name) in s.names.iter().enumerate() {
+                    let digits = if p.determined.contains(&k) {
+                        DIGITS
+                    } else {
+                        crate::polish::FREE_DIGITS
+                    };
+                    let _ = writeln!(r, "- {name} = {}", decimal_text(&p.x[k], digits));
+                }
+                if let Some(e) = &d.exact {
+                    let _ = writeln!(r, "- exact: {} = {}", s.names[0], e.root);
+                }
+            }
+        }
+        r
+    }
+
+    /// Write every emitted table and `report.md` into `dir` (created); the
+    /// paths written.
+    pub fn write(&self, dir: &Path) -> std::io::Result<Vec<PathBuf>> {
+        std::fs::create_dir_all(dir)?;
+        let mut out = Vec::new();
+        for d in &self.designs {
+            if let Some((name, text)) = &d.table {
+                let p = dir.join(name);
+                std::fs::write(&p, text)?;
+                out.push(p);
+            }
+        }
+        let p = dir.join("report.md");
+        std::fs::write(&p, self.report())?;
+        out.push(p);
+        Ok(out)
+    }
+}
