@@ -1,0 +1,90 @@
+//! Family files: every file in `designs/` reads, and bad input is an error
+//! naming the file and the field.
+
+use design::parse_family;
+
+#[test]
+fn every_shipped_family_reads() {
+    let dir = crate::common::family_path("");
+    let mut n = 0;
+    for entry in std::fs::read_dir(&dir).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_some_and(|e| e == "toml") {
+            let f = design::load_family(&path).unwrap();
+            design::conditions::system(&f, &path.display().to_string()).unwrap();
+            n += 1;
+        }
+    }
+    assert!(n >= 5, "{n} families");
+}
+
+fn err(text: &str) -> String {
+    parse_family("fam.toml", text).unwrap_err().to_string()
+}
+
+const BASE: &str = "name = \"x\"\nform = \"ABA\"\nstages = 5\norder = 4\n";
+
+#[test]
+fn errors_name_the_file_and_field() {
+    let m = err(&format!("{BASE}stagez = 3\n"));
+    assert!(
+        m.starts_with("fam.toml: field stagez: unknown field"),
+        "{m}"
+    );
+    let m = err("name = \"x\"\nform = \"ABC\"\nstages = 5\norder = 4\n");
+    assert!(m.starts_with("fam.toml: field form: `ABC`"), "{m}");
+    let m = err(&format!("{BASE}fixed = {{ b1 = \"sqrt(2)\" }}\n"));
+    assert!(
+        m.starts_with("fam.toml: field fixed.b1: `sqrt(2)` is irrational"),
+        "{m}"
+    );
+    let m = err(&format!("{BASE}fixed = {{ b9 = \"1/2\" }}\n"));
+    assert!(
+        m.contains("field fixed.b9: `b9` is not a coefficient")
+            && m.contains("a1, a2, a3, b1, b2, b3"),
+        "{m}"
+    );
+    let m = err(&format!("{BASE}fixed = {{ b1 = 0.5 }}\n"));
+    assert!(
+        m.contains("field fixed.b1: expected a quoted exact value"),
+        "{m}"
+    );
+    let m = err("name = \"x\"\nform = \"ABA\"\nstages = 5\norder = 5\n");
+    assert!(m.contains("field order: order 5"), "{m}");
+    let m = err("name = \"x\"\nform = \"ABA\"\nstages = 5\n");
+    assert!(m.contains("`order` is missing"), "{m}");
+    let m = err(&format!("{BASE}equal = [[\"a1\"]]\n"));
+    assert!(m.contains("field equal[0]: expected a pair"), "{m}");
+    let m = err("name = \"x\"\nform = \"ABA\nstages = 5\n");
+    assert!(m.starts_with("fam.toml: not a TOML file"), "{m}");
+}
+
+#[test]
+fn impossible_families_are_errors() {
+    // Three steps cannot reach order 6: more conditions than unknowns.
+    let f = parse_family(
+        "c.toml",
+        "name = \"x\"\nform = \"composition\"\nstages = 3\norder = 6\n",
+    )
+    .unwrap();
+    let m = design::conditions::system(&f, "c.toml")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        m.contains("field stages: order 6 imposes 3 conditions"),
+        "{m}"
+    );
+    // Fixed values that break consistency.
+    let f = parse_family(
+        "c.toml",
+        "name = \"x\"\nform = \"composition\"\nstages = 3\norder = 4\nfixed = { g1 = \"1/3\", g2 = \"1/2\" }\n",
+    )
+    .unwrap();
+    let m = design::conditions::system(&f, "c.toml")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        m.contains("field fixed: the fixed values make the g coefficients sum to 7/6"),
+        "{m}"
+    );
+}

@@ -1,0 +1,10 @@
+//! The design crate's integration tests, one binary (see the workspace's
+//! convention): the conditions against tableau's own order theory, the
+//! recovery of published methods from random starts, the certificates, and
+//! the family files.
+
+mod certificate;
+mod common;
+mod conditions;
+mod families;
+mod recover;
