@@ -17,7 +17,7 @@
 
 use std::hint::black_box;
 
-use cloth::step::{BandedStepper, ClothStepper, Sequence};
+use cloth::step::{BandedStepper, ClothStepper, sequence_of};
 use cloth::{ClothModel, Scene};
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use integrator_core::library::{Leapfrog, StormerVerlet, SymplecticEulerA};
@@ -114,7 +114,7 @@ fn bench_frame<S: Step<ClothModel> + Scheme>(c: &mut Criterion, scheme: S, id: &
             })
         });
         for bands in [1, 2] {
-            let seq = Sequence::of(id).expect("a drift–kick scheme");
+            let seq = sequence_of(id).expect("a drift–kick scheme");
             let mut stepper = BandedStepper::new(seq, &model, bands);
             let mut z = z0.clone();
             let time = |_| 0.0;

@@ -55,8 +55,8 @@ use crate::step::minimise::MinimiseError;
 use crate::step::rattle::RattleError;
 use crate::step::{
     BandedStepper, Banding, ClothStepper, Halt, Halted, MinimiseSettings, MinimiseStepper,
-    RattleSettings, RattleStepper, Refused, SchemeStepper, Sequence, SolverStats, StageSettings,
-    StageStepper, StepError,
+    RattleSettings, RattleStepper, Refused, SchemeStepper, SolverStats, StageSettings,
+    StageStepper, StepError, sequence_of,
 };
 
 /// Frames, substeps and frame rate of a run (from the scene, or overridden).
@@ -518,7 +518,7 @@ impl Simulation {
                         // Only explicit schemes come here; the branch keeps
                         // the implicit tables' own steps out of the binary.
                         let banded = self.settings.solvers.banding.bands(&self.sim.model);
-                        let sequence = banded.and_then(|_| Sequence::of(self.id));
+                        let sequence = banded.and_then(|_| sequence_of(self.id));
                         if let (Some(bands), Some(seq)) = (banded, sequence) {
                             self.sim.drive(
                                 S::INFO.name,

@@ -4,7 +4,7 @@
 //! band (the second band's worker runs the same code on its thread); see
 //! `no_alloc.rs` for why only one thread is counted.
 
-use cloth::step::{BandedStepper, ClothStepper, Sequence};
+use cloth::step::{BandedStepper, ClothStepper, sequence_of};
 use cloth::{ClothModel, Scene};
 
 mod counting;
@@ -23,7 +23,7 @@ fn a_frame_allocates_the_same_whatever_its_steps() {
     let time = |_| 0.0;
     for bands in [1, 2] {
         for id in ["leapfrog", "stormer-verlet", "forest-ruth"] {
-            let seq = Sequence::of(id).unwrap();
+            let seq = sequence_of(id).unwrap();
             let mut stepper = BandedStepper::new(seq, &model, bands);
             let mut z = model.initial_state();
             let mut frame = |steps: usize| {

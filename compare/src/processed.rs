@@ -11,8 +11,9 @@
 //! the carried state has the bits of the unprocessed kernel's run.
 
 use integrator_core::interp::SplittingInterpreter;
-use integrator_core::processed::{Processed, Sequence};
+use integrator_core::processed::Processed;
 use integrator_core::scheme::SplitWorkspace;
+use integrator_core::sequence::Sequence;
 use integrator_core::split::Split;
 use integrator_core::{Separable, Step, check_start};
 

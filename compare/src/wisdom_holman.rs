@@ -49,8 +49,9 @@
 use std::cell::Cell;
 
 use integrator_core::problems::wisdom_holman::{GradientKick, Jacobi};
-use integrator_core::processed::{Processed, Sequence};
+use integrator_core::processed::Processed;
 use integrator_core::scheme::SplitWorkspace;
+use integrator_core::sequence::Sequence;
 use integrator_core::split::{FlowError, PartBuffers, Split, StateSpace};
 use integrator_core::{Scheme, Step};
 

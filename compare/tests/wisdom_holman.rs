@@ -50,7 +50,7 @@ fn run(setup: &Setup<OuterSolarSystem>, id: &str, n: usize) -> (f64, u64) {
 /// `id`'s corrector.
 fn corrector_kicks(id: &str) -> u64 {
     let file = tableau::catalogue::load(id).unwrap();
-    integrator_core::processed::Sequence::from_splitting(file.corrector.as_ref().unwrap())
+    integrator_core::sequence::Sequence::from_splitting(file.corrector.as_ref().unwrap())
         .ops()
         .iter()
         .filter(|(p, _)| *p == integrator_core::Part::B)

@@ -4,8 +4,9 @@
 //! implementations of the lanes: a check of the rounding-error floor.
 use integrator_core::problems::wisdom_holman::Jacobi;
 use integrator_core::problems::{OuterSolarSystem, reference_solution};
-use integrator_core::processed::{Processed, Sequence};
+use integrator_core::processed::Processed;
 use integrator_core::scheme::SplitWorkspace;
+use integrator_core::sequence::Sequence;
 use integrator_core::simd::Simd;
 use integrator_core::split::Split;
 

@@ -42,6 +42,8 @@
 
 use crate::error::SolveError;
 use crate::scheme::{SplitWorkspace, Step};
+use crate::sequence::Sequence;
+use crate::split::Part;
 use crate::system::{OdeSystem, Separable};
 use tableau::analysis::Analysis;
 use tableau::file::FileError;
@@ -285,21 +287,19 @@ impl<S: OdeSystem + ?Sized> Step<S> for RkInterpreter {
     }
 }
 
-/// A drift–kick sequence `D(d₁) K(k₁) D(d₂) …` held in memory, stepped by a
-/// loop over it on a [`Separable`] system. With one more kick than drifts
-/// the sequence starts with a kick (as [`tableau::Splitting`]).
+/// A drift–kick sequence `D(d₁) K(k₁) D(d₂) …` held in memory
+/// ([`Sequence`], the one description every run-time user of a sequence
+/// holds), stepped by a loop over it on a [`Separable`] system.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SplittingInterpreter {
-    drift: Vec<f64>,
-    kick: Vec<f64>,
-    /// Starts with a kick.
-    kick_first: bool,
-    /// The first and the last nonzero operation are of the same kind, so the
-    /// last evaluation of a step is the first of the next.
-    fsal: bool,
+    seq: Sequence,
 }
 
 impl SplittingInterpreter {
+    /// A table's drift and kick lists as a table file writes them
+    /// ([`Sequence::from_lists`]: with one more kick than drifts the
+    /// sequence starts with a kick); every value finite, the two lengths
+    /// differing by at most one.
     pub fn new(drift: Vec<f64>, kick: Vec<f64>) -> Result<Self, InterpError> {
         let named = (drift
             .iter()
@@ -325,20 +325,9 @@ impl SplittingInterpreter {
                 kicks: nk,
             });
         }
-        let kick_first = nk == nd + 1;
-        let mut it = SplittingInterpreter {
-            drift,
-            kick,
-            kick_first,
-            fsal: false,
-        };
-        let kinds: Vec<bool> = it
-            .ops()
-            .filter(|(_, c)| *c != 0.0)
-            .map(|(is_kick, _)| is_kick)
-            .collect();
-        it.fsal = kinds.len() > 1 && kinds.first() == kinds.last();
-        Ok(it)
+        Ok(SplittingInterpreter {
+            seq: Sequence::from_lists(&drift, &kick),
+        })
     }
 
     /// From an exact drift–kick sequence or a composition of Störmer–Verlet,
@@ -392,14 +381,16 @@ impl SplittingInterpreter {
                 .map(|o| o.1.clone())
                 .collect()
         };
-        let mut drift = round_weights(&values(Op::Drift), symmetric);
-        let kick = round_weights(&values(Op::Kick), symmetric);
-        // K D K D … with as many drifts as kicks: a leading zero drift (never
-        // applied) makes it D(0) K D K D … in the convention of `new`.
-        if nf.first().is_some_and(|o| o.0 == Op::Kick) && drift.len() == kick.len() {
-            drift.insert(0, 0.0);
-        }
-        Self::new(drift, kick)
+        let mut drift = round_weights(&values(Op::Drift), symmetric).into_iter();
+        let mut kick = round_weights(&values(Op::Kick), symmetric).into_iter();
+        // Back in the normal form's order, each value the next of its kind.
+        let ops = nf.iter().map(|o| match o.0 {
+            Op::Drift => (Part::A, drift.next().unwrap_or_default()),
+            Op::Kick => (Part::B, kick.next().unwrap_or_default()),
+        });
+        Ok(SplittingInterpreter {
+            seq: Sequence::new(ops),
+        })
     }
 
     /// From a table of the built-in catalogue, e.g. `"forest-ruth"`.
@@ -407,26 +398,9 @@ impl SplittingInterpreter {
         Self::from_table(&tableau::catalogue::load(id)?.table)
     }
 
-    pub fn drift(&self) -> &[f64] {
-        &self.drift
-    }
-    pub fn kick(&self) -> &[f64] {
-        &self.kick
-    }
-
-    /// `(is_kick, coefficient)` in the order applied.
-    fn ops(&self) -> impl Iterator<Item = (bool, f64)> + '_ {
-        let (first, second) = if self.kick_first {
-            (&self.kick, &self.drift)
-        } else {
-            (&self.drift, &self.kick)
-        };
-        let m = first.len().max(second.len());
-        (0..m).flat_map(move |i| {
-            let a = first.get(i).map(|&x| (self.kick_first, x));
-            let b = second.get(i).map(|&x| (!self.kick_first, x));
-            a.into_iter().chain(b)
-        })
+    /// The sequence it steps.
+    pub fn sequence(&self) -> &Sequence {
+        &self.seq
     }
 }
 
@@ -470,12 +444,7 @@ impl<S: Separable + ?Sized> Step<S> for SplittingInterpreter {
         let (v, f) = (&mut v[..n], &mut f[..n]);
         let (eq, ep) = (&mut eq[..n], &mut ep[..n]);
         let compensated = *compensated;
-        let mut skip = reuse && self.fsal;
-        let (first, second) = if self.kick_first {
-            (&self.kick, &self.drift)
-        } else {
-            (&self.drift, &self.kick)
-        };
+        let mut skip = reuse && self.seq.merges();
         let mut apply = |is_kick: bool, c: f64| {
             if c == 0.0 {
                 return;
@@ -505,13 +474,8 @@ impl<S: Separable + ?Sized> Step<S> for SplittingInterpreter {
             }
             skip = false;
         };
-        for i in 0..first.len().max(second.len()) {
-            if let Some(&c) = first.get(i) {
-                apply(self.kick_first, c);
-            }
-            if let Some(&c) = second.get(i) {
-                apply(!self.kick_first, c);
-            }
+        for &(part, c) in self.seq.ops() {
+            apply(part == Part::B, c);
         }
         Ok(())
     }
@@ -645,8 +609,10 @@ mod tests {
     #[test]
     fn leapfrog_agrees_with_the_macro() {
         let it = SplittingInterpreter::from_catalogue("leapfrog").unwrap();
-        assert_eq!(it.drift(), &Leapfrog::DRIFT[..]);
-        assert_eq!(it.kick(), &Leapfrog::KICK[..]);
+        assert_eq!(
+            it.sequence(),
+            &Sequence::from_lists(&Leapfrog::DRIFT, &Leapfrog::KICK)
+        );
         agree(Leapfrog, it.clone(), false, plain_split);
         agree(Leapfrog, it, true, plain_split);
     }
@@ -666,15 +632,19 @@ mod tests {
         };
         s.gradient = vec![Number::zero()];
         let it = SplittingInterpreter::from_table(&Table::Splitting(s)).unwrap();
-        assert_eq!(it.drift(), &Leapfrog::DRIFT[..]);
-        assert_eq!(it.kick(), &Leapfrog::KICK[..]);
+        assert_eq!(
+            it.sequence(),
+            &Sequence::from_lists(&Leapfrog::DRIFT, &Leapfrog::KICK)
+        );
     }
 
     #[test]
     fn forest_ruth_agrees_with_the_macro() {
         let it = SplittingInterpreter::from_catalogue("forest-ruth").unwrap();
-        assert_eq!(it.drift(), &ForestRuth::DRIFT[..]);
-        assert_eq!(it.kick(), &ForestRuth::KICK[..]);
+        assert_eq!(
+            it.sequence(),
+            &Sequence::from_lists(&ForestRuth::DRIFT, &ForestRuth::KICK)
+        );
         agree(ForestRuth, it.clone(), false, plain_split);
         agree(ForestRuth, it, true, plain_split);
     }

@@ -52,6 +52,7 @@ pub mod problems;
 pub mod processed;
 pub mod scheme;
 pub mod search;
+pub mod sequence;
 pub mod simd;
 pub mod split;
 mod system;

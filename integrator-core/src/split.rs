@@ -217,7 +217,7 @@ pub trait Split: StateSpace {
     /// (the kick a [gradient kick](Split::flow_b_gradient) where `gamma` is
     /// nonzero; `d = drift`, for the last of the `n` steps `drift_last`):
     /// the loop of a drift–kick–drift kernel whose drifts are merged
-    /// across steps ([`Sequence::steps_merged`](crate::processed::Sequence::steps_merged),
+    /// across steps ([`Sequence::steps_merged`](crate::sequence::Sequence::steps_merged),
     /// Wisdom–Holman's way). A system may run it faster than flow by flow
     /// (its state kept in registers from step to step), giving the same
     /// bits. It returns the steps it took; it stops early, with `z` as the

@@ -13,8 +13,9 @@ use std::cell::RefCell;
 use integrator_core::problems::wisdom_holman::Jacobi;
 
 use crate::quartic;
-use integrator_core::processed::{self, Processed, Sequence};
+use integrator_core::processed::{self, Processed};
 use integrator_core::scheme::SplitWorkspace;
+use integrator_core::sequence::Sequence;
 use integrator_core::{FlowError, Part, PartBuffers, SolveError, Split, StateSpace, StepError};
 use quartic::Quartic;
 

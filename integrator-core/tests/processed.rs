@@ -5,8 +5,9 @@
 
 use integrator_core::library::Leapfrog;
 use integrator_core::problems::wisdom_holman::Jacobi;
-use integrator_core::processed::{self, Processed, Sequence};
+use integrator_core::processed::{self, Processed};
 use integrator_core::scheme::SplitWorkspace;
+use integrator_core::sequence::Sequence;
 use integrator_core::split::{FlowError, Part, PartBuffers, Split, StateSpace};
 use integrator_core::{Step, StepError};
 

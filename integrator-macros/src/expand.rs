@@ -202,7 +202,7 @@ fn corrector_items(v: &Verified, chi: &Splitting) -> TokenStream {
         pub fn processed(self) -> ::integrator_core::processed::Processed<Self> {
             ::integrator_core::processed::Processed::new(
                 self,
-                ::integrator_core::processed::Sequence::new(Self::CORRECTOR.iter().copied()),
+                ::integrator_core::sequence::Sequence::new(Self::CORRECTOR.iter().copied()),
             )
         }
     }

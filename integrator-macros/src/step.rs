@@ -188,7 +188,7 @@ pub fn explicit_rk(name: &syn::Ident, a: &[Vec<f64>], b: &[f64], c: &[f64]) -> T
 ///
 /// A kick with a nonzero gradient `g` (the third entry) is a gradient kick,
 /// `Split::flow_b_gradient` for `h` times its coefficient with the bracket
-/// weight `γ = g·h³`, as `integrator_core::processed::Sequence` takes it;
+/// weight `γ = g·h³`, as `integrator_core::sequence::Sequence` takes it;
 /// a system without gradient kicks refuses it at run time, naming the
 /// part. Its evaluation is never reused.
 pub fn drift_kick(name: &syn::Ident, ops: &[(Op, f64, f64)]) -> TokenStream {

@@ -20,7 +20,7 @@ use integrator_core::checkpoint::{CheckpointError, Decoder, Encoder};
 
 use crate::model::ClothModel;
 
-pub use banded::{BandedStepper, Banding, Sequence};
+pub use banded::{BandedStepper, Banding, Sequence, sequence_of};
 pub use dispatch::{SchemeVisitor, TableVisitor, with_explicit_scheme, with_scheme, with_table};
 pub use explicit::SchemeStepper;
 pub use minimise::{MinimiseSettings, MinimiseStepper, Minimiser, Solver};

@@ -35,7 +35,8 @@ mod worker;
 
 use std::ops::Range;
 
-pub use sequence::{Flow, Sequence};
+pub use integrator_core::sequence::Sequence;
+pub use sequence::sequence_of;
 
 use super::{ClothStepper, Halt, Halted, SolverStats, StepError};
 use crate::model::ClothModel;
@@ -49,7 +50,7 @@ use worker::{Band, Frame, Phase};
 pub enum Banding {
     /// None.
     Off,
-    /// Drift–kick schemes ([`Sequence::of`]) on grids of at least
+    /// Drift–kick schemes ([`sequence_of`]) on grids of at least
     /// [`BANDED_FROM`] particles, on [`BANDS`] threads where the machine
     /// has as many cores ([`std::thread::available_parallelism`]).
     #[default]
