@@ -3,7 +3,7 @@
 //! sequences, to round-off for the explicit partitioned pairs, the same on
 //! one thread or two, on grids down to 3 × 3 and a single free row.
 
-use cloth::step::{Banding, Sequence};
+use cloth::step::{Banding, sequence_of};
 use cloth::{Method, RunError, RunOptions, RunSettings, Scene, Simulation};
 
 /// An `n × n` sheet hanging from its top edge with all three spring
@@ -64,7 +64,7 @@ fn sequences() -> Vec<&'static str> {
     integrator_core::library::REGISTRY
         .iter()
         .map(|(id, _)| *id)
-        .filter(|id| Sequence::of(id).is_some())
+        .filter(|id| sequence_of(id).is_some())
         .collect()
 }
 

@@ -5,8 +5,9 @@ use std::ops::Range;
 
 use super::barrier::{PoisonOnPanic, SpinBarrier};
 use super::grid::Positions;
-use super::sequence::{Flow, Sequence};
 use crate::model::ClothModel;
+use integrator_core::Part;
+use integrator_core::sequence::Sequence;
 
 /// What every worker of a frame shares.
 pub(super) struct Frame<'a> {
@@ -113,10 +114,11 @@ fn run_body(frame: &Frame<'_>, mut band: Band<'_>) -> (Phase, Option<NonFinite>)
     let mut first_bad = None;
     for step in 0..frame.steps {
         let mut bad = false;
-        for &(flow, c) in seq.flows() {
+        for &(part, c) in seq.ops() {
             let hc = h * c;
-            match flow {
-                Flow::Kick => {
+            match part {
+                // A kick: the flow of the forces.
+                Part::B => {
                     if !phase.force_valid {
                         barrier.wait();
                         // SAFETY: past the barrier no worker writes the
@@ -135,7 +137,8 @@ fn run_body(frame: &Frame<'_>, mut band: Band<'_>) -> (Phase, Option<NonFinite>)
                     bad |= kick(hc, w, band.free, &band.f, &mut band.p, &mut band.ep);
                     phase.after_drift = false;
                 }
-                Flow::Drift => {
+                // A drift: the flow of the kinetic energy.
+                Part::A => {
                     if phase.after_drift {
                         // SAFETY: only this worker writes its rows; the
                         // current buffer's are read by no one until the
