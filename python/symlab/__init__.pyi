@@ -85,4 +85,5 @@ def compare(
     client: Any = None,
     out: str | PathLike[str] | None = None,
     as_frame: bool | None = None,
+    checkpoint: str | PathLike[str] | None = None,
 ) -> Any: ...

@@ -125,3 +125,90 @@ def test_dask_two_workers_same_errors_and_counts(client):
     workers = {r["worker"] for r in dist}
     assert workers <= set(client.scheduler_info()["workers"])
     assert len(workers) == 2
+
+
+# A checkpointed sweep (issue 35): rows written as they finish, read back
+# bit for bit, only the missing ones run again.
+
+def _same_exact(a, b):
+    assert len(a) == len(b)
+    for x, y in zip(a, b):
+        for k in EXACT:
+            vx, vy = x[k], y[k]
+            if isinstance(vx, float) and math.isnan(vx):
+                assert isinstance(vy, float) and math.isnan(vy), k
+            else:
+                assert vx == vy, (k, vx, vy)
+
+
+def _interrupted_copy(src, dst, keep_rows, torn=False):
+    """The checkpoint as an interruption after `keep_rows` rows leaves it
+    (with `torn`, the next row's line cut off half-way)."""
+    lines = src.read_text().splitlines(keepends=True)
+    text = "".join(lines[:1 + keep_rows])
+    if torn:
+        text += lines[1 + keep_rows][: len(lines[1 + keep_rows]) // 2]
+    dst.write_text(text)
+
+
+@pytest.mark.parametrize("distributed", [False, True])
+def test_checkpointed_sweep_resumes_without_running_the_finished_rows(tmp_path, client,
+                                                                       distributed):
+    c = client if distributed else None
+    plain = as_rows(symlab.compare("kepler", METHODS, SETTINGS, as_frame=False))
+    full = tmp_path / "full.jsonl"
+    first = symlab.compare("kepler", METHODS, SETTINGS, client=c, checkpoint=full,
+                           as_frame=False)
+    _same_exact(first, plain)
+    assert len(full.read_text().splitlines()) == 1 + len(plain)
+
+    for torn in (False, True):
+        cut = tmp_path / f"cut-{torn}.jsonl"
+        _interrupted_copy(full, cut, 3, torn=torn)
+        kept = {json_row["index"]: json_row["row"] for json_row in _rows_of(cut)}
+        assert len(kept) == 3
+        resumed = symlab.compare("kepler", METHODS, SETTINGS, client=c, checkpoint=cut,
+                                 as_frame=False)
+        _same_exact(resumed, plain)
+        # The finished rows were read back, not run again: their wall times
+        # and workers are the ones written, to the bit.
+        for i, row in kept.items():
+            assert resumed[i]["time_s"] == row["time_s"]
+            assert resumed[i]["worker"] == row["worker"]
+        # The file now holds every row once, the cut-off line dropped.
+        assert sorted(r["index"] for r in _rows_of(cut)) == list(range(len(plain)))
+        # A third call runs nothing: every row is read back.
+        again = symlab.compare("kepler", METHODS, SETTINGS, client=c, checkpoint=cut,
+                               as_frame=False)
+        assert [r["time_s"] for r in again] == [r["time_s"] for r in resumed]
+
+
+def _rows_of(path):
+    import json
+
+    out = []
+    # Whole lines only: a last line without its newline was cut off.
+    for line in path.read_text().split("\n")[1:-1]:
+        out.append(json.loads(json.loads(line)["data"]))
+    return out
+
+
+def test_checkpoint_of_another_sweep_or_damaged_is_refused(tmp_path):
+    path = tmp_path / "sweep.jsonl"
+    symlab.compare("kepler", ["leapfrog"], SETTINGS, checkpoint=path, as_frame=False)
+    with pytest.raises(ValueError, match=r"sweep\.jsonl: written for another sweep \(points differs\)"):
+        symlab.compare("kepler", ["gauss2"], SETTINGS, checkpoint=path)
+    with pytest.raises(ValueError, match=r"another sweep \(problem differs\)"):
+        symlab.compare("oscillator", ["leapfrog"], SETTINGS, checkpoint=path)
+    lines = path.read_text().splitlines(keepends=True)
+    # One digit changed inside a row: the checksum finds it.
+    damaged = lines[2].replace("1", "2", 1) if "1" in lines[2] else lines[2].replace("0", "9", 1)
+    assert damaged != lines[2]
+    path.write_text("".join(lines[:2] + [damaged] + lines[3:]))
+    with pytest.raises(ValueError, match=r"sweep\.jsonl: line 3 is damaged"):
+        symlab.compare("kepler", ["leapfrog"], SETTINGS, checkpoint=path)
+    path.write_text("garbage\n")
+    with pytest.raises(ValueError, match=r"sweep\.jsonl: line 1 is damaged"):
+        symlab.compare("kepler", ["leapfrog"], SETTINGS, checkpoint=path)
+    with pytest.raises(ValueError, match="checkpoint: a sweep with out="):
+        symlab.compare("kepler", ["leapfrog"], SETTINGS, checkpoint=path, out=tmp_path / "o")
