@@ -1,15 +1,16 @@
 //! The eight-lane kernels of the Wisdom–Holman splits (`integrator_core::simd`):
-//! the AVX-512 lanes and the portable ones give the same bits (on a
-//! processor without AVX-512, the lanes it runs against themselves, said in
-//! the output), the Kepler lanes
-//! are the scalar drift bit for bit on both, and the lane kicks are the
-//! interaction's forces (against a direct sum over pairs written here) for
-//! one to eight planets.
+//! every SIMD level this processor has (AVX-512, AVX2) gives the portable
+//! lanes' bits — one test per level, named by it; a level the machine that
+//! built the tests lacks is `#[ignore]`d with the reason (so the log shows
+//! which ran) —, the Kepler lanes are the scalar drift bit for bit on each,
+//! the lane kicks are the interaction's forces (against a direct sum over
+//! pairs written here) for one to eight planets, and `SYMLAB_SIMD` caps the
+//! level.
 
 use integrator_core::kepler::{KeplerSolver, drift};
 use integrator_core::problems::OuterSolarSystem;
-use integrator_core::problems::wisdom_holman::{DemocraticHeliocentric, Jacobi};
-use integrator_core::simd::{Simd, has_avx512};
+use integrator_core::problems::wisdom_holman::{DemocraticHeliocentric, GradientKick, Jacobi};
+use integrator_core::simd::{Level, Simd};
 
 const G: f64 = 2.95912208286e-4;
 
@@ -44,31 +45,43 @@ fn bits(a: &[f64]) -> Vec<u64> {
     a.iter().map(|x| x.to_bits()).collect()
 }
 
-/// The lanes `Simd::Auto` picks on this CPU against the portable ones. On a
-/// CPU without AVX-512 both are the portable lanes (this CPU has no other
-/// variant yet), and the test says so rather than pass as if it had
-/// compared AVX-512: what it then checks is that two runs of the same
-/// lanes agree to the bit.
-#[test]
-fn the_lanes_auto_picks_and_the_portable_ones_give_the_same_bits() {
-    if has_avx512() {
-        println!("simd lanes: AVX-512F here: comparing the AVX-512 lanes with the portable ones");
-    } else {
-        println!(
-            "simd lanes: no AVX-512F here: Auto runs the portable lanes, so this compares the portable lanes with themselves"
-        );
-    }
+/// Every level this processor has, as the choice that runs it, said in
+/// the output (with the levels it lacks).
+fn available() -> Vec<Simd> {
+    let (have, lack): (Vec<Level>, Vec<Level>) =
+        Level::ALL.into_iter().partition(|l| l.available());
+    println!("simd levels here: {have:?}; not here: {lack:?}");
+    have.into_iter().map(Simd::from).collect()
+}
+
+/// Fails, saying why, where the tests were built on a machine with
+/// `level` and run on one without (the `#[ignore]`s below are decided when
+/// the tests are built: `build.rs`).
+fn require(level: Level) {
+    assert!(
+        level.available(),
+        "the tests were built where this processor had {level}, and run where it has not: rebuild them here"
+    );
+    println!("simd lanes: {level} here, compared with the portable lanes");
+}
+
+/// Integrations on `simd` and on the portable lanes give the same bits:
+/// both splits, one to eight planets, both ways in time, plain, lazy and
+/// exact gradient kicks, and the outer solar system over 10⁴ steps.
+fn same_bits_as_portable(simd: Simd) {
     for p in 1..=8 {
         let (m, z) = system(p);
         for (h, steps) in [(0.05, 200), (-0.3, 50)] {
             let mut runs = Vec::new();
-            for simd in [Simd::Auto, Simd::Portable] {
+            for simd in [simd, Simd::Portable] {
                 let jac = Jacobi::new(G, &m, None).unwrap().with_simd(simd);
                 let mut w = vec![0.0; z.len()];
                 jac.from_inertial(&z, &mut w).unwrap();
                 jac.integrate(h, steps, &mut w).unwrap();
-                // The lazy implementer's gradient kick too.
+                // The lazy implementer's gradient kick and the exact one.
                 jac.interaction_kick_gradient(h, 1e-3 * h * h * h, &mut w)
+                    .unwrap();
+                jac.interaction_kick_modified(h, 1e-3 * h * h * h, &mut w)
                     .unwrap();
                 let dh = DemocraticHeliocentric::new(G, &m, None)
                     .unwrap()
@@ -81,45 +94,75 @@ fn the_lanes_auto_picks_and_the_portable_ones_give_the_same_bits() {
             assert_eq!(
                 bits(&runs[0].0),
                 bits(&runs[1].0),
-                "Jacobi, {p} planets, h = {h}"
+                "{simd:?}: Jacobi, {p} planets, h = {h}"
             );
             assert_eq!(
                 bits(&runs[0].1),
                 bits(&runs[1].1),
-                "democratic heliocentric, {p} planets, h = {h}"
+                "{simd:?}: democratic heliocentric, {p} planets, h = {h}"
             );
         }
     }
     // The outer solar system over 10⁴ steps of 10 days.
     let z = OuterSolarSystem.initial_state();
     let mut out = Vec::new();
-    for simd in [Simd::Auto, Simd::Portable] {
+    for simd in [simd, Simd::Portable] {
         let jac = Jacobi::outer_solar().with_simd(simd);
         let mut w = vec![0.0; z.len()];
         jac.from_inertial(&z, &mut w).unwrap();
         jac.integrate(10.0, 10_000, &mut w).unwrap();
         out.push(w);
     }
-    assert_eq!(bits(&out[0]), bits(&out[1]));
+    assert_eq!(bits(&out[0]), bits(&out[1]), "{simd:?}: outer solar system");
 }
 
 #[test]
-fn the_kick_drift_run_is_the_flows_one_by_one_bit_for_bit() {
-    // The registers' loop (`Jacobi::kick_drift_run`) against the kick and
-    // the drift one flow at a time on the portable lanes: plain and
-    // gradient kicks, short and long steps, and steps so long (3000 days,
-    // 0.7 of Jupiter's period) that the drifts leave the lanes, where the
-    // run takes no step and the flows take them all.
+#[cfg_attr(
+    not(symlab_avx512),
+    ignore = "this machine has no AVX-512F (found when the tests were built)"
+)]
+fn avx512_lanes_give_the_portable_bits() {
+    require(Level::Avx512);
+    same_bits_as_portable(Simd::Avx512);
+}
+
+#[test]
+#[cfg_attr(
+    not(symlab_avx2),
+    ignore = "this machine has no AVX2 (found when the tests were built)"
+)]
+fn avx2_lanes_give_the_portable_bits() {
+    require(Level::Avx2);
+    same_bits_as_portable(Simd::Avx2);
+}
+
+/// The registers' loop (`Jacobi::kick_drift_run`) on `simd` against the
+/// kick and the drift one flow at a time on the portable lanes: plain,
+/// lazy gradient and exact modified kicks, short and long steps, and steps
+/// so long (3000 days, 0.7 of Jupiter's period) that the drifts leave the
+/// lanes, where the run takes no step and the flows take them all.
+fn run_is_the_flows_one_by_one(simd: Simd) {
     let z = OuterSolarSystem.initial_state();
-    let fast = Jacobi::outer_solar();
-    let slow = Jacobi::outer_solar().with_simd(Simd::Portable);
-    for (h, gamma) in [
-        (10.0, 0.0),
-        (600.0, 0.0),
-        (-250.0, 0.0),
-        (10.0, 1e3 / 24.0),
-        (3000.0, 0.0),
+    for (h, gamma, kick) in [
+        (10.0, 0.0, GradientKick::Lazy),
+        (600.0, 0.0, GradientKick::Lazy),
+        (-250.0, 0.0, GradientKick::Lazy),
+        (10.0, 1e3 / 24.0, GradientKick::Lazy),
+        (10.0, 1e3 / 24.0, GradientKick::Exact),
+        (-120.0, -2e5, GradientKick::Exact),
+        (3000.0, 0.0, GradientKick::Lazy),
     ] {
+        let fast = Jacobi::outer_solar()
+            .with_simd(simd)
+            .with_gradient_kick(kick);
+        let slow = Jacobi::outer_solar()
+            .with_simd(Simd::Portable)
+            .with_gradient_kick(kick);
+        let step_kick = |split: &Jacobi, w: &mut [f64]| match (gamma, kick) {
+            (0.0, _) => split.interaction_kick(h, w).unwrap(),
+            (_, GradientKick::Lazy) => split.interaction_kick_gradient(h, gamma, w).unwrap(),
+            (_, GradientKick::Exact) => split.interaction_kick_modified(h, gamma, w).unwrap(),
+        };
         let n = 40;
         let mut w = vec![0.0; z.len()];
         fast.from_inertial(&z, &mut w).unwrap();
@@ -132,37 +175,51 @@ fn the_kick_drift_run_is_the_flows_one_by_one_bit_for_bit() {
             if k == n {
                 break;
             }
-            if gamma == 0.0 {
-                fast.interaction_kick(h, &mut w).unwrap();
-            } else {
-                fast.interaction_kick_gradient(h, gamma, &mut w).unwrap();
-            }
+            step_kick(&fast, &mut w);
             fast.kepler_flow(if k + 1 < n { h } else { 0.5 * h }, &mut w)
                 .unwrap();
             k += 1;
         }
         for k in 0..n {
-            if gamma == 0.0 {
-                slow.interaction_kick(h, &mut u).unwrap();
-            } else {
-                slow.interaction_kick_gradient(h, gamma, &mut u).unwrap();
-            }
+            step_kick(&slow, &mut u);
             slow.kepler_flow(if k + 1 < n { h } else { 0.5 * h }, &mut u)
                 .unwrap();
         }
-        assert_eq!(bits(&w), bits(&u), "h = {h}, gamma = {gamma}");
-        if has_avx512() {
-            // The loop ran where the lanes hold every planet, and not where
-            // Jupiter's drift leaves them.
-            if h.abs() < 1000.0 {
-                assert_eq!(in_run, n, "h = {h}");
-            } else {
-                assert!(in_run < n, "h = {h}");
-            }
+        let what = format!("{simd:?}: h = {h}, gamma = {gamma}, {kick:?}");
+        assert_eq!(bits(&w), bits(&u), "{what}");
+        // The loop ran where the lanes hold every planet, and not where
+        // Jupiter's drift leaves them.
+        if h.abs() < 1000.0 {
+            assert_eq!(in_run, n, "{what}");
         } else {
-            assert_eq!(in_run, 0);
+            assert!(in_run < n, "{what}");
         }
     }
+}
+
+#[test]
+#[cfg_attr(
+    not(symlab_avx512),
+    ignore = "this machine has no AVX-512F (found when the tests were built)"
+)]
+fn the_kick_drift_run_on_avx512_is_the_flows_one_by_one_bit_for_bit() {
+    require(Level::Avx512);
+    run_is_the_flows_one_by_one(Simd::Avx512);
+}
+
+#[test]
+#[cfg_attr(
+    not(symlab_avx2),
+    ignore = "this machine has no AVX2 (found when the tests were built)"
+)]
+fn the_kick_drift_run_on_avx2_is_the_flows_one_by_one_bit_for_bit() {
+    require(Level::Avx2);
+    run_is_the_flows_one_by_one(Simd::Avx2);
+}
+
+#[test]
+fn the_kick_drift_run_on_the_portable_lanes_is_the_flows_one_by_one_bit_for_bit() {
+    run_is_the_flows_one_by_one(Simd::Portable);
 }
 
 #[test]
@@ -187,14 +244,9 @@ fn the_eight_kepler_lanes_are_the_scalar_drift_bit_for_bit() {
             2.0 * std::f64::consts::PI * (r * r * r / gm).sqrt(),
         ));
     }
-    let simds: &[Simd] = if has_avx512() {
-        &[Simd::Auto, Simd::Portable]
-    } else {
-        eprintln!("no AVX-512F: the portable lanes only");
-        &[Simd::Portable]
-    };
+    let simds = available();
     let mut compared = 0;
-    for &simd in simds {
+    for &simd in &simds {
         for frac in [
             1e-5, 3e-4, 2e-3, 0.01, 0.05, 0.1, 0.15, 0.22, 0.3, 1.7, -0.02, -0.2, -2.5,
         ] {
@@ -256,7 +308,7 @@ fn accelerations(m: &[f64], x: &[f64]) -> (Vec<[f64; 3]>, Vec<f64>) {
 
 #[test]
 fn the_lane_kicks_are_the_interactions_forces() {
-    for simd in [Simd::Auto, Simd::Portable] {
+    for simd in available() {
         for p in 1..=8 {
             let (m, z) = system(p);
             let n = p + 1;
@@ -327,4 +379,77 @@ fn the_lane_kicks_are_the_interactions_forces() {
             }
         }
     }
+}
+
+#[test]
+fn the_level_names_parse_and_a_wrong_one_is_an_error_naming_it() {
+    for level in Level::ALL {
+        assert_eq!(level.name().parse::<Level>(), Ok(level));
+        assert_eq!(level.name().to_uppercase().parse::<Level>(), Ok(level));
+    }
+    let e = "avx".parse::<Level>().unwrap_err();
+    assert_eq!(e.value, "avx");
+    let msg = e.to_string();
+    assert!(
+        msg.contains("SYMLAB_SIMD=\"avx\"") && msg.contains("avx512, avx2 or portable"),
+        "{msg}"
+    );
+}
+
+#[test]
+fn a_cap_lowers_the_level_auto_runs_on_and_never_raises_it() {
+    use integrator_core::simd::{detected, level, set_cap};
+    let best = detected();
+    for cap in Level::ALL {
+        set_cap(Some(cap));
+        assert_eq!(level(), cap.min(best), "cap {cap}");
+        assert_eq!(Simd::Auto.level(), cap.min(best), "cap {cap}");
+        // A level asked for by name is not capped.
+        assert_eq!(Simd::Avx2.level(), Level::Avx2.min(best));
+    }
+    set_cap(None);
+    println!("simd: best here {best}, without set_cap {}", level());
+}
+
+/// Prints the level `SYMLAB_SIMD` leaves (the child process of the test
+/// below; alone it only prints).
+#[test]
+fn simd_level_child() {
+    println!(
+        "child: cap {:?}, level {}",
+        integrator_core::simd::env_cap(),
+        integrator_core::simd::level()
+    );
+}
+
+#[test]
+fn symlab_simd_caps_the_level_of_a_process_and_a_wrong_value_is_refused_aloud() {
+    use integrator_core::simd::detected;
+    let child = |value: &str| {
+        let out = std::process::Command::new(std::env::current_exe().unwrap())
+            .args(["simd_lanes::simd_level_child", "--exact", "--nocapture"])
+            .env("SYMLAB_SIMD", value)
+            .output()
+            .unwrap();
+        assert!(out.status.success(), "{out:?}");
+        (
+            String::from_utf8_lossy(&out.stdout).into_owned(),
+            String::from_utf8_lossy(&out.stderr).into_owned(),
+        )
+    };
+    for level in Level::ALL {
+        let (stdout, _) = child(level.name());
+        let expect = format!(
+            "child: cap Ok(Some({level:?})), level {}",
+            level.min(detected())
+        );
+        assert!(stdout.contains(&expect), "{level}: {stdout}");
+    }
+    let (stdout, stderr) = child("avx-512");
+    assert!(stdout.contains("level portable"), "{stdout}");
+    assert!(
+        stderr.contains("SYMLAB_SIMD=\"avx-512\" is not a SIMD level")
+            && stderr.contains("running the portable kernels"),
+        "{stderr}"
+    );
 }

@@ -139,9 +139,10 @@ impl KeplerSolver {
         Ok(())
     }
 
-    /// [`quick`](Self::quick) compiled for AVX2 where the processor has it
-    /// (one 256-bit register holds the four lanes; the baseline x86-64
-    /// build has only SSE2's two), else as built. The same operations in the
+    /// [`quick`](Self::quick) compiled for AVX2 where
+    /// [`crate::simd::level`] allows it (one 256-bit register holds the four
+    /// lanes; the baseline x86-64 build has only SSE2's two), else as
+    /// built. The same operations in the
     /// same order either way — IEEE addition, multiplication, division and
     /// square root round alike at any vector width, and Rust fuses no
     /// multiply–add — so the bits do not depend on the path (the lanes are
@@ -156,8 +157,9 @@ impl KeplerSolver {
         v: [L; 3],
     ) -> ([L; 3], [L; 3], [bool; LANES]) {
         #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx2") {
-            // SAFETY: the processor has AVX2 (checked just above).
+        if crate::simd::level() >= crate::simd::Level::Avx2 {
+            // SAFETY: `level` is AVX2 or above only where the processor
+            // has AVX2.
             return unsafe { self.quick_avx2(gm, h, x, v) };
         }
         self.quick(gm, h, x, v)

@@ -7,7 +7,7 @@
 use super::lanes::{KeplerKernel, Lanes, MutualKick};
 use super::{Bodies, WhError, get3, set3};
 use crate::kepler::{KeplerSolver, LANES};
-use crate::simd::{Simd, W, dispatch};
+use crate::simd::{Level, Simd, W, dispatch};
 
 /// Wisdom–Holman in democratic heliocentric coordinates (Duncan, Levison &
 /// Lee 1998, the coordinates of SyMBA).
@@ -68,8 +68,9 @@ impl DemocraticHeliocentric {
     }
 
     /// The same split with the eight-lane kernels of up to eight planets on
-    /// the implementation `simd` (the default [`Simd::Auto`]: AVX-512 where
-    /// the processor has it). Both give the same bits.
+    /// the implementation `simd` (the default [`Simd::Auto`]: the best the
+    /// processor has, under the cap of `SYMLAB_SIMD`). All give the same
+    /// bits.
     pub fn with_simd(mut self, simd: Simd) -> Self {
         self.simd = simd;
         self
@@ -185,13 +186,14 @@ impl DemocraticHeliocentric {
         for k in 0..3 {
             q[k] += p[k] * v0;
         }
-        // Up to eight planets in one pass on AVX-512, each lane written
-        // where it is the scalar drift's (the same bits as below); the
-        // planets it leaves go through the groups of four below. Without
-        // AVX-512 only the groups of four run: on the portable eight lanes
-        // they are the faster of the two (docs/results/outer-solar-wisdom-holman.md), with the same bits.
+        // Up to eight planets in one pass on AVX-512 or AVX2, each lane
+        // written where it is the scalar drift's (the same bits as below);
+        // the planets it leaves go through the groups of four below. On the
+        // portable level only the groups of four run: on the portable eight
+        // lanes they are the faster of the two
+        // (docs/results/outer-solar-wisdom-holman.md), with the same bits.
         let mut lane_done = 0u8;
-        if self.simd.avx512()
+        if self.simd.level() >= Level::Avx2
             && let Some(lanes) = &self.lanes
         {
             let k = KeplerKernel {

@@ -4,10 +4,10 @@
 // momenta) at once; an index reads clearer than zipped iterators.
 #![allow(clippy::needless_range_loop)]
 
-use super::lanes::{JacobiKick, JacobiLanes, JacobiRun, KeplerKernel, Lanes};
+use super::lanes::{JacobiKick, JacobiLanes, JacobiRun, KeplerKernel, LaneKick, Lanes};
 use super::{Bodies, WhError, get3, set3, with_scratch};
 use crate::kepler::{KeplerSolver, LANES};
-use crate::simd::{Simd, W, dispatch};
+use crate::simd::{Level, Simd, W, dispatch};
 
 /// Wisdom–Holman in Jacobi coordinates (Wisdom & Holman 1991; the form of
 /// WHFast, Rein & Tamayo 2015).
@@ -121,8 +121,9 @@ impl Jacobi {
     }
 
     /// The same split with the eight-lane kernels of up to eight planets on
-    /// the implementation `simd` (the default [`Simd::Auto`]: AVX-512 where
-    /// the processor has it). Both give the same bits.
+    /// the implementation `simd` (the default [`Simd::Auto`]: the best the
+    /// processor has, under the cap of `SYMLAB_SIMD`). All give the same
+    /// bits.
     pub fn with_simd(mut self, simd: Simd) -> Self {
         self.simd = simd;
         self
@@ -228,13 +229,14 @@ impl Jacobi {
         for k in 0..3 {
             q[k] += h * p[k] * v0;
         }
-        // Up to eight planets in one pass on AVX-512, each lane written
-        // where it is the scalar drift's (the same bits as below); the
-        // planets it leaves go through the groups of four below. Without
-        // AVX-512 only the groups of four run: on the portable eight lanes
-        // they are the faster of the two (docs/results/outer-solar-wisdom-holman.md), with the same bits.
+        // Up to eight planets in one pass on AVX-512 or AVX2, each lane
+        // written where it is the scalar drift's (the same bits as below);
+        // the planets it leaves go through the groups of four below. On the
+        // portable level only the groups of four run: on the portable eight
+        // lanes they are the faster of the two
+        // (docs/results/outer-solar-wisdom-holman.md), with the same bits.
         let mut lane_done = 0u8;
-        if self.simd.avx512()
+        if self.simd.level() >= Level::Avx2
             && let Some(jl) = &self.lanes
         {
             let k = KeplerKernel {
@@ -308,7 +310,7 @@ impl Jacobi {
         self.bodies.check_len("the Jacobi state", w)?;
         let n = self.bodies.n();
         if let Some(jl) = &self.lanes {
-            return self.kick_lanes(jl, h, None, w);
+            return self.kick_lanes(jl, h, LaneKick::Plain, w);
         }
         with_scratch(6 * n, |scratch| {
             let (q, p) = w.split_at_mut(3 * n);
@@ -341,7 +343,7 @@ impl Jacobi {
         }
         let delta = 2.0 * gamma / h;
         if let Some(jl) = &self.lanes {
-            return self.kick_lanes(jl, h, Some(delta), w);
+            return self.kick_lanes(jl, h, LaneKick::Lazy(delta), w);
         }
         with_scratch(9 * n, |scratch| {
             let (shifted, scratch) = scratch.split_at_mut(3 * n);
@@ -373,7 +375,9 @@ impl Jacobi {
     /// evaluation and one of the tidal terms, the cost of two; where
     /// [`interaction_kick_gradient`](Self::interaction_kick_gradient) is
     /// the same to second order in `γ`, this one is exact, so the kick is
-    /// symplectic to rounding. Errors: `h` or `γ` not finite, or a
+    /// symplectic to rounding. Up to eight planets take it in the lanes
+    /// (the same terms, summed in the lanes' order: see
+    /// `JacobiLanes::modified_regs`). Errors: `h` or `γ` not finite, or a
     /// momentum that is not finite (naming the body).
     pub fn interaction_kick_modified(
         &self,
@@ -384,6 +388,9 @@ impl Jacobi {
         self.bodies.check_len("the Jacobi state", w)?;
         if !h.is_finite() || !gamma.is_finite() {
             return Err(WhError::GradientKick { h, gamma });
+        }
+        if let Some(jl) = &self.lanes {
+            return self.kick_lanes(jl, h, LaneKick::Exact(gamma), w);
         }
         let n = self.bodies.n();
         let g = self.bodies.g;
@@ -438,14 +445,13 @@ impl Jacobi {
         })
     }
 
-    /// The kick of up to eight planets in lanes (at positions shifted by
-    /// `δ·Q̈` for the gradient kick); an error names the first body whose
-    /// momentum is not finite.
+    /// The kick `kind` of up to eight planets in lanes; an error names the
+    /// first body whose momentum is not finite.
     fn kick_lanes(
         &self,
         jl: &JacobiLanes,
         h: f64,
-        delta: Option<f64>,
+        kind: LaneKick,
         w: &mut [f64],
     ) -> Result<(), WhError> {
         let n = self.bodies.n();
@@ -453,7 +459,7 @@ impl Jacobi {
         let k = JacobiKick {
             lanes: jl,
             h,
-            delta,
+            kind,
             q: &q[3..],
             p: &mut p[3..],
         };
@@ -553,17 +559,19 @@ impl Jacobi {
 
     /// Up to `n` steps of the interaction kick over `kick` (the gradient
     /// kick with weight `gamma` where it is nonzero, as
-    /// [`interaction_kick_gradient`](Self::interaction_kick_gradient)),
-    /// then the Kepler flow over `drift` (`drift_last` for the last): the
-    /// loop of a Wisdom–Holman integration between outputs, its drifts
-    /// merged. Up to eight planets on AVX-512 run in the lanes with the
-    /// state in registers from step to step, the same operations as the
+    /// [`interaction_kick_gradient`](Self::interaction_kick_gradient) or
+    /// [`interaction_kick_modified`](Self::interaction_kick_modified), as
+    /// [`gradient_kick`](Self::gradient_kick) says), then the Kepler flow
+    /// over `drift` (`drift_last` for the last): the loop of a
+    /// Wisdom–Holman integration between outputs, its drifts merged. Up to
+    /// eight planets run in the lanes with the state in registers from
+    /// step to step, on every level ([`Simd`]), the same operations as the
     /// flows one by one (so the same bits: `tests/simd_lanes.rs`) without
     /// storing and reloading the state between them. Returns the steps
     /// taken; it stops, with `w` as that step found it, before a step whose
     /// kick is not finite or whose drift leaves a lane to the scalar solve
-    /// (and takes none without AVX-512, on the portable lanes, or for more
-    /// than eight planets): the caller takes that step flow by flow.
+    /// (and takes none for more than eight planets): the caller takes that
+    /// step flow by flow.
     pub fn kick_drift_run(
         &self,
         kick: f64,
@@ -575,19 +583,21 @@ impl Jacobi {
     ) -> usize {
         let nb = self.bodies.n();
         let Some(jl) = &self.lanes else { return 0 };
-        if n == 0 || !self.simd.avx512() || w.len() != 6 * nb {
+        if n == 0 || w.len() != 6 * nb {
             return 0;
         }
-        // The lanes take the lazy gradient kick only.
-        if gamma != 0.0 && self.gradient == GradientKick::Exact {
+        // The refusals of the kicks one by one: the caller's flows report
+        // them.
+        let kind = if gamma == 0.0 {
+            LaneKick::Plain
+        } else if !kick.is_finite() || !gamma.is_finite() {
             return 0;
-        }
-        let delta = if gamma == 0.0 {
-            None
-        } else if kick == 0.0 || !kick.is_finite() || !gamma.is_finite() {
+        } else if self.gradient == GradientKick::Exact {
+            LaneKick::Exact(gamma)
+        } else if kick == 0.0 {
             return 0;
         } else {
-            Some(2.0 * gamma / kick)
+            LaneKick::Lazy(2.0 * gamma / kick)
         };
         let (q, p) = w.split_at_mut(3 * nb);
         // The barycentre must stay finite over the whole run (the flows
@@ -602,7 +612,7 @@ impl Jacobi {
             JacobiRun {
                 lanes: jl,
                 kick,
-                delta,
+                kind,
                 drift,
                 drift_last,
                 n,

@@ -1,7 +1,8 @@
 //! The Wisdom–Holman parts of up to eight planets in eight lanes (one
 //! planet a lane, lane `l` body `l + 1`), on either implementation of
 //! [`F8`]: the Kepler flows of all planets in one pass, the interaction
-//! kicks with every pair of planets at once (below), no allocation and no
+//! kicks (plain, lazy and exact modified) with every pair of planets at
+//! once (below), no allocation and no
 //! branch on the number of planets beyond the masks built once.
 //!
 //! # The pairs
@@ -226,6 +227,52 @@ impl Lanes {
             }
         }
     }
+
+    /// The derivative of [`mutual`](Self::mutual)'s accelerations along
+    /// the displacement `dx` of the positions `x`: lane `l` gets
+    /// `Σ_j mⱼ G (δd/r³ − 3(d·δd) d/r⁵)` over the other planets (`d = xⱼ −
+    /// xₗ`, `δd = δxⱼ − δxₗ`), each pair's tidal term once, added to `da`.
+    #[inline(always)]
+    pub fn mutual_tidal<V: F8>(&self, g: f64, x: &[V; 3], dx: &[V; 3], da: &mut [V; 3]) {
+        let zero = V::splat(0.0);
+        let three = V::splat(3.0);
+        let m = V::from_array(self.m);
+        for rot in &self.rotations {
+            let (mut d, mut dd) = (*x, *dx);
+            for k in 0..3 {
+                d[k] = x[k].permute(&rot.to).sub(x[k]);
+                dd[k] = dx[k].permute(&rot.to).sub(dx[k]);
+            }
+            let r2 = dot(&d, &d);
+            // Lanes that do not count (a lane its own partner: 0/0) to 0.
+            let s = V::select(rot.mask, V::splat(g).div(r2.mul(r2.sqrt())), zero);
+            let t = V::select(rot.mask, three.mul(dot(&d, &dd)).div(r2), zero);
+            let m_to = V::from_array(rot.m_to);
+            for k in 0..3 {
+                let tidal = s.mul(dd[k].sub(t.mul(d[k])));
+                da[k] = da[k].add(m_to.mul(tidal));
+                da[k] = da[k].sub(m.mul(tidal).permute(&rot.back));
+            }
+        }
+    }
+}
+
+#[inline(always)]
+fn dot<V: F8>(a: &[V; 3], b: &[V; 3]) -> V {
+    a[0].mul(b[0]).add(a[1].mul(b[1])).add(a[2].mul(b[2]))
+}
+
+/// Which kick the Jacobi lanes take.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) enum LaneKick {
+    /// `Pᵢ += h·m'ᵢQ̈ᵢ`.
+    Plain,
+    /// The lazy implementer's modified kick: the accelerations taken at
+    /// `Q + δ·Q̈(Q)` (the weight `δ`).
+    Lazy(f64),
+    /// The exact modified kick `Pᵢ += h·m'ᵢQ̈ᵢ + 2γ·m'ᵢ·DQ̈ᵢ[Q̈]` (the
+    /// weight `γ`).
+    Exact(f64),
 }
 
 /// The Jacobi split's own lane constants.
@@ -245,17 +292,14 @@ pub(super) struct JacobiLanes {
 }
 
 impl JacobiLanes {
-    /// The Jacobi accelerations of the interaction, `Q̈ᵢ = aᵢ − Σ_{j<i}
-    /// mⱼaⱼ/M_{i−1} + G Mᵢ Qᵢ/|Qᵢ|³ = aᵢ + Σ_{j≥i} mⱼaⱼ/M_{i−1} + G Mᵢ Qᵢ/|Qᵢ|³`, at Jacobi positions `q` (lanes).
+    /// The inertial positions relative to the barycentre of the Jacobi
+    /// positions `q` (lanes): the planets' `xᵢ = Qᵢ − Σ_{k≥i} fₖQₖ` and the
+    /// Sun's `x₀ = −Σ_{k≥1} fₖQₖ` in every lane. Linear in `q`, so also the
+    /// inertial displacement of a Jacobi one.
     #[inline(always)]
-    pub fn accelerations<V: F8>(&self, q: &[V; 3]) -> [V; 3] {
-        let l = &self.lanes;
+    fn inertial<V: F8>(&self, q: &[V; 3]) -> ([V; 3], [V; 3]) {
         let zero = V::splat(0.0);
         let all0 = [0u64; W];
-        let g = V::splat(self.g);
-        let m = V::from_array(l.m);
-        // Inertial positions relative to the barycentre: xᵢ = Qᵢ − Σ_{k≥i}
-        // fₖQₖ, x₀ = −Σ_{k≥1} fₖQₖ.
         let f = V::from_array(self.f);
         let mut x = *q;
         let mut x0 = [zero; 3];
@@ -264,6 +308,26 @@ impl JacobiLanes {
             x[k] = q[k].sub(s);
             x0[k] = s.permute(&all0).neg();
         }
+        (x, x0)
+    }
+
+    /// The Jacobi accelerations of the interaction, `Q̈ᵢ = aᵢ − Σ_{j<i}
+    /// mⱼaⱼ/M_{i−1} + G Mᵢ Qᵢ/|Qᵢ|³ = aᵢ + Σ_{j≥i} mⱼaⱼ/M_{i−1} + G Mᵢ Qᵢ/|Qᵢ|³`, at Jacobi positions `q` (lanes).
+    #[inline(always)]
+    pub fn accelerations<V: F8>(&self, q: &[V; 3]) -> [V; 3] {
+        self.accelerations_x(q).0
+    }
+
+    /// [`accelerations`](Self::accelerations), with the inertial positions
+    /// it took them at ([`inertial`](Self::inertial)).
+    #[allow(clippy::type_complexity)]
+    #[inline(always)]
+    fn accelerations_x<V: F8>(&self, q: &[V; 3]) -> ([V; 3], [V; 3], [V; 3]) {
+        let l = &self.lanes;
+        let zero = V::splat(0.0);
+        let g = V::splat(self.g);
+        let m = V::from_array(l.m);
+        let (x, x0) = self.inertial(q);
         // The Sun and each planet.
         let mut d = x;
         for k in 0..3 {
@@ -293,26 +357,83 @@ impl JacobiLanes {
             // sums the shifted positions across the lanes.
             qdd[k] = V::select(l.used, qdd[k], zero);
         }
-        qdd
+        (qdd, x, x0)
     }
 
-    /// `Pᵢ += h·m'ᵢQ̈ᵢ`, the accelerations taken at `Q + δ·Q̈(Q)` where
-    /// `delta` is given (the lazy implementer's modified kick) or at `Q`;
-    /// `q`, `pm` the planets' positions and momenta. The mask of the lanes
-    /// whose new momentum is finite.
+    /// The exact modified kick `Pᵢ += h·m'ᵢQ̈ᵢ + 2γ·m'ᵢ·DQ̈ᵢ[Q̈]` on
+    /// positions and momenta in lanes, the lanes' form of
+    /// [`Jacobi::interaction_kick_modified`](super::Jacobi::interaction_kick_modified):
+    /// the inertial displacement `δx` of `w = Q̈`, the Sun's and every
+    /// pair's tidal term `G mⱼ (δd/r³ − 3(d·δd) d/r⁵)`, the Jacobi
+    /// combination (a suffix sum, as in [`accelerations`](Self::accelerations):
+    /// the tidal terms are pairwise too) and the Kepler term's derivative
+    /// `G Mᵢ (wᵢ/|Qᵢ|³ − 3(Qᵢ·wᵢ) Qᵢ/|Qᵢ|⁵)`. The mask of the lanes whose
+    /// new momentum is finite.
     #[inline(always)]
-    pub fn kick<V: F8>(&self, h: f64, delta: Option<f64>, q: &[f64], pm: &mut [f64]) -> u8 {
+    pub fn modified_regs<V: F8>(&self, h: f64, gamma: f64, q: &[V; 3], pv: &mut [V; 3]) -> u8 {
+        let l = &self.lanes;
+        let zero = V::splat(0.0);
+        let three = V::splat(3.0);
+        let (w, x, x0) = self.accelerations_x(q);
+        let (dx, dx0) = self.inertial(&w);
+        // The Sun with each planet (`d = xᵢ − x₀`): planet i gets
+        // `−m₀·tidal`.
+        let (mut d, mut dd) = (x, dx);
+        for k in 0..3 {
+            d[k] = x[k].sub(x0[k]);
+            dd[k] = dx[k].sub(dx0[k]);
+        }
+        let r2 = dot(&d, &d);
+        let s = V::select(l.used, V::splat(self.g).div(r2.mul(r2.sqrt())), zero);
+        let t = V::select(l.used, three.mul(dot(&d, &dd)).div(r2), zero);
+        let m0 = V::splat(self.m0);
+        let mut da = [zero; 3];
+        for k in 0..3 {
+            da[k] = m0.mul(s.mul(dd[k].sub(t.mul(d[k])))).neg();
+        }
+        l.mutual_tidal(self.g, &x, &dx, &mut da);
+        let m = V::from_array(l.m);
+        let inv = V::from_array(self.inv_prev);
+        let r2 = dot(q, q);
+        let kep = V::from_array(l.gm).div(r2.mul(r2.sqrt()));
+        let tq = three.mul(dot(q, &w)).div(r2);
+        let reduced = V::from_array(self.reduced);
+        let hm = V::splat(h).mul(reduced);
+        let gm = V::splat(2.0 * gamma).mul(reduced);
+        let mut ok = 0xff;
+        for k in 0..3 {
+            let acc = m.mul(da[k]).suffix_sum();
+            let dq = da[k].add(acc.mul(inv)).add(kep.mul(w[k].sub(tq.mul(q[k]))));
+            // Unused lanes (Q = 0: 0/0 there) to 0.
+            let dq = V::select(l.used, dq, zero);
+            pv[k] = pv[k].add(hm.mul(w[k]).add(gm.mul(dq)));
+            ok &= pv[k].finite();
+        }
+        ok
+    }
+
+    /// The kick `kind` over `h` (`Pᵢ += h·m'ᵢQ̈ᵢ`, the accelerations taken
+    /// at `Q + δ·Q̈(Q)` for the lazy implementer's modified kick, or the
+    /// exact modified kick); `q`, `pm` the planets' positions and momenta.
+    /// The mask of the lanes whose new momentum is finite.
+    #[inline(always)]
+    pub fn kick<V: F8>(&self, h: f64, kind: LaneKick, q: &[f64], pm: &mut [f64]) -> u8 {
         let p = self.lanes.p;
         let qv = V::load3(q, p);
         let mut pv = V::load3(pm, p);
-        let ok = self.kick_regs(h, delta, &qv, &mut pv);
+        let ok = self.kick_regs(h, kind, &qv, &mut pv);
         V::store3(&pv, pm, p);
         ok
     }
 
     /// [`kick`](Self::kick) on positions and momenta in lanes.
     #[inline(always)]
-    pub fn kick_regs<V: F8>(&self, h: f64, delta: Option<f64>, qv: &[V; 3], pv: &mut [V; 3]) -> u8 {
+    pub fn kick_regs<V: F8>(&self, h: f64, kind: LaneKick, qv: &[V; 3], pv: &mut [V; 3]) -> u8 {
+        let delta = match kind {
+            LaneKick::Exact(gamma) => return self.modified_regs(h, gamma, qv, pv),
+            LaneKick::Lazy(delta) => Some(delta),
+            LaneKick::Plain => None,
+        };
         let mut qdd = self.accelerations(qv);
         if let Some(delta) = delta {
             let dv = V::splat(delta);
@@ -332,8 +453,8 @@ impl JacobiLanes {
     }
 
     /// Up to `n` Wisdom–Holman steps of kick then drift in lanes, the state
-    /// kept in registers from step to step: step `k` kicks by `kick` (at
-    /// positions shifted by `δ·Q̈` where `delta` is given) and drifts the
+    /// kept in registers from step to step: step `k` takes the kick `kind`
+    /// over `kick` and drifts the
     /// planets by `drift`, the last by `drift_last`. It stops before a step
     /// whose kick is not finite or whose drift leaves a lane to the scalar
     /// solve, with the state as that step found it, and returns the steps
@@ -345,7 +466,7 @@ impl JacobiLanes {
     pub fn run<V: F8>(
         &self,
         kick: f64,
-        delta: Option<f64>,
+        kind: LaneKick,
         drift: f64,
         drift_last: f64,
         n: usize,
@@ -361,7 +482,7 @@ impl JacobiLanes {
         while done < n {
             let d = if done + 1 < n { drift } else { drift_last };
             let mut kicked = pv;
-            if self.kick_regs(kick, delta, &x, &mut kicked) != 0xff {
+            if self.kick_regs(kick, kind, &x, &mut kicked) != 0xff {
                 break;
             }
             let (xn, pn, ok) = self.lanes.kepler_regs(&solver, d, &x, &kicked);
@@ -399,7 +520,7 @@ impl Kernel for KeplerKernel<'_> {
 pub(super) struct JacobiKick<'a> {
     pub lanes: &'a JacobiLanes,
     pub h: f64,
-    pub delta: Option<f64>,
+    pub kind: LaneKick,
     pub q: &'a [f64],
     pub p: &'a mut [f64],
 }
@@ -408,7 +529,7 @@ impl Kernel for JacobiKick<'_> {
     type Out = u8;
     #[inline(always)]
     fn run<V: F8>(self) -> u8 {
-        self.lanes.kick::<V>(self.h, self.delta, self.q, self.p)
+        self.lanes.kick::<V>(self.h, self.kind, self.q, self.p)
     }
 }
 
@@ -438,7 +559,7 @@ impl Kernel for MutualKick<'_> {
 pub(super) struct JacobiRun<'a> {
     pub lanes: &'a JacobiLanes,
     pub kick: f64,
-    pub delta: Option<f64>,
+    pub kind: LaneKick,
     pub drift: f64,
     pub drift_last: f64,
     pub n: usize,
@@ -452,7 +573,7 @@ impl Kernel for JacobiRun<'_> {
     fn run<V: F8>(self) -> usize {
         self.lanes.run::<V>(
             self.kick,
-            self.delta,
+            self.kind,
             self.drift,
             self.drift_last,
             self.n,
