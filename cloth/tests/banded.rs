@@ -206,3 +206,84 @@ fn auto_bands_from_banded_from_on_two_cores() {
     assert_eq!(Banding::Threads(0).bands(&small), Some(1));
     assert_eq!(Banding::Threads(99).bands(&small), Some(16));
 }
+
+/// The tests of the SIMD levels below set the process's cap
+/// (`integrator_core::simd::set_cap`) one after another.
+static CAP: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
+/// At `level` and at the portable level, the stencil force at a state off
+/// the grid (64² particles) and banded runs (leapfrog on one thread,
+/// Forest–Ruth on two, 200 steps of a 32² sheet with colliders) give the
+/// same bits.
+fn same_bits_as_portable(level: integrator_core::simd::Level) {
+    use integrator_core::Separable;
+    use integrator_core::simd::{Level, set_cap};
+    let _one_at_a_time = CAP.lock().unwrap_or_else(|e| e.into_inner());
+    assert!(
+        level.available(),
+        "the tests were built where this processor had {level}, and run where it has not: rebuild them here"
+    );
+    println!("cloth simd: {level} here, compared with the portable level");
+    let model = cloth::ClothModel::new(&scene(64, 64)).unwrap();
+    // The runs on the grid the other tests step stably.
+    let scene = scene(32, 32);
+    let n = model.dof();
+    // Every coordinate moved by up to ±2.5e-4, deterministically.
+    let mut q = model.initial_state()[..n].to_vec();
+    let mut s: u64 = 0x9E37_79B9_7F4A_7C15;
+    for x in &mut q {
+        s ^= s << 13;
+        s ^= s >> 7;
+        s ^= s << 17;
+        *x += 0.0005 * ((s >> 11) as f64 / (1u64 << 53) as f64 - 0.5);
+    }
+    let mut out = Vec::new();
+    for l in [level, Level::Portable] {
+        set_cap(Some(l));
+        assert_eq!(integrator_core::simd::level(), l);
+        let mut f = vec![f64::NAN; n];
+        model.force(&q, &mut f);
+        let one = run(&scene, "leapfrog", Banding::Threads(1));
+        let two = run(&scene, "forest-ruth", Banding::Threads(2));
+        out.push((f, one, two));
+    }
+    set_cap(None);
+    let differ = out[0]
+        .0
+        .iter()
+        .zip(&out[1].0)
+        .position(|(x, y)| x.to_bits() != y.to_bits());
+    assert_eq!(differ, None, "{level}: the stencil force differs");
+    assert!(
+        out[0].1.is_ok() && out[0].2.is_ok(),
+        "{level}: a run failed"
+    );
+    assert_same(
+        &out[0].1,
+        &out[1].1,
+        &format!("{level}: leapfrog, one band"),
+    );
+    assert_same(
+        &out[0].2,
+        &out[1].2,
+        &format!("{level}: forest-ruth, two bands"),
+    );
+}
+
+#[test]
+#[cfg_attr(
+    not(symlab_avx512),
+    ignore = "this machine has no AVX-512F (found when the tests were built)"
+)]
+fn the_avx512_stencil_and_banded_steps_give_the_portable_bits() {
+    same_bits_as_portable(integrator_core::simd::Level::Avx512);
+}
+
+#[test]
+#[cfg_attr(
+    not(symlab_avx2),
+    ignore = "this machine has no AVX2 (found when the tests were built)"
+)]
+fn the_avx2_stencil_and_banded_steps_give_the_portable_bits() {
+    same_bits_as_portable(integrator_core::simd::Level::Avx2);
+}

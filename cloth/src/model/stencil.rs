@@ -287,11 +287,13 @@ impl Stencil {
     /// The tensions of the springs that start in rows `starts`, accumulated
     /// at both ends into `force` (zeroed first), but only at particles in
     /// rows `writes`: `force[c][k]` belongs to particle `writes.start·nx +
-    /// k`. [`band_body`](Self::band_body) compiled for the widest vectors
-    /// the CPU has (AVX-512, AVX2, else the target's baseline, SSE2 on
-    /// x86-64): the same loops, so the same bits on every path (vector
-    /// square roots and divisions round as the scalar ones do, and Rust
-    /// never fuses a multiply and an add on its own).
+    /// k`. [`band_body`](Self::band_body) compiled for the level
+    /// [`integrator_core::simd::level`] picks (the widest vectors the CPU
+    /// has — AVX-512, AVX2, else the target's baseline, SSE2 on x86-64 —
+    /// under the cap of `SYMLAB_SIMD`): the same loops, so the same bits on
+    /// every path (vector square roots and divisions round as the scalar
+    /// ones do, Rust never fuses a multiply and an add on its own, and no
+    /// path enables `fma`).
     ///
     /// Each particle's contributions are summed in one fixed order
     /// (direction by direction, in each the spring it ends before the one
@@ -308,18 +310,16 @@ impl Stencil {
         force: [&mut [f64]; 3],
         row: &mut [Vec<f64>; 3],
     ) {
-        #[cfg(target_arch = "x86_64")]
-        {
-            if std::arch::is_x86_feature_detected!("avx512f") {
-                // SAFETY: the CPU has AVX-512F, checked just above.
-                return unsafe { self.rows_avx512(pos, starts, writes, force, row) };
-            }
-            if std::arch::is_x86_feature_detected!("avx2") {
-                // SAFETY: the CPU has AVX2, checked just above.
-                return unsafe { self.rows_avx2(pos, starts, writes, force, row) };
-            }
+        use integrator_core::simd::{Level, level};
+        match level() {
+            #[cfg(target_arch = "x86_64")]
+            // SAFETY: `level` picks AVX-512 only where the CPU has AVX-512F.
+            Level::Avx512 => unsafe { self.rows_avx512(pos, starts, writes, force, row) },
+            #[cfg(target_arch = "x86_64")]
+            // SAFETY: `level` picks AVX2 only where the CPU has AVX2.
+            Level::Avx2 => unsafe { self.rows_avx2(pos, starts, writes, force, row) },
+            _ => self.band_body(pos, starts, writes, force, row),
         }
-        self.band_body(pos, starts, writes, force, row)
     }
 
     #[cfg(target_arch = "x86_64")]

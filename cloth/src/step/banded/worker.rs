@@ -62,18 +62,18 @@ pub(super) type NonFinite = (usize, usize, f64);
 /// [`super::grid`]).
 pub(super) fn run(frame: &Frame<'_>, band: Band<'_>) -> (Phase, Option<NonFinite>) {
     let _poison = PoisonOnPanic(frame.barrier);
-    #[cfg(target_arch = "x86_64")]
-    {
-        if std::arch::is_x86_feature_detected!("avx512f") {
-            // SAFETY: the CPU has AVX-512F, checked just above.
-            return unsafe { run_avx512(frame, band) };
-        }
-        if std::arch::is_x86_feature_detected!("avx2") {
-            // SAFETY: the CPU has AVX2, checked just above.
-            return unsafe { run_avx2(frame, band) };
-        }
+    // The flows' loops compiled for the level `integrator_core::simd::level`
+    // picks: the widest vectors the CPU has, under the cap of `SYMLAB_SIMD`.
+    use integrator_core::simd::{Level, level};
+    match level() {
+        #[cfg(target_arch = "x86_64")]
+        // SAFETY: `level` picks AVX-512 only where the CPU has AVX-512F.
+        Level::Avx512 => unsafe { run_avx512(frame, band) },
+        #[cfg(target_arch = "x86_64")]
+        // SAFETY: `level` picks AVX2 only where the CPU has AVX2.
+        Level::Avx2 => unsafe { run_avx2(frame, band) },
+        _ => run_body(frame, band),
     }
-    run_body(frame, band)
 }
 
 /// [`run_body`] with the flows' loops compiled for AVX-512 (the same bits:
