@@ -5,6 +5,7 @@
 mod check;
 mod cloth_cmd;
 mod compare;
+mod design;
 mod paper;
 mod resume;
 mod signals;
@@ -46,6 +47,9 @@ enum Command {
     /// in its output folder (DIR/checkpoint.symlab), to the same bits and
     /// the same files as a run that was never stopped.
     Resume(resume::ResumeArgs),
+    /// Design a method: solve a family's order conditions (designs/*.toml)
+    /// from many seeded starts, polish, prove and write the tables.
+    Design(design::DesignArgs),
 }
 
 /// A closed pipe ends the process quietly, as `ls | head` does: Rust
@@ -122,6 +126,7 @@ fn main() -> ExitCode {
         Command::Paper(args) => paper::run(&args),
         Command::Cloth(args) => cloth_cmd::run(&args),
         Command::Resume(args) => resume::run(&args),
+        Command::Design(args) => design::run(&args),
     };
     match result {
         Ok(code) => code,

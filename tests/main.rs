@@ -10,6 +10,7 @@ mod common;
 mod check_cli;
 mod cloth_cli;
 mod compare_cli;
+mod design_cli;
 mod hostile_flags;
 mod hostile_surfaces;
 mod input_messages;

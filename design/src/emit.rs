@@ -86,14 +86,14 @@ pub fn table_text(
                 .map(|i| names[i].as_str())
                 .collect();
             out.push_str(&format!(
-                "# Certified (Krawczyk, exact rational interval arithmetic): an exact solution of the order-{} conditions\n# lies within {:.3e} (max norm) of the printed {}, with {} exact as printed; on that box the\n# error term {} lies in [{:.6e}, {:.6e}], so the order is exactly {}.\n",
+                "# Certified (Krawczyk, exact rational interval arithmetic): an exact solution of the order-{} conditions\n# lies within {:.3e} (max norm) of the printed {}{}; on that box the\n# error term {} lies in [{:.6e}, {:.6e}], so the order is exactly {}.\n",
                 system.order,
                 crate::poly::to_f64(&certificate.radius),
                 det.join(", "),
                 if free.is_empty() {
-                    "nothing else free".to_string()
+                    String::new()
                 } else {
-                    free.join(", ")
+                    format!(" (with {} exact as printed)", free.join(", "))
                 },
                 certificate.next_order.as_ref().map_or("?", |t| t.0.as_str()),
                 certificate.next_order.as_ref().map_or(0.0, |t| t.1),

@@ -1,0 +1,50 @@
+//! End-to-end tests of `symlab design`: a family file in, tables and a
+//! report out, and the tables pass `symlab check`.
+
+use crate::common::symlab;
+
+fn out_dir(name: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("symlab-design-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    dir
+}
+
+#[test]
+fn design_writes_tables_that_check_accepts() {
+    let dir = out_dir("sb3a");
+    let d = dir.to_str().unwrap();
+    let (code, out, err) = symlab(&[
+        "design",
+        "designs/mclachlan-sb3a.toml",
+        "--out",
+        d,
+        "--starts",
+        "40",
+    ]);
+    assert_eq!(code, 0, "stderr: {err}");
+    assert!(out.contains("certified, radius"), "{out}");
+    let table = dir.join("mclachlan-sb3a-order-4-1.toml");
+    assert!(dir.join("report.md").exists());
+    let (code, out, err) = symlab(&["check", "--json", table.to_str().unwrap()]);
+    assert_eq!(code, 0, "stderr: {err}\n{out}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["order"], 4, "{v}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_bad_family_is_an_error_naming_file_and_field() {
+    let (code, _, err) = symlab(&["design", "tests/main.rs", "--out", "/nonexistent"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("tests/main.rs: not a TOML file"), "{err}");
+    let (code, _, err) = symlab(&[
+        "design",
+        "designs/yoshida4.toml",
+        "--out",
+        "/tmp",
+        "--starts",
+        "0",
+    ]);
+    assert_eq!(code, 2);
+    assert!(err.contains("designs/yoshida4.toml: field starts"), "{err}");
+}
