@@ -33,6 +33,7 @@ use faer::sparse::linalg::cholesky::{
 use faer::sparse::linalg::lu::{LuRef, NumericLu, SymbolicLu, factorize_symbolic_lu};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
 use faer::{Conj, MatMut, Par, Side};
+use integrator_core::constrained::rattle::{ConstraintSolver, KeptFactor, RattleSystem, Singular};
 use nalgebra::Vector3;
 use rayon::prelude::*;
 
@@ -339,6 +340,55 @@ impl Gram {
             self.par,
             MemStack::new(&mut self.mem),
         );
+    }
+}
+
+/// The cloth's linear algebra for the one RATTLE
+/// ([`ConstraintSolver`]): the sparse Cholesky of `G·Gᵀ` on the symbolic
+/// analysis made once with the model, and the sparse LU of the true
+/// Jacobian `G(q')·G(q)ᵀ` for the refreshes. It lives here, not in
+/// `integrator_core`, because it assembles both from the edge vectors on
+/// the grid's pattern (`±4·d_c·d_e` where two edges share a particle).
+pub(crate) struct SparseGram {
+    gram: Gram,
+    jacobian: Jacobian,
+}
+
+impl SparseGram {
+    pub(crate) fn new(constraints: Arc<EdgeConstraints>, parallel: bool) -> SparseGram {
+        SparseGram {
+            gram: Gram::new(constraints.clone(), parallel),
+            jacobian: Jacobian::new(constraints, parallel),
+        }
+    }
+}
+
+impl KeptFactor for SparseGram {
+    fn factor_values(&self) -> &[f64] {
+        self.gram.factor()
+    }
+    fn factor_values_mut(&mut self) -> &mut [f64] {
+        self.gram.factor_mut()
+    }
+}
+
+impl<Sys: RattleSystem<Geometry = Vec<[f64; 3]>>> ConstraintSolver<Sys> for SparseGram {
+    fn factorize(&mut self, _sys: &Sys, geo: &Vec<[f64; 3]>) -> Result<(), Singular> {
+        self.gram.factorize(geo).map_err(|_| Singular)
+    }
+    fn solve(&mut self, rhs: &mut [f64]) {
+        self.gram.solve(rhs);
+    }
+    fn factorize_jacobian(
+        &mut self,
+        _sys: &Sys,
+        geo: &Vec<[f64; 3]>,
+        geo1: &Vec<[f64; 3]>,
+    ) -> Result<bool, Singular> {
+        self.jacobian.factorize(geo, geo1).map_err(|_| Singular)
+    }
+    fn solve_jacobian(&mut self, rhs: &mut [f64]) {
+        self.jacobian.solve(rhs);
     }
 }
 

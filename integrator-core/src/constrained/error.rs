@@ -42,9 +42,11 @@ pub enum ConstrainedError {
     /// `G` has not full rank: the multipliers are not determined.
     #[error("{where_}: the constraint Jacobian G is rank-deficient ({detail})")]
     Degenerate { where_: Where, detail: String },
-    /// Newton's iteration on the stages and multipliers reached its cap.
+    /// Newton's iteration on the stages and multipliers reached its cap;
+    /// `correction` is its last correction (`s ≥ 3`) or the constraint
+    /// residual it left (RATTLE), in units of round-off.
     #[error(
-        "{where_}: the stage and multiplier equations did not converge in {iterations} Newton iterations (last correction {correction:.3e} of round-off scale)"
+        "{where_}: the stage and multiplier equations did not converge in {iterations} Newton iterations (last correction or residual {correction:.3e} of round-off scale)"
     )]
     NotConverged {
         where_: Where,

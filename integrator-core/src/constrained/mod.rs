@@ -22,16 +22,29 @@
 //! constrained step checks that their verdicts hold at compile time
 //! ([`table`]).
 //!
-//! The stage equations are solved by Newton's method with a dense faer LU
-//! ([`ConstrainedPair::step`]), warm-started from the last step's
-//! multipliers: for RATTLE, and wherever the curvature
-//! `∇²V + Σλₗ∇²gₗ` is not used, on the multipliers alone (the stages
-//! eliminated, size `(s−1)m`); otherwise on stages and multipliers together
-//! (size `(s−1)(d + m)`), quadratically convergent. Dense is right for small
-//! systems (a spherical pendulum, a pendulum chain); the cloth's thousands
-//! of edge constraints need the sparse solve of the `cloth` crate. The
-//! iteration stops at round-off; its cap is an error that names the step
-//! and time, as are a singular matrix and a non-finite value.
+//! Two ways to solve the step's equations, chosen by the size of the
+//! system:
+//!
+//! - [`ConstrainedPair`], for small systems (a spherical pendulum, a
+//!   pendulum chain) and for either pair: the stage equations are solved by
+//!   Newton's method with a dense faer LU ([`ConstrainedPair::step`]),
+//!   warm-started from the last step's multipliers: for RATTLE, and
+//!   wherever the curvature `∇²V + Σλₗ∇²gₗ` is not used, on the
+//!   multipliers alone (the stages eliminated, size `(s−1)m`); otherwise on
+//!   stages and multipliers together (size `(s−1)(d + m)`), quadratically
+//!   convergent. The iteration stops at round-off; its cap is an error that
+//!   names the step and time, as are a singular matrix and a non-finite
+//!   value.
+//! - [`rattle::Rattle`], RATTLE in its multiplier form for large sparse
+//!   systems, generic over the system ([`rattle::RattleSystem`]) and the
+//!   linear algebra ([`rattle::ConstraintSolver`]): a factor of
+//!   `G M⁻¹ Gᵀ` kept over several steps, a refresh by the true Jacobian
+//!   when it stops contracting, the velocity projection by conjugate
+//!   gradients, optionally only where a state is handed out. The cloth's
+//!   thousands of edge constraints run on it with a sparse Cholesky (the
+//!   `cloth` crate). Only RATTLE has that form: the `s = 3` pair's interior
+//!   stage moves its forces and constraint directions with the unknowns,
+//!   so it has no factor to keep and takes the dense path.
 //!
 //! ```
 //! use integrator_core::constrained::{ConstrainedPair, constrained_energy, integrate_constrained};
@@ -49,8 +62,10 @@
 //! ```
 
 mod dense_lu;
+mod dense_rattle;
 mod error;
 mod integrate;
+pub mod rattle;
 mod step;
 mod system;
 pub mod table;

@@ -1,13 +1,17 @@
-//! One step of a Lobatto IIIA–IIIB pair on a constrained system: the
-//! position step (stages and their multipliers, by Newton's method with a
-//! dense LU) and the velocity step (the last multiplier, a projection onto
-//! the tangent space).
+//! One step of a Lobatto IIIA–IIIB pair on a constrained system with dense
+//! linear algebra. RATTLE (`s = 2`) is the one RATTLE of
+//! [`rattle`](super::rattle) with dense LU factors; the pairs with `s ≥ 3`
+//! take the stage Newton here: the position step (stages and their
+//! multipliers, by Newton's method with a dense LU) and the velocity step
+//! (the last multiplier, a projection onto the tangent space).
 
 // The Newton matrix is assembled by block indices.
 #![allow(clippy::needless_range_loop)]
 
 use super::dense_lu::DenseLu;
+use super::dense_rattle::{DenseGram, DenseSystem};
 use super::error::{ConstrainedError, Where};
+use super::rattle::{Projection, Rattle, RattleError, Settings};
 use super::system::{Constrained, inf_norm};
 use super::table::{LobattoPair, lobatto3a3b3, rattle};
 
@@ -17,7 +21,10 @@ pub struct NewtonSettings {
     /// The iteration cap; reaching it is an error
     /// ([`ConstrainedError::NotConverged`]), never a silent acceptance.
     pub max_iterations: usize,
-    /// Stop when the last correction of every stage position is below
+    /// RATTLE: stop when every `|gₗ(q₁)|` is within `tolerance` units of
+    /// its round-off `ε·‖∇gₗ‖₁·‖q‖∞` (the residual of the
+    /// [`rattle`](super::rattle) position solve, in the scale of
+    /// [`Residual`](super::Residual)). `s ≥ 3`: stop when the last correction of every stage position is below
     /// `tolerance·ε·‖q‖∞` and that of every stage momentum below
     /// `tolerance·ε·max(‖p‖∞, ‖Δp‖∞, m‖q‖∞/h)` (`Δp` the step's change of
     /// momentum; `m‖q‖/h` because the multipliers are fixed through the
@@ -37,8 +44,8 @@ pub struct NewtonSettings {
     /// `O(h²)` curvature blocks are dropped and the stages eliminated: a
     /// simplified Newton iteration on the multipliers alone (size
     /// `(s−1)m`), more iterations of a smaller solve, the same result to
-    /// round-off. RATTLE (s = 2) always takes the smaller solve, which is
-    /// exact Newton there.
+    /// round-off. RATTLE (s = 2) has no such term: its position solve is on
+    /// the multipliers alone.
     pub curvature: bool,
 }
 
@@ -69,6 +76,12 @@ impl ConstrainedPair<2> {
     /// q₁ = q₀ + h M⁻¹ p½,                 g(q₁) = 0          (position step: λ)
     /// p₁ = p½ − h/2 (∇V(q₁) + G(q₁)ᵀμ),   G(q₁) M⁻¹ p₁ = 0   (velocity step: μ)
     /// ```
+    ///
+    /// stepped by the one RATTLE ([`Rattle`]) with dense LU factors: a
+    /// simplified Newton iteration on `λ` with the factor of
+    /// `G(q₀)M⁻¹G(q₀)ᵀ` (the true Jacobian `G(q₁)M⁻¹G(q₀)ᵀ` when it stops
+    /// contracting), warm-started by extrapolating the last two steps'
+    /// multipliers, and the projection solved directly after every step.
     pub fn rattle() -> Self {
         ConstrainedPair {
             pair: rattle(),
@@ -130,6 +143,11 @@ pub struct ConstrainedWorkspace {
     rhs_red: Vec<f64>,
     /// Physical multipliers `Λ_k` of the last step (`s × m`), if any.
     last_lambda: Option<Vec<f64>>,
+    /// RATTLE (`s = 2`): the one RATTLE with dense factors, made at the
+    /// first step (it needs `h`), and the state before a step, restored
+    /// when the step fails.
+    rattle: Option<Rattle<Vec<f64>, DenseGram>>,
+    z_keep: Vec<f64>,
     /// Steps taken with this workspace.
     pub steps: usize,
     /// Newton iterations of the last step.
@@ -147,6 +165,7 @@ impl ConstrainedWorkspace {
     /// Forget the last step's multipliers (the next step starts cold).
     pub fn reset(&mut self) {
         self.last_lambda = None;
+        self.rattle = None;
         self.steps = 0;
     }
 }
@@ -192,6 +211,8 @@ impl<const S: usize> ConstrainedPair<S> {
             lu_red: DenseLu::new((S - 1) * m),
             rhs_red: vec![0.0; (S - 1) * m],
             last_lambda: None,
+            rattle: None,
+            z_keep: vec![0.0; 2 * d],
             steps: 0,
             iterations: 0,
             total_iterations: 0,
@@ -203,7 +224,8 @@ impl<const S: usize> ConstrainedPair<S> {
     /// [`check_start`](super::check_start)). Errors name the step (counted
     /// by `ws`) and `t`; `z` is unchanged when the step fails.
     ///
-    /// The unknowns of the position step are the stage positions
+    /// RATTLE steps as [`ConstrainedPair::rattle`] says. For `s ≥ 3` the
+    /// unknowns of the position step are the stage positions
     /// `Q₂ … Q_s` and the scaled multipliers `νₖ = h²Λₖ`, `k = 1 … s−1`
     /// (scaled so that the Newton matrix stays `O(1)` as `h → 0`); with
     /// `α = AÂ` and `cᵢ = Σⱼ aᵢⱼ` the equations are
@@ -247,6 +269,9 @@ impl<const S: usize> ConstrainedPair<S> {
         if h == 0.0 || !h.is_finite() {
             return Err(ConstrainedError::StepSize(h));
         }
+        if S == 2 {
+            return self.rattle_step(sys, h, z, ws, place);
+        }
         self.position_step(sys, h, z, ws).map_err(|e| e.at(place))?;
         self.velocity_step(sys, h, ws).map_err(|e| e.at(place))?;
         let q1 = &ws.qs[(S - 1) * d..S * d];
@@ -266,6 +291,90 @@ impl<const S: usize> ConstrainedPair<S> {
             *l = nu / h2;
         }
         ws.last_lambda = Some(lam);
+        ws.steps += 1;
+        ws.total_iterations += ws.iterations;
+        Ok(())
+    }
+
+    /// RATTLE: one step of the one RATTLE ([`Rattle`]) with dense LU
+    /// factors and a projection after every step, the position solve
+    /// stopping at `settings.tolerance` units of round-off of each
+    /// `gₗ(q₁)`. The multipliers kept are `Λ₁ = 2κ/h²` and `Λ₂ = 2μ/h`.
+    fn rattle_step<Sys: Constrained + ?Sized>(
+        &self,
+        sys: &Sys,
+        h: f64,
+        z: &mut [f64],
+        ws: &mut ConstrainedWorkspace,
+        place: Where,
+    ) -> Result<(), ConstrainedError> {
+        let (d, m) = (ws.d, ws.m);
+        let dsys = DenseSystem {
+            sys,
+            minv: &ws.minv,
+            tolerance: self.settings.tolerance,
+        };
+        let settings = Settings {
+            max_iterations: self.settings.max_iterations,
+            contraction: 0.5,
+            // A factor at every step's end: the next position solve and
+            // this step's projection (a direct solve) use it.
+            refactor_every: 1,
+            max_pcg: 12,
+            projection: Projection::EveryStep,
+        };
+        let rattle = ws
+            .rattle
+            .get_or_insert_with(|| Rattle::new(&dsys, DenseGram::new(m), h, settings));
+        ws.z_keep.copy_from_slice(z);
+        let before = rattle.stats().iterations;
+        if let Err(e) = rattle.step(&dsys, h, z) {
+            z.copy_from_slice(&ws.z_keep);
+            // The next step starts afresh from the restored state.
+            return Err(match e {
+                RattleError::NotConverged {
+                    iterations,
+                    residual,
+                    ..
+                } => ConstrainedError::NotConverged {
+                    where_: place,
+                    iterations,
+                    correction: residual,
+                },
+                RattleError::NotPositive { phase } => ConstrainedError::Degenerate {
+                    where_: place,
+                    detail: format!(
+                        "G M⁻¹ Gᵀ is singular in the {phase}: the constraint gradients became dependent"
+                    ),
+                },
+                RattleError::Singular => ConstrainedError::Degenerate {
+                    where_: place,
+                    detail: "the position solve's Jacobian G(q₁) M⁻¹ G(q₀)ᵀ is singular (the step may be too large for the constraints to turn)".into(),
+                },
+                RattleError::Diverged { residual } => ConstrainedError::Diverged {
+                    where_: place,
+                    detail: format!("the constraint residual is {residual:e} units of round-off"),
+                },
+            });
+        }
+        if let Some(i) = z.iter().position(|x| !x.is_finite()) {
+            z.copy_from_slice(&ws.z_keep);
+            return Err(ConstrainedError::Diverged {
+                where_: place,
+                detail: format!("z[{i}] is not finite after the step"),
+            });
+        }
+        ws.iterations = rattle.stats().iterations - before;
+        let mut lam = ws.last_lambda.take().unwrap_or_else(|| vec![0.0; 2 * m]);
+        let h2 = h * h;
+        for (l, k) in lam[..m].iter_mut().zip(rattle.multipliers()) {
+            *l = 2.0 * k / h2;
+        }
+        for (l, mu) in lam[m..].iter_mut().zip(rattle.projection_multipliers()) {
+            *l = 2.0 * mu / h;
+        }
+        ws.last_lambda = Some(lam);
+        debug_assert_eq!(z.len(), 2 * d);
         ws.steps += 1;
         ws.total_iterations += ws.iterations;
         Ok(())
@@ -364,7 +473,7 @@ impl<const S: usize> ConstrainedPair<S> {
             let has = sys.curvature(&ws.q0, &ws.lam, &mut ws.curv);
             ws.curvature = Some(has);
         }
-        let reduced = S == 2 || !self.settings.curvature || ws.curvature == Some(false);
+        let reduced = !self.settings.curvature || ws.curvature == Some(false);
         let tol = self.settings.tolerance;
         let mut correction = f64::INFINITY;
         ws.iterations = 0;
@@ -575,12 +684,11 @@ impl<const S: usize> ConstrainedPair<S> {
         Ok(())
     }
 
-    /// The Newton correction when `∂Rᵢ/∂Qₖ = δᵢₖI` (RATTLE, where the
-    /// curvature never enters, or a system without curvature): the stage
+    /// The Newton correction when `∂Rᵢ/∂Qₖ = δᵢₖI` (a system without
+    /// curvature, or the curvature switched off): the stage
     /// corrections are eliminated,
     /// `ΔQᵢ = −Rᵢ − Σₖ αᵢₖ M⁻¹G(Qₖ)ᵀΔνₖ`, leaving the multiplier system
-    /// `Σₖ αᵢₖ G(Qᵢ)M⁻¹G(Qₖ)ᵀ Δνₖ = g(Qᵢ) − G(Qᵢ)Rᵢ` of size `(s−1)m`
-    /// (for RATTLE, `½ G(q₁)M⁻¹G(q₀)ᵀ Δλ`: Newton on the multipliers).
+    /// `Σₖ αᵢₖ G(Qᵢ)M⁻¹G(Qₖ)ᵀ Δνₖ = g(Qᵢ) − G(Qᵢ)Rᵢ` of size `(s−1)m`.
     fn reduced_correction(
         &self,
         ws: &mut ConstrainedWorkspace,
