@@ -141,7 +141,7 @@ impl RattleSettings {
 /// The inextensible cloth as a [`RattleSystem`]: the model (masses,
 /// forces) and its edge constraints, made for each call from the model the
 /// run loop hands the stepper.
-pub struct ClothSystem<'a> {
+pub(crate) struct ClothSystem<'a> {
     model: &'a ClothModel,
     constraints: &'a EdgeConstraints,
     parallel: bool,
