@@ -18,8 +18,9 @@ use std::time::Duration;
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use integrator_core::kepler::{KeplerSolver, LANES, drift};
 use integrator_core::problems::OuterSolarSystem;
+use integrator_core::problems::wisdom_holman::GradientKick;
 use integrator_core::problems::wisdom_holman::{DemocraticHeliocentric, Jacobi};
-use integrator_core::simd::Simd;
+use integrator_core::simd::{Level, Simd};
 
 fn state(a: f64, e: f64, nu: f64) -> ([f64; 3], [f64; 3]) {
     let p = a * (1.0 - e * e);
@@ -177,6 +178,52 @@ fn bench(c: &mut Criterion) {
                 }
             })
         });
+    }
+    group.finish();
+
+    // Every SIMD level this processor has, by name (whatever
+    // `SYMLAB_SIMD` says; the same bits on each): 100 steps of the Jacobi
+    // split at 10 and 600 days, of WHCKM's kernel (the exact modified
+    // kick, in the registers' loop) and of the democratic heliocentric
+    // split.
+    let mut group = c.benchmark_group("wisdom_holman_levels");
+    group.warm_up_time(Duration::from_millis(300));
+    group.measurement_time(Duration::from_secs(2));
+    for level in Level::ALL.into_iter().filter(|l| l.available()) {
+        let simd = Simd::from(level);
+        let jac = Jacobi::outer_solar().with_simd(simd);
+        let mut w0 = vec![0.0; 36];
+        jac.from_inertial(&z0, &mut w0).unwrap();
+        for h in [10.0, 600.0] {
+            let mut w = w0.clone();
+            group.bench_function(format!("jacobi_100_steps_h{h}_{level}"), |b| {
+                b.iter(|| jac.integrate(black_box(h), 100, &mut w).unwrap())
+            });
+        }
+        let whckm = Jacobi::outer_solar()
+            .with_simd(simd)
+            .with_gradient_kick(GradientKick::Exact);
+        let mut w = w0.clone();
+        group.bench_function(format!("whckm_run_100_h10_{level}"), |b| {
+            b.iter(|| {
+                let mut k = 0;
+                while k < 100 {
+                    k += whckm.kick_drift_run(black_box(10.0), 1e-2, 10.0, 10.0, 100 - k, &mut w);
+                    if k < 100 {
+                        whckm.interaction_kick_modified(10.0, 1e-2, &mut w).unwrap();
+                        whckm.kepler_flow(10.0, &mut w).unwrap();
+                        k += 1;
+                    }
+                }
+            })
+        });
+        let dh = DemocraticHeliocentric::outer_solar().with_simd(simd);
+        let mut w = vec![0.0; 36];
+        dh.from_inertial(&z0, &mut w).unwrap();
+        group.bench_function(
+            format!("democratic_heliocentric_100_steps_h10_{level}"),
+            |b| b.iter(|| dh.integrate(black_box(10.0), 100, &mut w).unwrap()),
+        );
     }
     group.finish();
 }
