@@ -17,6 +17,9 @@
 //! `K(X) ⊂ int X` reads `|(Y·F(x̃))_i| + r·Σ_j |I − Y·J(X)|_{ij} < r`, with
 //! `|·|` the magnitude of an interval, decided exactly.
 
+// The Krawczyk sums index Y, J(X) and F(x̃) together, as the formula does.
+#![allow(clippy::needless_range_loop)]
+
 use num_bigint::BigInt;
 use num_rational::BigRational;
 use num_traits::{One, Signed, Zero};

@@ -104,10 +104,7 @@ fn word_label(form: Form, w: &[u8]) -> String {
 /// Every word of weight exactly `n`.
 fn words_of_weight(form: Form, n: usize) -> Vec<Word> {
     let letters: Vec<u8> = match form {
-        Form::Composition => (0..)
-            .take_while(|&l| 2 * l + 1 <= n)
-            .map(|l| l as u8)
-            .collect(),
+        Form::Composition => (0..).take_while(|&l| 2 * l < n).map(|l| l as u8).collect(),
         Form::Aba | Form::Bab => vec![0, 1],
     };
     let mut out = Vec::new();

@@ -4,6 +4,10 @@
 //! few dozen unknowns, so nothing here needs to be clever; the `f64` loops
 //! sum in a fixed order with plain products (no fused multiply–add).
 
+// Dense elimination reads as the textbook writes it, with indices into
+// several rows at once; iterators would hide which row is which.
+#![allow(clippy::needless_range_loop)]
+
 use num_rational::BigRational;
 use num_traits::Zero;
 
@@ -21,7 +25,7 @@ pub fn solve_f64(a: &[Vec<f64>], b: &[f64]) -> Option<Vec<f64>> {
             }
         }
         let p = m[piv][col];
-        if !(p.abs() > 1e-300) || !p.is_finite() {
+        if p.is_nan() || p.abs() <= 1e-300 || !p.is_finite() {
             return None;
         }
         m.swap(col, piv);
@@ -121,7 +125,7 @@ pub fn pivot_columns(a: &[Vec<f64>], tol: f64) -> Vec<usize> {
                 }
             }
         }
-        if !(best.2 > tol * scale) {
+        if !scale.is_finite() || best.2 <= tol * scale {
             break;
         }
         let r = free_rows.remove(best.0);

@@ -15,6 +15,10 @@
 //! family's `max_seconds`; the result says whether the cap stopped the
 //! search.
 
+// The normal equations and KKT systems index J and its transpose together,
+// as the formulas do.
+#![allow(clippy::needless_range_loop)]
+
 use std::time::{Duration, Instant};
 
 use crate::conditions::System;
