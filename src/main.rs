@@ -111,6 +111,12 @@ fn main() -> ExitCode {
         eprintln!("error: {msg}");
         return ExitCode::from(2);
     }
+    // A SYMLAB_SIMD the kernels cannot honour is refused before anything
+    // runs, rather than warned about from inside a kernel.
+    if let Err(e) = integrator_core::simd::env_cap() {
+        eprintln!("error: {e}");
+        return ExitCode::from(2);
+    }
     // The arguments after the subcommand, as text (checked above): a
     // checkpoint keeps them so that `symlab resume` plans the same run.
     let rest: Vec<String> = args

@@ -452,3 +452,27 @@ fn a_run_tolerance_that_cannot_mean_anything_is_refused() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A `SYMLAB_SIMD` that names no level is refused before anything runs,
+/// exit 2, naming the variable and its value; a valid one is taken.
+#[test]
+fn a_bad_simd_cap_is_refused_by_name() {
+    let run = |value: &str| {
+        std::process::Command::new(env!("CARGO_BIN_EXE_symlab"))
+            .args(["list"])
+            .env("SYMLAB_SIMD", value)
+            .output()
+            .expect("symlab runs")
+    };
+    let bad = run("avx3");
+    assert_eq!(bad.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&bad.stderr);
+    assert!(
+        err.contains("SYMLAB_SIMD=\"avx3\" is not a SIMD level"),
+        "{err}"
+    );
+    assert!(bad.stdout.is_empty());
+    for good in ["portable", "AVX2", "avx512", ""] {
+        assert_eq!(run(good).status.code(), Some(0), "SYMLAB_SIMD={good:?}");
+    }
+}
