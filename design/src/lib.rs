@@ -12,6 +12,7 @@
 //!
 //! let mut family = Family::new("Yoshida's triple jump", Form::Composition, 3, 4);
 //! family.starts = 20;
+//! family.range = 2.0; // the root, 1.35…, is beyond the default [-1, 1]
 //! let outcome = design(&family, "(example)", &mut |_| {}).unwrap();
 //! let best = &outcome.designs[0];
 //! // g1 = 1/(2 − ∛2), recovered in radicals and checked in tableau's field.
