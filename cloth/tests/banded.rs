@@ -228,15 +228,7 @@ fn same_bits_as_portable(level: integrator_core::simd::Level) {
     // The runs on the grid the other tests step stably.
     let scene = scene(32, 32);
     let n = model.dof();
-    // Every coordinate moved by up to ±2.5e-4, deterministically.
-    let mut q = model.initial_state()[..n].to_vec();
-    let mut s: u64 = 0x9E37_79B9_7F4A_7C15;
-    for x in &mut q {
-        s ^= s << 13;
-        s ^= s >> 7;
-        s ^= s << 17;
-        *x += 0.0005 * ((s >> 11) as f64 / (1u64 << 53) as f64 - 0.5);
-    }
+    let q = crate::common::perturbed(&model);
     let mut out = Vec::new();
     for l in [level, Level::Portable] {
         set_cap(Some(l));

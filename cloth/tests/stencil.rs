@@ -5,6 +5,7 @@
 //! springs, square and not, a collider, and grids large enough for the
 //! parallel bands (256² particles and more).
 
+use crate::common::perturbed;
 use cloth::{ClothModel, Scene};
 use integrator_core::Separable;
 
@@ -37,21 +38,6 @@ method = "leapfrog"
 {collider}"#
     );
     Scene::from_toml(&text, "stencil.toml").unwrap()
-}
-
-/// A state off the grid: every coordinate moved by up to 3 % of the
-/// spacing, deterministically.
-fn perturbed(model: &ClothModel) -> Vec<f64> {
-    let n = model.dof();
-    let mut q = model.initial_state()[..n].to_vec();
-    let mut s: u64 = 0x9E37_79B9_7F4A_7C15;
-    for x in &mut q {
-        s ^= s << 13;
-        s ^= s >> 7;
-        s ^= s << 17;
-        *x += 0.0005 * ((s >> 11) as f64 / (1u64 << 53) as f64 - 0.5);
-    }
-    q
 }
 
 #[test]

@@ -84,3 +84,19 @@ pub fn minimise_stats(report: &RunReport) -> integrator_core::minimise::Stats {
         other => panic!("not a minimisation run: {other:?}"),
     }
 }
+
+/// A state off the grid: every coordinate moved by up to 3 % of the
+/// spacing, deterministically.
+pub fn perturbed(model: &cloth::ClothModel) -> Vec<f64> {
+    use integrator_core::Separable;
+    let n = model.dof();
+    let mut q = model.initial_state()[..n].to_vec();
+    let mut s: u64 = 0x9E37_79B9_7F4A_7C15;
+    for x in &mut q {
+        s ^= s << 13;
+        s ^= s >> 7;
+        s ^= s << 17;
+        *x += 0.0005 * ((s >> 11) as f64 / (1u64 << 53) as f64 - 0.5);
+    }
+    q
+}
