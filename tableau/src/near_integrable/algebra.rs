@@ -8,8 +8,10 @@
 //! form a two-sided ideal: if `u` is dropped, `n(u) > D(j(u)) ≥ D(j(u) +
 //! j(v)) `, so `uv` and `vu` are dropped too. The quotient is an algebra,
 //! so products, `exp` and `log` computed in it are the truncations of the
-//! true ones: every coefficient kept is exact. This is why the claimed
-//! orders must be non-increasing; it also keeps the work far below the full
+//! true ones: every coefficient kept is exact. This is why the truncation
+//! is non-increasing (degrees asked for that are not are computed in their
+//! least non-increasing majorant, see [`super::near_orders`]); it also
+//! keeps the work far below the full
 //! algebra (`2ⁿ` words of length `n`): only `C(n, j)` words per part.
 //!
 //! **Coefficients.** `P[w]` (with `h = 1`; a word of length `n` carries

@@ -11,7 +11,10 @@
 //! the convention of Laskar & Robutel (2001; SABAₙ and SBABₙ have order
 //! `(2n, 2)`: error `O(εh^{2n} + ε²h²)`) and of Blanes, Casas, Farrés,
 //! Laskar, Makazaga & Murua (2013; ABA(8,6,4) has `O(εh⁸ + ε²h⁶ + ε³h⁴)`).
-//! The orders are non-increasing and `p_m` is the classical order.
+//! The orders need not be non-increasing: a corrected method such as
+//! SABAC₁ or SABACM₁ has `O(εh² + ε²h⁴)`, generalised order `(2, 4)`
+//! (Laskar & Robutel 2001): its `ε²` error is of higher order in `h` than
+//! its `ε` error. The classical order is the least of the `p_j`.
 //!
 //! **Gradient kicks.** A kick may be a gradient kick
 //! `exp(k·h·B + g·h³·[B,[A,B]])` ([`crate::Splitting`], `kick_gradient`):
@@ -23,7 +26,10 @@
 //! **How it is decided.** The product of exponentials and its logarithm are
 //! computed in the free associative algebra on `{A, B}` truncated by
 //! (number of `B`s, degree) (module `algebra`): a non-increasing degree bound
-//! makes the dropped words an ideal, so the kept coefficients are exact,
+//! makes the dropped words an ideal, so the kept coefficients are exact
+//! (degrees asked for that increase somewhere, as `(2, 4)` does, are
+//! computed in the truncation by their least non-increasing majorant,
+//! `D̃(j) = max_{i ≥ j} D(i)`, and tested only up to `D(j)`),
 //! and a part with `j` `B`s costs `C(n, j)` words of degree `n` instead of
 //! the full algebra's `2ⁿ`. A Lie term is zero exactly when its
 //! coefficients on the Lyndon words are (module `words`), so only those are
@@ -177,8 +183,13 @@ pub struct NearReport {
 
 impl NearReport {
     /// The generalised order as published: `p₁, p₂, …` up to the first part
-    /// whose order is the least of all (the classical order), each with
-    /// whether it is exact (`false`: at least this, the limit examined).
+    /// whose order is the least of it and every later part (the classical
+    /// order when that part is the least of all), each with whether it is
+    /// exact (`false`: at least this, the limit examined). When that first
+    /// part is `p₁` itself and the later parts are all of higher order, as
+    /// for a corrected method (`O(εh² + ε²h⁴)`), the least order of the
+    /// later parts follows: `(2, 4)`, each later power of `ε` of order at
+    /// least its last entry.
     pub fn generalised(&self) -> Vec<(usize, bool)> {
         let Some(least) = self.parts.iter().map(|p| p.order).min() else {
             return Vec::new();
@@ -189,6 +200,12 @@ impl NearReport {
             if p.order == least {
                 break;
             }
+        }
+        if out.len() == 1
+            && let Some(rest) = self.parts[1..].iter().min_by_key(|p| p.order)
+            && rest.order > least
+        {
+            out.push((rest.order, rest.failure.is_some()));
         }
         out
     }
@@ -218,7 +235,7 @@ pub enum NearError {
         "a near-integrable (generalised) order is a property of a drift–kick sequence or a composition (H = A + εB, drifts the flow of A, kicks that of εB); this table is {0}"
     )]
     Form(&'static str),
-    /// The degrees are not a non-increasing list of positive numbers.
+    /// The degrees are not a nonempty list of positive numbers.
     #[error("{0}")]
     Degrees(String),
     #[error("{0}")]
@@ -410,8 +427,11 @@ pub fn check_processed_claim(
 }
 
 /// Decide the order of every part `j = 1..=degrees.len()` up to degree
-/// `degrees[j − 1]` (a non-increasing list), exactly or, with `bound`, up to
-/// `|residual| < bound`.
+/// `degrees[j − 1]`, exactly or, with `bound`, up to `|residual| < bound`.
+/// The degrees need not be non-increasing (`[2, 4, 4]` for a claim `(2,
+/// 4)`): the product is computed in the truncation by their least
+/// non-increasing majorant, whose kept coefficients are exact, and each
+/// part is tested up to its own degree.
 pub fn near_orders(
     table: &Table,
     degrees: &[usize],
@@ -481,6 +501,16 @@ pub fn near_coefficients(
     Ok(out)
 }
 
+/// `D̃(j) = max_{i ≥ j} D(i)`: the least non-increasing list at least
+/// `degrees` entry by entry.
+fn majorant(degrees: &[usize]) -> Vec<usize> {
+    let mut out = degrees.to_vec();
+    for j in (0..out.len().saturating_sub(1)).rev() {
+        out[j] = out[j].max(out[j + 1]);
+    }
+    out
+}
+
 /// Check the degrees against the budgets; the truncation (with `D(0) =
 /// D(1)`) and the Lyndon words of each part.
 #[allow(clippy::type_complexity)]
@@ -490,12 +520,7 @@ fn prepare(ops: &[Factor], degrees: &[usize]) -> Result<(Vec<usize>, Vec<Vec<Wor
             "the degrees examined are a nonempty list of positive numbers".into(),
         ));
     }
-    if degrees.windows(2).any(|w| w[1] > w[0]) {
-        return Err(NearError::Degrees(format!(
-            "the degrees examined, {degrees:?}, must be non-increasing (the truncated algebra is an algebra only then)"
-        )));
-    }
-    let top = degrees[0];
+    let top = degrees.iter().copied().max().unwrap_or(0);
     if top > MAX_NEAR_DEGREE {
         return Err(BeyondBudget(format!(
             "degree {top} asked for, and the near-integrable verifier examines at most degree {MAX_NEAR_DEGREE} (tableau::near_integrable::MAX_NEAR_DEGREE)"
@@ -516,9 +541,11 @@ fn prepare(ops: &[Factor], degrees: &[usize]) -> Result<(Vec<usize>, Vec<Vec<Wor
         ))
         .into());
     }
-    // D(0) = D(1): the powers of A.
+    // D(0) = D(1): the powers of A; the truncation is the least
+    // non-increasing majorant of the degrees asked for (the dropped words
+    // must form an ideal; see the module `algebra`).
     let mut full = vec![top];
-    full.extend_from_slice(degrees);
+    full.extend_from_slice(&majorant(degrees));
     let count = word_count(&full);
     if count > MAX_NEAR_WORDS {
         return Err(BeyondBudget(format!(
@@ -645,11 +672,6 @@ pub fn check_near_claim(
     if orders.is_empty() || orders.contains(&0) {
         return Err(format!(
             "order = {claimed}: a generalised order is a nonempty list of orders of at least 1"
-        ));
-    }
-    if orders.windows(2).any(|w| w[1] > w[0]) {
-        return Err(format!(
-            "order = {claimed}: a generalised order (p₁, p₂, …) is non-increasing: the εʲ error of a splitting is never of higher order in h than the ε error's"
         ));
     }
     let report = near_orders(table, &claim_degrees(orders), bound)
