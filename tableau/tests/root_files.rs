@@ -503,3 +503,116 @@ fn clustered_roots_are_bounded() {
     }
     assert!(t0.elapsed() < hang_limit());
 }
+
+/// The claims of a root file, each with its verdict.
+fn claim_verdicts(text: &str) -> Vec<(String, Result<(), String>)> {
+    let f = alg(text);
+    let an = f.analyse();
+    f.claims
+        .iter()
+        .map(|c| (c.to_string(), f.check_claim(&an, c)))
+        .collect()
+}
+
+/// Order claims of root files are decided on the trees, in the number field:
+/// the collocation tables written out with `root(...)` nodes prove their
+/// orders (Gauss s = 1, 2, 3: 2s; Radau IIA s = 2, 3: 2s − 1; Lobatto IIIA
+/// s = 3: 4; with and without `c`), and the next order is refused.
+#[test]
+fn root_tables_prove_their_order_on_the_trees() {
+    let t0 = Instant::now();
+    for (fam, s, p) in [
+        (Family::Gauss, 1, 2),
+        (Family::Gauss, 2, 4),
+        (Family::Gauss, 3, 6),
+        (Family::Radau2A, 2, 3),
+        (Family::Radau2A, 3, 5),
+        (Family::Lobatto3A, 3, 4),
+    ] {
+        for with_c in [false, true] {
+            let claims = [format!("order = {p}"), format!("order = {}", p + 1)];
+            let claims: Vec<&str> = claims.iter().map(String::as_str).collect();
+            let text = Method::new(fam, s).to_root_file_with("t", &claims, None, with_c);
+            let v = claim_verdicts(&text);
+            let tag = format!("{} {s} c={with_c}", fam.name());
+            assert!(v[0].1.is_ok(), "{tag}: {:?}", v[0]);
+            let e = v[1].1.as_ref().unwrap_err();
+            assert!(
+                e.contains(&format!("order {} claimed but", p + 1)),
+                "{tag}: {e}"
+            );
+        }
+    }
+    // A generous hang detector, not a performance claim.
+    assert!(t0.elapsed() < hang_limit());
+}
+
+/// A table whose quadrature conditions all hold but whose tree conditions do
+/// not: Gauss-2 with `a[0][0] + δ` and `a[0][1] − δ` keeps its row sums and
+/// `B(1..4)`, and fails the order-3 condition of the tree `[[τ]]`
+/// (`Σ bᵢaᵢⱼcⱼ = 1/6` changes by `b₀δ(c₀ − c₁)`); the refusal names it. The
+/// same claim on the unperturbed table holds, and `order = 5` is refused by
+/// `B(5)`.
+#[test]
+fn a_tree_condition_that_fails_is_named() {
+    let table = |d: &str| {
+        format!(
+            r#"name = "Gauss–Legendre 2 via roots"
+let = {{ c0 = "root(6*x^2 - 6*x + 1, 0, 1/2)", c1 = "root(6*x^2 - 6*x + 1, 1/2, 1)" }}
+a = [["1/4 + {d}", "c0 - 1/4 - {d}"], ["c1 - 1/4", "1/4"]]
+b = ["1/2", "1/2"]
+claims = ["symplectic", "order = 4", "order = 5", "order = 2", "order_rkn = 4", "order = 4 (residual < 1e-3)"]
+"#
+        )
+    };
+    let exact = claim_verdicts(&table("0"));
+    for (claim, v) in &exact {
+        if claim == "order = 5" {
+            let e = v.as_ref().unwrap_err();
+            assert!(e.contains("B(5) fails"), "{e}");
+        } else {
+            assert!(v.is_ok(), "{claim}: {v:?}");
+        }
+    }
+    let moved = claim_verdicts(&table("1/1000"));
+    let get = |c: &str| moved.iter().find(|(k, _)| k == c).unwrap().1.clone();
+    assert!(get("symplectic").is_err());
+    let e = get("order = 4").unwrap_err();
+    assert!(
+        e.contains("order 4 claimed but the order-3 condition for tree [[τ]] fails: Φ(t) − 1/γ(t) ≠ 0 (≈ -2.886751345948"),
+        "{e}"
+    );
+    assert!(e.contains("1/γ(t) = 1/6"), "{e}");
+    assert!(get("order = 2").is_ok());
+    // |residual| = √3/6000 ≈ 2.9e-4 is below 1e-3 (so the bound claim
+    // holds) and not below 1e-4.
+    assert!(moved[5].1.is_ok(), "{:?}", moved[5]);
+    let tight = table("1/1000").replace("(residual < 1e-3)", "(residual < 1e-4)");
+    let v = claim_verdicts(&tight);
+    let e = v[5].1.clone().unwrap_err();
+    assert!(e.contains("is not below 1/10000"), "{e}");
+    let e = get("order_rkn = 4").unwrap_err();
+    assert!(e.contains("Runge–Kutta–Nyström"), "{e}");
+}
+
+/// The Lobatto IIIA–IIIB pair with 3 stages (b = b̂) proves order 4 on the
+/// bicoloured trees; a perturbed `â` loses it, naming a bicoloured tree.
+#[test]
+fn root_pairs_prove_their_order_on_bicoloured_trees() {
+    let pm = PairMethod::new(3);
+    let ok = claim_verdicts(&pm.to_root_file("pair", &["order = 4", "order = 5"], None, false));
+    assert!(ok[0].1.is_ok(), "{ok:?}");
+    assert!(ok[1].1.is_err(), "{ok:?}");
+    // â₀₁ + δ changes the row sum ĉ₀: the bushy white tree [τ_p]_p
+    // (B(2) for b̂) fails first.
+    let bad =
+        claim_verdicts(&pm.to_root_file("pair", &["order = 4"], Some((0, 1, "1/1000")), false));
+    let e = bad[0].1.as_ref().unwrap_err();
+    assert!(e.contains("B(2) fails for b_hat"), "{e}");
+    // With ĉ given as the nodes, the row sums differ and the trees decide:
+    // a bicoloured tree is named.
+    let bad =
+        claim_verdicts(&pm.to_root_file("pair", &["order = 4"], Some((0, 1, "1/1000")), true));
+    let e = bad[0].1.as_ref().unwrap_err();
+    assert!(e.contains("order 4 claimed (on general partitioned systems) but the order-2 condition for tree [τ_p]_q fails"), "{e}");
+}

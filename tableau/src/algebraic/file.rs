@@ -30,8 +30,9 @@
 //! (`MAX_ZERO_TEST_BITS`, `MAX_ZERO_TEST_WORK`, `MAX_ALG_PRODUCT_WORK`,
 //! `MAX_ALG_TERMS`, and `MAX_ANALYSIS_WORK` for parsing and analysing a
 //! table together); one beyond them is reported as undecided, with the
-//! reason in [`AlgAnalysis::refusals`]. Symmetry and the stability function
-//! are not computed for such files. A file without `generate` or `root(`
+//! reason in [`AlgAnalysis::refusals`]. Order claims are decided on the
+//! trees in the number field ([`super::trees`]). Symmetry and the stability
+//! function are not computed for such files. A file without `generate` or `root(`
 //! is an ordinary table file.
 
 #![allow(clippy::needless_range_loop)] // index-heavy table code
@@ -991,6 +992,159 @@ impl AlgFile {
         }
     }
 
+    /// Decide an order claim on the trees, in the number field
+    /// ([`super::trees`]): a Runge–Kutta table on the rooted trees (with
+    /// time leaves when the given `c` differs from the row sums), a pair on
+    /// the bicoloured trees (the separable ones when `b ≠ b̂`, where it is
+    /// symplectic for separable Hamiltonians only), and `order_rkn` on the
+    /// Nyström trees (a Runge–Kutta table as the pair `(A, b), (A, b)`).
+    /// The claim holds when every condition up to `p` holds exactly (or
+    /// within the rational `bound`); a condition beyond the budgets refuses
+    /// the claim as undecided, saying which.
+    fn decide_order(
+        &self,
+        an: &AlgAnalysis,
+        p: usize,
+        bound: Option<&crate::Number>,
+        rkn: bool,
+    ) -> Result<(), String> {
+        use super::trees::{ColourRule, alg_tree_order};
+        use crate::trees::{Colour, Colouring};
+        let keyword = if rkn { "order_rkn" } else { "order" };
+        if p > crate::trees::MAX_ORDER {
+            return Err(format!(
+                "{keyword} {p} cannot be decided: the trees are examined up to order {} (tableau::trees::MAX_ORDER)",
+                crate::trees::MAX_ORDER
+            ));
+        }
+        let bound = match bound {
+            None => None,
+            Some(b) => Some(b.as_rational().ok_or_else(|| {
+                format!("the residual bound {b} of a table with root(...) entries must be rational")
+            })?),
+        };
+        let f = &self
+            .field
+            .clone()
+            .with_default_work_limit(crate::budget::MAX_ANALYSIS_WORK);
+        let s = self.b.len();
+        let c = abscissae(f, &self.a, self.c.as_ref());
+        let (colouring, rules, scope): (Colouring, Vec<ColourRule<'_>>, &str) = match (
+            &self.a_hat,
+            &self.b_hat,
+        ) {
+            (Some(ah), Some(bh)) => {
+                let colouring = if rkn {
+                    Colouring::Nystrom
+                } else {
+                    match an.same_weights {
+                        Some(true) => Colouring::Bicoloured,
+                        Some(false) => Colouring::Separable,
+                        None => {
+                            return Err(format!(
+                                "{keyword} {p} cannot be decided: whether b = b̂ (which trees are the conditions) is beyond the budgets of exact zero tests"
+                            ));
+                        }
+                    }
+                };
+                let scope = match colouring {
+                    Colouring::Nystrom => " (on Runge–Kutta–Nyström systems, T quadratic)",
+                    Colouring::Separable => " (on separable systems: b ≠ b̂)",
+                    _ => " (on general partitioned systems)",
+                };
+                (
+                    colouring,
+                    vec![
+                        ColourRule {
+                            colour: Colour::Q,
+                            a: Some(&self.a),
+                            fixed: None,
+                            b: Some(&self.b),
+                        },
+                        ColourRule {
+                            colour: Colour::P,
+                            a: Some(ah),
+                            fixed: None,
+                            b: Some(bh),
+                        },
+                    ],
+                    scope,
+                )
+            }
+            _ if rkn => (
+                Colouring::Nystrom,
+                [Colour::Q, Colour::P]
+                    .into_iter()
+                    .map(|colour| ColourRule {
+                        colour,
+                        a: Some(&self.a),
+                        fixed: None,
+                        b: Some(&self.b),
+                    })
+                    .collect(),
+                " (on Runge–Kutta–Nyström systems, T quadratic)",
+            ),
+            _ => {
+                let time = match an.row_sums_ok {
+                    Some(ok) => !ok,
+                    None => {
+                        return Err(format!(
+                            "{keyword} {p} cannot be decided: whether c equals the row sums of A (which trees are the conditions) is beyond the budgets of exact zero tests"
+                        ));
+                    }
+                };
+                let mut rules = vec![ColourRule {
+                    colour: Colour::Y,
+                    a: Some(&self.a),
+                    fixed: None,
+                    b: Some(&self.b),
+                }];
+                if time {
+                    rules.push(ColourRule {
+                        colour: Colour::T,
+                        a: None,
+                        fixed: Some(&c),
+                        b: None,
+                    });
+                }
+                let colouring = if time {
+                    Colouring::TimeLeaves
+                } else {
+                    Colouring::Plain
+                };
+                let scope = if time {
+                    " (on non-autonomous problems: c differs from the row sums)"
+                } else {
+                    ""
+                };
+                (colouring, rules, scope)
+            }
+        };
+        let r = alg_tree_order(f, colouring, &rules, s, p, bound.as_ref());
+        if r.order >= p {
+            return Ok(());
+        }
+        if let Some(fail) = &r.failure {
+            let residual = match fail.residual {
+                Some(v) => format!("≈ {v:e}"),
+                None => "(value beyond the budget)".into(),
+            };
+            let how = match &bound {
+                Some(b) => format!("Φ(t) − 1/γ(t) {residual} is not below {b} in absolute value"),
+                None => format!("Φ(t) − 1/γ(t) ≠ 0 ({residual}), 1/γ(t) = {}", fail.expected),
+            };
+            return Err(format!(
+                "{keyword} {p} claimed{scope} but the order-{} condition for tree {} fails: {how} (decided exactly on the algebraic entries)",
+                fail.order, fail.tree
+            ));
+        }
+        Err(format!(
+            "{keyword} {p} cannot be decided: every condition up to order {} holds exactly{scope}, but {}",
+            r.order,
+            r.undecided.as_deref().unwrap_or("(no reason recorded)")
+        ))
+    }
+
     /// Check a claim against the analysis; symplecticity is decided
     /// exactly and a refusal names the nonzero `Wᵢⱼ`. As for ordinary
     /// table files, `symplectic` on a pair means the pair condition
@@ -1032,8 +1186,16 @@ impl AlgFile {
                 )),
             },
             Claim::Order { p, bound: None } => {
+                // A failing B(k) is the failing condition of a bushy tree,
+                // a quick refusal, where that tree is a condition: for a
+                // Runge–Kutta table always (with time leaves when c is not
+                // the row sums), for a pair when b = b̂ (all bicoloured
+                // trees) and the abscissae are A's (Â's) row sums.
+                let same = an.same_weights == Some(true);
+                let b_tree = !an.pair || (same && an.row_sums_ok == Some(true));
+                let b_hat_tree = an.pair && same && an.row_sums_hat_ok == Some(true);
                 let holds = an.b_levels.iter().take_while(|v| **v == Some(true)).count();
-                if holds < *p && an.b_levels.get(holds) == Some(&Some(false)) {
+                if b_tree && holds < *p && an.b_levels.get(holds) == Some(&Some(false)) {
                     return Err(format!(
                         "order {p} claimed but B({}) fails (Σ bᵢcᵢ^{holds} ≠ 1/{}), so the order is at most {holds}",
                         holds + 1,
@@ -1045,17 +1207,17 @@ impl AlgFile {
                     .iter()
                     .take_while(|v| **v == Some(true))
                     .count();
-                if an.pair && hh < *p && an.b_hat_levels.get(hh) == Some(&Some(false)) {
+                if b_hat_tree && hh < *p && an.b_hat_levels.get(hh) == Some(&Some(false)) {
                     return Err(format!(
                         "order {p} claimed but B({}) fails for b_hat (Σ b̂ᵢĉᵢ^{hh} ≠ 1/{}), so the order is at most {hh}",
                         hh + 1,
                         hh + 1
                     ));
                 }
-                Err(format!(
-                    "order claims are not decided for tables with root(...) entries (B(k) holds exactly for k ≤ {holds}); use a generator (generate = \"gauss(s)\") for a proven order"
-                ))
+                self.decide_order(an, *p, None, false)
             }
+            Claim::Order { p, bound: Some(b) } => self.decide_order(an, *p, Some(b), false),
+            Claim::OrderRkn { p, bound } => self.decide_order(an, *p, bound.as_ref(), true),
             other => Err(format!(
                 "`{other}` is not decided for tables with root(...) entries"
             )),

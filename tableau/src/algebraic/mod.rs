@@ -33,3 +33,4 @@ pub mod pair;
 pub mod poly;
 pub mod root;
 pub mod rounded;
+pub mod trees;
