@@ -185,6 +185,7 @@ fn encode_frame(e: &mut Encoder, f: &FrameStats) {
         .f64(f.energy.springs)
         .f64(f.energy.gravity)
         .f64(f.energy.colliders)
+        .f64(f.energy.bending)
         .f64(f.momentum.x)
         .f64(f.momentum.y)
         .f64(f.momentum.z)
@@ -201,6 +202,7 @@ fn decode_frame(d: &mut Decoder<'_>) -> Result<FrameStats, CheckpointError> {
             springs: d.f64("springs")?,
             gravity: d.f64("gravity")?,
             colliders: d.f64("colliders")?,
+            bending: d.f64("bending")?,
         },
         momentum: Vector3::new(d.f64("momentum")?, d.f64("momentum")?, d.f64("momentum")?),
         max_strain: d.f64("max_strain")?,

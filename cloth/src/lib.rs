@@ -239,7 +239,10 @@ pub use method::{
     AVERAGE_VECTOR_FIELD, Conserves, DISCRETE_GRADIENT, Mechanism, Method, MethodError, Minimised,
     RATTLE,
 };
-pub use model::{CONSTRAINT_TOLERANCE, ClothModel, Energy, Family, STABILITY_WORK, Stability};
+pub use model::{
+    BENDING_POWER_ITERATIONS, BendingRate, CONSTRAINT_TOLERANCE, ClothModel, DEFAULT_BENDING,
+    Energy, Family, STABILITY_WORK, Stability,
+};
 pub use output::{
     ENERGY_CSV_HEADER, OutputError, write_energy_csv, write_energy_csv_to, write_obj, write_obj_to,
 };

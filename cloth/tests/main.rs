@@ -11,6 +11,7 @@ mod common;
 
 mod avf;
 mod banded;
+mod bending;
 mod checkpoint;
 mod conservation;
 mod hostile;

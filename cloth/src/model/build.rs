@@ -5,6 +5,7 @@ use std::sync::{Arc, OnceLock};
 
 use nalgebra::Vector3;
 
+use super::bending::Bending;
 use super::colliders::penalties;
 use super::constraints::{self, Gram};
 use super::springs::{directions, grid_springs};
@@ -64,6 +65,11 @@ impl ClothModel {
         } else {
             None
         };
+        let bending = if scene.material.inextensible {
+            Bending::new(nx, ny, dx, dy, scene.material.bending, &start, &free_index)
+        } else {
+            None
+        };
         let colliders = penalties(&scene.colliders, mass);
         let gravity = Vector3::from(scene.gravity);
         let model = ClothModel {
@@ -85,6 +91,7 @@ impl ClothModel {
             colliders,
             jac: OnceLock::new(),
             constraints,
+            bending,
         };
         model.check_initial_state(scene)?;
         model.check_constraints_independent(scene)?;
@@ -137,6 +144,15 @@ impl ClothModel {
                 "gravity".into(),
                 format!(
                     "the gravitational energy at the initial positions is {gravity:e} J: not finite"
+                ),
+            ));
+        }
+        let bending = self.bending_energy(q);
+        if !bending.is_finite() {
+            return Err(field_err(
+                "material.bending".into(),
+                format!(
+                    "the bending energy at the initial positions is {bending:e} J: not finite (the rigidity over the grid's cell area overflows)"
                 ),
             ));
         }

@@ -160,6 +160,13 @@ impl ClothModel {
                 *f = (Vector3::from(*f) + push).into();
             }
         }
+        // The bending rows are linear in `q`: an ulp of `‖q‖_∞` moves a
+        // pull by about the largest `Σ|a|²` of a row, which Gershgorin's
+        // bound of `K` covers.
+        if let Some(b) = &self.bending {
+            scale = scale.max(self.add_bending_force(q, out));
+            kappa = kappa.max(b.hessian_bound());
+        }
         let q_max = q.iter().fold(0.0f64, |m, x| m.max(x.abs()));
         scale.max(kappa * q_max)
     }
@@ -176,7 +183,7 @@ impl integrator_core::Separable for ClothModel {
 
     fn potential(&self, q: &[f64]) -> f64 {
         let (springs, gravity, colliders) = self.potential_terms(q);
-        springs + gravity + colliders
+        springs + gravity + colliders + self.bending_energy(q)
     }
 
     fn velocity(&self, p: &[f64], out: &mut [f64]) {
@@ -207,5 +214,6 @@ impl integrator_core::Separable for ClothModel {
                 *f = (Vector3::from(*f) + c.force(&Vector3::from(*x))).into();
             }
         }
+        self.add_bending_force(q, out);
     }
 }

@@ -23,6 +23,7 @@ use nalgebra::Vector3;
 
 mod avf;
 mod bands;
+mod bending;
 mod build;
 mod colliders;
 pub(crate) mod constraints;
@@ -33,6 +34,7 @@ mod springs;
 mod stability;
 mod stencil;
 
+pub use bending::{BENDING_POWER_ITERATIONS, BendingRate, DEFAULT_BENDING};
 use colliders::Penalty;
 pub use constraints::CONSTRAINT_TOLERANCE;
 use jacobian::{JacobianLayout, spring_block};
@@ -74,11 +76,14 @@ pub struct Energy {
     pub gravity: f64,
     /// Penalty energy of the colliders (J).
     pub colliders: f64,
+    /// The isometric bending energy of an inextensible sheet
+    /// (`material.bending`; 0 without it), J.
+    pub bending: f64,
 }
 
 impl Energy {
     pub fn potential(&self) -> f64 {
-        self.springs + self.gravity + self.colliders
+        self.springs + self.gravity + self.colliders + self.bending
     }
     pub fn total(&self) -> f64 {
         self.kinetic + self.potential()
@@ -117,6 +122,9 @@ pub struct ClothModel {
     /// The warp and weft length constraints of an inextensible scene
     /// (`None`: the spring model).
     constraints: Option<std::sync::Arc<constraints::EdgeConstraints>>,
+    /// The isometric bending energy (`material.bending > 0`; only on an
+    /// inextensible sheet, whose motion is the isometric one it assumes).
+    bending: Option<bending::Bending>,
 }
 
 const PINNED: u32 = u32::MAX;
@@ -247,6 +255,7 @@ impl ClothModel {
             springs,
             gravity,
             colliders,
+            bending: self.bending_energy(q),
         }
     }
 

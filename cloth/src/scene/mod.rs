@@ -155,6 +155,14 @@ pub struct Material {
     pub shear: Option<f64>,
     /// Second-neighbour springs `(i, j)–(i±2, j)`, `(i, j)–(i, j±2)` (N per unit strain).
     pub bend: Option<f64>,
+    /// The isometric bending rigidity `B` of an inextensible sheet (N·m;
+    /// `crate::model` `bending.rs`): the energy `½·B·∫(κ₁ + κ₂)² dA`, a
+    /// strip bent to curvature `κ` storing `½·B·κ²` per unit area (the
+    /// KES-FB2 convention). 0: no bending. An inextensible scene without
+    /// the field gets [`DEFAULT_BENDING`](crate::model::DEFAULT_BENDING), a
+    /// light cotton fabric; a spring scene takes none (the energy assumes
+    /// isometric motion; a spring cloth has `bend` springs).
+    pub bending: f64,
     /// `stretch = "inextensible"` in the file: the warp and weft edges are
     /// holonomic length constraints `|x_a − x_b|² = L²` (stepped by
     /// `rattle`) instead of stretch springs; `stretch` is then `None`.

@@ -414,7 +414,7 @@ impl Reader<'_> {
 
     fn material(&self, t: &Table) -> Result<Material, SceneError> {
         let p = "material";
-        self.keys(t, p, &["density", "stretch", "shear", "bend"])?;
+        self.keys(t, p, &["density", "stretch", "shear", "bend", "bending"])?;
         let density = self.positive(self.req_f64(t, p, "density")?, "material.density")?;
         let family = |key: &str| -> Result<Option<f64>, SceneError> {
             match self.opt_f64(t, p, key)? {
@@ -439,8 +439,27 @@ impl Reader<'_> {
             }
             _ => false,
         };
+        // `bending`: N·m, finite and not negative; an inextensible sheet
+        // without it gets the light cotton default, a spring cloth none.
+        let bending = match self.opt_f64(t, p, "bending")? {
+            Some(b) => {
+                let b = self.non_negative(b, "material.bending")?;
+                if b > 0.0 && !inextensible {
+                    return Err(self.err(
+                        "material.bending",
+                        format!(
+                            "{b:e} N·m: the isometric bending energy is for an inextensible sheet (material.stretch = \"{INEXTENSIBLE}\"), whose motion is the isometric one it assumes; a spring cloth bends with `bend` springs"
+                        ),
+                    ));
+                }
+                b
+            }
+            None if inextensible => crate::model::DEFAULT_BENDING,
+            None => 0.0,
+        };
         Ok(Material {
             density,
+            bending,
             stretch: if inextensible {
                 None
             } else {

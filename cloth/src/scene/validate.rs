@@ -71,6 +71,13 @@ impl Scene {
                 "an inextensible material has no stretch springs: give a stiffness or \"inextensible\", not both",
             ));
         }
+        non_negative(r, m.bending, "material.bending")?;
+        if m.bending > 0.0 && !m.inextensible {
+            return Err(r.err(
+                "material.bending",
+                "the isometric bending energy is for an inextensible sheet (material.stretch = \"inextensible\"), whose motion is the isometric one it assumes; a spring cloth bends with `bend` springs",
+            ));
+        }
         Ok(())
     }
 
