@@ -616,3 +616,67 @@ fn root_pairs_prove_their_order_on_bicoloured_trees() {
     let e = bad[0].1.as_ref().unwrap_err();
     assert!(e.contains("order 4 claimed (on general partitioned systems) but the order-2 condition for tree [τ_p]_q fails"), "{e}");
 }
+
+/// SABA₄ (Laskar & Robutel 2001) with its exact coefficients: the drifts
+/// are the differences of the 4-point Gauss–Legendre nodes on [0, 1] (the
+/// roots of 70x⁴ − 140x³ + 90x² − 20x + 1, i.e. 1/2 ∓ √(525 ± 70√30)/70),
+/// the kicks the Gauss weights (18 ∓ √30)/72. Its generalised order (8, 2)
+/// is proven exactly in the number field; over-claims are refused naming
+/// the Lie word, and so is a table with a weight moved by 10⁻³⁰.
+fn saba4(claims: &str, w1: &str) -> String {
+    format!(
+        r#"name = "SABA4, exact Gauss nodes"
+claims = [{claims}]
+drift = ["x1", "x2 - x1", "1 - 2*x2", "x2 - x1", "x1"]
+kick = ["{w1}", "(18 + sqrt(30))/72", "(18 + sqrt(30))/72", "(18 - sqrt(30))/72"]
+[let]
+x1 = "root(70*x^4 - 140*x^3 + 90*x^2 - 20*x + 1, 0, 1/5)"
+x2 = "root(70*x^4 - 140*x^3 + 90*x^2 - 20*x + 1, 1/5, 1/2)"
+"#
+    )
+}
+
+#[test]
+fn saba4_with_exact_nodes_proves_its_generalised_order() {
+    let t0 = Instant::now();
+    let text = saba4(
+        r#""symplectic", "symmetric", "order = (8, 2)", "order = 2", "order = (10, 2)", "order = (8, 4)", "order = 3""#,
+        "(18 - sqrt(30))/72",
+    );
+    let v = claim_verdicts(&text);
+    for (claim, verdict) in &v[..4] {
+        assert!(verdict.is_ok(), "{claim}: {verdict:?}");
+    }
+    let e = v[4].1.as_ref().unwrap_err();
+    assert!(
+        e.contains("order = (10, 2) claimed, but the ε part has order 8 < 10: the εh⁹ condition fails: the coefficient of A⁸B in log Φ"),
+        "{e}"
+    );
+    let e = v[5].1.as_ref().unwrap_err();
+    assert!(
+        e.contains("the ε² part has order 2 < 4: the ε²h³ condition fails: the coefficient of AB² in log Φ (the leading word of [[A,B],B])"),
+        "{e}"
+    );
+    // Order 3 on separable systems fails on a separable bicoloured tree.
+    let e = v[6].1.as_ref().unwrap_err();
+    assert!(
+        e.contains(
+            "order 3 claimed (on separable systems: b ≠ b̂) but the order-3 condition for tree"
+        ),
+        "{e}"
+    );
+    // The first weight moved by 1e-30 (and the consistency with it).
+    let moved = saba4(
+        r#""order = (8, 2)", "symmetric""#,
+        "(18 - sqrt(30))/72 + 1e-30",
+    );
+    let v = claim_verdicts(&moved);
+    let e = v[0].1.as_ref().unwrap_err();
+    assert!(
+        e.contains("the εh condition fails: the coefficient of B in log Φ"),
+        "{e}"
+    );
+    let e = v[1].1.as_ref().unwrap_err();
+    assert!(e.contains("not a palindrome"), "{e}");
+    assert!(t0.elapsed() < hang_limit());
+}

@@ -80,6 +80,65 @@ pub struct AlgFile {
     pub a_hat: Option<Vec<Vec<Alg>>>,
     pub b_hat: Option<Vec<Alg>>,
     pub c_hat: Option<Vec<Alg>>,
+    /// A drift–kick sequence (`drift`, `kick`), as written; `a`, `b`,
+    /// `a_hat`, `b_hat` then hold its partitioned pair (as
+    /// [`crate::Splitting::to_prk`] builds it), which the symplecticity,
+    /// row-sum, `B(k)` and tree-order verdicts use, and the generalised
+    /// orders are decided on the sequence itself.
+    pub sequence: Option<AlgSequence>,
+}
+
+/// A drift–kick sequence with real algebraic coefficients: drifts (flows of
+/// `A`, or of `T(p)`) and kicks (of `εB`, or `V(q)`), applied `D K D K …`.
+#[derive(Clone, Debug)]
+pub struct AlgSequence {
+    pub drift: Vec<Alg>,
+    pub kick: Vec<Alg>,
+}
+
+impl AlgSequence {
+    /// The flows in the order applied (a structurally zero coefficient is
+    /// kept: `exp(0·X)` is the identity).
+    pub fn factors(&self) -> Vec<crate::near_integrable::Factor<Alg>> {
+        use crate::near_integrable::Factor;
+        let mut out = Vec::new();
+        for i in 0..self.drift.len().max(self.kick.len()) {
+            if let Some(d) = self.drift.get(i) {
+                out.push(Factor::Letter(0, d.clone()));
+            }
+            if let Some(k) = self.kick.get(i) {
+                out.push(Factor::Letter(1, k.clone()));
+            }
+        }
+        out
+    }
+
+    /// The partitioned pair `(A, b)` on `q`, `(Â, b̂)` on `p`: a leading
+    /// zero drift for a kick-first sequence, trailing zero kicks to make the
+    /// lengths equal; `aᵢⱼ = dⱼ` for `j ≤ i`, `âᵢⱼ = kⱼ` for `j < i`.
+    #[allow(clippy::type_complexity)]
+    fn pair(&self) -> (Vec<Vec<Alg>>, Vec<Alg>, Vec<Vec<Alg>>, Vec<Alg>) {
+        let mut drift = self.drift.clone();
+        let mut kick = self.kick.clone();
+        if kick.len() == drift.len() + 1 {
+            drift.insert(0, Alg::zero());
+        }
+        let s = drift.len();
+        kick.resize(s, Alg::zero());
+        let mut a = vec![vec![Alg::zero(); s]; s];
+        let mut a_hat = vec![vec![Alg::zero(); s]; s];
+        for i in 0..s {
+            for j in 0..s {
+                if j <= i {
+                    a[i][j] = drift[j].clone();
+                }
+                if j < i {
+                    a_hat[i][j] = kick[j].clone();
+                }
+            }
+        }
+        (a, drift, a_hat, kick)
+    }
 }
 
 /// Read a table file of any kind (at most 1 MiB, UTF-8).
@@ -184,7 +243,8 @@ fn generated_file(file: &str, doc: &toml::Table) -> Result<Generated, FileError>
 fn alg_file(file: &str, doc: &toml::Table) -> Result<AlgFile, FileError> {
     for key in doc.keys() {
         if ![
-            "name", "source", "claims", "let", "a", "b", "c", "a_hat", "b_hat", "c_hat",
+            "name", "source", "claims", "let", "a", "b", "c", "a_hat", "b_hat", "c_hat", "drift",
+            "kick",
         ]
         .contains(&key.as_str())
         {
@@ -192,7 +252,7 @@ fn alg_file(file: &str, doc: &toml::Table) -> Result<AlgFile, FileError> {
                 file,
                 Some(key),
                 format!(
-                    "unknown field `{key}` in a table with root(...) entries (the fields are name, source, claims, let, a, b, c, a_hat, b_hat, c_hat)"
+                    "unknown field `{key}` in a table with root(...) entries (the fields are name, source, claims, let, a, b, c, a_hat, b_hat, c_hat, or drift and kick for a drift–kick sequence)"
                 ),
             ));
         }
@@ -269,6 +329,9 @@ fn alg_file(file: &str, doc: &toml::Table) -> Result<AlgFile, FileError> {
                 "refers to an unknown name, or the bindings form a cycle",
             ));
         }
+    }
+    if doc.contains_key("drift") || doc.contains_key("kick") {
+        return sequence_file(file, doc, cx, name, source, claims);
     }
     let a = cx.matrix(doc.get("a"), "a")?;
     let b = cx.vector(doc.get("b"), "b")?;
@@ -353,6 +416,66 @@ fn alg_file(file: &str, doc: &toml::Table) -> Result<AlgFile, FileError> {
         a_hat,
         b_hat,
         c_hat,
+        sequence: None,
+    })
+}
+
+/// A drift–kick sequence with `root(...)` entries: `drift` and `kick`
+/// (and nothing of a Butcher table), stored with its partitioned pair.
+fn sequence_file(
+    file: &str,
+    doc: &toml::Table,
+    mut cx: AlgCx<'_>,
+    name: String,
+    source: Option<String>,
+    claims: Vec<Claim>,
+) -> Result<AlgFile, FileError> {
+    for key in ["a", "b", "c", "a_hat", "b_hat", "c_hat"] {
+        if doc.contains_key(key) {
+            return Err(ferr(
+                file,
+                Some(key),
+                "a drift–kick sequence (drift, kick) has no Butcher-table fields",
+            ));
+        }
+    }
+    let drift = cx.vector(doc.get("drift"), "drift")?;
+    let kick = cx.vector(doc.get("kick"), "kick")?;
+    let (d, k) = (drift.len(), kick.len());
+    if !(d == k || d == k + 1 || (k == d + 1 && d > 0)) || d == 0 {
+        return Err(ferr(
+            file,
+            Some("kick"),
+            format!(
+                "a drift–kick sequence has as many kicks as drifts or one fewer (or one more, starting with a kick): {d} drifts and {k} kicks"
+            ),
+        ));
+    }
+    if d.max(k) > crate::budget::MAX_STAGES {
+        return Err(ferr(
+            file,
+            Some("drift"),
+            format!(
+                "{} flows, beyond the limit of {} (tableau::budget::MAX_STAGES)",
+                d.max(k),
+                crate::budget::MAX_STAGES
+            ),
+        ));
+    }
+    let sequence = AlgSequence { drift, kick };
+    let (a, b, a_hat, b_hat) = sequence.pair();
+    Ok(AlgFile {
+        name,
+        source,
+        claims,
+        field: cx.field,
+        a,
+        b,
+        c: None,
+        a_hat: Some(a_hat),
+        b_hat: Some(b_hat),
+        c_hat: None,
+        sequence: Some(sequence),
     })
 }
 
@@ -1145,6 +1268,53 @@ impl AlgFile {
         ))
     }
 
+    /// Whether the drift–kick sequence is a palindrome, decided exactly: the
+    /// flows with a zero coefficient dropped and neighbours of one kind
+    /// merged (the normal form in which two sequences are the same map for
+    /// every separable `H` exactly when they are equal), then
+    /// `xᵢ = x_{n−1−i}` by exact zero tests.
+    fn sequence_symmetric(&self) -> Result<(), String> {
+        use crate::near_integrable::Factor;
+        let seq = self.sequence.as_ref().expect("a sequence");
+        let f = self
+            .field
+            .clone()
+            .with_default_work_limit(crate::budget::MAX_ANALYSIS_WORK);
+        let undecided = |e: BeyondBudget| {
+            format!("symmetry cannot be decided within the budgets of exact zero tests: {e}")
+        };
+        let mut flows: Vec<(u8, Alg)> = Vec::new();
+        for factor in seq.factors() {
+            let Factor::Letter(l, x) = factor else {
+                unreachable!("root sequences have plain kicks")
+            };
+            if f.is_zero(&x).map_err(undecided)? {
+                continue;
+            }
+            match flows.last_mut() {
+                Some((m, y)) if *m == l => {
+                    *y = y.add(&x);
+                    if f.is_zero(y).map_err(undecided)? {
+                        flows.pop();
+                    }
+                }
+                _ => flows.push((l, x)),
+            }
+        }
+        let n = flows.len();
+        for i in 0..n / 2 {
+            let (l, x) = &flows[i];
+            let (m, y) = &flows[n - 1 - i];
+            if l != m || !f.is_zero(&x.sub(y)).map_err(undecided)? {
+                return Err(format!(
+                    "not symmetric: the drift–kick sequence (zeros dropped, neighbours merged; {n} flows) is not a palindrome: flow {i} differs from flow {} (decided exactly on the algebraic entries)",
+                    n - 1 - i
+                ));
+            }
+        }
+        Ok(())
+    }
+
     /// Check a claim against the analysis; symplecticity is decided
     /// exactly and a refusal names the nonzero `Wᵢⱼ`. As for ordinary
     /// table files, `symplectic` on a pair means the pair condition
@@ -1218,6 +1388,30 @@ impl AlgFile {
             }
             Claim::Order { p, bound: Some(b) } => self.decide_order(an, *p, Some(b), false),
             Claim::OrderRkn { p, bound } => self.decide_order(an, *p, bound.as_ref(), true),
+            Claim::NearOrder { orders, bound } => match &self.sequence {
+                Some(seq) => {
+                    let bound = match bound {
+                        None => None,
+                        Some(b) => Some(b.as_rational().ok_or_else(|| {
+                            format!("the residual bound {b} of a table with root(...) entries must be rational")
+                        })?),
+                    };
+                    let f = self
+                        .field
+                        .clone()
+                        .with_default_work_limit(crate::budget::MAX_ANALYSIS_WORK);
+                    crate::near_integrable::alg_near_claim(
+                        &f,
+                        &seq.factors(),
+                        orders,
+                        bound.as_ref(),
+                    )
+                }
+                None => Err(
+                    "a generalised order (p1, p2, …) is a property of a drift–kick sequence (drift, kick); this table is a Butcher table".into(),
+                ),
+            },
+            Claim::Symmetric if self.sequence.is_some() => self.sequence_symmetric(),
             other => Err(format!(
                 "`{other}` is not decided for tables with root(...) entries"
             )),

@@ -30,6 +30,50 @@ use num_rational::BigRational;
 use super::words::{Word, binomial, words_with};
 use crate::Number;
 
+/// The arithmetic of the coefficients: exact [`Number`]s (the radical
+/// field, [`Exact`]) or real algebraic numbers in a
+/// [`crate::algebraic::alg::Field`] (`root(...)` entries, nested radicals;
+/// see [`super::alg_near`]). `is_zero` is structural (a skip of work, never
+/// a verdict): the verdicts are the callers' exact zero tests.
+pub(crate) trait Ring {
+    type E: Clone;
+    fn zero(&self) -> Self::E;
+    fn one(&self) -> Self::E;
+    fn is_zero(&self, x: &Self::E) -> bool;
+    fn add(&self, x: &Self::E, y: &Self::E) -> Self::E;
+    fn neg(&self, x: &Self::E) -> Self::E;
+    fn mul(&self, x: &Self::E, y: &Self::E) -> Self::E;
+    fn scale(&self, x: &Self::E, r: &BigRational) -> Self::E;
+}
+
+/// The radical field of [`Number`].
+pub(crate) struct Exact;
+
+impl Ring for Exact {
+    type E = Number;
+    fn zero(&self) -> Number {
+        Number::zero()
+    }
+    fn one(&self) -> Number {
+        Number::one()
+    }
+    fn is_zero(&self, x: &Number) -> bool {
+        x.is_zero()
+    }
+    fn add(&self, x: &Number, y: &Number) -> Number {
+        x + y
+    }
+    fn neg(&self, x: &Number) -> Number {
+        -x
+    }
+    fn mul(&self, x: &Number, y: &Number) -> Number {
+        x * y
+    }
+    fn scale(&self, x: &Number, r: &BigRational) -> Number {
+        x.scale(r)
+    }
+}
+
 /// The truncation: `degrees[j]` is `D(j)` for `j = 0..=J`.
 pub(crate) fn word_count(degrees: &[usize]) -> u64 {
     degrees
@@ -43,9 +87,9 @@ pub(crate) fn word_count(degrees: &[usize]) -> u64 {
 /// letter `X` (`0` is `A`, `1` is `B`), or a gradient kick
 /// `exp(k·B + g·[B,[A,B]])`.
 #[derive(Clone, Debug, PartialEq)]
-pub enum Factor {
-    Letter(u8, Number),
-    Gradient { kick: Number, gradient: Number },
+pub enum Factor<T = Number> {
+    Letter(u8, T),
+    Gradient { kick: T, gradient: T },
 }
 
 /// The coefficients `P[w]` of every word kept by the truncation `degrees`
@@ -61,6 +105,15 @@ pub enum Factor {
 /// words, and the dropped ones form an ideal, so the truncation is still
 /// exact.
 pub(crate) fn product_of_exponentials(ops: &[Factor], degrees: &[usize]) -> HashMap<Word, Number> {
+    product_in(&Exact, ops, degrees)
+}
+
+/// [`product_of_exponentials`] in any [`Ring`].
+pub(crate) fn product_in<R: Ring>(
+    ring: &R,
+    ops: &[Factor<R::E>],
+    degrees: &[usize],
+) -> HashMap<Word, R::E> {
     let mut words: Vec<Word> = Vec::new();
     for (j, &d) in degrees.iter().enumerate() {
         for n in j.max(1)..=d {
@@ -71,40 +124,41 @@ pub(crate) fn product_of_exponentials(ops: &[Factor], degrees: &[usize]) -> Hash
     // which still hold the previous factor's values.
     words.sort_by_key(|w| std::cmp::Reverse(w.len));
     let top = degrees.iter().copied().max().unwrap_or(0);
-    let mut p: HashMap<Word, Number> = words.iter().map(|w| (*w, Number::zero())).collect();
-    p.insert(Word::EMPTY, Number::one());
+    let mut p: HashMap<Word, R::E> = words.iter().map(|w| (*w, ring.zero())).collect();
+    p.insert(Word::EMPTY, ring.one());
     for factor in ops {
         let (letter, x) = match factor {
             Factor::Letter(letter, x) => (letter, x),
             Factor::Gradient { kick, gradient } => {
-                let e = gradient_exponential(kick, gradient, &words);
-                multiply(&mut p, &words, &e);
+                let e = gradient_exponential(ring, kick, gradient, &words);
+                multiply(ring, &mut p, &words, &e);
                 continue;
             }
         };
         // x^r / r! for r = 0..=top.
-        let mut scaled = vec![Number::one()];
+        let mut scaled = vec![ring.one()];
         let mut fact = BigInt::from(1);
-        let mut power = Number::one();
+        let mut power = ring.one();
         for r in 1..=top {
-            power = &power * x;
+            power = ring.mul(&power, x);
             fact *= r;
-            scaled.push(power.scale(&BigRational::new(1.into(), fact.clone())));
+            scaled.push(ring.scale(&power, &BigRational::new(1.into(), fact.clone())));
         }
         for w in &words {
             let run = w.trailing_run(*letter);
             if run == 0 {
                 continue;
             }
-            let mut add = Number::zero();
+            let mut add = ring.zero();
             for (r, scale) in scaled.iter().enumerate().take(run + 1).skip(1) {
                 let pu = &p[&w.drop_last(r)];
-                if !pu.is_zero() {
-                    add += &(pu * scale);
+                if !ring.is_zero(pu) {
+                    add = ring.add(&add, &ring.mul(pu, scale));
                 }
             }
-            if !add.is_zero() {
-                *p.get_mut(w).expect("every word is kept") += &add;
+            if !ring.is_zero(&add) {
+                let e = p.get_mut(w).expect("every word is kept");
+                *e = ring.add(e, &add);
             }
         }
     }
@@ -117,25 +171,30 @@ pub(crate) fn product_of_exponentials(ops: &[Factor], degrees: &[usize]) -> Hash
 /// product of `r` of these, and a word is reached only by concatenations
 /// of them, so the sum stops once every word of `E^r` is longer than the
 /// longest kept word (`r` is at most that length).
-fn gradient_exponential(kick: &Number, gradient: &Number, words: &[Word]) -> HashMap<Word, Number> {
+fn gradient_exponential<R: Ring>(
+    ring: &R,
+    kick: &R::E,
+    gradient: &R::E,
+    words: &[Word],
+) -> HashMap<Word, R::E> {
     let kept: std::collections::HashSet<Word> = words.iter().copied().collect();
     let top = words.iter().map(|w| usize::from(w.len)).max().unwrap_or(0);
-    let mut generators: Vec<(Word, Number)> = Vec::new();
-    if !kick.is_zero() {
+    let mut generators: Vec<(Word, R::E)> = Vec::new();
+    if !ring.is_zero(kick) {
         generators.push((Word::from_letters(&[1]), kick.clone()));
     }
-    if !gradient.is_zero() {
-        let two = gradient + gradient;
+    if !ring.is_zero(gradient) {
+        let two = ring.add(gradient, gradient);
         generators.push((Word::from_letters(&[1, 0, 1]), two));
-        generators.push((Word::from_letters(&[1, 1, 0]), -gradient));
-        generators.push((Word::from_letters(&[0, 1, 1]), -gradient));
+        generators.push((Word::from_letters(&[1, 1, 0]), ring.neg(gradient)));
+        generators.push((Word::from_letters(&[0, 1, 1]), ring.neg(gradient)));
     }
-    let mut out: HashMap<Word, Number> = HashMap::new();
-    out.insert(Word::EMPTY, Number::one());
+    let mut out: HashMap<Word, R::E> = HashMap::new();
+    out.insert(Word::EMPTY, ring.one());
     // power[w]: the coefficient of w in E^r / r!.
-    let mut power: HashMap<Word, Number> = HashMap::from([(Word::EMPTY, Number::one())]);
+    let mut power: HashMap<Word, R::E> = HashMap::from([(Word::EMPTY, ring.one())]);
     for r in 1..=top {
-        let mut next: HashMap<Word, Number> = HashMap::new();
+        let mut next: HashMap<Word, R::E> = HashMap::new();
         for (u, x) in &power {
             for (v, y) in &generators {
                 if usize::from(u.len) + usize::from(v.len) > top {
@@ -145,77 +204,93 @@ fn gradient_exponential(kick: &Number, gradient: &Number, words: &[Word]) -> Has
                 if !kept.contains(&w) {
                     continue;
                 }
-                let term = x * y;
-                *next.entry(w).or_insert_with(Number::zero) += &term;
+                let term = ring.mul(x, y);
+                let e = next.entry(w).or_insert_with(|| ring.zero());
+                *e = ring.add(e, &term);
             }
         }
         let inverse = BigRational::new(1.into(), BigInt::from(r));
-        next.retain(|_, x| !x.is_zero());
+        next.retain(|_, x| !ring.is_zero(x));
         for x in next.values_mut() {
-            *x = x.scale(&inverse);
+            *x = ring.scale(x, &inverse);
         }
         if next.is_empty() {
             break;
         }
         for (w, x) in &next {
-            *out.entry(*w).or_insert_with(Number::zero) += x;
+            let e = out.entry(*w).or_insert_with(|| ring.zero());
+            *e = ring.add(e, x);
         }
         power = next;
     }
-    out.retain(|_, x| !x.is_zero());
+    out.retain(|_, x| !ring.is_zero(x));
     out
 }
 
 /// `P ← P·E` on the kept words: `P[w] = Σ_{w = uv} P[u]·E[v]`, the words
 /// updated longest first so that every prefix `u` still holds its old value.
-fn multiply(p: &mut HashMap<Word, Number>, words: &[Word], e: &HashMap<Word, Number>) {
+fn multiply<R: Ring>(
+    ring: &R,
+    p: &mut HashMap<Word, R::E>,
+    words: &[Word],
+    e: &HashMap<Word, R::E>,
+) {
     for w in words {
         let n = usize::from(w.len);
-        let mut add = Number::zero();
+        let mut add = ring.zero();
         // v = the last r letters of w, r ≥ 1 (r = 0 is P[w]·1).
         for r in 1..=n {
             let Some(ev) = e.get(&w.slice(n - r, n)) else {
                 continue;
             };
             let pu = &p[&w.drop_last(r)];
-            if !pu.is_zero() {
-                add += &(pu * ev);
+            if !ring.is_zero(pu) {
+                add = ring.add(&add, &ring.mul(pu, ev));
             }
         }
-        if !add.is_zero() {
-            *p.get_mut(w).expect("every word is kept") += &add;
+        if !ring.is_zero(&add) {
+            let x = p.get_mut(w).expect("every word is kept");
+            *x = ring.add(x, &add);
         }
     }
 }
 
 /// The coefficient of `w` in `log P`, from the coefficients of its factors.
 pub(crate) fn log_coefficient(p: &HashMap<Word, Number>, w: Word) -> Number {
+    log_coefficient_in(&Exact, p, w)
+}
+
+/// [`log_coefficient`] in any [`Ring`].
+pub(crate) fn log_coefficient_in<R: Ring>(ring: &R, p: &HashMap<Word, R::E>, w: Word) -> R::E {
     let m = usize::from(w.len);
     // dp[i][k]: the cuts of the first i letters into k nonempty pieces.
-    let mut dp = vec![vec![Number::zero(); m + 1]; m + 1];
-    dp[0][0] = Number::one();
+    let mut dp = vec![vec![ring.zero(); m + 1]; m + 1];
+    dp[0][0] = ring.one();
     for i in 1..=m {
         for l in 0..i {
             let piece = &p[&w.slice(l, i)];
-            if piece.is_zero() {
+            if ring.is_zero(piece) {
                 continue;
             }
             for k in 1..=l + 1 {
-                if dp[l][k - 1].is_zero() {
+                if ring.is_zero(&dp[l][k - 1]) {
                     continue;
                 }
-                let term = &dp[l][k - 1] * piece;
-                dp[i][k] += &term;
+                let term = ring.mul(&dp[l][k - 1], piece);
+                dp[i][k] = ring.add(&dp[i][k], &term);
             }
         }
     }
-    let mut out = Number::zero();
+    let mut out = ring.zero();
     for (k, v) in dp[m].iter().enumerate().skip(1) {
-        if v.is_zero() {
+        if ring.is_zero(v) {
             continue;
         }
         let sign = if k % 2 == 1 { 1 } else { -1 };
-        out += &v.scale(&BigRational::new(sign.into(), BigInt::from(k)));
+        out = ring.add(
+            &out,
+            &ring.scale(v, &BigRational::new(sign.into(), BigInt::from(k))),
+        );
     }
     out
 }
