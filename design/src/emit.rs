@@ -3,8 +3,11 @@
 //! `let` (50 decimals for a determined unknown, its exact radicals when it
 //! has them), every coefficient written as the family's exact affine
 //! expression in them (so consistency and symmetry hold exactly), the
-//! claims, and the certificate in a comment line that the verifier (module
-//! `verify`) reads back:
+//! claims, and the certificate: `order = p (certified)` with
+//! `certificate = { unknowns = [...], radius = "1e-46" }`, which `symlab
+//! check` re-proves itself (`tableau::certificate`), and the same in a
+//! comment line that the family-aware verifier (module `verify`) reads
+//! back:
 //!
 //! ```text
 //! # design-certificate: determined = a1 a2; radius = 1/10000000000…
@@ -18,11 +21,6 @@ use crate::exact::Exact;
 use crate::family::{Family, Form};
 use crate::polish::{DIGITS, FREE_DIGITS, decimal_text};
 use crate::poly::Poly;
-
-/// The residual bound claimed for a certified table: the printed decimals
-/// satisfy the conditions only to about `10^-50`, and `symlab check`
-/// decides `order = p (residual < 1e-40)` exactly on them.
-pub const CLAIM_BOUND: &str = "1e-40";
 
 /// The comment line's key.
 pub const CERTIFICATE_KEY: &str = "# design-certificate:";
@@ -68,6 +66,7 @@ pub fn table_text(
         system.order + 1
     ));
     let names = &system.names;
+    let mut certificate_line = None;
     let claims = match proof {
         Proof::Exact(e) => {
             out.push_str(&format!(
@@ -105,7 +104,14 @@ pub fn table_text(
                 det.join(" "),
                 certificate.radius
             ));
-            format!("\"order = {} (residual < {CLAIM_BOUND})\"", system.order)
+            // The claim `symlab check` re-proves from the certificate (the
+            // Krawczyk test, run anew on the file's own coefficients).
+            certificate_line = Some(format!(
+                "certificate = {{ unknowns = [{}], radius = {} }}\n",
+                det.iter().map(|d| quote(d)).collect::<Vec<_>>().join(", "),
+                quote(&tableau::certificate::radius_text(&certificate.radius))
+            ));
+            format!("\"order = {} (certified)\"", system.order)
         }
     };
     out.push_str(&format!("name = {}\n", quote(&family.name)));
@@ -122,6 +128,9 @@ pub fn table_text(
     out.push_str(&format!(
         "claims = [\"symplectic\", \"symmetric\", {claims}]\n"
     ));
+    if let Some(line) = certificate_line {
+        out.push_str(&line);
+    }
     for (i, name) in names.iter().enumerate() {
         let value = match proof {
             Proof::Exact(e) => e

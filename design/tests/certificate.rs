@@ -61,8 +61,11 @@ fn an_edit_outside_the_parametrisation_is_refused() {
     }
 }
 
+/// `symlab check` proves the certified claim itself (tableau's Krawczyk
+/// test on the file's own coefficients); moved by 1e-30, far beyond the
+/// radius 1e-46, the claim is refused.
 #[test]
-fn check_decides_the_bound_claim_on_the_printed_decimals() {
+fn check_proves_the_certified_claim_from_the_file() {
     let (_, text) = mclachlan_table();
     let ok = claims_hold("t.toml", &text);
     assert!(ok.iter().all(|(_, v)| v.is_ok()), "{ok:?}");
@@ -74,4 +77,92 @@ fn check_decides_the_bound_claim_on_the_printed_decimals() {
         .find(|(c, _)| c.starts_with("order"))
         .unwrap();
     assert!(order.1.is_err(), "{order:?}");
+}
+
+/// The certificate line's unknowns and radius, as emitted.
+fn certificate_of(text: &str) -> (Vec<String>, String) {
+    let line = text
+        .lines()
+        .find(|l| l.starts_with("certificate = "))
+        .expect("a certificate");
+    let doc: toml::Table = line.parse().unwrap();
+    let c = doc["certificate"].as_table().unwrap();
+    let unknowns = c["unknowns"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_str().unwrap().to_string())
+        .collect();
+    (unknowns, c["radius"].as_str().unwrap().to_string())
+}
+
+/// Every certificate the shipped certified families emit is proven by
+/// `symlab check` (the report states the radius), and refused once any one
+/// certified coefficient moves by ten times the radius, either way.
+#[test]
+fn every_emitted_certificate_checks_and_is_refused_beyond_its_radius() {
+    let mut checked = 0;
+    for (file, starts) in [
+        ("mclachlan-sb3a.toml", 60),
+        ("bab6-order4.toml", 100),
+        ("composition5-order4.toml", 60),
+    ] {
+        let mut family = load(file);
+        family.starts = starts;
+        let out = design(&family, file, &mut |_| {}).unwrap();
+        for d in &out.designs {
+            let Some((name, text)) = &d.table else {
+                continue;
+            };
+            if !text.contains("(certified)") {
+                continue;
+            }
+            let v = tableau::verdict::check(
+                &tableau::verdict::Source::Text { origin: name, text },
+                &tableau::verdict::Options::default(),
+            )
+            .unwrap();
+            assert!(
+                v.claims.iter().all(|c| c.verdict.is_ok()),
+                "{name}: {:?}",
+                v.claims
+            );
+            let (unknowns, radius) = certificate_of(text);
+            let report = v.to_string();
+            assert!(
+                report.contains(&format!(
+                    "within radius {radius} of the printed coefficients"
+                )),
+                "{name}: {report}"
+            );
+            let r: f64 = radius.parse().unwrap();
+            let delta = format!("{:e}", 10.0 * r);
+            for u in &unknowns {
+                for sign in ["+", "-"] {
+                    let key = format!("let.{u} = \"");
+                    let moved: String = text
+                        .lines()
+                        .map(|l| match l.strip_prefix(&key) {
+                            Some(v) => format!("{key}{} {sign} {delta}\"", v.trim_end_matches('"')),
+                            None => l.to_string(),
+                        })
+                        .collect::<Vec<_>>()
+                        .join("\n");
+                    assert_ne!(&moved, text);
+                    let verdicts = claims_hold(name, &moved);
+                    let order = verdicts
+                        .iter()
+                        .find(|(c, _)| c.ends_with("(certified)"))
+                        .unwrap();
+                    let e = order.1.as_ref().unwrap_err();
+                    assert!(
+                        e.contains("is not proven: Krawczyk's test fails"),
+                        "{name} {u} {sign}: {e}"
+                    );
+                }
+            }
+            checked += 1;
+        }
+    }
+    assert!(checked >= 3, "{checked} certified tables");
 }

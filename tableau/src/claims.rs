@@ -43,9 +43,16 @@ pub enum Claim {
         orders: Vec<usize>,
         bound: Option<Number>,
     },
+    /// `order = p (certified)`: order `p` of an exact method within the
+    /// radius of the file's `certificate` around the printed coefficients,
+    /// proven by Krawczyk's test ([`crate::certificate`]); never a claim
+    /// about the printed decimals themselves.
+    CertifiedOrder {
+        p: usize,
+    },
 }
 
-const SYNTAX: &str = "the claims are symplectic, symmetric, explicit, `order = N`, `order = N (residual < BOUND)`, `order = (P1, P2, …)` (the generalised order for H = A + εB), `order_rkn = N` and `order_rkn = N (residual < BOUND)`";
+const SYNTAX: &str = "the claims are symplectic, symmetric, explicit, `order = N`, `order = N (residual < BOUND)`, `order = N (certified)` (with a `certificate`), `order = (P1, P2, …)` (the generalised order for H = A + εB), `order_rkn = N` and `order_rkn = N (residual < BOUND)`";
 
 /// The keywords of the order claims; the longer first, since `order` is a
 /// prefix of `order_rkn`.
@@ -88,6 +95,17 @@ pub fn parse_claim(text: &str) -> Result<Claim, String> {
         // The bound, if any, reads as after a plain order.
         let (_, bound) = parse_order(t, keyword, &format!("= 1 {}", &tuple[close + 1..]))?;
         return Ok(Claim::NearOrder { orders, bound });
+    }
+    if keyword == "order"
+        && let Some(head) = rest.trim_end().strip_suffix("(certified)")
+    {
+        let (p, bound) = parse_order(t, keyword, head)?;
+        if bound.is_some() {
+            return Err(format!(
+                "`{t}`: a certified order has no residual bound (the certificate bounds the distance to an exact solution instead)"
+            ));
+        }
+        return Ok(Claim::CertifiedOrder { p });
     }
     let (p, bound) = parse_order(t, keyword, rest)?;
     Ok(if keyword == "order" {
@@ -190,6 +208,7 @@ impl fmt::Display for Claim {
                 write!(f, "order = ({})", items.join(", "))?;
                 return write_bound(f, bound);
             }
+            Claim::CertifiedOrder { p } => return write!(f, "order = {p} (certified)"),
         };
         write!(f, "{keyword} = {p}")?;
         write_bound(f, bound)
@@ -229,6 +248,7 @@ mod tests {
             "order = (8, 6, 4)",
             "order = (2, 2)",
             "order = (2, 4)",
+            "order = 4 (certified)",
             "order = (10, 6, 4) (residual < 1e-30)",
         ] {
             let claim = parse_claim(text).unwrap_or_else(|e| panic!("{text}: {e}"));

@@ -74,6 +74,9 @@ pub struct TableFile {
     /// For a processed method: the corrector `χ` (applied at output; `χ⁻¹`
     /// once on entry), a drift–kick sequence.
     pub corrector: Option<Splitting>,
+    /// The `certificate` of a certified order claim (`order = p
+    /// (certified)`), read into polynomials ([`crate::certificate`]).
+    pub certificate: Option<crate::certificate::CertificateSpec>,
 }
 
 impl TableFile {
@@ -123,7 +126,7 @@ pub const TABLE_FIELDS: [&str; 10] = [
     "compose",
 ];
 
-pub const KEYS: [&str; 17] = [
+pub const KEYS: [&str; 18] = [
     "name",
     "source",
     "claims",
@@ -141,6 +144,7 @@ pub const KEYS: [&str; 17] = [
     "kernel",
     "corrector_drift",
     "corrector_kick",
+    "certificate",
 ];
 
 /// The deepest chain of `let` bindings referring to one another.
@@ -247,6 +251,23 @@ pub fn parse_table_file(file: &str, text: &str) -> Result<TableFile, FileError> 
         .check_shape()
         .map_err(|e| cx.err(Some(e.field), e.message))?;
     let corrector = cx.corrector(&fields, &table, kernel.is_some())?;
+    let certificate = if fields.contains_key("certificate") {
+        if corrector.is_some() || kernel.is_some() {
+            return Err(cx.err(
+                Some("certificate".into()),
+                "a certificate is about an inline drift–kick sequence or composition, not a processed method",
+            ));
+        }
+        let doc: toml::Table = text
+            .parse()
+            .map_err(|e: toml::de::Error| cx.err(None, e.to_string().trim_end()))?;
+        Some(
+            crate::certificate::read_spec(&doc, &cx.lets, &table)
+                .map_err(|(field, message)| cx.err(Some(field), message))?,
+        )
+    } else {
+        None
+    };
     Ok(TableFile {
         name,
         source,
@@ -254,6 +275,7 @@ pub fn parse_table_file(file: &str, text: &str) -> Result<TableFile, FileError> 
         table,
         kernel,
         corrector,
+        certificate,
     })
 }
 

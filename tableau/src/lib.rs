@@ -13,6 +13,7 @@ pub mod algebraic;
 pub mod analysis;
 pub mod budget;
 pub mod catalogue;
+pub mod certificate;
 pub mod claims;
 pub mod embedded;
 pub mod expr;

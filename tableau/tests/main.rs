@@ -9,6 +9,7 @@ mod algebraic;
 mod analysis;
 mod catalogue;
 mod catalogue_optimised;
+mod certificate;
 mod files;
 mod generated;
 mod grammar;

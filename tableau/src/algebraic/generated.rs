@@ -293,6 +293,9 @@ impl Generated {
             Claim::NearOrder { .. } => Err(ClaimError(
                 "a generalised order `order = (P1, P2, …)` is a property of a drift–kick sequence or a composition, not of a generated Runge–Kutta table".into(),
             )),
+            Claim::CertifiedOrder { .. } => Err(ClaimError(
+                "a certified order is about a drift–kick sequence or composition with a `certificate`; a generated table's order is proven exactly: claim `order = p`".into(),
+            )),
         }
     }
 

@@ -380,6 +380,9 @@ pub fn check_claim(table: &Table, analysis: &Analysis, claim: &Claim) -> Result<
                 .map(|_| ())
                 .map_err(ClaimError)
         }
+        Claim::CertifiedOrder { p } => Err(ClaimError(format!(
+            "order = {p} (certified) is proven only from a table file's `certificate` (unknowns, radius; see tableau::certificate), which this table does not come with"
+        ))),
     }
 }
 
@@ -400,6 +403,11 @@ pub fn check_file_claim(
             crate::near_integrable::check_processed_claim(&file.table, &chi, claim)
     {
         return verdict.map_err(ClaimError);
+    }
+    if let (Claim::CertifiedOrder { p }, Some(spec)) = (claim, &file.certificate) {
+        return crate::certificate::prove(spec, *p)
+            .map(|_| ())
+            .map_err(ClaimError);
     }
     check_claim(&file.table, analysis, claim)
 }

@@ -15,8 +15,25 @@ pub(super) fn verdict(v: &Verdict) -> Value {
             file,
             analysis,
             near,
+            certificate,
         } => {
             let mut out = classic(file, analysis);
+            match certificate {
+                Some(Ok(p)) => {
+                    out["certificate"] = json!({
+                        "order": p.order,
+                        "radius": crate::certificate::radius_text(&p.radius),
+                        "unknowns": p.unknowns,
+                        "conditions": p.conditions,
+                        "contraction": p.contraction,
+                        "offset": p.offset,
+                        "next_order": p.next_order.as_ref().map(|(w, lo, hi)| json!({"word": w, "lo": lo, "hi": hi})),
+                        "summary": p.summary(),
+                    });
+                }
+                Some(Err(e)) => out["certificate"] = json!({ "refused": e }),
+                None => {}
+            }
             if let Some(n) = near {
                 out["near_integrable"] = near::json(n);
             }

@@ -82,6 +82,7 @@ use crate::algebraic::file::{AlgAnalysis, AlgFile, Loaded};
 use crate::algebraic::generated::Generated;
 use crate::analysis::Analysis;
 use crate::catalogue;
+use crate::claims::Claim;
 use crate::file::{FileError, TableFile};
 
 pub use near::Near;
@@ -214,6 +215,9 @@ pub enum Analysed {
         file: Box<TableFile>,
         analysis: Box<Analysis>,
         near: Option<Near>,
+        /// The proof of a certified order claim (`order = p (certified)`)
+        /// from the file's certificate, or why there is none.
+        certificate: Option<Result<crate::certificate::Proof, String>>,
     },
     /// A generated table (verified when it was made).
     Generated(Box<Generated>),
@@ -245,13 +249,26 @@ impl Verdict {
             Loaded::Classic(tf) => {
                 let analysis = Analysis::of(&tf.table)
                     .map_err(|e| VerdictError::Input(format!("{origin}: field {e}")))?;
+                // A certified order is proven once, for its claim and for
+                // the report.
+                let certificate = tf.certificate.as_ref().and_then(|spec| {
+                    tf.claims.iter().find_map(|c| match c {
+                        Claim::CertifiedOrder { p } => Some(crate::certificate::prove(spec, *p)),
+                        _ => None,
+                    })
+                });
                 let claims = tf
                     .claims
                     .iter()
                     .map(|c| ClaimVerdict {
                         claim: c.to_string(),
-                        verdict: crate::analysis::check_file_claim(tf, &analysis, c)
-                            .map_err(|e| e.to_string()),
+                        verdict: match (c, &certificate) {
+                            (Claim::CertifiedOrder { p }, Some(Ok(proof))) if proof.order == *p => {
+                                Ok(())
+                            }
+                            _ => crate::analysis::check_file_claim(tf, &analysis, c)
+                                .map_err(|e| e.to_string()),
+                        },
                     })
                     .collect();
                 let near = near::decide(tf, options.near_integrable);
@@ -260,6 +277,7 @@ impl Verdict {
                         file: tf.clone(),
                         analysis: Box::new(analysis),
                         near,
+                        certificate,
                     },
                     claims,
                 )

@@ -17,7 +17,19 @@ pub(super) fn verdict(v: &Verdict) -> String {
             file,
             analysis,
             near,
-        } => classic(&v.origin, file, analysis, near.as_ref(), &v.claims),
+            certificate,
+        } => {
+            let mut text = classic(&v.origin, file, analysis, near.as_ref(), &v.claims);
+            if let Some(Ok(proof)) = certificate {
+                // Before the claims: the certificate's row.
+                let row = format!("  {:<13}{}\n", "certificate", proof.evidence());
+                match text.find("  claims\n") {
+                    Some(at) => text.insert_str(at, &row),
+                    None => text.push_str(&row),
+                }
+            }
+            text
+        }
         Analysed::Generated(g) => generated(&v.origin, g, &v.claims),
         Analysed::Algebraic { file, analysis } => algebraic(&v.origin, file, analysis, &v.claims),
     }
