@@ -680,3 +680,44 @@ fn saba4_with_exact_nodes_proves_its_generalised_order() {
     assert!(e.contains("not a palindrome"), "{e}");
     assert!(t0.elapsed() < hang_limit());
 }
+
+/// SABA₄ written with its nodes as nested radicals,
+/// `1/2 ∓ sqrt(525 ± 70*sqrt(30))/70`, with no `root(...)`: the file is
+/// beyond the radical field (a nested radical), so it is read with real
+/// algebraic numbers (each radical a root of the characteristic polynomial
+/// of its radicand), and proves (8, 2) exactly as the `root(...)` form does.
+#[test]
+fn saba4_with_nested_radicals_is_read_and_proven() {
+    let t0 = Instant::now();
+    let text = r#"name = "SABA4, nested radicals"
+claims = ["symplectic", "symmetric", "order = (8, 2)", "order = (10, 2)"]
+let = { x1 = "1/2 - sqrt(525 + 70*sqrt(30))/70", x2 = "1/2 - sqrt(525 - 70*sqrt(30))/70" }
+drift = ["x1", "x2 - x1", "1 - 2*x2", "x2 - x1", "x1"]
+kick = ["(18 - sqrt(30))/72", "(18 + sqrt(30))/72", "(18 + sqrt(30))/72", "(18 - sqrt(30))/72"]
+"#;
+    let f = alg(text);
+    assert!(
+        f.field.names.iter().any(|n| n == "sqrt(525 + 70*sqrt(30))"),
+        "{:?}",
+        f.field.names
+    );
+    let v = claim_verdicts(text);
+    for (claim, verdict) in &v[..3] {
+        assert!(verdict.is_ok(), "{claim}: {verdict:?}");
+    }
+    let e = v[3].1.as_ref().unwrap_err();
+    assert!(e.contains("the εh⁹ condition fails"), "{e}");
+    // A nested radical of a negative number, and one in two roots, are
+    // refused naming the field.
+    let bad = text.replace("sqrt(525 - 70*sqrt(30))", "sqrt(70*sqrt(30) - 525)");
+    let e = parse("t.toml", &bad).unwrap_err();
+    assert_eq!(e.field.as_deref(), Some("let.x2"), "{e}");
+    assert!(
+        e.message.contains("square root of a negative number"),
+        "{e}"
+    );
+    let two = text.replace("sqrt(525 - 70*sqrt(30))", "sqrt(sqrt(2) + sqrt(3))");
+    let e = parse("t.toml", &two).unwrap_err();
+    assert!(e.message.contains("only radicands in one root"), "{e}");
+    assert!(t0.elapsed() < hang_limit());
+}

@@ -313,6 +313,54 @@ fn names(f: &Field, sup: &[usize]) -> String {
         .join(", ")
 }
 
+/// The largest degree of the root a nested radical's radicand may live in.
+pub const MAX_NESTED_DEGREE: usize = 16;
+
+/// The characteristic polynomial of multiplication by `e(x)` in
+/// `Q[x]/(p)` (`p` monic of degree `d`), by Faddeev–LeVerrier in exact
+/// rationals: `d³` products per step, `d` steps.
+fn charpoly_of_multiplication(e: &Poly, p: &Poly) -> Poly {
+    let d = p.degree().unwrap_or(0);
+    // Column j: x^j·e mod p.
+    let mut m = vec![vec![BigRational::zero(); d]; d];
+    let mut col = e.rem(p);
+    for j in 0..d {
+        for i in 0..d {
+            m[i][j] = col.coeff(i);
+        }
+        col = col.mul(&Poly::x()).rem(p);
+    }
+    let mul = |a: &Vec<Vec<BigRational>>, b: &Vec<Vec<BigRational>>| {
+        let mut c = vec![vec![BigRational::zero(); d]; d];
+        for i in 0..d {
+            for k in 0..d {
+                if a[i][k].is_zero() {
+                    continue;
+                }
+                for j in 0..d {
+                    c[i][j] += &a[i][k] * &b[k][j];
+                }
+            }
+        }
+        c
+    };
+    // c[d] = 1; M_k = A·M_{k−1} + c_{d−k+1} I; c_{d−k} = −tr(A·M_k)/k.
+    let mut c = vec![BigRational::zero(); d + 1];
+    c[d] = BigRational::one();
+    let mut mk = vec![vec![BigRational::zero(); d]; d];
+    for k in 1..=d {
+        let mut next = mul(&m, &mk);
+        for (i, row) in next.iter_mut().enumerate() {
+            row[i] += &c[d - k + 1];
+        }
+        mk = next;
+        let am = mul(&m, &mk);
+        let tr = (0..d).fold(BigRational::zero(), |acc, i| acc + &am[i][i]);
+        c[d - k] = -tr / BigRational::from_integer(BigInt::from(k));
+    }
+    Poly(c).trim()
+}
+
 impl Field {
     /// A field whose enclosures together may cost at most `limit` (in the
     /// units of [`MAX_ZERO_TEST_WORK`]); past it every test is refused.
@@ -798,6 +846,85 @@ impl Field {
         }
         let bits = bound.bits().max(1);
         (den, (n - 1).saturating_mul(bits).saturating_add(1), bits)
+    }
+
+    /// The real `n`-th root (`n` = 2 or 3) of the value of `a`, an element
+    /// in at most one root `α` of a polynomial `p` of degree at most
+    /// [`MAX_NESTED_DEGREE`], as a new root: `a(α)` is a root of the
+    /// characteristic polynomial `χ` of multiplication by `a` in `Q[x]/(p)`
+    /// (Faddeev–LeVerrier, exact), so `y = a(α)^{1/n}` is a root of
+    /// `χ(yⁿ)`, picked out by a certified enclosure of `a(α)` (refined until
+    /// its `n`-th roots isolate exactly one root of the squarefree part).
+    /// This is how nested radicals such as `sqrt(525 + 70*sqrt(30))` are
+    /// read. Refused (with the reason) for an element in two or more roots,
+    /// a negative radicand of a square root, or beyond the budgets.
+    pub fn nth_root(&mut self, a: &Alg, n: u32, name: &str) -> Result<Alg, String> {
+        let a = self.collapse(&self.reduce(a));
+        if let Some(r) = a.as_rational() {
+            // Rational: the caller's rational path.
+            return Err(format!(
+                "internal: a rational radicand {r} reached nth_root"
+            ));
+        }
+        let sup = a.support();
+        if sup.len() != 1 {
+            return Err(format!(
+                "a nested radical of an expression in {} roots ({}): only radicands in one root are supported; write the number as root(...) in `let`",
+                sup.len(),
+                names(self, &sup)
+            ));
+        }
+        let k = sup[0];
+        let p = self.roots[k].poly.clone();
+        let d = p.degree().unwrap_or(0);
+        if d > MAX_NESTED_DEGREE {
+            return Err(format!(
+                "a nested radical over a root of degree {d}, above {MAX_NESTED_DEGREE} (tableau::algebraic::alg::MAX_NESTED_DEGREE)"
+            ));
+        }
+        let e = a.univariate(k).expect("one variable");
+        let chi = charpoly_of_multiplication(&e, &p);
+        let mut xn = vec![BigRational::zero(); n as usize + 1];
+        xn[n as usize] = BigRational::one();
+        let r = chi.compose(&Poly(xn)).squarefree();
+        if r.degree().unwrap_or(0) > crate::budget::MAX_ROOT_DEGREE {
+            return Err(format!(
+                "the nested radical's polynomial has degree above {} (tableau::budget::MAX_ROOT_DEGREE)",
+                crate::budget::MAX_ROOT_DEGREE
+            ));
+        }
+        let sign = self.sign(&a).map_err(|e| e.0)?;
+        if n == 2 && sign < 0 {
+            return Err(format!("{name}: the square root of a negative number"));
+        }
+        for bits in [64u64, 128, 256, 512, 1024, 2048, 4096] {
+            let (lo, hi) = self.enclose(&a, bits).map_err(|e| e.0)?;
+            // Bounds of the n-th roots of |a| at scale 2^bits (floor of the
+            // lower, one past the ceiling of the upper).
+            let (alo, ahi) = if sign > 0 { (lo, hi) } else { (-hi, -lo) };
+            let alo = if alo.is_negative() {
+                BigRational::zero()
+            } else {
+                alo
+            };
+            let scale = BigInt::one() << (bits as usize * n as usize);
+            let lo_i = (alo * BigRational::from_integer(scale.clone()))
+                .floor()
+                .to_integer();
+            let hi_i = (ahi * BigRational::from_integer(scale)).ceil().to_integer();
+            let den = BigInt::one() << (bits as usize);
+            let l = BigRational::new(lo_i.nth_root(n), den.clone());
+            let u = BigRational::new(hi_i.nth_root(n) + BigInt::one() + BigInt::one(), den);
+            let (l, u) = if sign > 0 { (l, u) } else { (-u, -l) };
+            // (l − 2^-bits, u]: the root lies in [l, u].
+            let eps = BigRational::new(BigInt::one(), BigInt::one() << (bits as usize + 1));
+            if let Ok(root) = RealRoot::new(&r, &l - &eps, u) {
+                return Ok(self.push(root, name));
+            }
+        }
+        Err(format!(
+            "{name}: the nested radical's root was not isolated at 4096 bits"
+        ))
     }
 
     /// Zero test of a univariate `a` in root `k`: `gcd(a, pₖ)` has the root.

@@ -181,7 +181,22 @@ pub fn parse(file: &str, text: &str) -> Result<Loaded, FileError> {
     if has_root {
         return alg_file(file, &doc).map(|a| Loaded::Algebraic(Box::new(a)));
     }
-    parse_table_file(file, text).map(|t| Loaded::Classic(Box::new(t)))
+    match parse_table_file(file, text) {
+        // Nested radicals (`sqrt(525 + 70*sqrt(30))`) are beyond the radical
+        // field: such a file is read with real algebraic numbers instead.
+        Err(e) if e.message.contains("is a nested radical") => match alg_file(file, &doc) {
+            Ok(a) => Ok(Loaded::Algebraic(Box::new(a))),
+            // The algebraic reader's error names its own field.
+            Err(alg) => Err(FileError {
+                message: format!(
+                    "{} (the file has a nested radical, so it is read with real algebraic numbers)",
+                    alg.message
+                ),
+                ..alg
+            }),
+        },
+        other => other.map(|t| Loaded::Classic(Box::new(t))),
+    }
 }
 
 fn ferr(file: &str, field: Option<&str>, message: impl Into<String>) -> FileError {
@@ -770,12 +785,16 @@ impl AlgCx<'_> {
             }
             ExprKind::Call { func, arg } => {
                 let a = self.eval(field, arg)?;
-                let r = a.as_rational().ok_or_else(|| {
-                    err(format!(
-                        "{}(...) of an irrational number: write it as root(...) in `let`",
-                        func.name()
-                    ))
-                })?;
+                let Some(r) = self.field.reduce(&a).as_rational() else {
+                    // A nested radical: a new root of the radicand's
+                    // characteristic polynomial (Field::nth_root).
+                    let n = match func {
+                        Func::Sqrt => 2,
+                        Func::Cbrt => 3,
+                    };
+                    let name = format!("{}({arg})", func.name());
+                    return self.field.nth_root(&a, n, &name).map_err(err);
+                };
                 let one = BigRational::from_integer(1.into());
                 let big = if super::poly::qlt(&one, &r.abs()) {
                     r.abs() + &one
