@@ -52,12 +52,13 @@ fn a_certified_composition_is_proven_and_reported_with_its_radius() {
     ));
     assert!(v.claims.iter().all(|c| c.verdict.is_ok()), "{:?}", v.claims);
     let Analysed::Classic {
-        certificate: Some(Ok(proof)),
+        certificate: Some(proof),
         ..
     } = &v.analysed
     else {
         panic!("a proof: {:?}", v.analysed)
     };
+    let proof = proof.as_ref().as_ref().unwrap();
     assert_eq!(proof.conditions, ["Y₃"]);
     assert!(proof.contraction < 1.0);
     assert!(proof.next_order.is_some(), "the order is exactly 4");

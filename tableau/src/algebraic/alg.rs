@@ -319,6 +319,7 @@ pub const MAX_NESTED_DEGREE: usize = 16;
 /// The characteristic polynomial of multiplication by `e(x)` in
 /// `Q[x]/(p)` (`p` monic of degree `d`), by Faddeev–LeVerrier in exact
 /// rationals: `d³` products per step, `d` steps.
+#[allow(clippy::needless_range_loop)] // matrix code indexes as the formula does
 fn charpoly_of_multiplication(e: &Poly, p: &Poly) -> Poly {
     let d = p.degree().unwrap_or(0);
     // Column j: x^j·e mod p.

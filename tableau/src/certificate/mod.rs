@@ -302,6 +302,7 @@ fn to_f64(r: &BigRational) -> f64 {
 /// Solve `a·x = b` in `f64` by Gaussian elimination with partial pivoting;
 /// `None` if singular. (Only the preconditioner `Y` comes from it: never a
 /// decision.)
+#[allow(clippy::needless_range_loop)] // elimination indexes as the formula does
 fn solve_f64(a: &[Vec<f64>], b: &[f64]) -> Option<Vec<f64>> {
     let n = a.len();
     let mut m: Vec<Vec<f64>> = a.to_vec();

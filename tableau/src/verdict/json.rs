@@ -18,7 +18,7 @@ pub(super) fn verdict(v: &Verdict) -> Value {
             certificate,
         } => {
             let mut out = classic(file, analysis);
-            match certificate {
+            match certificate.as_deref() {
                 Some(Ok(p)) => {
                     out["certificate"] = json!({
                         "order": p.order,

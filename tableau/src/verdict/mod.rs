@@ -217,7 +217,7 @@ pub enum Analysed {
         near: Option<Near>,
         /// The proof of a certified order claim (`order = p (certified)`)
         /// from the file's certificate, or why there is none.
-        certificate: Option<Result<crate::certificate::Proof, String>>,
+        certificate: Option<Box<Result<crate::certificate::Proof, String>>>,
     },
     /// A generated table (verified when it was made).
     Generated(Box<Generated>),
@@ -251,9 +251,15 @@ impl Verdict {
                     .map_err(|e| VerdictError::Input(format!("{origin}: field {e}")))?;
                 // A certified order is proven once, for its claim and for
                 // the report.
+                let certified = tf.claims.iter().find_map(|c| match c {
+                    Claim::CertifiedOrder { p } => Some(*p),
+                    _ => None,
+                });
                 let certificate = tf.certificate.as_ref().and_then(|spec| {
                     tf.claims.iter().find_map(|c| match c {
-                        Claim::CertifiedOrder { p } => Some(crate::certificate::prove(spec, *p)),
+                        Claim::CertifiedOrder { p } => {
+                            Some(Box::new(crate::certificate::prove(spec, *p)))
+                        }
                         _ => None,
                     })
                 });
@@ -262,9 +268,9 @@ impl Verdict {
                     .iter()
                     .map(|c| ClaimVerdict {
                         claim: c.to_string(),
-                        verdict: match (c, &certificate) {
-                            (Claim::CertifiedOrder { p }, Some(Ok(proof))) if proof.order == *p => {
-                                Ok(())
+                        verdict: match (c, certificate.as_deref()) {
+                            (Claim::CertifiedOrder { p }, Some(r)) if Some(*p) == certified => {
+                                r.as_ref().map(|_| ()).map_err(Clone::clone)
                             }
                             _ => crate::analysis::check_file_claim(tf, &analysis, c)
                                 .map_err(|e| e.to_string()),

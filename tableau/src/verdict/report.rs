@@ -20,7 +20,7 @@ pub(super) fn verdict(v: &Verdict) -> String {
             certificate,
         } => {
             let mut text = classic(&v.origin, file, analysis, near.as_ref(), &v.claims);
-            if let Some(Ok(proof)) = certificate {
+            if let Some(Ok(proof)) = certificate.as_deref() {
                 // Before the claims: the certificate's row.
                 let row = format!("  {:<13}{}\n", "certificate", proof.evidence());
                 match text.find("  claims\n") {
