@@ -29,13 +29,21 @@ fn design_writes_tables_that_check_accepts() {
     assert_eq!(code, 0, "stderr: {err}\n{out}");
     let v: serde_json::Value = serde_json::from_str(&out).unwrap();
     // The exact order of the printed decimals is 2 on separable systems
-    // (their degree-3 residuals are about 1e-51, not 0); the claim with its
-    // bound holds.
+    // (their degree-3 residuals are about 1e-51, not 0); the certified claim
+    // holds: `check` re-proves the certificate (order 4 within the radius of
+    // the printed coefficients).
     assert_eq!(v["order_separable"], 2, "{v}");
     let claims = v["claims"].as_array().unwrap();
     assert_eq!(claims.len(), 3, "{v}");
     assert!(claims.iter().all(|c| c["holds"] == true), "{v}");
-    assert_eq!(claims[2]["claim"], "order = 4 (residual < 1e-40)");
+    assert_eq!(claims[2]["claim"], "order = 4 (certified)");
+    assert_eq!(v["certificate"]["radius"], "1e-46", "{v}");
+    assert_eq!(v["certificate"]["unknowns"], serde_json::json!(["a1", "a2"]), "{v}");
+    let (_, text, _) = symlab(&["check", table.to_str().unwrap()]);
+    assert!(
+        text.contains("certificate  order 4 within radius 1e-46 of the printed coefficients (a1, a2)"),
+        "{text}"
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }
 
