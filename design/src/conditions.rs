@@ -52,6 +52,8 @@ pub struct Condition {
 pub struct System {
     pub form: Form,
     pub order: usize,
+    /// The generalised order imposed (empty: the classical `order`).
+    pub generalised: Vec<usize>,
     pub stages: usize,
     /// The unknowns' names (a subset of the family's parameters).
     pub names: Vec<String>,
@@ -343,7 +345,24 @@ pub fn system(family: &Family, file: &str) -> Result<System, FamilyError> {
         }
     };
     let p_order = family.order;
-    let top = p_order + 1;
+    // The degree up to which a Lie term with `j` letters B is imposed: the
+    // classical order for every j, or the generalised order's p_j.
+    let imposed = |w: &[u8]| -> usize {
+        if family.generalised.is_empty() {
+            return p_order;
+        }
+        let j = w.iter().filter(|&&l| l == 1).count().max(1);
+        let g = &family.generalised;
+        g[(j - 1).min(g.len() - 1)]
+    };
+    let top = family
+        .generalised
+        .iter()
+        .copied()
+        .max()
+        .unwrap_or(p_order)
+        .max(p_order)
+        + 1;
     let prod = product(family.form, &factors, top, m);
     let mut conditions = Vec::new();
     let mut error_terms = Vec::new();
@@ -372,15 +391,20 @@ pub fn system(family: &Family, file: &str) -> Result<System, FamilyError> {
                 }
                 continue;
             }
+            let limit = imposed(&w);
+            if degree > limit + 1 {
+                continue;
+            }
             if let Some(c) = poly.as_constant()
-                && degree <= p_order
+                && degree <= limit
                 && !c.is_zero()
             {
                 return Err(FamilyError {
                     file: file.to_string(),
                     field: None,
                     message: format!(
-                        "the fixed values leave the degree-{degree} condition for {label} equal to {c}, so order {p_order} is impossible in this family"
+                        "the fixed values leave the degree-{degree} condition for {label} equal to {c}, so order {} is impossible in this family",
+                        order_text(family)
                     ),
                 });
             }
@@ -392,7 +416,7 @@ pub fn system(family: &Family, file: &str) -> Result<System, FamilyError> {
                 degree,
                 poly,
             };
-            if degree <= p_order {
+            if degree <= limit {
                 conditions.push(cond);
             } else {
                 error_terms.push(cond);
@@ -404,7 +428,8 @@ pub fn system(family: &Family, file: &str) -> Result<System, FamilyError> {
             file: file.to_string(),
             field: Some("stages".into()),
             message: format!(
-                "order {p_order} imposes {} conditions ({}) on {m} unknowns ({}): too few stages",
+                "order {} imposes {} conditions ({}) on {m} unknowns ({}): too few stages",
+                order_text(family),
                 conditions.len(),
                 conditions
                     .iter()
@@ -419,6 +444,7 @@ pub fn system(family: &Family, file: &str) -> Result<System, FamilyError> {
     Ok(System {
         form: family.form,
         order: p_order,
+        generalised: family.generalised.clone(),
         stages: family.stages,
         names: unknown_names,
         parameters,
@@ -428,6 +454,16 @@ pub fn system(family: &Family, file: &str) -> Result<System, FamilyError> {
         conditions,
         error_terms,
     })
+}
+
+/// `4`, or `(4, 2)` for a generalised order.
+pub fn order_text(family: &Family) -> String {
+    if family.generalised.is_empty() {
+        family.order.to_string()
+    } else {
+        let items: Vec<String> = family.generalised.iter().map(usize::to_string).collect();
+        format!("({})", items.join(", "))
+    }
 }
 
 /// `|x|` of a rational, for messages.

@@ -36,6 +36,16 @@ pub enum Proof<'a> {
     },
 }
 
+/// `4`, or `(6, 2)` for a generalised order.
+fn claimed_order(system: &System) -> String {
+    if system.generalised.is_empty() {
+        system.order.to_string()
+    } else {
+        let items: Vec<String> = system.generalised.iter().map(usize::to_string).collect();
+        format!("({})", items.join(", "))
+    }
+}
+
 fn quote(s: &str) -> String {
     format!("\"{}\"", s.replace('\\', "\\\\").replace('"', "\\\""))
 }
@@ -73,7 +83,7 @@ pub fn table_text(
                 "# Exact: {} = {} (the real root of {} = 0 near the solver's value), in radicals below;\n# `symlab check` decides every claim exactly.\n",
                 names[0], e.root, e.polynomial
             ));
-            format!("\"order = {}\"", system.order)
+            format!("\"order = {}\"", claimed_order(system))
         }
         Proof::Certified {
             certificate,
@@ -111,7 +121,7 @@ pub fn table_text(
                 det.iter().map(|d| quote(d)).collect::<Vec<_>>().join(", "),
                 quote(&tableau::certificate::radius_text(&certificate.radius))
             ));
-            format!("\"order = {} (certified)\"", system.order)
+            format!("\"order = {} (certified)\"", claimed_order(system))
         }
     };
     out.push_str(&format!("name = {}\n", quote(&family.name)));

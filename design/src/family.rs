@@ -66,7 +66,15 @@ pub struct Family {
     pub source: Option<String>,
     pub form: Form,
     pub stages: usize,
+    /// The classical order imposed; for a generalised order, its first entry
+    /// `p₁` (the order of the `ε` error, which the effective error scales
+    /// with).
     pub order: usize,
+    /// A generalised (near-integrable) order `(p₁, p₂, …)` for `H = A + εB`
+    /// (`order = [4, 2]` in the file; drift–kick forms only): a Lie term with
+    /// `j` letters `B` and degree `n` is imposed when `n ≤ p_j` (`p_j` read
+    /// as the last entry for larger `j`). Empty for a classical order.
+    pub generalised: Vec<usize>,
     /// Coefficients given a value: `(name, value)`.
     pub fixed: Vec<(String, BigRational)>,
     /// Coefficients tied together: the second takes the first's value.
@@ -139,6 +147,7 @@ impl Family {
             form,
             stages,
             order,
+            generalised: Vec::new(),
             fixed: Vec::new(),
             equal: Vec::new(),
             seed: 1,
@@ -185,6 +194,26 @@ impl Family {
                     self.stages
                 ),
             ));
+        }
+        if !self.generalised.is_empty() {
+            if self.form == Form::Composition {
+                return Err(err(
+                    "order",
+                    "a generalised order (p1, p2, …) is for drift–kick forms (ABA, BAB), not compositions".into(),
+                ));
+            }
+            if let Some(p) = self
+                .generalised
+                .iter()
+                .find(|&&p| p == 0 || p > MAX_ORDER || p % 2 == 1)
+            {
+                return Err(err(
+                    "order",
+                    format!(
+                        "{p} in the generalised order: the families are symmetric, so each entry is even, from 2 to {MAX_ORDER} (design::family::MAX_ORDER)"
+                    ),
+                ));
+            }
         }
         if self.order == 0 || self.order > MAX_ORDER || self.order % 2 == 1 {
             return Err(err(
@@ -308,7 +337,31 @@ pub fn parse_family(file: &str, text: &str) -> Result<Family, FamilyError> {
         }
     };
     let stages = integer("stages")?.ok_or_else(|| whole("the field `stages` is missing".into()))?;
-    let order = integer("order")?.ok_or_else(|| whole("the field `order` is missing".into()))?;
+    // `order = 4`, or a generalised order `order = [4, 2]`.
+    let (order, generalised) = match table.get("order") {
+        Some(Value::Array(items)) => {
+            let mut v = Vec::new();
+            for (i, item) in items.iter().enumerate() {
+                match item {
+                    Value::Integer(k) if (1..=64).contains(k) => v.push(*k as usize),
+                    other => {
+                        return Err(err(
+                            &format!("order[{i}]"),
+                            format!("expected an order from 1 to 64, found {other}"),
+                        ));
+                    }
+                }
+            }
+            let first = *v
+                .first()
+                .ok_or_else(|| err("order", "a generalised order has at least one entry".into()))?;
+            (first as u64, v)
+        }
+        _ => (
+            integer("order")?.ok_or_else(|| whole("the field `order` is missing".into()))?,
+            Vec::new(),
+        ),
+    };
     if let Some(obj) = string("objective")?
         && obj != "effective-error"
     {
@@ -323,6 +376,7 @@ pub fn parse_family(file: &str, text: &str) -> Result<Family, FamilyError> {
         usize::try_from(stages).unwrap_or(usize::MAX),
         usize::try_from(order).unwrap_or(usize::MAX),
     );
+    family.generalised = generalised;
     family.source = string("source")?;
     if let Some(seed) = integer("seed")? {
         family.seed = seed;

@@ -135,20 +135,30 @@ impl Outcome {
         let _ = writeln!(r, "# Design: {}\n", f.name);
         let _ = writeln!(
             r,
-            "Family `{}`: {} with {} stages, order {} imposed; seed {}, {} starts in [-{}, {}], cap {} s.\n",
+            "Family `{}`: {} with {} stages, {}order {} imposed; seed {}, {} starts in [-{}, {}], cap {} s.\n",
             self.family_file,
             f.form.name(),
             f.stages,
-            f.order,
+            if f.generalised.is_empty() {
+                ""
+            } else {
+                "generalised "
+            },
+            crate::conditions::order_text(f),
             f.seed,
             f.starts,
             f.range,
             f.range,
             f.max_seconds
         );
+        let degree_text = if f.generalised.is_empty() {
+            format!("of degree {}", s.order + 1)
+        } else {
+            "one degree beyond the claim in each power of ε".to_string()
+        };
         let _ = writeln!(
             r,
-            "Unknowns: {} ({}); conditions: {} ({}); error terms of degree {}: {}.\n",
+            "Unknowns: {} ({}); conditions: {} ({}); error terms {}: {}.\n",
             s.unknowns(),
             s.names.join(", "),
             s.conditions.len(),
@@ -157,7 +167,7 @@ impl Outcome {
                 .map(|c| c.word.clone())
                 .collect::<Vec<_>>()
                 .join(", "),
-            s.order + 1,
+            degree_text,
             s.error_terms.len()
         );
         let _ = writeln!(r, "Parameters in the unknowns:\n");

@@ -8,7 +8,7 @@ use num_rational::BigRational;
 use num_traits::Signed;
 use tableau::{Number, Table};
 
-use crate::common::{claims_hold, load};
+use crate::common::{self, claims_hold, load};
 
 fn assert_claims_hold(origin: &str, text: &str) {
     for (claim, verdict) in claims_hold(origin, text) {
@@ -164,4 +164,68 @@ fn a_seed_gives_the_same_solutions() {
     let c = design(&family, "x", &mut |_| {}).unwrap();
     // Another seed, other starts: the same minimum, reached from elsewhere.
     assert!((a.search.solutions[0].x[0] - c.search.solutions[0].x[0]).abs() < 1e-6);
+}
+
+/// SABA₂ from random starts, generalised order (4, 2): one unknown, one
+/// quadratic condition, so the designer finds the Gauss–Legendre node
+/// 1/2 − √3/6 exactly (decided equal in tableau's field), and the emitted
+/// table's `order = (4, 2)` is proven exactly by `symlab check`.
+#[test]
+fn saba2_gauss_nodes_exactly() {
+    let family = load("saba2.toml");
+    assert_eq!(family.generalised, [4, 2]);
+    let out = design(&family, "designs/saba2.toml", &mut |_| {}).unwrap();
+    assert_eq!(out.system.names, ["a1"]);
+    assert_eq!(out.system.conditions.len(), 1);
+    assert_eq!(out.system.conditions[0].word, "AAB");
+    let node = exact_number("1/2 - sqrt(3)/6");
+    let found = out
+        .designs
+        .iter()
+        .find(|d| {
+            d.exact
+                .as_ref()
+                .and_then(|e| e.radicals.as_ref())
+                .is_some_and(|r| (&exact_number(r) - &node).is_zero())
+        })
+        .expect("the Gauss node 1/2 − √3/6 among the exact solutions");
+    let (name, text) = found.table.as_ref().unwrap();
+    assert!(text.contains("\"order = (4, 2)\""), "{text}");
+    assert_claims_hold(name, text);
+    // The catalogue's SABA₂ has the same drifts, exactly.
+    let saba2 = tableau::catalogue::load("saba2").unwrap();
+    let Table::Splitting(s) = &saba2.table else {
+        panic!()
+    };
+    assert!((&s.drift[0] - &node).is_zero());
+}
+
+/// SABA₃, generalised order (6, 2): two unknowns (a1, b1) and two
+/// conditions; among the solutions is the 3-point Gauss–Legendre rule
+/// (a1 = 1/2 − √15/10, b1 = 5/18), printed to 50 digits and certified:
+/// `symlab check` re-proves `order = (6, 2) (certified)`.
+#[test]
+fn saba3_gauss_nodes_certified() {
+    let family = load("saba3.toml");
+    let out = design(&family, "designs/saba3.toml", &mut |_| {}).unwrap();
+    assert_eq!(out.system.names, ["a1", "b1"]);
+    let node = 0.5 - 15f64.sqrt() / 10.0;
+    let gauss = out
+        .designs
+        .iter()
+        .find(|d| {
+            d.polished.as_ref().is_ok_and(|p| {
+                (design::poly::to_f64(&p.x[0]) - node).abs() < 1e-12
+                    && (design::poly::to_f64(&p.x[1]) - 5.0 / 18.0).abs() < 1e-12
+            })
+        })
+        .expect("the Gauss–Legendre solution among those found");
+    let p = gauss.polished.as_ref().unwrap();
+    // 50 printed digits of b1 = 5/18 and a1 = 1/2 − √15/10.
+    assert!(agreement(&p.x[1], &common::q(5, 18)) >= 49, "b1 {}", p.x[1]);
+    let cert = gauss.certificate.as_ref().unwrap().as_ref().unwrap();
+    assert!(cert.radius <= BigRational::new(1.into(), num_bigint::BigInt::from(10).pow(40)));
+    let (name, text) = gauss.table.as_ref().unwrap();
+    assert!(text.contains("\"order = (6, 2) (certified)\""), "{text}");
+    assert_claims_hold(name, text);
 }

@@ -50,6 +50,11 @@ pub enum Claim {
     CertifiedOrder {
         p: usize,
     },
+    /// `order = (p₁, p₂, …) (certified)`: the generalised order of a
+    /// drift–kick sequence, certified as [`Claim::CertifiedOrder`] is.
+    CertifiedNearOrder {
+        orders: Vec<usize>,
+    },
 }
 
 const SYNTAX: &str = "the claims are symplectic, symmetric, explicit, `order = N`, `order = N (residual < BOUND)`, `order = N (certified)` (with a `certificate`), `order = (P1, P2, …)` (the generalised order for H = A + εB), `order_rkn = N` and `order_rkn = N (residual < BOUND)`";
@@ -91,6 +96,9 @@ pub fn parse_claim(text: &str) -> Result<Claim, String> {
                 ));
             }
             orders.push(order_number(t, item)?);
+        }
+        if tuple[close + 1..].trim() == "(certified)" {
+            return Ok(Claim::CertifiedNearOrder { orders });
         }
         // The bound, if any, reads as after a plain order.
         let (_, bound) = parse_order(t, keyword, &format!("= 1 {}", &tuple[close + 1..]))?;
@@ -209,6 +217,10 @@ impl fmt::Display for Claim {
                 return write_bound(f, bound);
             }
             Claim::CertifiedOrder { p } => return write!(f, "order = {p} (certified)"),
+            Claim::CertifiedNearOrder { orders } => {
+                let items: Vec<String> = orders.iter().map(usize::to_string).collect();
+                return write!(f, "order = ({}) (certified)", items.join(", "));
+            }
         };
         write!(f, "{keyword} = {p}")?;
         write_bound(f, bound)
@@ -249,6 +261,7 @@ mod tests {
             "order = (2, 2)",
             "order = (2, 4)",
             "order = 4 (certified)",
+            "order = (6, 2) (certified)",
             "order = (10, 6, 4) (residual < 1e-30)",
         ] {
             let claim = parse_claim(text).unwrap_or_else(|e| panic!("{text}: {e}"));

@@ -169,3 +169,42 @@ kick = ["1"]
     let v = verdict(&moved);
     assert!(v.claims[0].verdict.is_err(), "{:?}", v.claims);
 }
+
+/// SABA₃ printed to 50 digits (the 3-point Gauss–Legendre nodes and
+/// weights): `order = (6, 2) (certified)` is proven, the report says
+/// "generalised order (6, 2) within radius …", and a weight moved beyond
+/// the radius is refused.
+fn saba3(b1: &str) -> String {
+    format!(
+        r#"name = "SABA3 to 50 digits"
+claims = ["symmetric", "order = (6, 2) (certified)"]
+certificate = {{ unknowns = ["a1", "b1"], radius = "1e-45" }}
+let = {{ a1 = "0.11270166537925831148207346002176003891670782947084", b1 = "{b1}" }}
+drift = ["a1", "1/2 - a1", "1/2 - a1", "a1"]
+kick = ["b1", "1 - 2*b1", "b1"]
+"#
+    )
+}
+
+#[test]
+fn a_certified_generalised_order() {
+    let b1 = "0.27777777777777777777777777777777777777777777777777";
+    let v = verdict(&saba3(b1));
+    assert!(v.claims.iter().all(|c| c.verdict.is_ok()), "{:?}", v.claims);
+    let report = v.to_string();
+    assert!(
+        report.contains("certificate  generalised order (6, 2) within radius 1e-45 of the printed coefficients (a1, b1)"),
+        "{report}"
+    );
+    assert!(report.contains("(AAB, AAAAB)"), "{report}");
+    let v = verdict(&saba3(&format!("{b1} + 1e-43")));
+    let e = v.claims[1].verdict.as_ref().unwrap_err();
+    assert!(
+        e.contains("generalised order (6, 2) within radius 1e-45 is not proven"),
+        "{e}"
+    );
+    // (8, 2) has three conditions on two unknowns.
+    let v = verdict(&saba3(b1).replace("(6, 2) (certified)", "(8, 2) (certified)"));
+    let e = v.claims[1].verdict.as_ref().unwrap_err();
+    assert!(e.contains("needs a square system"), "{e}");
+}

@@ -293,7 +293,7 @@ impl Generated {
             Claim::NearOrder { .. } => Err(ClaimError(
                 "a generalised order `order = (P1, P2, …)` is a property of a drift–kick sequence or a composition, not of a generated Runge–Kutta table".into(),
             )),
-            Claim::CertifiedOrder { .. } => Err(ClaimError(
+            Claim::CertifiedOrder { .. } | Claim::CertifiedNearOrder { .. } => Err(ClaimError(
                 "a certified order is about a drift–kick sequence or composition with a `certificate`; a generated table's order is proven exactly: claim `order = p`".into(),
             )),
         }

@@ -380,8 +380,8 @@ pub fn check_claim(table: &Table, analysis: &Analysis, claim: &Claim) -> Result<
                 .map(|_| ())
                 .map_err(ClaimError)
         }
-        Claim::CertifiedOrder { p } => Err(ClaimError(format!(
-            "order = {p} (certified) is proven only from a table file's `certificate` (unknowns, radius; see tableau::certificate), which this table does not come with"
+        Claim::CertifiedOrder { .. } | Claim::CertifiedNearOrder { .. } => Err(ClaimError(format!(
+            "`{claim}` is proven only from a table file's `certificate` (unknowns, radius; see tableau::certificate), which this table does not come with"
         ))),
     }
 }
@@ -404,10 +404,18 @@ pub fn check_file_claim(
     {
         return verdict.map_err(ClaimError);
     }
-    if let (Claim::CertifiedOrder { p }, Some(spec)) = (claim, &file.certificate) {
-        return crate::certificate::prove(spec, *p)
-            .map(|_| ())
-            .map_err(ClaimError);
+    match (claim, &file.certificate) {
+        (Claim::CertifiedOrder { p }, Some(spec)) => {
+            return crate::certificate::prove(spec, *p)
+                .map(|_| ())
+                .map_err(ClaimError);
+        }
+        (Claim::CertifiedNearOrder { orders }, Some(spec)) => {
+            return crate::certificate::prove_orders(spec, orders, true)
+                .map(|_| ())
+                .map_err(ClaimError);
+        }
+        _ => {}
     }
     check_claim(&file.table, analysis, claim)
 }

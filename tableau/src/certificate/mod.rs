@@ -101,8 +101,12 @@ pub struct LieCondition {
 #[derive(Clone, Debug, PartialEq)]
 pub struct Proof {
     /// The order `p` of the claim: every Lie term of degree `≤ p` vanishes
-    /// at the solution in the box.
+    /// at the solution in the box (for a generalised order, its least entry).
     pub order: usize,
+    /// A generalised order `(p₁, p₂, …)` of the claim (`order = (6, 2)
+    /// (certified)`): a Lie term with `j` letters `B` and degree `≤ p_j`
+    /// vanishes there. Empty for a classical order.
+    pub generalised: Vec<usize>,
     pub radius: BigRational,
     pub unknowns: Vec<String>,
     /// The conditions solved (as many as the unknowns).
@@ -117,11 +121,23 @@ pub struct Proof {
 }
 
 impl Proof {
+    /// `order 4` or `generalised order (6, 2)`.
+    pub fn what(&self) -> String {
+        if self.generalised.is_empty() {
+            format!("order {}", self.order)
+        } else {
+            format!(
+                "generalised order {}",
+                crate::near_integrable::tuple_text(&self.generalised)
+            )
+        }
+    }
+
     /// `order 4 within radius 1e-46 of the printed coefficients (a1, a2)`.
     pub fn summary(&self) -> String {
         format!(
-            "order {} within radius {} of the printed coefficients ({})",
-            self.order,
+            "{} within radius {} of the printed coefficients ({})",
+            self.what(),
             radius_text(&self.radius),
             self.unknowns.join(", ")
         )
@@ -130,6 +146,10 @@ impl Proof {
     /// The summary with the evidence, for the report.
     pub fn evidence(&self) -> String {
         let exact = match &self.next_order {
+            Some((w, lo, hi)) if !self.generalised.is_empty() => format!(
+                "; the Lie term {w}, one degree beyond the claim in its power of ε, lies in [{lo:.6e}, {hi:.6e}] on the box"
+            ),
+            None if !self.generalised.is_empty() => String::new(),
             Some((w, lo, hi)) => format!(
                 "; the degree-{} Lie term {w} lies in [{lo:.6e}, {hi:.6e}] on the box, so the order there is exactly {}",
                 self.order + 1,
@@ -558,10 +578,24 @@ fn log_coefficient(
 pub fn lie_conditions(
     flows: &Flows,
     nvars: usize,
-    order: usize,
+    orders: &[usize],
 ) -> Result<(Vec<LieCondition>, Vec<LieCondition>), String> {
     let comp = composition(flows);
-    let top = order + 1;
+    if orders.is_empty() || (comp && orders.len() > 1) {
+        return Err(
+            "a generalised order (p1, p2, …) is for drift–kick sequences; a composition has a classical order".into(),
+        );
+    }
+    // The degree up to which a word with j letters B is imposed.
+    let limit = |w: &[u8]| -> usize {
+        let j = if comp {
+            1
+        } else {
+            w.iter().filter(|&&l| l == 1).count().max(1)
+        };
+        orders[(j - 1).min(orders.len() - 1)]
+    };
+    let top = orders.iter().copied().max().unwrap_or(0) + 1;
     let mut budget = Budget { spent: 0 };
     let prod = product(flows, top, nvars, &mut budget)?;
     let mut conditions = Vec::new();
@@ -583,9 +617,10 @@ pub fn lie_conditions(
                 degree,
                 poly,
             };
-            if degree <= order {
+            let l = limit(&w);
+            if degree <= l {
                 conditions.push(c);
-            } else {
+            } else if degree == l + 1 {
                 errors.push(c);
             }
         }
@@ -598,17 +633,32 @@ pub fn lie_conditions(
 /// nonzero constant, a system that is not square, Krawczyk's test, or a
 /// budget.
 pub fn prove(spec: &CertificateSpec, p: usize) -> Result<Proof, String> {
+    prove_orders(spec, &[p], false)
+}
+
+/// Prove `order = (p₁, p₂, …) (certified)` (`near`), or with one entry and
+/// `near == false` the classical `order = p (certified)`.
+pub fn prove_orders(spec: &CertificateSpec, orders: &[usize], near: bool) -> Result<Proof, String> {
     let m = spec.unknowns.len();
-    if p > MAX_CERTIFIED_ORDER {
+    let p = orders.iter().copied().min().unwrap_or(0);
+    let what = if near {
+        format!(
+            "generalised order {}",
+            crate::near_integrable::tuple_text(orders)
+        )
+    } else {
+        format!("order {p}")
+    };
+    if p == 0 || orders.iter().any(|&q| q > MAX_CERTIFIED_ORDER) {
         return Err(format!(
-            "order {p} cannot be certified: the certificate's conditions are built up to order {MAX_CERTIFIED_ORDER} (tableau::certificate::MAX_CERTIFIED_ORDER)"
+            "{what} cannot be certified: the certificate's conditions are built for orders 1 to {MAX_CERTIFIED_ORDER} (tableau::certificate::MAX_CERTIFIED_ORDER)"
         ));
     }
-    let (conditions, errors) = lie_conditions(&spec.flows, m, p)
-        .map_err(|e| format!("order {p} cannot be decided from the certificate: {e}"))?;
+    let (conditions, errors) = lie_conditions(&spec.flows, m, orders)
+        .map_err(|e| format!("{what} cannot be decided from the certificate: {e}"))?;
     if let Some(c) = conditions.iter().find(|c| c.poly.as_constant().is_some()) {
         return Err(format!(
-            "order {p} claimed but the degree-{} Lie term {} is the constant {} whatever the certified unknowns are (the other coefficients are exact as printed)",
+            "{what} claimed but the degree-{} Lie term {} is the constant {} whatever the certified unknowns are (the other coefficients are exact as printed)",
             c.degree,
             c.word,
             c.poly.as_constant().expect("constant")
@@ -617,7 +667,7 @@ pub fn prove(spec: &CertificateSpec, p: usize) -> Result<Proof, String> {
     if conditions.len() != m {
         let words: Vec<&str> = conditions.iter().map(|c| c.word.as_str()).collect();
         return Err(format!(
-            "the certificate cannot prove order {p}: the order conditions that do not vanish identically are {} ({}), and the certified unknowns {} ({}); Krawczyk's test needs a square system (certify as many unknowns as there are conditions; the others are exact as printed)",
+            "the certificate cannot prove {what}: the order conditions that do not vanish identically are {} ({}), and the certified unknowns {} ({}); Krawczyk's test needs a square system (certify as many unknowns as there are conditions; the others are exact as printed)",
             conditions.len(),
             words.join(", "),
             m,
@@ -630,12 +680,13 @@ pub fn prove(spec: &CertificateSpec, p: usize) -> Result<Proof, String> {
     let (contraction, offset, next_order) =
         krawczyk(&polys, &err_polys, &spec.x, &determined, &spec.radius).map_err(|e| {
             format!(
-                "order {p} within radius {} is not proven: {e}",
+                "{what} within radius {} is not proven: {e}",
                 radius_text(&spec.radius)
             )
         })?;
     Ok(Proof {
         order: p,
+        generalised: if near { orders.to_vec() } else { Vec::new() },
         radius: spec.radius.clone(),
         unknowns: spec.unknowns.clone(),
         conditions: conditions.iter().map(|c| c.word.clone()).collect(),

@@ -408,7 +408,7 @@ pub fn check_processed_claim(
         Claim::OrderRkn { .. } => Err(format!(
             "order_rkn is not decided for a processed method; claim the effective orders {what} as `order = p` or `order = (p1, p2, …)`"
         )),
-        Claim::CertifiedOrder { .. } => Err(format!(
+        Claim::CertifiedOrder { .. } | Claim::CertifiedNearOrder { .. } => Err(format!(
             "a certified order is not decided for a processed method; claim the effective orders {what} as `order = p` or `order = (p1, p2, …)`"
         )),
         Claim::Symmetric => {

@@ -22,6 +22,7 @@ pub(super) fn verdict(v: &Verdict) -> Value {
                 Some(Ok(p)) => {
                     out["certificate"] = json!({
                         "order": p.order,
+                        "generalised": (!p.generalised.is_empty()).then_some(&p.generalised),
                         "radius": crate::certificate::radius_text(&p.radius),
                         "unknowns": p.unknowns,
                         "conditions": p.conditions,

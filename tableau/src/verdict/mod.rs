@@ -251,25 +251,31 @@ impl Verdict {
                     .map_err(|e| VerdictError::Input(format!("{origin}: field {e}")))?;
                 // A certified order is proven once, for its claim and for
                 // the report.
-                let certified = tf.claims.iter().find_map(|c| match c {
-                    Claim::CertifiedOrder { p } => Some(*p),
-                    _ => None,
+                let certified = tf.claims.iter().position(|c| {
+                    matches!(
+                        c,
+                        Claim::CertifiedOrder { .. } | Claim::CertifiedNearOrder { .. }
+                    )
                 });
                 let certificate = tf.certificate.as_ref().and_then(|spec| {
-                    tf.claims.iter().find_map(|c| match c {
-                        Claim::CertifiedOrder { p } => {
-                            Some(Box::new(crate::certificate::prove(spec, *p)))
-                        }
-                        _ => None,
+                    certified.map(|i| {
+                        Box::new(match &tf.claims[i] {
+                            Claim::CertifiedOrder { p } => crate::certificate::prove(spec, *p),
+                            Claim::CertifiedNearOrder { orders } => {
+                                crate::certificate::prove_orders(spec, orders, true)
+                            }
+                            _ => unreachable!("a certified claim"),
+                        })
                     })
                 });
                 let claims = tf
                     .claims
                     .iter()
-                    .map(|c| ClaimVerdict {
+                    .enumerate()
+                    .map(|(i, c)| ClaimVerdict {
                         claim: c.to_string(),
-                        verdict: match (c, certificate.as_deref()) {
-                            (Claim::CertifiedOrder { p }, Some(r)) if Some(*p) == certified => {
+                        verdict: match certificate.as_deref() {
+                            Some(r) if Some(i) == certified => {
                                 r.as_ref().map(|_| ()).map_err(Clone::clone)
                             }
                             _ => crate::analysis::check_file_claim(tf, &analysis, c)
