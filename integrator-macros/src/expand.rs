@@ -30,7 +30,14 @@ pub fn expand(input: &Input, v: &Verified) -> TokenStream {
         .claims
         .iter()
         .find_map(|c| match c {
-            tableau::claims::Claim::Order { p, .. } if v.corrector.is_none() => Some(*p),
+            // A certified order is the order of the exact method within the
+            // certificate's radius of these coefficients.
+            tableau::claims::Claim::Order { p, .. }
+            | tableau::claims::Claim::CertifiedOrder { p }
+                if v.corrector.is_none() =>
+            {
+                Some(*p)
+            }
             _ => None,
         })
         .unwrap_or(a.claimed_order_report().order);

@@ -43,6 +43,8 @@ const KEYS: &[&str] = &[
     "kernel",
     "corrector_drift",
     "corrector_kick",
+    "certificate_unknowns",
+    "certificate_radius",
 ];
 
 pub fn validate(input: &Input) -> Result<Verified, Error> {
@@ -143,8 +145,26 @@ pub fn validate(input: &Input) -> Result<Verified, Error> {
             return Err(Error::new(span, format!("the corrector: {}", e.message)));
         }
     }
+    let certificate = certificate_of(input, &fields, &env, &table)?;
     let mut errs = Errors::default();
     for (claim, span) in claims.iter().zip(&claim_spans) {
+        // A certified order is proven from the certificate's fields, by the
+        // Krawczyk test `symlab check` runs (tableau::certificate).
+        let certified = match (claim, &certificate) {
+            (Claim::CertifiedOrder { p }, Some(spec)) => {
+                Some(tableau::certificate::prove(spec, *p).map(|_| ()))
+            }
+            (Claim::CertifiedNearOrder { orders }, Some(spec)) => {
+                Some(tableau::certificate::prove_orders(spec, orders, true).map(|_| ()))
+            }
+            _ => None,
+        };
+        if let Some(v) = certified {
+            if let Err(e) = v {
+                errs.push(*span, e);
+            }
+            continue;
+        }
         // A processed method's order and symmetry claims are about the
         // effective method χ K χ⁻¹, as `symlab check` decides them.
         let processed = corrector.as_ref().and_then(|chi| {
@@ -171,6 +191,67 @@ pub fn validate(input: &Input) -> Result<Verified, Error> {
         source,
         corrector,
     })
+}
+
+/// The certificate of a certified order claim, from the fields
+/// `certificate_unknowns: [a1, a2]` and `certificate_radius: "1e-46"`
+/// (both or neither), the `let` bindings and the entries as written: the
+/// same reading as a table file's `certificate` (tableau::certificate).
+fn certificate_of(
+    input: &Input,
+    fields: &BTreeMap<String, &Field>,
+    env: &BTreeMap<String, Number>,
+    table: &Table,
+) -> Result<Option<tableau::certificate::CertificateSpec>, Error> {
+    let (u, r) = match (
+        fields.get("certificate_unknowns"),
+        fields.get("certificate_radius"),
+    ) {
+        (None, None) => return Ok(None),
+        (Some(u), Some(r)) => (u, r),
+        (Some(f), None) | (None, Some(f)) => {
+            return Err(Error::new(
+                f.span(),
+                "a certificate has both `certificate_unknowns: [..]` and `certificate_radius: \"..\"`",
+            ));
+        }
+    };
+    let Value::Vector(items, _) = &u.value else {
+        return Err(Error::new(
+            u.span(),
+            "`certificate_unknowns` is a list of names: `[a1, a2]`",
+        ));
+    };
+    let unknowns: Vec<String> = items.iter().map(|e| e.text.trim().to_string()).collect();
+    let Value::Str(radius) = &r.value else {
+        return Err(Error::new(
+            r.span(),
+            "`certificate_radius` is a string: `\"1e-46\"`",
+        ));
+    };
+    let radius =
+        tableau::certificate::parse_radius(&radius.value()).map_err(|m| Error::new(r.span(), m))?;
+    let lets: Vec<(String, String)> = input
+        .lets
+        .iter()
+        .map(|l| (l.name.to_string(), l.value.text.clone()))
+        .collect();
+    let texts = |key: &str| -> Option<Vec<String>> {
+        match &fields.get(key)?.value {
+            Value::Vector(items, _) => Some(items.iter().map(|e| e.text.clone()).collect()),
+            _ => None,
+        }
+    };
+    tableau::certificate::spec_from_parts(
+        &unknowns,
+        radius,
+        &lets,
+        env,
+        [texts("drift"), texts("kick"), texts("compose")],
+        table,
+    )
+    .map(Some)
+    .map_err(|(field, m)| Error::new(u.span(), format!("{field}: {m}")))
 }
 
 /// `corrector_drift` and `corrector_kick`, both or neither.
@@ -522,5 +603,34 @@ mod tests {
             let v = validate_text(text).unwrap_or_else(|e| panic!("{text}: {e}"));
             assert_eq!(v.analysis.form, Form::DriftKick, "{text}");
         }
+    }
+
+    /// `butcher!` takes a certified order with its certificate's two fields
+    /// and re-proves it (tableau's Krawczyk test); moved beyond the radius,
+    /// the claim is a compile error saying so.
+    #[test]
+    fn a_certified_order_is_proven_from_its_certificate() {
+        let text = |g1: &str| {
+            format!(
+                "pub Y {{ let g1 = {g1}; claims: [symmetric, order = 4 (certified)], certificate_unknowns: [g1], certificate_radius: \"1e-45\", compose: [g1, 1 - 2*g1, g1], }}"
+            )
+        };
+        let g1 = "1.35120719195965763404768780897146082692199937621714";
+        let v = validate_text(&text(g1)).unwrap_or_else(|e| panic!("{e}"));
+        assert!(matches!(v.claims[1], Claim::CertifiedOrder { p: 4 }));
+        let Err(err) = validate_text(&text("1.351207191959657634047687808971460826921999")) else {
+            panic!("a moved coefficient is refused")
+        };
+        assert!(
+            err.to_string()
+                .contains("is not proven: Krawczyk's test fails"),
+            "{err}"
+        );
+        // Without the certificate the claim is refused, saying why.
+        let bare = "pub Y { let g1 = 1.35; claims: [order = 4 (certified)], compose: [g1, 1 - 2*g1, g1], }";
+        let Err(err) = validate_text(bare) else {
+            panic!("a claim without its certificate is refused")
+        };
+        assert!(err.to_string().contains("`certificate`"), "{err}");
     }
 }

@@ -97,7 +97,7 @@ pub fn parse_claim(text: &str) -> Result<Claim, String> {
             }
             orders.push(order_number(t, item)?);
         }
-        if tuple[close + 1..].trim() == "(certified)" {
+        if strip_certified(&tuple[close + 1..]).is_some_and(|h| h.trim().is_empty()) {
             return Ok(Claim::CertifiedNearOrder { orders });
         }
         // The bound, if any, reads as after a plain order.
@@ -105,7 +105,7 @@ pub fn parse_claim(text: &str) -> Result<Claim, String> {
         return Ok(Claim::NearOrder { orders, bound });
     }
     if keyword == "order"
-        && let Some(head) = rest.trim_end().strip_suffix("(certified)")
+        && let Some(head) = strip_certified(rest)
     {
         let (p, bound) = parse_order(t, keyword, head)?;
         if bound.is_some() {
@@ -121,6 +121,14 @@ pub fn parse_claim(text: &str) -> Result<Claim, String> {
     } else {
         Claim::OrderRkn { p, bound }
     })
+}
+
+/// `rest` without a trailing `(certified)` (whitespace free inside, as the
+/// macro's tokens print it: `( certified )`).
+fn strip_certified(rest: &str) -> Option<&str> {
+    let r = rest.trim_end().strip_suffix(')')?.trim_end();
+    let r = r.strip_suffix("certified")?.trim_end();
+    r.strip_suffix('(')
 }
 
 /// The rest of an order claim after its keyword: `= N` and an optional

@@ -34,11 +34,16 @@ fn the_claim_parses_and_prints() {
     let c = parse_claim("order = 4 (certified)").unwrap();
     assert_eq!(c, Claim::CertifiedOrder { p: 4 });
     assert_eq!(c.to_string(), "order = 4 (certified)");
+    // Whitespace is free, as the macro's tokens print the claim.
     assert_eq!(
-        parse_claim(" order=6 ( certified)").ok(),
-        None,
-        "the word is `(certified)`"
+        parse_claim(" order=6 ( certified )").unwrap(),
+        Claim::CertifiedOrder { p: 6 }
     );
+    assert_eq!(
+        parse_claim("order = ( 6 , 2 ) ( certified )").unwrap(),
+        Claim::CertifiedNearOrder { orders: vec![6, 2] }
+    );
+    assert!(parse_claim("order = 4 (certify)").is_err());
     let e = parse_claim("order = 4 (residual < 1e-9) (certified)").unwrap_err();
     assert!(e.contains("no residual bound"), "{e}");
 }

@@ -705,7 +705,7 @@ pub fn prove_orders(spec: &CertificateSpec, orders: &[usize], near: bool) -> Res
 /// field.
 pub fn read_spec(
     doc: &toml::Table,
-    lets: &BTreeMap<String, Number>,
+    values: &BTreeMap<String, Number>,
     table: &crate::Table,
 ) -> Result<CertificateSpec, (String, String)> {
     let err = |field: &str, m: String| (field.to_string(), m);
@@ -757,16 +757,9 @@ pub fn read_spec(
         ));
     }
     let radius = match cert.get("radius") {
-        Some(toml::Value::String(s)) => expr::parse_number(s)
-            .map_err(|e| err("certificate.radius", e.to_string()))?
-            .as_rational()
-            .filter(|r| r.is_positive())
-            .ok_or_else(|| {
-                err(
-                    "certificate.radius",
-                    "the radius must be a positive rational".into(),
-                )
-            })?,
+        Some(toml::Value::String(s)) => {
+            parse_radius(s).map_err(|m| err("certificate.radius", m))?
+        }
         _ => {
             return Err(err(
                 "certificate.radius",
@@ -774,18 +767,88 @@ pub fn read_spec(
             ));
         }
     };
-    // The `let` bindings as expressions.
-    let mut defs: BTreeMap<String, Expr> = BTreeMap::new();
+    // The `let` bindings and the method's entries as text.
+    let mut lets: Vec<(String, String)> = Vec::new();
     if let Some(toml::Value::Table(t)) = doc.get("let") {
         for (k, v) in t {
-            let text = match v {
-                toml::Value::String(s) => s.clone(),
-                toml::Value::Integer(n) => n.to_string(),
-                _ => continue,
-            };
-            if let Ok(e) = expr::parse(&text) {
-                defs.insert(k.clone(), e);
+            match v {
+                toml::Value::String(s) => lets.push((k.clone(), s.clone())),
+                toml::Value::Integer(n) => lets.push((k.clone(), n.to_string())),
+                _ => {}
             }
+        }
+    }
+    let texts = |key: &str| -> Result<Option<Vec<String>>, (String, String)> {
+        let Some(v) = doc.get(key) else {
+            return Ok(None);
+        };
+        let toml::Value::Array(items) = v else {
+            return Err(err(key, "expected an array".into()));
+        };
+        items
+            .iter()
+            .enumerate()
+            .map(|(i, v)| match v {
+                toml::Value::String(s) => Ok(s.clone()),
+                toml::Value::Integer(n) => Ok(n.to_string()),
+                _ => Err(err(
+                    &format!("{key}[{i}]"),
+                    "expected a string or an integer".into(),
+                )),
+            })
+            .collect::<Result<Vec<_>, _>>()
+            .map(Some)
+    };
+    spec_from_parts(
+        &unknowns,
+        radius,
+        &lets,
+        values,
+        [texts("drift")?, texts("kick")?, texts("compose")?],
+        table,
+    )
+}
+
+/// A certificate's radius: a positive rational in the grammar (`"1e-46"`).
+pub fn parse_radius(text: &str) -> Result<BigRational, String> {
+    expr::parse_number(text)
+        .map_err(|e| e.to_string())?
+        .as_rational()
+        .filter(|r| r.is_positive())
+        .ok_or_else(|| "the radius must be a positive rational".into())
+}
+
+/// The certificate of a table given as text: the certified `unknowns`,
+/// the `radius`, the `let` bindings `(name, text)` with their values
+/// (`values`, as the table's reader bound them), and the entries of
+/// `drift`, `kick` and `compose` as written (`None` where absent); `table`
+/// is the table read from them. Errors are `(field, message)`. Both
+/// `symlab check` (through [`read_spec`]) and the `butcher!` macro (from its
+/// tokens) read certificates here.
+pub fn spec_from_parts(
+    unknowns: &[String],
+    radius: BigRational,
+    lets: &[(String, String)],
+    values: &BTreeMap<String, Number>,
+    entries: [Option<Vec<String>>; 3],
+    table: &crate::Table,
+) -> Result<CertificateSpec, (String, String)> {
+    let err = |field: &str, m: String| (field.to_string(), m);
+    let unknowns = unknowns.to_vec();
+    let lets_map = values;
+    if unknowns.is_empty() || unknowns.len() > MAX_CERTIFIED_UNKNOWNS {
+        return Err(err(
+            "certificate.unknowns",
+            format!(
+                "{} unknowns; a certificate has 1 to {MAX_CERTIFIED_UNKNOWNS} (tableau::certificate::MAX_CERTIFIED_UNKNOWNS)",
+                unknowns.len()
+            ),
+        ));
+    }
+    let mut defs: BTreeMap<String, Expr> = BTreeMap::new();
+    for (k, text) in lets {
+        if let Ok(e) = expr::parse(text) {
+            defs.insert(k.clone(), e);
         }
     }
     let mut x = Vec::with_capacity(unknowns.len());
@@ -805,7 +868,7 @@ pub fn read_spec(
                 ),
             ));
         }
-        let v = lets
+        let v = lets_map
             .get(u)
             .and_then(Number::as_rational)
             .ok_or_else(|| err(&field, format!("`{u}` must be a rational number")))?;
@@ -814,33 +877,32 @@ pub fn read_spec(
     let mut cx = Symbolic {
         unknowns: &unknowns,
         defs: &defs,
-        lets,
+        lets: lets_map,
         memo: BTreeMap::new(),
         budget: Budget { spent: 0 },
     };
-    let entries = |cx: &mut Symbolic<'_>, key: &str| -> Result<Vec<Poly>, (String, String)> {
-        let Some(toml::Value::Array(items)) = doc.get(key) else {
+    let [drift_text, kick_text, compose_text] = entries;
+    let entries = |cx: &mut Symbolic<'_>,
+                   key: &str,
+                   texts: &Option<Vec<String>>|
+     -> Result<Vec<Poly>, (String, String)> {
+        let Some(items) = texts else {
             return Err(err(key, "missing".into()));
         };
         items
             .iter()
             .enumerate()
-            .map(|(i, v)| {
+            .map(|(i, text)| {
                 let field = format!("{key}[{i}]");
-                let text = match v {
-                    toml::Value::String(s) => s.clone(),
-                    toml::Value::Integer(n) => n.to_string(),
-                    _ => return Err(err(&field, "expected a string or an integer".into())),
-                };
-                let e = expr::parse(&text).map_err(|e| err(&field, e.to_string()))?;
+                let e = expr::parse(text).map_err(|e| err(&field, e.to_string()))?;
                 cx.poly(&e, 0).map_err(|m| err(&field, m))
             })
             .collect()
     };
     let flows = match table {
         crate::Table::Splitting(s) if !s.has_gradient() => {
-            let drift = entries(&mut cx, "drift")?;
-            let kick = entries(&mut cx, "kick")?;
+            let drift = entries(&mut cx, "drift", &drift_text)?;
+            let kick = entries(&mut cx, "kick", &kick_text)?;
             let mut f = Vec::new();
             for i in 0..drift.len().max(kick.len()) {
                 if let Some(d) = drift.get(i) {
@@ -852,7 +914,9 @@ pub fn read_spec(
             }
             Flows::Sequence(f)
         }
-        crate::Table::Composition(_) => Flows::Composition(entries(&mut cx, "compose")?),
+        crate::Table::Composition(_) => {
+            Flows::Composition(entries(&mut cx, "compose", &compose_text)?)
+        }
         _ => {
             return Err(err(
                 "certificate",
