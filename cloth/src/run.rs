@@ -1006,14 +1006,21 @@ impl Clock {
 }
 
 /// Load nothing, build everything: run `scene` with its own method and
-/// settings ([`RunSettings::from_scene`]: the default solvers, no guard),
-/// calling `on_frame` for the initial state and every frame.
+/// settings ([`RunSettings::from_scene`]: the default solvers, no guard;
+/// `substeps = "auto"` resolved on the model,
+/// [`crate::schedule::auto_step`]), calling `on_frame` for the initial
+/// state and every frame.
 pub fn run_scene<F>(scene: &Scene, on_frame: F) -> Result<(Simulation, RunReport), RunError>
 where
     F: FnMut(&Frame<'_>) -> Result<(), CallbackError>,
 {
     let method = Method::parse(&scene.simulation.method)?;
     let mut sim = Simulation::new(scene)?;
-    let report = sim.run(&method, &RunSettings::from_scene(scene), on_frame)?;
+    let mut settings = RunSettings::from_scene(scene);
+    if scene.simulation.auto_substeps {
+        settings.options.substeps =
+            crate::schedule::auto_step(&sim.model, scene.simulation.frame_rate).substeps;
+    }
+    let report = sim.run(&method, &settings, on_frame)?;
     Ok((sim, report))
 }

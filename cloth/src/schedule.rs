@@ -16,6 +16,7 @@
 //! assert_eq!(err.asked, Asked::Substeps);
 //! ```
 
+use crate::model::ClothModel;
 use crate::run::RunOptions;
 use crate::scene::{MAX_FRAMES, MAX_STEPS, Scene, run_length_problem};
 
@@ -129,4 +130,192 @@ pub fn schedule(scene: &Scene, request: &RunRequest) -> Result<Schedule, Schedul
         options: opts,
         note,
     })
+}
+
+/// The share of the tension-wave step `ℓ/√(|g|·L)` that `substeps =
+/// "auto"` takes. The estimate is the static tension at the top of a
+/// hanging sheet; the swinging sheet's tension peaks at about 3.1× it
+/// (measured on the 64² sheet released 45°: the largest `h·ω = 4·√(½ΣΛ)`
+/// was 1.909 at `h` = 0.55 of this step, docs/results/cloth-inextensible.md),
+/// which puts `ω` 1.76× higher: 0.5 keeps such a peak below RATTLE's limit
+/// `h·ω < 2`.
+pub const TENSION_SAFETY: f64 = 0.5;
+
+/// The share of the linear limits `2/ω` (springs, bending) that `substeps
+/// = "auto"` takes: their `ω` are Gershgorin's upper bounds (the bending's
+/// `K` is constant, the soft springs barely stretch), so only round-off
+/// and the coupling of the modes need the margin.
+pub const LINEAR_SAFETY: f64 = 0.9;
+
+/// One bound on the step of `substeps = "auto"`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct StepLimit {
+    /// What sets it: `"tension waves"`, `"springs"`, `"bending"`,
+    /// `"colliders"`.
+    pub name: &'static str,
+    /// The limit itself (s): `ℓ/√(|g|·L)`, `2/ω` or `1/√stiffness`.
+    pub limit: f64,
+    /// The share taken ([`TENSION_SAFETY`], [`LINEAR_SAFETY`], 1 for a
+    /// collider, whose `h·√stiffness ≤ 1` RATTLE requires as it is).
+    pub safety: f64,
+    /// How the limit was found, in words with the numbers.
+    pub how: String,
+}
+
+impl StepLimit {
+    /// `safety·limit` (s).
+    pub fn step(&self) -> f64 {
+        self.safety * self.limit
+    }
+}
+
+/// The step `substeps = "auto"` chose and why.
+#[derive(Clone, Debug, PartialEq)]
+pub struct AutoStep {
+    /// Steps per frame: the fewest whose step is within every limit.
+    pub substeps: usize,
+    /// `1/(frame_rate·substeps)` (s).
+    pub h: f64,
+    /// Every limit of the scene; the one with the smallest
+    /// [`StepLimit::step`] binds.
+    pub limits: Vec<StepLimit>,
+}
+
+impl AutoStep {
+    /// The limit that binds.
+    pub fn binding(&self) -> &StepLimit {
+        self.limits
+            .iter()
+            .min_by(|a, b| a.step().total_cmp(&b.step()))
+            .expect("auto_step has a limit")
+    }
+
+    /// One line: what was chosen, which limit binds and the others.
+    pub fn describe(&self) -> String {
+        let b = self.binding();
+        let others: Vec<String> = self
+            .limits
+            .iter()
+            .filter(|l| l.name != b.name)
+            .map(|l| format!("{} {:.3e} s", l.name, l.step()))
+            .collect();
+        format!(
+            "substeps = \"auto\": {} per frame, h = {:.4e} s, bound by the {}: {} = {:.4e} s, × {} = {:.4e} s{}",
+            self.substeps,
+            self.h,
+            b.name,
+            b.how,
+            b.limit,
+            b.safety,
+            b.step(),
+            if others.is_empty() {
+                String::new()
+            } else {
+                format!(
+                    "; the other limits (with their shares): {}",
+                    others.join(", ")
+                )
+            }
+        )
+    }
+}
+
+/// The step of `substeps = "auto"` for `model` at `frame_rate`: the
+/// fewest steps per frame whose step `h` is within every limit the scene
+/// has — the tension waves of an inextensible sheet under gravity
+/// ([`ClothModel::tension_wave_step`] × [`TENSION_SAFETY`]), the springs'
+/// and the bending's linear limits `2/ω` from Gershgorin's bounds
+/// ([`ClothModel::spring_rate_bound`], [`ClothModel::bending_rate`]) ×
+/// [`LINEAR_SAFETY`], and each collider's `1/√stiffness`. Frames land on
+/// `1/frame_rate` because the step is a whole fraction of a frame. An
+/// error (the scene's `substeps`) when there is no limit at all (nothing
+/// moves the sheet faster than a frame: one step per frame is then
+/// chosen, not an error) or the steps exceed [`MAX_STEPS`].
+pub fn auto_step(model: &ClothModel, frame_rate: f64) -> AutoStep {
+    let mut limits = Vec::new();
+    if let Some(wave) = model.tension_wave_step() {
+        limits.push(StepLimit {
+            name: "tension waves",
+            limit: wave,
+            safety: TENSION_SAFETY,
+            how: "ℓ/√(|g|·L)".to_string(),
+        });
+    }
+    let springs = model.spring_rate_bound();
+    if springs > 0.0 && springs.is_finite() {
+        limits.push(StepLimit {
+            name: "springs",
+            limit: 2.0 / springs,
+            safety: LINEAR_SAFETY,
+            how: format!("2/ω, ω ≤ {springs:.4e} rad/s (Gershgorin, springs and colliders)"),
+        });
+    }
+    if let Some(rate) = model.bending_rate() {
+        limits.push(StepLimit {
+            name: "bending",
+            limit: 2.0 / rate.bound,
+            safety: LINEAR_SAFETY,
+            how: format!(
+                "2/ω, ω ≤ {:.4e} rad/s (Gershgorin; the power iteration's {:.4e})",
+                rate.bound, rate.estimate
+            ),
+        });
+    }
+    for (k, rate) in model.collider_rates().into_iter().enumerate() {
+        if rate > 0.0 {
+            limits.push(StepLimit {
+                name: "colliders",
+                limit: 1.0 / rate,
+                safety: 1.0,
+                how: format!("1/√stiffness of colliders[{k}]"),
+            });
+        }
+    }
+    if limits.is_empty() {
+        limits.push(StepLimit {
+            name: "frame",
+            limit: 1.0 / frame_rate,
+            safety: 1.0,
+            how: "no limit faster than a frame".to_string(),
+        });
+    }
+    let h_max = limits
+        .iter()
+        .map(StepLimit::step)
+        .fold(f64::INFINITY, f64::min);
+    let per_frame = (1.0 / (frame_rate * h_max)).ceil().max(1.0);
+    let substeps = if per_frame.is_finite() && per_frame < MAX_STEPS as f64 {
+        per_frame as usize
+    } else {
+        usize::try_from(MAX_STEPS).unwrap_or(usize::MAX)
+    };
+    AutoStep {
+        substeps,
+        h: 1.0 / (frame_rate * substeps as f64),
+        limits,
+    }
+}
+
+/// [`schedule`] with `substeps = "auto"` resolved on `model`: where the
+/// scene asks for it and the request gives neither `substeps` nor `dt`,
+/// the steps per frame are [`auto_step`]'s, and the reason comes back in
+/// [`Schedule::note`] and as the [`AutoStep`].
+pub fn schedule_for(
+    scene: &Scene,
+    model: &ClothModel,
+    request: &RunRequest,
+) -> Result<(Schedule, Option<AutoStep>), ScheduleError> {
+    if !scene.simulation.auto_substeps || request.substeps.is_some() || request.dt.is_some() {
+        return Ok((schedule(scene, request)?, None));
+    }
+    let auto = auto_step(model, scene.simulation.frame_rate);
+    let mut resolved = scene.clone();
+    resolved.simulation.substeps = auto.substeps;
+    let mut plan = schedule(&resolved, request)?;
+    let why = auto.describe();
+    plan.note = Some(match plan.note {
+        Some(n) => format!("{n}; {why}"),
+        None => why,
+    });
+    Ok((plan, Some(auto)))
 }

@@ -9,6 +9,7 @@
 
 mod common;
 
+mod auto_step;
 mod avf;
 mod banded;
 mod bending;

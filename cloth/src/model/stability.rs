@@ -102,6 +102,17 @@ impl ClothModel {
             .fold(0.0, |m: f64, v| m.max(v * self.inv_mass))
     }
 
+    /// Gershgorin's upper bound of `ω_max = √λ_max(M⁻¹K)` of the springs
+    /// and colliders at the initial positions (rad/s): a rigorous rate
+    /// that costs one pass over the springs, for choosing a step
+    /// ([`crate::schedule::auto_step`]).
+    pub fn spring_rate_bound(&self) -> f64 {
+        let z = self.initial_state();
+        self.gershgorin_bound(self.chunks(&z[..3 * self.free_count()]))
+            .max(0.0)
+            .sqrt()
+    }
+
     /// Stability of explicit schemes at `q`: `ω_max = √λ_max(M⁻¹K)` with
     /// `K = −∂F/∂q`, by power iteration with the Rayleigh quotient (at most
     /// `max_iterations`, stopping once it changes by less than 1e-10

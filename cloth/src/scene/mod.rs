@@ -204,8 +204,17 @@ pub const DEFAULT_SKIN: f64 = 1e-3;
 pub struct SimulationSpec {
     /// Frames per second (Hz), default 60.
     pub frame_rate: f64,
-    /// Steps per frame: the step size is `1/(frame_rate·substeps)`.
+    /// Steps per frame: the step size is `1/(frame_rate·substeps)`. With
+    /// [`auto_substeps`](Self::auto_substeps) a placeholder (1) until the
+    /// run is planned.
     pub substeps: usize,
+    /// `substeps = "auto"` (the default of an inextensible scene without
+    /// `substeps`): the steps per frame are chosen from the model's
+    /// stability estimate when the run is planned
+    /// ([`schedule_for`](crate::schedule::schedule_for),
+    /// [`auto_step`](crate::schedule::auto_step)): the tension waves, the
+    /// springs and the bending, each with its safety factor.
+    pub auto_substeps: bool,
     /// Frames to simulate after the initial one.
     pub frames: usize,
     /// A method id that [`Method::parse`] accepts (every method of

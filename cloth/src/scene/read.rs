@@ -123,7 +123,8 @@ impl Scene {
                 ));
             }
         };
-        let simulation = r.simulation(r.req_table(&root, "", "simulation")?)?;
+        let simulation =
+            r.simulation(r.req_table(&root, "", "simulation")?, material.inextensible)?;
         let scene_name = name;
         let scene = Scene {
             name: String::new(),
@@ -583,20 +584,41 @@ impl Reader<'_> {
         }
     }
 
-    fn simulation(&self, t: &Table) -> Result<SimulationSpec, SceneError> {
+    /// `inextensible`: the scene's sheet is constrained, so `substeps` may
+    /// be left out (it is then `"auto"`).
+    fn simulation(&self, t: &Table, inextensible: bool) -> Result<SimulationSpec, SceneError> {
         let p = "simulation";
         self.keys(t, p, &["frame_rate", "substeps", "frames", "method"])?;
         let frame_rate = match self.opt_f64(t, p, "frame_rate")? {
             None => 60.0,
             Some(r) => self.positive(r, "simulation.frame_rate")?,
         };
-        let substeps = self.count(t, p, "substeps", 1)?;
+        // `substeps = "auto"` (the default of an inextensible sheet): the
+        // step is chosen from the model's stability estimate when the run
+        // is planned (`crate::schedule::auto_step`); until then 1.
+        let auto_substeps = match t.get("substeps") {
+            Some(Value::String(s)) if s == "auto" => true,
+            Some(Value::String(s)) => {
+                return Err(self.err(
+                    "simulation.substeps",
+                    format!("expected a whole number of steps per frame or \"auto\", found the string \"{s}\""),
+                ));
+            }
+            None => inextensible,
+            Some(_) => false,
+        };
+        let substeps = if auto_substeps {
+            1
+        } else {
+            self.count(t, p, "substeps", 1)?
+        };
         let frames = self.count(t, p, "frames", 0)?;
         let method = self.string_value(self.req(t, p, "method")?, "simulation.method")?;
         Method::parse(method).map_err(|e| self.err("simulation.method", e))?;
         Ok(SimulationSpec {
             frame_rate,
             substeps,
+            auto_substeps,
             frames,
             method: method.to_string(),
         })

@@ -94,11 +94,14 @@ pub(crate) fn plan_with(
     };
     applicable(&method, &from, &scene, &file, minimise.solver)?;
     solver_applies(request.solver.as_deref(), std::slice::from_ref(&method))?;
-    let (options, note) = run_options(&scene, request, &file)?;
-    let renders = render_frames(request.render.as_deref(), options.frames)?;
+    // The run's length is checked before anything is built, except the
+    // steps per frame of `substeps = "auto"`, which need the model.
+    run_options(&scene, None, request, &file)?;
     // Build the model (proportional to the springs), refusing a scene
     // whose initial state is not finite, naming the field.
     let sim = Simulation::new(&scene).map_err(|e| JobError::Scene(rename(&e, &file)))?;
+    let (options, note) = run_options(&scene, Some(&sim.model), request, &file)?;
+    let renders = render_frames(request.render.as_deref(), options.frames)?;
     if !method.explicit() {
         cloth::step::stage::check_size(&sim.model).map_err(|e| {
             let e = e.to_string();
@@ -224,8 +227,12 @@ pub(crate) fn rename(e: &cloth::SceneError, file: &str) -> String {
 /// ([`cloth::schedule`], checked against the run limits before anything is
 /// built), and a note when the frame rate had to change for `dt`; an error
 /// names the field (or the scene's) that broke the limits.
+/// With the `model`, a scene's `substeps = "auto"` is resolved on it
+/// ([`cloth::schedule::schedule_for`]) and the note says what was chosen
+/// and why.
 fn run_options(
     scene: &Scene,
+    model: Option<&cloth::ClothModel>,
     request: &Request,
     file: &str,
 ) -> Result<(cloth::RunOptions, Option<String>), InputError> {
@@ -234,7 +241,11 @@ fn run_options(
         substeps: request.substeps,
         dt: request.dt,
     };
-    let plan = schedule(scene, &asked).map_err(|e| match (e.asked, request.dt) {
+    let planned = match model {
+        Some(model) => cloth::schedule::schedule_for(scene, model, &asked).map(|(p, _)| p),
+        None => schedule(scene, &asked),
+    };
+    let plan = planned.map_err(|e| match (e.asked, request.dt) {
         (Asked::Frames, _) => InputError::field(Field::Frames, e.message),
         (Asked::Substeps, _) => InputError::field(Field::Substeps, e.message),
         (Asked::Dt, Some(h)) if h > 0.0 && h.is_finite() => {

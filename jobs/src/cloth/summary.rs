@@ -66,8 +66,16 @@ impl Summary<'_> {
             families.join(", "),
             if model.is_inextensible() {
                 format!(
-                    ", {} length constraints (warp and weft, inextensible)",
-                    model.constraint_count()
+                    ", {} length constraints (warp and weft, inextensible){}",
+                    model.constraint_count(),
+                    if model.bending_stiffness() > 0.0 {
+                        format!(
+                            ", isometric bending B = {} N·m",
+                            sci(model.bending_stiffness(), 3)
+                        )
+                    } else {
+                        String::new()
+                    }
                 )
             } else {
                 String::new()
