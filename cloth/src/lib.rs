@@ -140,6 +140,7 @@
 //! stretch = 50.75                # N per unit strain, or "inextensible"; each family optional
 //! shear = 50.75
 //! bend = 1.0
+//! bending = 3.0e-6               # N·m, inextensible only: isometric bending (default 3e-6, 0: none)
 //!
 //! [pins]                         # optional; all three lists optional
 //! edges = ["top"]                # "top" (j = 0), "bottom", "left" (i = 0), "right"
@@ -155,7 +156,7 @@
 //!
 //! [simulation]
 //! frame_rate = 60.0              # optional, Hz
-//! substeps = 100                 # steps per frame
+//! substeps = 100                 # steps per frame, or "auto" (the default of an inextensible scene)
 //! frames = 300
 //! method = "symplectic-euler-a"  # any id of Method::all() (symlab list, avf, discrete-gradient, rattle)
 //! ```
@@ -167,7 +168,11 @@
 //! start on its constraints (`prestretch = 1`), no two pins of one edge may
 //! be apart by other than its length, and no straight line of edges may be
 //! held taut between two pins (`sag` gives the rows of a sheet pinned at
-//! both ends the slack to hang); each is an error naming the field.
+//! both ends the slack to hang); each is an error naming the field. It
+//! bends with the isometric bending energy `½·B·∫(κ₁ + κ₂)² dA`
+//! (`bending = B` in N·m, [`DEFAULT_BENDING`] when left out, a light cotton
+//! fabric; refused on a spring scene), and without `substeps` chooses its
+//! step from its stability limits ([`schedule::auto_step`]).
 //!
 //! Unknown keys, missing fields, non-positive sizes or density, negative
 //! stiffness, a resolution below 2, a pin outside the grid, an unknown
