@@ -29,9 +29,10 @@
 //! of energies edge by edge, `Σ_e 3/A_e·|Σ K_e,i x_i|²` over each interior
 //! edge's four-vertex stencil. On this grid's triangulation (every cell cut
 //! by the diagonal `(i, j)–(i+1, j+1)`) that form is anisotropic: a sheet
-//! rolled into a cylinder about an axis along the grid converges to
-//! `3·∫(2H)² dA`, about the cut diagonal to `8.9·∫(2H)² dA` and about the
-//! other diagonal to `3.0·∫(2H)² dA` (measured with a prototype at 65²). The
+//! rolled into a cylinder curving along a grid line converges to
+//! `3·∫(2H)² dA`, one curving along the cut diagonal to `8.9·∫(2H)² dA` and
+//! one curving along the other diagonal to `3.0·∫(2H)² dA` (measured with a
+//! prototype at 65²). The
 //! per-vertex form converges to `∫(2H)² dA` in every direction (0.938 at
 //! 33² for all four of those directions: the ring of boundary vertices is
 //! left out, see below), so it is the one used here.
