@@ -316,6 +316,11 @@ fn names(f: &Field, sup: &[usize]) -> String {
 /// The largest degree of the root a nested radical's radicand may live in.
 pub const MAX_NESTED_DEGREE: usize = 16;
 
+/// The most bits of a coefficient of a nested radical's radicand (the
+/// characteristic polynomial's coefficients grow to about
+/// `MAX_NESTED_DEGREE` times as many).
+pub const MAX_NESTED_BITS: u64 = 4096;
+
 /// The characteristic polynomial of multiplication by `e(x)` in
 /// `Q[x]/(p)` (`p` monic of degree `d`), by Faddeev–LeVerrier in exact
 /// rationals: `d³` products per step, `d` steps.
@@ -884,6 +889,12 @@ impl Field {
             ));
         }
         let e = a.univariate(k).expect("one variable");
+        let ebits = e.0.iter().map(qbits).max().unwrap_or(0);
+        if ebits > MAX_NESTED_BITS {
+            return Err(format!(
+                "a nested radical whose radicand has coefficients of {ebits} bits, beyond {MAX_NESTED_BITS} (tableau::algebraic::alg::MAX_NESTED_BITS)"
+            ));
+        }
         let chi = charpoly_of_multiplication(&e, &p);
         let mut xn = vec![BigRational::zero(); n as usize + 1];
         xn[n as usize] = BigRational::one();
@@ -894,6 +905,22 @@ impl Field {
                 crate::budget::MAX_ROOT_DEGREE
             ));
         }
+        let size: u64 = r.0.iter().map(qbits).sum();
+        if size > crate::budget::MAX_ROOT_BITS {
+            return Err(format!(
+                "the nested radical's polynomial has {size} bits of coefficients, beyond {} (tableau::budget::MAX_ROOT_BITS)",
+                crate::budget::MAX_ROOT_BITS
+            ));
+        }
+        // Isolation is charged as for the widest interval (as `root(...)`'s).
+        let wide = BigRational::one();
+        let work = isolation_work(&r, &wide, &wide);
+        if work > MAX_ZERO_TEST_WORK {
+            return Err(format!(
+                "isolating the nested radical's root needs about {work} word products, beyond {MAX_ZERO_TEST_WORK} (tableau::budget::MAX_ZERO_TEST_WORK)"
+            ));
+        }
+        self.charge(work).map_err(|e| e.0)?;
         let sign = self.sign(&a).map_err(|e| e.0)?;
         if n == 2 && sign < 0 {
             return Err(format!("{name}: the square root of a negative number"));

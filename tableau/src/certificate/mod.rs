@@ -63,6 +63,14 @@ pub const MAX_CERTIFICATE_TERMS: usize = 1 << 14;
 /// The most products of terms (pairs of terms multiplied) in building the
 /// conditions: about a minute at worst on the project's 2-core machine.
 pub const MAX_CERTIFICATE_WORK: u64 = 1 << 27;
+/// The most terms held at once by the product of the flows' exponentials
+/// (every word's polynomial together): a memory bound, a few hundred MB at
+/// most.
+pub const MAX_CERTIFICATE_HELD_TERMS: usize = 1 << 21;
+/// The most bits (numerator and denominator) of a certified unknown's
+/// printed value, of the radius and of any coefficient of the flows'
+/// polynomials: 50 printed digits are about 340 bits.
+pub const MAX_CERTIFICATE_BITS: u64 = 4096;
 /// The deepest nesting of `let` bindings followed (as the file reader's).
 const MAX_DEPTH: usize = 64;
 
@@ -531,6 +539,12 @@ fn product(
             }
             next.insert(w.clone(), acc);
         }
+        let held: usize = next.values().map(Poly::len).sum();
+        if held > MAX_CERTIFICATE_HELD_TERMS {
+            return Err(format!(
+                "the product of the flows' exponentials holds {held} terms, beyond {MAX_CERTIFICATE_HELD_TERMS} (tableau::certificate::MAX_CERTIFICATE_HELD_TERMS)"
+            ));
+        }
         p = next;
     }
     Ok(p)
@@ -876,6 +890,7 @@ pub fn spec_from_parts(
     }
     let mut cx = Symbolic {
         unknowns: &unknowns,
+        dependent: dependent_names(&unknowns, &defs),
         defs: &defs,
         lets: lets_map,
         memo: BTreeMap::new(),
@@ -925,6 +940,31 @@ pub fn spec_from_parts(
             ));
         }
     };
+    let bits = |r: &BigRational| r.numer().bits() + r.denom().bits();
+    let widest = x
+        .iter()
+        .chain(std::iter::once(&radius))
+        .map(bits)
+        .chain(match &flows {
+            Flows::Sequence(f) => f
+                .iter()
+                .flat_map(|(_, p)| p.terms().map(|(_, c)| bits(c)).collect::<Vec<_>>())
+                .collect::<Vec<_>>(),
+            Flows::Composition(g) => g
+                .iter()
+                .flat_map(|p| p.terms().map(|(_, c)| bits(c)).collect::<Vec<_>>())
+                .collect(),
+        })
+        .max()
+        .unwrap_or(0);
+    if widest > MAX_CERTIFICATE_BITS {
+        return Err(err(
+            "certificate",
+            format!(
+                "a printed value, the radius or a coefficient has {widest} bits, beyond {MAX_CERTIFICATE_BITS} (tableau::certificate::MAX_CERTIFICATE_BITS; 50 printed digits are about 340)"
+            ),
+        ));
+    }
     let used = match &flows {
         Flows::Sequence(f) => f
             .iter()
@@ -948,9 +988,48 @@ pub fn spec_from_parts(
     })
 }
 
+/// The unknowns and every binding that uses one, directly or through
+/// others: a fixed point, at most one pass per binding, each pass linear in
+/// the bindings' names.
+fn dependent_names(
+    unknowns: &[String],
+    defs: &BTreeMap<String, Expr>,
+) -> std::collections::BTreeSet<String> {
+    let mut dep: std::collections::BTreeSet<String> = unknowns.iter().cloned().collect();
+    let names: Vec<(&String, Vec<String>)> = defs
+        .iter()
+        .map(|(k, e)| {
+            let ns = e
+                .names()
+                .iter()
+                .filter_map(|n| match &n.kind {
+                    ExprKind::Name(n) => Some(n.clone()),
+                    _ => None,
+                })
+                .collect();
+            (k, ns)
+        })
+        .collect();
+    for _ in 0..=names.len() {
+        let before = dep.len();
+        for (k, ns) in &names {
+            if !dep.contains(*k) && ns.iter().any(|n| dep.contains(n)) {
+                dep.insert((*k).clone());
+            }
+        }
+        if dep.len() == before {
+            break;
+        }
+    }
+    dep
+}
+
 /// Evaluates expressions as polynomials in the certified unknowns.
 struct Symbolic<'a> {
     unknowns: &'a [String],
+    /// The names that depend on an unknown (the unknowns, and the `let`
+    /// bindings that use one, directly or through others).
+    dependent: std::collections::BTreeSet<String>,
     defs: &'a BTreeMap<String, Expr>,
     lets: &'a BTreeMap<String, Number>,
     memo: BTreeMap<String, Poly>,
@@ -962,16 +1041,13 @@ impl Symbolic<'_> {
         self.unknowns.len()
     }
 
-    /// Whether the expression depends on an unknown (through `let`).
-    fn depends(&self, e: &Expr, depth: usize) -> bool {
-        if depth > MAX_DEPTH {
-            return true;
-        }
+    /// Whether the expression depends on an unknown (through `let`): one
+    /// look-up per name (the dependent names are found once, in
+    /// [`dependent_names`]; a chain of bindings each using the one before
+    /// twice is not walked exponentially).
+    fn depends(&self, e: &Expr, _depth: usize) -> bool {
         e.names().iter().any(|n| match &n.kind {
-            ExprKind::Name(n) => {
-                self.unknowns.contains(n)
-                    || self.defs.get(n).is_some_and(|d| self.depends(d, depth + 1))
-            }
+            ExprKind::Name(n) => self.dependent.contains(n),
             _ => false,
         })
     }
@@ -983,6 +1059,8 @@ impl Symbolic<'_> {
         })
     }
 
+    /// `depth` counts the `let` bindings followed (each expression's own
+    /// nesting is bounded by the grammar).
     fn poly(&mut self, e: &Expr, depth: usize) -> Result<Poly, String> {
         if depth > MAX_DEPTH {
             return Err(format!("`let` bindings nested more than {MAX_DEPTH} deep"));
@@ -1007,27 +1085,27 @@ impl Symbolic<'_> {
                     p
                 }
             }
-            ExprKind::Neg(x) => Poly::zero(m).sub(&self.poly(x, depth + 1)?),
+            ExprKind::Neg(x) => Poly::zero(m).sub(&self.poly(x, depth)?),
             ExprKind::Binary { op, lhs, rhs } => match op {
-                BinOp::Add => self.poly(lhs, depth + 1)?.add(&self.poly(rhs, depth + 1)?),
-                BinOp::Sub => self.poly(lhs, depth + 1)?.sub(&self.poly(rhs, depth + 1)?),
+                BinOp::Add => self.poly(lhs, depth)?.add(&self.poly(rhs, depth)?),
+                BinOp::Sub => self.poly(lhs, depth)?.sub(&self.poly(rhs, depth)?),
                 BinOp::Mul => {
-                    let (a, b) = (self.poly(lhs, depth + 1)?, self.poly(rhs, depth + 1)?);
+                    let (a, b) = (self.poly(lhs, depth)?, self.poly(rhs, depth)?);
                     self.budget.mul(&a, &b)?
                 }
                 BinOp::Div => {
-                    if self.depends(rhs, depth + 1) {
+                    if self.depends(rhs, depth) {
                         return Err("division by an expression in the certified unknowns: the coefficients must be polynomials in them".into());
                     }
                     let d = self.constant(rhs)?;
                     if d.is_zero() {
                         return Err("division by zero".into());
                     }
-                    self.poly(lhs, depth + 1)?.scale(&d.recip())
+                    self.poly(lhs, depth)?.scale(&d.recip())
                 }
             },
             ExprKind::Pow { base, exp } => {
-                if self.depends(exp, depth + 1) {
+                if self.depends(exp, depth) {
                     return Err("an exponent in the certified unknowns".into());
                 }
                 let k = self.constant(exp)?;
@@ -1037,7 +1115,7 @@ impl Symbolic<'_> {
                     .flatten()
                     .filter(|&k| k <= 32)
                     .ok_or("the exponent of a power of the certified unknowns must be an integer in 0..=32")?;
-                let b = self.poly(base, depth + 1)?;
+                let b = self.poly(base, depth)?;
                 let mut r = Poly::constant(m, BigRational::one());
                 for _ in 0..k {
                     r = self.budget.mul(&r, &b)?;
