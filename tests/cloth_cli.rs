@@ -888,7 +888,7 @@ fn the_inextensible_scene_runs_with_rattle_and_names_it() {
         "tension waves: ℓ/√(|g|·L)",
         "constraints  RATTLE:",
         "time split   forces",
-        "steps        18 over 3 frames",
+        "steps        21 over 3 frames",
     ] {
         assert!(stdout.contains(needle), "missing {needle:?} in\n{stdout}");
     }

@@ -3,7 +3,7 @@
 //! controller (Hairer–Söderlind 2005), `adaptive-implicit:ID` under the
 //! implicit symmetric rule `h = ε·(σ(yₙ) + σ(yₙ₊₁))/2` (Hairer 1997), both
 //! from [`integrator_core::adaptive`], with the problem's step density
-//! ([`Problem::step_density`]: the inverse distance for Kepler).
+//! ([`Problem::STEP_DENSITY`]: the inverse distance for Kepler).
 //!
 //! A run asked for `n` steps of `h` over `[0, T]` takes `ε = h/σ(y₀)` (at
 //! the start, a step of `h` in `t`, as `logh:ID` does) and lands on `T`
@@ -18,7 +18,7 @@ use integrator_core::{Scheme, Separable, Step};
 use crate::counting::{AsOde, AsSeparable, Counting};
 use crate::error::{CompareError, Result};
 use crate::method::{Fixed, Method, family_of, symplectic_for};
-use crate::problem::{ByKind, Kind, Problem};
+use crate::problem::{Adaptable, ByKind, Kind, Problem};
 use crate::stepper::{Outcome, Status, Stepper, Workspace};
 
 /// A symmetric scheme under a reversible controller.
@@ -49,7 +49,7 @@ where
     S: integrator_core::OdeSystem + Separable,
     M: Step<S> + Copy,
 {
-    let Some(density) = problem.step_density() else {
+    let Some(density) = P::STEP_DENSITY else {
         return (
             Status::SolverFailed {
                 step: 0,
@@ -169,14 +169,14 @@ macro_rules! symmetric {
 
 integrator_core::for_each_scheme!(symmetric);
 
-/// `adaptive:BASE` / `adaptive-implicit:BASE` for `sys`, or why not: a
-/// problem that is not separable or has no step density, an unknown base,
-/// a base that is not symmetric.
+/// `adaptive:BASE` / `adaptive-implicit:BASE` for the problem type `P`
+/// (named `problem` in messages), or why not: a problem that is not
+/// separable or has no step density, an unknown base, a base that is not
+/// symmetric.
 pub fn method<P: Problem>(
     prefix: &str,
     controller: Controller,
     base: &str,
-    sys: &P,
     problem: &str,
 ) -> Result<Method<P>> {
     let id = format!("{prefix}{base}");
@@ -186,7 +186,7 @@ pub fn method<P: Problem>(
             "the reversible controllers take the problem's step density; the {problem} problem is an OdeSystem only"
         ));
     }
-    if sys.step_density().is_none() {
+    if P::STEP_DENSITY.is_none() {
         return err(format!(
             "the {problem} problem has no step density (adaptive steps apply to kepler and kepler-hard, whose density is the inverse distance)"
         ));
@@ -226,7 +226,13 @@ fn stepper_for<P: Problem>(
         where
             P: Problem<Kind = AsSeparable> + Separable,
         {
-            stepper(self.0, self.1)
+            // A constant of `P`: for a problem without a step density the
+            // adaptive variants of the symmetric schemes are not compiled.
+            if Adaptable::<P>::ON {
+                stepper(self.0, self.1)
+            } else {
+                None
+            }
         }
         fn ode(self) -> Self::Output
         where

@@ -10,7 +10,7 @@ use integrator_core::problems::{
 use crate::counting::{AsOde, AsSeparable};
 use crate::error::{CompareError, Result};
 use crate::nbody::Bodies;
-use crate::problem::{Defaults, Problem, Setup};
+use crate::problem::{Defaults, Problem, Setup, StackSizes};
 
 use std::f64::consts::PI;
 
@@ -54,6 +54,7 @@ fn exact<P: ExactFlow>(
 
 impl Problem for Oscillator {
     type Kind = AsSeparable;
+    const STACK_SIZES: StackSizes = StackSizes::only(2);
     fn name(&self) -> String {
         "oscillator".into()
     }
@@ -80,6 +81,7 @@ impl Problem for Oscillator {
 
 impl Problem for Pendulum {
     type Kind = AsSeparable;
+    const STACK_SIZES: StackSizes = StackSizes::only(2);
     fn name(&self) -> String {
         "pendulum".into()
     }
@@ -102,6 +104,10 @@ impl Problem for Pendulum {
 
 impl Problem for Kepler {
     type Kind = AsSeparable;
+    const STACK_SIZES: StackSizes = StackSizes::only(4);
+    /// `σ = r`: the inverse distance as step density.
+    const STEP_DENSITY: Option<integrator_core::adaptive::DistancePower> =
+        Some(integrator_core::adaptive::DistancePower { alpha: 1.0 });
     /// `kepler` (e = 0.6), `kepler-hard` (e = 0.9), else `kepler-e<e>`.
     fn name(&self) -> String {
         if self.e == 0.6 {
@@ -131,10 +137,6 @@ impl Problem for Kepler {
     fn period(&self) -> Option<(f64, &'static str)> {
         Some((2.0 * PI, "orbit"))
     }
-    /// `σ = r`: the inverse distance as step density.
-    fn step_density(&self) -> Option<integrator_core::adaptive::DistancePower> {
-        Some(integrator_core::adaptive::DistancePower::new(1.0))
-    }
     /// A massless body about a unit mass at rest, `G = 1`.
     fn rebound_bodies(&self, z: &[f64]) -> Option<std::result::Result<Bodies, String>> {
         Some(Bodies::planar_kepler(z))
@@ -146,6 +148,7 @@ impl Problem for Kepler {
 /// ([`OUTER_SOLAR_REFERENCE_STEP`]).
 impl Problem for OuterSolarSystem {
     type Kind = AsSeparable;
+    const STACK_SIZES: StackSizes = StackSizes::only(36);
     fn name(&self) -> String {
         "outer-solar".into()
     }
@@ -189,6 +192,7 @@ impl Problem for OuterSolarSystem {
 
 impl Problem for HenonHeiles {
     type Kind = AsSeparable;
+    const STACK_SIZES: StackSizes = StackSizes::only(4);
     fn name(&self) -> String {
         "henon-heiles".into()
     }
@@ -213,6 +217,9 @@ impl Problem for HenonHeiles {
 
 impl Problem for Fpu {
     type Kind = AsSeparable;
+    /// The stiff FPU chain of the comparisons has m = 3 (12 entries); another
+    /// m steps slices.
+    const STACK_SIZES: StackSizes = StackSizes::only(12);
     fn name(&self) -> String {
         "fpu".into()
     }
@@ -240,6 +247,9 @@ impl Problem for Fpu {
 /// Gauss tables, `gaussN-propagator`.
 impl Problem for LinearHamiltonian {
     type Kind = AsOde;
+    /// Any size (the gyroscopic problem has 20 entries, a linear problem
+    /// file its own): slices.
+    const STACK_SIZES: StackSizes = StackSizes::NONE;
     fn name(&self) -> String {
         "gyroscopic".into()
     }
@@ -466,6 +476,41 @@ mod tests {
         let sys = linear::gyroscopic(10, 7, 1e4).unwrap();
         let w = omega_max(&sys);
         assert!((0.99e4..=1.0e4 + 0.3).contains(&w), "{w}");
+    }
+
+    /// Each built-in problem of a fixed size names that size in
+    /// `STACK_SIZES`, so its timed runs keep the stack path (and no other
+    /// size is compiled for it); the gyroscopic system has none.
+    #[test]
+    fn fixed_size_problems_keep_their_stack_path() {
+        fn has<P: Problem>(p: &P) -> bool {
+            let n = p.start().len();
+            assert_eq!(n, p.dim(), "{}", p.name());
+            P::STACK_SIZES.contains(n)
+                && StackSizes::SIZES
+                    .iter()
+                    .all(|&m| m == n || !P::STACK_SIZES.contains(m))
+        }
+        assert!(has(&Oscillator { k: 1.0 }));
+        assert!(has(&Pendulum));
+        assert!(has(&Kepler { e: 0.6 }));
+        assert!(has(&HenonHeiles));
+        assert!(has(&Fpu::stiff()));
+        assert!(has(&OuterSolarSystem));
+        let gyro = linear::gyroscopic(10, 7, 1e4).unwrap();
+        assert_eq!(LinearHamiltonian::STACK_SIZES, StackSizes::NONE);
+        assert!(!StackSizes::SIZES.contains(&gyro.dim()));
+    }
+
+    #[test]
+    fn stack_sizes_name_only_sizes_with_a_path() {
+        assert!(StackSizes::only(36).contains(36));
+        assert!(!StackSizes::only(36).contains(4));
+        assert!(StackSizes::ALL.contains(6) && !StackSizes::ALL.contains(8));
+        assert!(!StackSizes::NONE.contains(2));
+        // A size without a stack path: a compile error in a `const`, a
+        // panic here.
+        assert!(std::panic::catch_unwind(|| StackSizes::only(8)).is_err());
     }
 
     #[test]

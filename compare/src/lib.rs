@@ -127,7 +127,7 @@ mod work_precision;
 pub use counting::{AsOde, AsSeparable, Counting, Counts};
 pub use error::{CompareError, Result};
 pub use method::{Fixed, Method, family_of};
-pub use problem::{ByKind, Counted, Defaults, Family, Kind, Problem, Setup};
+pub use problem::{ByKind, Counted, Defaults, Family, Kind, Problem, Setup, StackSizes};
 pub use stepper::{
     FixedSizeStepper, Outcome, Status, StepStepper, Stepper, Workspace, bare_caught,
     observed_caught,

@@ -62,7 +62,7 @@ mod imp {
     use ode_solvers::{DVector, Dop853, OutputType, SVector};
 
     use super::PeerOutcome;
-    use crate::problem::{Problem, Setup};
+    use crate::problem::{Problem, Setup, Stacked};
 
     /// The system in the crate's vector types (`rhs` of the problem: for a
     /// separable one, one velocity and one force evaluation).
@@ -145,11 +145,13 @@ mod imp {
             }};
         }
         let z0 = &setup.z0;
+        // Stack vectors only for the sizes the problem names
+        // (`Problem::STACK_SIZES`): the others are not compiled.
         match z0.len() {
-            2 => run!(SVector::<f64, 2>::from_column_slice(z0)),
-            4 => run!(SVector::<f64, 4>::from_column_slice(z0)),
-            12 => run!(SVector::<f64, 12>::from_column_slice(z0)),
-            36 => run!(SVector::<f64, 36>::from_column_slice(z0)),
+            2 if Stacked::<P, 2>::ON => run!(SVector::<f64, 2>::from_column_slice(z0)),
+            4 if Stacked::<P, 4>::ON => run!(SVector::<f64, 4>::from_column_slice(z0)),
+            12 if Stacked::<P, 12>::ON => run!(SVector::<f64, 12>::from_column_slice(z0)),
+            36 if Stacked::<P, 36>::ON => run!(SVector::<f64, 36>::from_column_slice(z0)),
             _ => run!(DVector::<f64>::from_column_slice(z0)),
         }
     }
@@ -192,7 +194,7 @@ mod imp {
             }};
         }
         match z0.len() {
-            4 => run!(SVector::<f64, 4>::from_column_slice(z0)),
+            4 if Stacked::<P, 4>::ON => run!(SVector::<f64, 4>::from_column_slice(z0)),
             _ => run!(DVector::<f64>::from_column_slice(z0)),
         }
     }

@@ -88,20 +88,30 @@ pub trait Problem: OdeSystem + Clone + Send + Sync + Sized + 'static {
     fn linear(&self) -> Option<&integrator_core::linear::LinearHamiltonian> {
         None
     }
+    /// The state sizes on which a timed run may step a stack array
+    /// `[f64; N]` instead of slices (the library's explicit schemes, the
+    /// `logh:` variants and the DOP853 peer; both paths give the same bits).
+    /// Only the sizes named here are compiled for this problem: each one is
+    /// a copy of every explicit scheme's step, and the copies of sizes a
+    /// problem never has made `compare` take minutes to build. The default,
+    /// [`StackSizes::ALL`], suits a problem whose size is not known in
+    /// advance; one of a fixed size names it ([`StackSizes::only`]).
+    const STACK_SIZES: StackSizes = StackSizes::ALL;
+    /// The step-size function of the reversible adaptive methods
+    /// (`adaptive:ID`, [`adaptive`](crate::adaptive)): `σ = |q|^α` for a
+    /// problem whose position is a distance from a centre (Kepler: the
+    /// inverse distance as step density, `α = 1`); `None` (the default):
+    /// the problem offers no adaptive methods. A constant of the type, not
+    /// of an instance, for the same reason as `STACK_SIZES`: the adaptive
+    /// variant of every symmetric scheme is compiled only for the problems
+    /// that have one.
+    const STEP_DENSITY: Option<integrator_core::adaptive::DistancePower> = None;
     /// The N-body ability for Wisdom–Holman methods (`wh:ID`,
     /// [`wisdom_holman`](crate::wisdom_holman)): the Jacobi split of the
     /// same bodies, masses and `G`, for a problem whose state is the
     /// inertial `[x; p]` with body 0 the central mass. `None` (the
     /// default): no `wh:` methods.
     fn wisdom_holman(&self) -> Option<integrator_core::problems::wisdom_holman::Jacobi> {
-        None
-    }
-    /// The step-size function of the reversible adaptive methods
-    /// (`adaptive:ID`, [`adaptive`](crate::adaptive)): `σ = |q|^α` for a
-    /// problem whose position is a distance from a centre (Kepler: the
-    /// inverse distance as step density, `α = 1`); `None` (the default):
-    /// the problem offers no adaptive methods.
-    fn step_density(&self) -> Option<integrator_core::adaptive::DistancePower> {
         None
     }
     /// The problem as REBOUND's point masses from the state `z` (the
@@ -115,6 +125,66 @@ pub trait Problem: OdeSystem + Clone + Send + Sync + Sized + 'static {
         let _ = z;
         None
     }
+}
+
+/// The state sizes with a stack-array path in timed runs
+/// ([`Problem::STACK_SIZES`]): a set of 2, 4, 6, 12 and 36, the sizes of
+/// the built-in problems (36: the outer solar system). A run on a state of
+/// another size, or of a size not in the set, steps slices.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct StackSizes(u8);
+
+impl StackSizes {
+    /// Every size with a stack path.
+    pub const ALL: StackSizes = StackSizes(0b1_1111);
+    /// None: timed runs step slices.
+    pub const NONE: StackSizes = StackSizes(0);
+    /// The sizes with a stack path, in [`StackSizes::ALL`]'s bit order.
+    pub const SIZES: [usize; 5] = [2, 4, 6, 12, 36];
+
+    /// The one size `n`; a size without a stack path is a compile-time
+    /// error where the set is a constant (`const STACK_SIZES`).
+    pub const fn only(n: usize) -> StackSizes {
+        let mut i = 0;
+        while i < Self::SIZES.len() {
+            if Self::SIZES[i] == n {
+                return StackSizes(1 << i);
+            }
+            i += 1;
+        }
+        panic!("a stack path exists for state sizes 2, 4, 6, 12 and 36 only")
+    }
+
+    /// Whether `n` is in the set.
+    pub const fn contains(self, n: usize) -> bool {
+        let mut i = 0;
+        while i < Self::SIZES.len() {
+            if Self::SIZES[i] == n {
+                return self.0 & (1 << i) != 0;
+            }
+            i += 1;
+        }
+        false
+    }
+}
+
+/// `Stacked::<P, N>::ON`: whether `P` has the stack path of size `N`. A
+/// constant of the instance, so that a branch `if Stacked::<P, N>::ON` of a
+/// size `P` lacks is dropped before code generation, with the step code it
+/// would instantiate (the point of [`Problem::STACK_SIZES`]).
+/// `Adaptable::<P>::ON`: whether `P` has a step density
+/// ([`Problem::STEP_DENSITY`]), a constant of the instance like
+/// [`Stacked`]'s.
+pub(crate) struct Adaptable<P>(std::marker::PhantomData<P>);
+
+impl<P: Problem> Adaptable<P> {
+    pub(crate) const ON: bool = P::STEP_DENSITY.is_some();
+}
+
+pub(crate) struct Stacked<P, const N: usize>(std::marker::PhantomData<P>);
+
+impl<P: Problem, const N: usize> Stacked<P, N> {
+    pub(crate) const ON: bool = P::STACK_SIZES.contains(N);
 }
 
 /// How the harness treats a problem type: the counting wrapper it runs the

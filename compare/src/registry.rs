@@ -8,7 +8,7 @@
 //! | [`Propagator`](MethodFamily::Propagator) | `gauss1-propagator` … `gauss3-propagator` | linear problems ([`Problem::linear`]) |
 //! | [`WisdomHolman`](MethodFamily::WisdomHolman) | `wh:ID` | N-body problems with a Jacobi split ([`Problem::wisdom_holman`]) |
 //! | [`LogH`](MethodFamily::LogH) | `logh:ID` | separable problems |
-//! | [`Adaptive`](MethodFamily::Adaptive), [`AdaptiveImplicit`](MethodFamily::AdaptiveImplicit) | `adaptive:ID`, `adaptive-implicit:ID` | separable problems with a step density ([`Problem::step_density`]) |
+//! | [`Adaptive`](MethodFamily::Adaptive), [`AdaptiveImplicit`](MethodFamily::AdaptiveImplicit) | `adaptive:ID`, `adaptive-implicit:ID` | separable problems with a step density ([`Problem::STEP_DENSITY`]) |
 //! | [`Dop853`](MethodFamily::Dop853) | `dop853` | every problem (with the `peer` feature) |
 //! | [`Rebound`](MethodFamily::Rebound) | `rebound:NAME[:KEY=VALUE…]` | point masses ([`Problem::rebound_bodies`]) |
 //! | [`Table`](MethodFamily::Table) | a table file or a verified table: its id is the file's stem | as its form allows |
@@ -203,7 +203,7 @@ impl MethodFamily {
             MethodFamily::WisdomHolman => sys.wisdom_holman().is_some(),
             MethodFamily::LogH => separable,
             MethodFamily::Adaptive | MethodFamily::AdaptiveImplicit => {
-                separable && sys.step_density().is_some()
+                separable && P::STEP_DENSITY.is_some()
             }
             MethodFamily::Dop853 => cfg!(feature = "peer"),
             MethodFamily::Rebound => sys.rebound_bodies(&sys.start()).is_some(),
@@ -273,7 +273,7 @@ pub fn resolve<P: Problem>(id: &str, sys: &P, problem: &str) -> Result<Method<P>
     }
     for (prefix, controller) in adaptive::PREFIXES {
         if let Some(base) = id.strip_prefix(prefix) {
-            return adaptive::method(prefix, controller, base, sys, problem);
+            return adaptive::method::<P>(prefix, controller, base, problem);
         }
     }
     if id == DOP853 {

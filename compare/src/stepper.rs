@@ -14,7 +14,7 @@ use integrator_core::linear::Propagator;
 use integrator_core::scheme::{PrkWorkspace, RkWorkspace, SplitWorkspace};
 use integrator_core::{OdeSystem, Step, check_start};
 
-use crate::problem::{Counted, Kind, Problem};
+use crate::problem::{Counted, Kind, Problem, Stacked};
 
 /// How a run ended.
 #[derive(Clone, Debug, PartialEq)]
@@ -291,8 +291,9 @@ where
 
 /// An explicit scheme (a `butcher!` type with [`StepFixed`]) as a
 /// [`Stepper`] that times small problems on fixed-size state: where the
-/// state has 2, 4, 6, 12 or 36 entries (the built-in problems' sizes, and
-/// the sizes the DOP853 peer runs on stack vectors), [`Stepper::bare`] steps
+/// state has 2, 4, 6, 12 or 36 entries and the problem names that size in
+/// [`Problem::STACK_SIZES`] (the built-in problems' sizes, and the sizes the
+/// DOP853 peer runs on stack vectors), [`Stepper::bare`] steps
 /// a `[f64; N]` through `StepFixed::step_fixed`, so that both sides of a
 /// timing keep the state in registers; other sizes take the slice path.
 /// Both paths give the same bits (integrator-core's `tests/fixed.rs`), so
@@ -302,10 +303,11 @@ pub struct FixedSizeStepper<M>(pub M);
 /// The fixed-size sizes of [`FixedSizeStepper`].
 macro_rules! fixed_sizes {
     ($m:expr, $sys:expr, $z:expr, $h:expr, $n:expr; $($size:literal),*) => {
-        match $z.len() {
-            $($size => return bare_fixed::<P, M, $size>($m, $sys, $z, $h, $n),)*
-            _ => {}
-        }
+        // `Stacked::<P, N>::ON` first: a constant, so that the sizes `P`
+        // does not have are not compiled (`Problem::STACK_SIZES`).
+        $(if Stacked::<P, $size>::ON && $z.len() == $size {
+            return bare_fixed::<P, M, $size>($m, $sys, $z, $h, $n);
+        })*
     };
 }
 

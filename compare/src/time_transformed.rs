@@ -19,7 +19,7 @@ use integrator_core::time_transform::LogHamiltonian;
 use integrator_core::{Separable, Step};
 
 use crate::counting::{AsSeparable, Counting};
-use crate::problem::{Kind, Problem};
+use crate::problem::{Kind, Problem, Stacked};
 use crate::stepper::{Outcome, Status, Stepper, Workspace};
 
 /// A scheme on the logarithmic Hamiltonian of the problem.
@@ -317,14 +317,18 @@ where
 
     /// Timed on the fixed-size path where the extended state has 4, 6 or
     /// 38 entries (the oscillator and pendulum, Kepler and Hénon–Heiles,
-    /// the outer solar system), on slices otherwise.
+    /// the outer solar system) and the problem has the stack path of its own
+    /// size ([`Problem::STACK_SIZES`]), on slices otherwise.
     fn bare(&self, sys: &P, z: &mut [f64], h: f64, n: usize) -> bool {
         let logh = LogHamiltonian::new(sys.clone());
         let t_end = h * n as f64;
-        let (status, _) = match 2 * Separable::dof(&logh) {
-            4 => run_fixed::<P, M, 4>(&self.0, &logh, z, t_end, h),
-            6 => run_fixed::<P, M, 6>(&self.0, &logh, z, t_end, h),
-            38 => run_fixed::<P, M, 38>(&self.0, &logh, z, t_end, h),
+        // The extended state has two entries more than `P`'s: only the
+        // sizes `P` names in `Problem::STACK_SIZES` are compiled.
+        let ext = 2 * Separable::dof(&logh);
+        let (status, _) = match ext {
+            4 if Stacked::<P, 2>::ON => run_fixed::<P, M, 4>(&self.0, &logh, z, t_end, h),
+            6 if Stacked::<P, 4>::ON => run_fixed::<P, M, 6>(&self.0, &logh, z, t_end, h),
+            38 if Stacked::<P, 36>::ON => run_fixed::<P, M, 38>(&self.0, &logh, z, t_end, h),
             _ => {
                 let mut ws = Step::<LogHamiltonian<P>>::workspace(&self.0, &logh);
                 run(&Slices(&self.0), &logh, &mut ws, z, t_end, h, |_, _, _| {

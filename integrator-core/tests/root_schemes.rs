@@ -28,6 +28,18 @@ butcher! {
     }
 }
 
+butcher! {
+    /// Gauss–Legendre 2 via roots with its order claimed: decided on the
+    /// trees in the number field Q(√3), so ORDER is the claim.
+    pub Gauss2RootsOrder4 {
+        let c0 = root(6*x^2 - 6*x + 1, 0, 1/2);
+        let c1 = root(6*x^2 - 6*x + 1, 1/2, 1);
+        claims: [symplectic, order = 4],
+        a: [[1/4, c0 - 1/4], [c1 - 1/4, 1/4]],
+        b: [1/2, 1/2],
+    }
+}
+
 #[test]
 fn the_verdicts_are_the_exact_ones() {
     assert_eq!((Gauss4Roots::SYMPLECTIC, true), (true, true));
@@ -39,9 +51,14 @@ fn the_verdicts_are_the_exact_ones() {
     assert_eq!((Gauss4Roots::STAGES, Radau5Roots::STAGES), (4, 5));
     assert_eq!(Gauss4Roots::CLASS, "implicit");
     const { assert!(!Gauss4Roots::EXPLICIT && !Gauss4Roots::SYMMETRIC) };
-    // Order beyond 2 is not decided for root tables: ORDER is what is proven.
+    // Without an order claim, ORDER is what Σbᵢ = 1 and Σbᵢcᵢ = 1/2 show;
+    // with one, the claim, proven on the trees.
     assert_eq!((Gauss4Roots::ORDER, Radau5Roots::ORDER), (2, 2));
     assert_eq!(Gauss4Roots::INFO.order, 2);
+    assert_eq!(
+        (Gauss2RootsOrder4::ORDER, Gauss2RootsOrder4::INFO.order),
+        (4, 4)
+    );
     assert_eq!((ExplicitRoot::CLASS, ExplicitRoot::ORDER), ("explicit", 2));
     const { assert!(ExplicitRoot::EXPLICIT) };
 }

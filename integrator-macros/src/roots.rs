@@ -7,8 +7,9 @@
 //! `tableau::algebraic::file::parse`, so the macro decides exactly what
 //! `symlab check` and `symlab compare --table` decide for the same table:
 //! symplecticity by exact zero tests of every `Wᵢⱼ` (a false claim names the
-//! nonzero entries), `B(k)`; order, symmetry and the other claims are not
-//! decided for such tables and are refused at the claim, saying so. Every
+//! nonzero entries), `B(k)`, and the order conditions on the trees in the
+//! number field (a false claim names the tree); what tableau does not decide
+//! for such tables is refused at the claim, saying so. Every
 //! error of the file reader names a field (`let.c0`, `a[0][1]`), which is
 //! mapped back to the token the user wrote.
 //!
@@ -402,7 +403,7 @@ pub fn expand(input: &Input, t: &RootTable) -> TokenStream {
         facts.push("no claims".into());
     }
     let summary = format!(
-        "*{name}* — entries in {} real algebraic root(s) ({}), verified exactly at compile time: {}. Symplecticity is decided exactly; order beyond 2, symmetry and the stability function are not decided for root(...) tables.",
+        "*{name}* — entries in {} real algebraic root(s) ({}), verified exactly at compile time: {}. Symplecticity and the order conditions are decided exactly in the number field of the roots.",
         t.file.field.names.len(),
         t.file.field.names.join(", "),
         facts.join(", ")
@@ -411,10 +412,19 @@ pub fn expand(input: &Input, t: &RootTable) -> TokenStream {
         name: name.to_string(),
         form,
         stages,
-        order: r.order,
-        order_doc: "The order proven for a root(...) table: 1 when Σbᵢ = 1, 2 when \
-            also Σbᵢcᵢ = 1/2 with c the row sums (decided exactly; for a pair at most 1); \
-            higher orders are not decided for such tables.",
+        // The claimed order where one was proven (on the trees, exactly in
+        // the number field), else what the first conditions show.
+        order: t
+            .claims
+            .iter()
+            .filter_map(|c| match c {
+                Claim::Order { p, .. } => Some(*p),
+                _ => None,
+            })
+            .fold(r.order, usize::max),
+        order_doc: "The order proven for a root(...) table: a proven `order = p` claim, \
+            else 1 when Σbᵢ = 1 and 2 when also Σbᵢcᵢ = 1/2 with c the row sums \
+            (decided exactly; for a pair without a claim at most 1).",
         symplectic,
         symplectic_separable,
         separable_only,

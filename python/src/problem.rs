@@ -12,7 +12,7 @@
 
 use std::sync::{Arc, Mutex};
 
-use compare::{AsOde, AsSeparable, Defaults, Problem as CmpProblem};
+use compare::{AsOde, AsSeparable, Defaults, Problem as CmpProblem, StackSizes};
 use integrator_core::{OdeSystem, Separable};
 use numpy::{PyArray1, PyArrayMethods, PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use pyo3::exceptions::{PyTypeError, PyValueError};
@@ -490,6 +490,9 @@ fn defaults(sys: &PySystem) -> Defaults {
 
 impl CmpProblem for PySeparable {
     type Kind = AsSeparable;
+    /// Slices: a Python callback costs far more than the step's loads and
+    /// stores, and each stack size would compile every scheme again.
+    const STACK_SIZES: StackSizes = StackSizes::NONE;
     fn name(&self) -> String {
         self.0.spec.name.clone()
     }
@@ -509,6 +512,9 @@ impl CmpProblem for PySeparable {
 
 impl CmpProblem for PyOde {
     type Kind = AsOde;
+    /// Slices: a Python callback costs far more than the step's loads and
+    /// stores, and each stack size would compile every scheme again.
+    const STACK_SIZES: StackSizes = StackSizes::NONE;
     fn name(&self) -> String {
         self.0.spec.name.clone()
     }

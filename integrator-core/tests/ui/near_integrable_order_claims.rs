@@ -33,7 +33,8 @@ butcher! {
     }
 }
 
-// A generalised order is non-increasing.
+// Strang splitting is (2, 2): a generalised order may increase (SABAC₁ is
+// (2, 4)), but Strang's ε² part fails at ε²h².
 butcher! {
     pub Increasing {
         claims: [order = (2, 4)],
