@@ -38,10 +38,16 @@ fn design_writes_tables_that_check_accepts() {
     assert!(claims.iter().all(|c| c["holds"] == true), "{v}");
     assert_eq!(claims[2]["claim"], "order = 4 (certified)");
     assert_eq!(v["certificate"]["radius"], "1e-46", "{v}");
-    assert_eq!(v["certificate"]["unknowns"], serde_json::json!(["a1", "a2"]), "{v}");
+    assert_eq!(
+        v["certificate"]["unknowns"],
+        serde_json::json!(["a1", "a2"]),
+        "{v}"
+    );
     let (_, text, _) = symlab(&["check", table.to_str().unwrap()]);
     assert!(
-        text.contains("certificate  order 4 within radius 1e-46 of the printed coefficients (a1, a2)"),
+        text.contains(
+            "certificate  order 4 within radius 1e-46 of the printed coefficients (a1, a2)"
+        ),
         "{text}"
     );
     let _ = std::fs::remove_dir_all(&dir);
