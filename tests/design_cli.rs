@@ -50,6 +50,38 @@ fn design_writes_tables_that_check_accepts() {
         ),
         "{text}"
     );
+    // The emitted table is a method like any other: `compare --table` runs
+    // it with its certified order as its order.
+    let out = dir.join("cmp");
+    let (code, stdout, err) = symlab(&[
+        "compare",
+        "--problem",
+        "kepler",
+        "--methods",
+        "forest-ruth",
+        "--table",
+        table.to_str().unwrap(),
+        "--points",
+        "2",
+        "--repeats",
+        "1",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "stderr: {err}\n{stdout}");
+    let csv = std::fs::read_to_string(out.join("runs.csv")).unwrap();
+    let mut lines = csv.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let (method, order) = (
+        header.iter().position(|h| *h == "method").unwrap(),
+        header.iter().position(|h| *h == "order").unwrap(),
+    );
+    let mine: Vec<Vec<&str>> = lines
+        .map(|l| l.split(',').collect::<Vec<_>>())
+        .filter(|r| r[method] == "mclachlan-sb3a-order-4-1")
+        .collect();
+    assert!(!mine.is_empty(), "{csv}");
+    assert!(mine.iter().all(|r| r[order] == "4"), "{csv}");
     let _ = std::fs::remove_dir_all(&dir);
 }
 

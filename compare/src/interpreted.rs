@@ -202,9 +202,13 @@ impl VerifiedTable {
     }
 }
 
+/// The classical order a file claims: `order = p`, with a residual bound
+/// or certified (a certified order is that of an exact method within the
+/// certificate's radius of the printed coefficients, so the doubles step
+/// with order `p` down to round-off, as rounded exact tables do).
 fn claimed_order(claims: &[Claim]) -> Option<usize> {
     claims.iter().find_map(|c| match c {
-        Claim::Order { p, .. } => Some(*p),
+        Claim::Order { p, .. } | Claim::CertifiedOrder { p } => Some(*p),
         _ => None,
     })
 }
@@ -227,15 +231,16 @@ impl<P: Problem> Method<P> {
                 // `verify`); its classical order is the last entry of a
                 // generalised one. Unclaimed, the kernel's order: `χ K χ⁻¹`
                 // is conjugate to `K`, so it has at least that order.
-                let order = file
-                    .claims
-                    .iter()
-                    .find_map(|c| match c {
-                        Claim::Order { p, .. } => Some(*p),
-                        Claim::NearOrder { orders, .. } => orders.last().copied(),
-                        _ => None,
-                    })
-                    .unwrap_or(a.claimed_order_report().order);
+                let order =
+                    file.claims
+                        .iter()
+                        .find_map(|c| match c {
+                            Claim::Order { p, .. } | Claim::CertifiedOrder { p } => Some(*p),
+                            Claim::NearOrder { orders, .. }
+                            | Claim::CertifiedNearOrder { orders } => orders.last().copied(),
+                            _ => None,
+                        })
+                        .unwrap_or(a.claimed_order_report().order);
                 let symplectic =
                     crate::method::symplectic_for::<P>(a.symplectic, a.symplectic_separable);
                 let corrector = file.corrector.as_ref().expect("matched on is_some");
