@@ -34,7 +34,7 @@ butcher! {
 }
 
 // Strang splitting is (2, 2): a generalised order may increase (SABAC₁ is
-// (2, 4)), but Strang's ε² part fails at ε²h².
+// (2, 4)), but Strang's ε² part fails at ε²h³ ([[A, B], B]).
 butcher! {
     pub Increasing {
         claims: [order = (2, 4)],
