@@ -253,12 +253,13 @@ pub use output::{
 };
 pub use run::{
     Blowup, CallbackError, EnergyGuard, Frame, FrameStats, Located, RunError, RunOptions,
-    RunReport, RunSettings, Simulation, SolverSettings, run_scene,
+    RunReport, RunSettings, Simulation, SolverSettings,
 };
 pub use scene::{
     ClothSpec, Collider, MAX_FRAMES, MAX_PARTICLES, MAX_STEPS, Material, Plane, Scene, SceneError,
     SimulationSpec,
 };
+pub use schedule::run_scene;
 pub use step::{MinimiseSettings, RattleSettings, Solver, SolverStats, StageSettings};
 
 /// Nalgebra's 3-vector of `f64`, as used for positions and momenta.

@@ -1004,23 +1004,3 @@ impl Clock {
         self.t0 + (step - self.step0) as f64 * self.h
     }
 }
-
-/// Load nothing, build everything: run `scene` with its own method and
-/// settings ([`RunSettings::from_scene`]: the default solvers, no guard;
-/// `substeps = "auto"` resolved on the model,
-/// [`crate::schedule::auto_step`]), calling `on_frame` for the initial
-/// state and every frame.
-pub fn run_scene<F>(scene: &Scene, on_frame: F) -> Result<(Simulation, RunReport), RunError>
-where
-    F: FnMut(&Frame<'_>) -> Result<(), CallbackError>,
-{
-    let method = Method::parse(&scene.simulation.method)?;
-    let mut sim = Simulation::new(scene)?;
-    let mut settings = RunSettings::from_scene(scene);
-    if scene.simulation.auto_substeps {
-        settings.options.substeps =
-            crate::schedule::auto_step(&sim.model, scene.simulation.frame_rate).substeps;
-    }
-    let report = sim.run(&method, &settings, on_frame)?;
-    Ok((sim, report))
-}

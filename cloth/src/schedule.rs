@@ -16,8 +16,9 @@
 //! assert_eq!(err.asked, Asked::Substeps);
 //! ```
 
+use crate::method::Method;
 use crate::model::ClothModel;
-use crate::run::RunOptions;
+use crate::run::{CallbackError, Frame, RunError, RunOptions, RunReport, RunSettings, Simulation};
 use crate::scene::{MAX_FRAMES, MAX_STEPS, Scene, run_length_problem};
 
 /// What a caller asks for; `None` keeps the scene's value. `dt` sets the
@@ -318,4 +319,23 @@ pub fn schedule_for(
         None => why,
     });
     Ok((plan, Some(auto)))
+}
+
+/// Load nothing, build everything: run `scene` with its own method and
+/// settings ([`RunSettings::from_scene`]: the default solvers, no guard;
+/// `substeps = "auto"` resolved on the model,
+/// [`auto_step`]), calling `on_frame` for the initial
+/// state and every frame.
+pub fn run_scene<F>(scene: &Scene, on_frame: F) -> Result<(Simulation, RunReport), RunError>
+where
+    F: FnMut(&Frame<'_>) -> Result<(), CallbackError>,
+{
+    let method = Method::parse(&scene.simulation.method)?;
+    let mut sim = Simulation::new(scene)?;
+    let mut settings = RunSettings::from_scene(scene);
+    if scene.simulation.auto_substeps {
+        settings.options.substeps = auto_step(&sim.model, scene.simulation.frame_rate).substeps;
+    }
+    let report = sim.run(&method, &settings, on_frame)?;
+    Ok((sim, report))
 }

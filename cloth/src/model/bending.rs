@@ -56,16 +56,6 @@ use nalgebra::Vector3;
 
 use super::PINNED;
 
-/// The bending rigidity of a light cotton fabric, the default of an
-/// inextensible scene (N·m): `3.0e-6 N·m ≈ 0.031 gf·cm²/cm` (Kawabata's
-/// KES-FB2 unit, `1 gf·cm²/cm = 9.80665e-5 N·m`). Light cotton shirting
-/// and lawn are commonly reported at about 0.01–0.05 gf·cm²/cm in KES-FB2
-/// bending tests; this is the middle of that range. The range is the
-/// project's (issue 37's brief); a primary KES table with the figure was
-/// not found in the searches made for this change, so the value is a
-/// representative order of magnitude, not a measurement of one fabric.
-pub const DEFAULT_BENDING: f64 = 3.0e-6;
-
 /// The bending energy's rows: `v_i = fixed_i + Σ coef·q[col]`.
 #[derive(Clone, Debug)]
 pub(crate) struct Bending {

@@ -34,7 +34,8 @@ mod springs;
 mod stability;
 mod stencil;
 
-pub use bending::{BENDING_POWER_ITERATIONS, BendingRate, DEFAULT_BENDING};
+pub use crate::scene::DEFAULT_BENDING;
+pub use bending::{BENDING_POWER_ITERATIONS, BendingRate};
 use colliders::Penalty;
 pub use constraints::CONSTRAINT_TOLERANCE;
 use jacobian::{JacobianLayout, spring_block};

@@ -455,7 +455,7 @@ impl Reader<'_> {
                 }
                 b
             }
-            None if inextensible => crate::model::DEFAULT_BENDING,
+            None if inextensible => super::DEFAULT_BENDING,
             None => 0.0,
         };
         Ok(Material {

@@ -1419,7 +1419,7 @@ impl AlgFile {
                         .field
                         .clone()
                         .with_default_work_limit(crate::budget::MAX_ANALYSIS_WORK);
-                    crate::near_integrable::alg_near_claim(
+                    super::near::alg_near_claim(
                         &f,
                         &seq.factors(),
                         orders,

@@ -29,6 +29,7 @@ pub mod alg;
 pub mod family;
 pub mod file;
 pub mod generated;
+mod near;
 pub mod pair;
 pub mod poly;
 pub mod root;

@@ -23,36 +23,7 @@ impl PartialEq for Poly {
 
 impl Eq for Poly {}
 
-/// The order of two rationals, by one cross multiplication.
-///
-/// `num-rational`'s `Ord` (and so `<`, `>`, `min`, `max`, and `==` on
-/// values with different denominators) compares by continued fractions,
-/// recursing once per partial quotient the two numbers share: two rationals
-/// agreeing to 100 000 bits overflow the stack. Everything in
-/// [`crate::algebraic`] compares rationals through this function instead,
-/// whose depth does not depend on the input.
-pub fn qcmp(a: &BigRational, b: &BigRational) -> std::cmp::Ordering {
-    // Ratio keeps its denominator positive and the fraction reduced.
-    if a.denom() == b.denom() {
-        return a.numer().cmp(b.numer());
-    }
-    (a.numer() * b.denom()).cmp(&(b.numer() * a.denom()))
-}
-
-/// `a == b` for reduced rationals, without [`qcmp`]'s multiplications.
-pub fn qeq(a: &BigRational, b: &BigRational) -> bool {
-    a.numer() == b.numer() && a.denom() == b.denom()
-}
-
-/// `a < b`.
-pub fn qlt(a: &BigRational, b: &BigRational) -> bool {
-    qcmp(a, b).is_lt()
-}
-
-/// `a ≤ b`.
-pub fn qle(a: &BigRational, b: &BigRational) -> bool {
-    qcmp(a, b).is_le()
-}
+pub use crate::number::order::{qcmp, qeq, qle, qlt};
 
 fn q(n: i64) -> BigRational {
     BigRational::from_integer(BigInt::from(n))

@@ -50,8 +50,8 @@ use num_rational::BigRational;
 use num_traits::{One, Signed, ToPrimitive, Zero};
 
 use crate::Number;
-use crate::algebraic::poly::{qle, qlt};
 use crate::expr::{self, BinOp, Expr, ExprKind};
+use crate::number::order::{qle, qlt};
 pub use poly::{Interval, Poly};
 
 /// The most certified unknowns.

@@ -17,7 +17,7 @@ use num_bigint::BigInt;
 use num_rational::BigRational;
 use num_traits::{One, Signed, ToPrimitive, Zero};
 
-use crate::algebraic::poly::{qle, qlt};
+use crate::number::order::{qle, qlt};
 
 /// A polynomial in `nvars` unknowns: exponent vector → nonzero coefficient.
 #[derive(Clone, Debug, PartialEq, Eq)]

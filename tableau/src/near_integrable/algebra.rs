@@ -31,9 +31,8 @@ use super::words::{Word, binomial, words_with};
 use crate::Number;
 
 /// The arithmetic of the coefficients: exact [`Number`]s (the radical
-/// field, [`Exact`]) or real algebraic numbers in a
-/// [`crate::algebraic::alg::Field`] (`root(...)` entries, nested radicals;
-/// see [`super::alg_near`]). `is_zero` is structural (a skip of work, never
+/// field, [`Exact`]) or the real algebraic numbers of `root(...)` entries
+/// and nested radicals (the `algebraic` module's `near.rs`). `is_zero` is structural (a skip of work, never
 /// a verdict): the verdicts are the callers' exact zero tests.
 pub(crate) trait Ring {
     type E: Clone;

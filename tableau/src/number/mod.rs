@@ -18,6 +18,7 @@
 //! ```
 
 mod inverse;
+pub mod order;
 pub mod radical;
 mod round;
 
