@@ -34,6 +34,7 @@ use num_traits::{One, Signed, Zero};
 
 use crate::family::{Family, FamilyError, Form};
 use crate::poly::Poly;
+use tableau::certificate::{factorial, is_lyndon, word_label, word_weight, words_of_weight};
 
 /// One condition (or error term): the Lyndon word, its degree, the
 /// polynomial that must vanish.
@@ -82,60 +83,10 @@ impl System {
 /// … for compositions.
 type Word = Vec<u8>;
 
-fn letter_weight(form: Form, l: u8) -> usize {
-    match form {
-        Form::Composition => 2 * usize::from(l) + 1,
-        Form::Aba | Form::Bab => 1,
-    }
-}
-
-fn word_weight(form: Form, w: &[u8]) -> usize {
-    w.iter().map(|&l| letter_weight(form, l)).sum()
-}
-
-fn word_label(form: Form, w: &[u8]) -> String {
-    const SUB: [&str; 8] = ["₁", "₃", "₅", "₇", "₉", "₁₁", "₁₃", "₁₅"];
-    w.iter()
-        .map(|&l| match form {
-            Form::Composition => format!("Y{}", SUB[usize::from(l)]),
-            Form::Aba | Form::Bab => if l == 0 { "A" } else { "B" }.to_string(),
-        })
-        .collect()
-}
-
-/// Every word of weight exactly `n`.
-fn words_of_weight(form: Form, n: usize) -> Vec<Word> {
-    let letters: Vec<u8> = match form {
-        Form::Composition => (0..).take_while(|&l| 2 * l < n).map(|l| l as u8).collect(),
-        Form::Aba | Form::Bab => vec![0, 1],
-    };
-    let mut out = Vec::new();
-    let mut stack: Vec<(Word, usize)> = vec![(Vec::new(), 0)];
-    while let Some((w, wt)) = stack.pop() {
-        if wt == n {
-            out.push(w);
-            continue;
-        }
-        for &l in &letters {
-            let lw = letter_weight(form, l);
-            if wt + lw <= n {
-                let mut v = w.clone();
-                v.push(l);
-                stack.push((v, wt + lw));
-            }
-        }
-    }
-    out.sort();
-    out
-}
-
-/// Lyndon: strictly smaller than each of its proper suffixes.
-fn is_lyndon(w: &[u8]) -> bool {
-    !w.is_empty() && (1..w.len()).all(|i| w < &w[i..])
-}
-
-fn factorial(n: usize) -> BigInt {
-    (1..=n).map(BigInt::from).product()
+/// The words' letters, weights and labels are tableau's (the certificate
+/// builds the same conditions); a composition's letters are `Y₁, Y₃, …`.
+fn comp(form: Form) -> bool {
+    matches!(form, Form::Composition)
 }
 
 /// One factor of the product: `exp(x·L)` for a drift or kick, or
@@ -150,7 +101,7 @@ enum Factor<'a> {
 fn product(form: Form, factors: &[Factor<'_>], top: usize, nvars: usize) -> HashMap<Word, Poly> {
     let mut words: Vec<Word> = vec![Vec::new()];
     for n in 1..=top {
-        words.extend(words_of_weight(form, n));
+        words.extend(words_of_weight(comp(form), n));
     }
     let one = Poly::constant(nvars, BigRational::one());
     let mut p: HashMap<Word, Poly> = words
@@ -185,7 +136,9 @@ fn product(form: Form, factors: &[Factor<'_>], top: usize, nvars: usize) -> Hash
                     .iter()
                     .all(|c| c == l)
                     .then(|| powers[v.len()].scale(&inv_fact[v.len()])),
-                Factor::Step(_) => Some(powers[word_weight(form, v)].scale(&inv_fact[v.len()])),
+                Factor::Step(_) => {
+                    Some(powers[word_weight(comp(form), v)].scale(&inv_fact[v.len()]))
+                }
             }
         };
         let mut next = HashMap::with_capacity(p.len());
@@ -367,7 +320,7 @@ pub fn system(family: &Family, file: &str) -> Result<System, FamilyError> {
     let mut conditions = Vec::new();
     let mut error_terms = Vec::new();
     for degree in 1..=top {
-        for w in words_of_weight(family.form, degree) {
+        for w in words_of_weight(comp(family.form), degree) {
             if !is_lyndon(&w) {
                 continue;
             }
@@ -376,7 +329,7 @@ pub fn system(family: &Family, file: &str) -> Result<System, FamilyError> {
             if degree == 1 {
                 poly = poly.sub(&Poly::constant(m, BigRational::one()));
             }
-            let label = word_label(family.form, &w);
+            let label = word_label(comp(family.form), &w);
             if degree == 1 || degree % 2 == 0 {
                 // Consistency was solved for; even degrees vanish for a
                 // palindrome. Both are checked, not assumed.
@@ -481,12 +434,12 @@ mod tests {
         assert!(is_lyndon(&[0, 1, 1]));
         assert!(!is_lyndon(&[0, 1, 0]));
         assert!(!is_lyndon(&[0, 0]));
-        let n5 = words_of_weight(Form::Aba, 5)
+        let n5 = words_of_weight(comp(Form::Aba), 5)
             .into_iter()
             .filter(|w| is_lyndon(w))
             .count();
         assert_eq!(n5, 6);
-        let w5: Vec<Word> = words_of_weight(Form::Composition, 5)
+        let w5: Vec<Word> = words_of_weight(comp(Form::Composition), 5)
             .into_iter()
             .filter(|w| is_lyndon(w))
             .collect();

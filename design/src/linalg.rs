@@ -55,22 +55,6 @@ pub fn solve_f64(a: &[Vec<f64>], b: &[f64]) -> Option<Vec<f64>> {
     x.iter().all(|v| v.is_finite()).then_some(x)
 }
 
-/// The inverse of a square matrix in `f64`, column by column.
-pub fn inverse_f64(a: &[Vec<f64>]) -> Option<Vec<Vec<f64>>> {
-    let n = a.len();
-    let mut cols = Vec::with_capacity(n);
-    for j in 0..n {
-        let mut e = vec![0.0; n];
-        e[j] = 1.0;
-        cols.push(solve_f64(a, &e)?);
-    }
-    Some(
-        (0..n)
-            .map(|i| (0..n).map(|j| cols[j][i]).collect())
-            .collect(),
-    )
-}
-
 /// Solve `a·x = b` exactly; `None` when `a` is singular.
 pub fn solve_rational(a: &[Vec<BigRational>], b: &[BigRational]) -> Option<Vec<BigRational>> {
     let n = b.len();

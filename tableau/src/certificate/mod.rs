@@ -414,11 +414,14 @@ fn composition(flows: &Flows) -> bool {
     matches!(flows, Flows::Composition(_))
 }
 
-fn letter_weight(comp: bool, l: u8) -> usize {
+/// A letter's weight: 1 for `A`, `B`; `2l + 1` for `Y_{2l+1}` of a
+/// composition.
+pub fn letter_weight(comp: bool, l: u8) -> usize {
     if comp { 2 * usize::from(l) + 1 } else { 1 }
 }
 
-fn word_weight(comp: bool, w: &[u8]) -> usize {
+/// The sum of the letters' weights.
+pub fn word_weight(comp: bool, w: &[u8]) -> usize {
     w.iter().map(|&l| letter_weight(comp, l)).sum()
 }
 
@@ -439,7 +442,7 @@ pub fn word_label(comp: bool, w: &[u8]) -> String {
 }
 
 /// Every word of weight exactly `n`, sorted.
-fn words_of_weight(comp: bool, n: usize) -> Vec<Word> {
+pub fn words_of_weight(comp: bool, n: usize) -> Vec<Word> {
     let letters: Vec<u8> = if comp {
         (0..).take_while(|&l| 2 * l < n).map(|l| l as u8).collect()
     } else {
@@ -466,11 +469,12 @@ fn words_of_weight(comp: bool, n: usize) -> Vec<Word> {
 }
 
 /// Lyndon: strictly smaller than each of its proper suffixes.
-fn is_lyndon(w: &[u8]) -> bool {
+pub fn is_lyndon(w: &[u8]) -> bool {
     !w.is_empty() && (1..w.len()).all(|i| w < &w[i..])
 }
 
-fn factorial(n: usize) -> BigInt {
+/// `n!`.
+pub fn factorial(n: usize) -> BigInt {
     (1..=n).map(BigInt::from).product()
 }
 
