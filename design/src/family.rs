@@ -59,6 +59,19 @@ pub const MAX_STAGES: usize = 16;
 /// degree beyond it, with polynomial coefficients.
 pub const MAX_ORDER: usize = 8;
 
+/// How the objective measures the first error terms not imposed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum ErrorBasis {
+    /// The coefficients of the Lie element on the Lyndon words (the default).
+    #[default]
+    Words,
+    /// The coordinates of the Lie element in the Lyndon basis: the standard
+    /// bracketing of each Lyndon word (`AAB → [A,[A,B]]`, `AABAB →
+    /// [[A,[A,B]],[A,B]]`), the basis in which Blanes & Moan (2002) state
+    /// their error terms (`error_basis = "brackets"`).
+    Brackets,
+}
+
 /// A family to design.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Family {
@@ -79,6 +92,18 @@ pub struct Family {
     pub fixed: Vec<(String, BigRational)>,
     /// Coefficients tied together: the second takes the first's value.
     pub equal: Vec<(String, String)>,
+    /// Runge–Kutta–Nyström (`rkn = true`; drift–kick forms): the kinetic
+    /// energy (the drift, letter `A`) is quadratic in the momenta, so
+    /// `[B,[B,[B,A]]]` vanishes and with it every Lie term in the ideal it
+    /// generates. The error terms are the Lyndon-basis coordinates that are
+    /// not in that ideal (`error_basis = "brackets"`, dropping the basis
+    /// elements with `ABBB = [[[A,B],B],B]` as a sub-bracket; their number is
+    /// checked against the ideal's dimension). The conditions up to order 4
+    /// are the classical ones (the ideal starts at degree 4, an even degree),
+    /// so `order` is at most 4 here.
+    pub rkn: bool,
+    /// The basis the objective's error terms are measured in.
+    pub error_basis: ErrorBasis,
     pub seed: u64,
     pub starts: usize,
     pub range: f64,
@@ -103,7 +128,7 @@ impl fmt::Display for FamilyError {
     }
 }
 
-const KEYS: [&str; 12] = [
+const KEYS: [&str; 14] = [
     "name",
     "source",
     "form",
@@ -116,6 +141,8 @@ const KEYS: [&str; 12] = [
     "range",
     "max_seconds",
     "objective",
+    "rkn",
+    "error_basis",
 ];
 
 /// How a coefficient of the method is made of the family's parameters.
@@ -150,6 +177,8 @@ impl Family {
             generalised: Vec::new(),
             fixed: Vec::new(),
             equal: Vec::new(),
+            rkn: false,
+            error_basis: ErrorBasis::Words,
             seed: 1,
             starts: 200,
             range: 1.0,
@@ -222,6 +251,35 @@ impl Family {
                     "order {}: the families are symmetric, so their order is even, from 2 to {MAX_ORDER} (design::family::MAX_ORDER)",
                     self.order
                 ),
+            ));
+        }
+        if self.rkn {
+            if self.form == Form::Composition {
+                return Err(err(
+                    "rkn",
+                    "a Runge–Kutta–Nyström family is a drift–kick sequence (ABA or BAB), not a composition".into(),
+                ));
+            }
+            if !self.generalised.is_empty() || self.order > 4 {
+                return Err(err(
+                    "rkn",
+                    format!(
+                        "order {}: RKN families impose a classical order up to 4 (beyond it the RKN conditions differ from the classical ones, and tableau's certificate checks the classical Lie conditions)",
+                        crate::conditions::order_text(self)
+                    ),
+                ));
+            }
+            if self.error_basis != ErrorBasis::Brackets {
+                return Err(err(
+                    "error_basis",
+                    "an RKN family measures its error in the Lyndon basis (\"brackets\"), modulo the terms that vanish for quadratic kinetic energy".into(),
+                ));
+            }
+        }
+        if self.error_basis == ErrorBasis::Brackets && !self.generalised.is_empty() {
+            return Err(err(
+                "error_basis",
+                "\"brackets\" is for a classical order; a generalised order's error terms are Lyndon-word coefficients".into(),
             ));
         }
         if self.starts == 0 {
@@ -378,6 +436,24 @@ pub fn parse_family(file: &str, text: &str) -> Result<Family, FamilyError> {
     );
     family.generalised = generalised;
     family.source = string("source")?;
+    match table.get("rkn") {
+        None => {}
+        Some(Value::Boolean(b)) => family.rkn = *b,
+        Some(v) => return Err(err("rkn", format!("expected true or false, found {v}"))),
+    }
+    family.error_basis = match string("error_basis")?.as_deref() {
+        None if family.rkn => ErrorBasis::Brackets,
+        None | Some("words") => ErrorBasis::Words,
+        Some("brackets") => ErrorBasis::Brackets,
+        Some(other) => {
+            return Err(err(
+                "error_basis",
+                format!(
+                    "`{other}`: the bases are \"words\" (Lyndon-word coefficients) and \"brackets\" (the Lyndon basis)"
+                ),
+            ));
+        }
+    };
     if let Some(seed) = integer("seed")? {
         family.seed = seed;
     }

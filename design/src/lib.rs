@@ -35,7 +35,7 @@ pub mod poly;
 pub mod solve;
 pub mod verify;
 
-pub use family::{Family, FamilyError, Form, load_family, parse_family};
+pub use family::{ErrorBasis, Family, FamilyError, Form, load_family, parse_family};
 pub use pipeline::{Designed, Outcome, design};
 
 /// The guide's design chapter, compiled and run as doctests.

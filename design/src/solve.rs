@@ -159,6 +159,42 @@ impl Compiled {
         Self::jacobian(&self.jf, x)
     }
 
+    /// How far `x` is from a stationary point of the objective on the
+    /// conditions: the part of the objective's gradient (exact derivatives)
+    /// orthogonal to the conditions' gradients, relative to the whole
+    /// gradient; 0 at a constrained minimum (the Lagrange condition), 1 when
+    /// the gradient is tangent to the conditions' surface.
+    pub fn stationarity(&self, x: &[f64]) -> f64 {
+        let e = Self::values(&self.e, x);
+        let je = Self::jacobian(&self.je, x);
+        let g: Vec<f64> = (0..self.n)
+            .map(|k| 2.0 * e.iter().zip(&je).map(|(ei, row)| ei * row[k]).sum::<f64>())
+            .collect();
+        let j = self.condition_jacobian(x);
+        let m = j.len();
+        let mut a = vec![vec![0.0; m]; m];
+        let mut rhs = vec![0.0; m];
+        for p in 0..m {
+            for q in 0..m {
+                a[p][q] = (0..self.n).map(|k| j[p][k] * j[q][k]).sum();
+            }
+            rhs[p] = (0..self.n).map(|k| j[p][k] * g[k]).sum();
+        }
+        let lambda = if m == 0 {
+            Vec::new()
+        } else {
+            match solve_f64(&a, &rhs) {
+                Some(l) => l,
+                None => return f64::NAN,
+            }
+        };
+        let norm = |v: &[f64]| v.iter().map(|t| t * t).sum::<f64>().sqrt();
+        let r: Vec<f64> = (0..self.n)
+            .map(|k| g[k] - (0..m).map(|p| j[p][k] * lambda[p]).sum::<f64>())
+            .collect();
+        norm(&r) / norm(&g)
+    }
+
     /// Levenberg–Marquardt on `|F|²` from `x`; the point reached.
     fn levenberg_marquardt(&self, mut x: Vec<f64>) -> Vec<f64> {
         let n = self.n;

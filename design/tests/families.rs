@@ -88,3 +88,38 @@ fn impossible_families_are_errors() {
         "{m}"
     );
 }
+
+#[test]
+fn rkn_families_are_drift_kick_of_order_at_most_four() {
+    let base = "name = \"x\"\nform = \"BAB\"\nstages = 6\nrkn = true\n";
+    let f = design::parse_family("f.toml", &format!("{base}order = 4\n")).unwrap();
+    assert_eq!(f.error_basis, design::ErrorBasis::Brackets);
+    let e = design::parse_family("f.toml", &format!("{base}order = 6\n")).unwrap_err();
+    assert_eq!(e.field.as_deref(), Some("rkn"), "{e}");
+    let e = design::parse_family(
+        "f.toml",
+        &format!("{base}order = 4\nerror_basis = \"words\"\n"),
+    )
+    .unwrap_err();
+    assert_eq!(e.field.as_deref(), Some("error_basis"), "{e}");
+    let e = design::parse_family(
+        "f.toml",
+        "name = \"x\"\nform = \"composition\"\nstages = 5\norder = 4\nrkn = true\n",
+    )
+    .unwrap_err();
+    assert_eq!(e.field.as_deref(), Some("rkn"), "{e}");
+    // The Lyndon basis keeps all six degree-5 terms; RKN drops two.
+    let mut f = design::Family::new("x", design::Form::Bab, 6, 4);
+    f.error_basis = design::ErrorBasis::Brackets;
+    assert_eq!(
+        design::conditions::system(&f, "x")
+            .unwrap()
+            .error_terms
+            .len(),
+        6
+    );
+    f.rkn = true;
+    let s = design::conditions::system(&f, "x").unwrap();
+    let words: Vec<&str> = s.error_terms.iter().map(|c| c.word.as_str()).collect();
+    assert_eq!(words, ["P(AAAAB)", "P(AAABB)", "P(AABAB)", "P(ABABB)"]);
+}

@@ -229,3 +229,91 @@ fn saba3_gauss_nodes_certified() {
     assert!(text.contains("\"order = (6, 2) (certified)\""), "{text}");
     assert_claims_hold(name, text);
 }
+
+/// The coefficients of a six-stage BAB table of the catalogue in the
+/// family's unknowns `a1, a2, b1, b2, b3` (the catalogue writes a leading
+/// zero drift), as the printed decimals.
+fn bab6_unknowns(id: &str) -> ([f64; 5], [BigRational; 5]) {
+    let t = tableau::catalogue::load(id).unwrap();
+    let Table::Splitting(s) = &t.table else {
+        panic!()
+    };
+    let q = [
+        s.drift[1].as_rational().unwrap(),
+        s.drift[2].as_rational().unwrap(),
+        s.kick[0].as_rational().unwrap(),
+        s.kick[1].as_rational().unwrap(),
+        s.kick[2].as_rational().unwrap(),
+    ];
+    (q.clone().map(|r| design::poly::to_f64(&r)), q)
+}
+
+/// Blanes–Moan's SRKN₆ᵇ from random starts: the RKN family (`rkn = true`:
+/// the error measured modulo `[B,[B,[B,A]]] = 0`, in the Lyndon basis) has
+/// as its best solution the paper's method, to the paper's optimisation
+/// accuracy: their printed point is nearly stationary for this objective
+/// (the S6 of the same paper is not, for any of the objectives here), and
+/// the found one is closer to stationary and no worse. Prints the table the
+/// guide quotes (`-- --nocapture`).
+#[test]
+fn blanes_moan_srkn6b_recovered() {
+    let family = load("srkn6-order4.toml");
+    assert!(family.rkn);
+    let out = design(&family, "designs/srkn6-order4.toml", &mut |_| {}).unwrap();
+    assert_eq!(out.system.names, ["a1", "a2", "b1", "b2", "b3"]);
+    assert_eq!(
+        out.system.error_terms.len(),
+        4,
+        "six degree-5 terms less the ideal's two"
+    );
+    let c = design::solve::Compiled::new(&out.system);
+    let (theirs, theirs_q) = bab6_unknowns("blanes-moan-srkn6b");
+    assert!(c.residual(&theirs) < 1e-14);
+    let best = &out.designs[0];
+    let p = best.polished.as_ref().unwrap();
+    let ours: Vec<f64> = p.x.iter().map(design::poly::to_f64).collect();
+    let ef = |x: &[f64]| design::solve::effective_error(6, 4, c.objective(x));
+    println!("| coefficient | found (seed 1) | Blanes–Moan SRKN6b | digits agreeing |");
+    let mut worst = i64::MAX;
+    for (i, name) in out.system.names.iter().enumerate() {
+        let d = agreement(&p.x[i], &theirs_q[i]);
+        worst = worst.min(d);
+        println!(
+            "| {name} | {} | {} | {d} |",
+            design::polish::decimal_text(&p.x[i], 16),
+            design::polish::decimal_text(&theirs_q[i], 16)
+        );
+    }
+    let (s_ours, s_theirs) = (c.stationarity(&ours), c.stationarity(&theirs));
+    println!(
+        "E_f found {:.10} / published {:.10}; stationarity found {s_ours:.1e} / published {s_theirs:.1e}",
+        ef(&ours),
+        ef(&theirs)
+    );
+    assert!(
+        worst >= 5,
+        "every coefficient agrees in at least 5 decimals"
+    );
+    assert!(ef(&ours) <= ef(&theirs));
+    assert!(
+        s_theirs < 1e-3,
+        "the paper's point is nearly stationary: {s_theirs:e}"
+    );
+    assert!(s_ours < s_theirs);
+    // Blanes–Moan's S6 is not a stationary point of either objective of its
+    // family (Lyndon-word coefficients, or the Lyndon basis), so no search
+    // for a minimum recovers it.
+    let (s6, _) = bab6_unknowns("blanes-moan-prk6");
+    for basis in [design::ErrorBasis::Words, design::ErrorBasis::Brackets] {
+        let mut f = load("bab6-order4.toml");
+        f.error_basis = basis;
+        let sys = design::conditions::system(&f, "x").unwrap();
+        let cs = design::solve::Compiled::new(&sys);
+        let st = cs.stationarity(&s6);
+        println!("S6 stationarity, {basis:?}: {st:.3}");
+        assert!(st > 1e-2, "{basis:?}: {st:e}");
+    }
+    let (name, text) = best.table.as_ref().unwrap();
+    assert!(text.contains("\"order = 4 (certified)\""), "{text}");
+    assert_claims_hold(name, text);
+}
