@@ -126,7 +126,24 @@ impl Compiled {
                 .collect();
             (f, j)
         };
-        let (f, jf) = compile_all(system.conditions.iter().map(|c| &c.poly).collect());
+        // Each condition scaled so that its largest coefficient is 1: the
+        // same solutions, but the high-degree Lie terms (coefficients of
+        // order 1/n!) weigh in Levenberg–Marquardt as much as the low ones.
+        let scaled: Vec<crate::poly::Poly> = system
+            .conditions
+            .iter()
+            .map(|c| {
+                let big = c
+                    .poly
+                    .terms()
+                    .map(|(_, k)| num_traits::Signed::abs(k))
+                    .max()
+                    .unwrap_or_else(num_traits::One::one);
+                c.poly
+                    .scale(&(num_rational::BigRational::from_integer(1.into()) / big))
+            })
+            .collect();
+        let (f, jf) = compile_all(scaled.iter().collect());
         let (e, je) = compile_all(system.error_terms.iter().map(|c| &c.poly).collect());
         Compiled { f, jf, e, je, n }
     }
