@@ -70,6 +70,9 @@ pub struct System {
     pub conditions: Vec<Condition>,
     /// The error terms of degree `p + 1` (the objective's).
     pub error_terms: Vec<Condition>,
+    /// Runge–Kutta–Nyström conditions (the family's `rkn`): from degree 5 on,
+    /// the conditions are taken modulo the ideal of `[B,[B,[B,A]]]`.
+    pub rkn: bool,
 }
 
 impl System {
@@ -376,7 +379,9 @@ pub fn system(family: &Family, file: &str) -> Result<System, FamilyError> {
                 continue;
             }
             let limit = imposed(&w);
-            if degree > limit + 1 {
+            if degree > limit + 1 || (family.rkn && degree >= 5 && degree <= limit) {
+                // (RKN conditions of degree ≥ 5 are the Lyndon-basis
+                // coordinates outside the ideal, added below.)
                 continue;
             }
             if let Some(c) = poly.as_constant()
@@ -405,6 +410,24 @@ pub fn system(family: &Family, file: &str) -> Result<System, FamilyError> {
             } else {
                 error_terms.push(cond);
             }
+        }
+    }
+    if family.rkn {
+        for degree in (5..=p_order).step_by(2) {
+            let words: Vec<Word> = words_of_weight(false, degree)
+                .into_iter()
+                .filter(|w| is_lyndon(w))
+                .collect();
+            let e: Vec<Poly> = words.iter().map(|w| log_coefficient(&prod, w, m)).collect();
+            let terms =
+                lyndon_basis_terms(false, degree, &words, &e, true, m).map_err(|message| {
+                    FamilyError {
+                        file: file.to_string(),
+                        field: Some("rkn".into()),
+                        message,
+                    }
+                })?;
+            conditions.extend(terms.into_iter().filter(|c| !c.poly.is_zero()));
         }
     }
     if family.error_basis == ErrorBasis::Brackets {
@@ -452,6 +475,7 @@ pub fn system(family: &Family, file: &str) -> Result<System, FamilyError> {
         gamma,
         conditions,
         error_terms,
+        rkn: family.rkn,
     })
 }
 

@@ -90,12 +90,30 @@ fn impossible_families_are_errors() {
 }
 
 #[test]
-fn rkn_families_are_drift_kick_of_order_at_most_four() {
+fn rkn_families_are_drift_kick_of_order_at_most_six() {
     let base = "name = \"x\"\nform = \"BAB\"\nstages = 6\nrkn = true\n";
     let f = design::parse_family("f.toml", &format!("{base}order = 4\n")).unwrap();
     assert_eq!(f.error_basis, design::ErrorBasis::Brackets);
-    let e = design::parse_family("f.toml", &format!("{base}order = 6\n")).unwrap_err();
+    let e = design::parse_family("f.toml", &format!("{base}order = 8\n")).unwrap_err();
     assert_eq!(e.field.as_deref(), Some("rkn"), "{e}");
+    // Order 6: the degree-5 conditions are the four coordinates outside the
+    // ideal of [B,[B,[B,A]]].
+    let f = design::parse_family(
+        "f.toml",
+        "name = \"x\"\nform = \"BAB\"\nstages = 7\nrkn = true\norder = 6\n",
+    )
+    .unwrap();
+    let s = design::conditions::system(&f, "x").unwrap();
+    let words: Vec<&str> = s.conditions.iter().map(|c| c.word.as_str()).collect();
+    assert_eq!(
+        words,
+        ["AAB", "ABB", "P(AAAAB)", "P(AAABB)", "P(AABAB)", "P(ABABB)"]
+    );
+    assert_eq!(
+        s.error_terms.len(),
+        10,
+        "degree 7: 18 Lyndon words, 8 in the ideal"
+    );
     let e = design::parse_family(
         "f.toml",
         &format!("{base}order = 4\nerror_basis = \"words\"\n"),
