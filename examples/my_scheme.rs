@@ -23,7 +23,9 @@
 
 use std::path::Path;
 
-use compare::{AsSeparable, Defaults, Method, Problem, Setup, SweepSettings, work_precision};
+use compare::{
+    AsSeparable, Defaults, Method, Problem, Setup, StackSizes, SweepSettings, work_precision,
+};
 use integrator_core::problems::{Kepler, reference_solution};
 use integrator_core::{Separable, butcher};
 
@@ -65,6 +67,10 @@ impl Separable for DoubleWell {
 
 impl Problem for DoubleWell {
     type Kind = AsSeparable;
+    /// The state has 4 entries: timed runs step a `[f64; 4]` in registers,
+    /// as the built-in problems do (the default steps slices, and compiles
+    /// faster).
+    const STACK_SIZES: StackSizes = StackSizes::only(4);
     fn name(&self) -> String {
         "double-well".into()
     }

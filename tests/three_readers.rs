@@ -2,7 +2,7 @@
 //! entries gets the same verdicts from `symlab check FILE`, from
 //! `symlab compare --table FILE` and from `butcher!` (compiled in
 //! `integrator-core/tests/root_schemes.rs`, refused in
-//! `integrator-core/tests/ui/gauss4_roots_perturbed.rs`).
+//! `integrator-macros/tests/ui/gauss4_roots_perturbed.rs`).
 //!
 //! The fixtures are written by `tableau::algebraic::family::Method::to_root_file`
 //! from the exact generated tables, and the `butcher!` invocations are
@@ -61,7 +61,7 @@ const FIXTURES: &[Fixture] = &[
         claims: &["symplectic"],
         perturb: Some((0, 1, "1/10^40")),
         symplectic: false,
-        macro_file: "integrator-core/tests/ui/gauss4_roots_perturbed.rs",
+        macro_file: "integrator-macros/tests/ui/gauss4_roots_perturbed.rs",
         refusal: Some("W[0][1] ≠ 0"),
         peer: None,
     },
@@ -218,7 +218,9 @@ fn macro_file(f: &Fixture, toml: &str) -> String {
                 (SYMLAB_BLESS_FIXTURES=1 rewrites it).\n";
     let body = macro_text(toml, f.scheme);
     if f.macro_file.contains("/ui/") {
-        format!("{head}use integrator_core::butcher;\n\n{body}\nfn main() {{}}\n")
+        // A compile-fail case of integrator-macros' trybuild test: the
+        // macro alone, as every case there (`integrator-macros/tests/compile_fail.rs`).
+        format!("{head}use integrator_macros::butcher;\n\n{body}\nfn main() {{}}\n")
     } else {
         format!("{head}{body}")
     }

@@ -57,17 +57,3 @@ pub fn catch<T>(f: impl FnOnce() -> T) -> Result<T, String> {
 fn one_line(s: &str) -> String {
     s.split_whitespace().collect::<Vec<_>>().join(" ")
 }
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn a_panic_becomes_its_message_and_the_thread_goes_on() {
-        let r: Result<(), String> = catch(|| panic!("bad step {}", 3));
-        assert_eq!(r.unwrap_err(), "bad step 3");
-        assert_eq!(catch(|| 5).unwrap(), 5);
-        let r: Result<(), String> = catch(|| std::panic::panic_any(7u8));
-        assert_eq!(r.unwrap_err(), "a panic without a message");
-    }
-}

@@ -92,11 +92,13 @@ pub trait Problem: OdeSystem + Clone + Send + Sync + Sized + 'static {
     /// `[f64; N]` instead of slices (the library's explicit schemes, the
     /// `logh:` variants and the DOP853 peer; both paths give the same bits).
     /// Only the sizes named here are compiled for this problem: each one is
-    /// a copy of every explicit scheme's step, and the copies of sizes a
-    /// problem never has made `compare` take minutes to build. The default,
-    /// [`StackSizes::ALL`], suits a problem whose size is not known in
-    /// advance; one of a fixed size names it ([`StackSizes::only`]).
-    const STACK_SIZES: StackSizes = StackSizes::ALL;
+    /// a copy of every explicit scheme's step (about a minute of build time
+    /// per size for a new problem type). The default,
+    /// [`StackSizes::NONE`], steps slices; a problem of a fixed size that is
+    /// timed names it ([`StackSizes::only`]), as the built-in problems do,
+    /// and gets the stack path. A state of another size than the ones named
+    /// is still stepped, on the observed run's path, with the same bits.
+    const STACK_SIZES: StackSizes = StackSizes::NONE;
     /// The step-size function of the reversible adaptive methods
     /// (`adaptive:ID`, [`adaptive`](crate::adaptive)): `σ = |q|^α` for a
     /// problem whose position is a distance from a centre (Kepler: the
@@ -106,6 +108,14 @@ pub trait Problem: OdeSystem + Clone + Send + Sync + Sized + 'static {
     /// variant of every symmetric scheme is compiled only for the problems
     /// that have one.
     const STEP_DENSITY: Option<integrator_core::adaptive::DistancePower> = None;
+    /// Whether the potential is negative wherever the problem goes,
+    /// `V(q) < 0`, as gravity's `−Σ Gmᵢmⱼ/rᵢⱼ` is: the logarithmic
+    /// Hamiltonian of `logh:ID` ([`time_transformed`](crate::time_transformed):
+    /// `ds = dt·(−V)`) is defined only there. `false` (the default): no
+    /// `logh:` methods, which are then neither offered nor compiled for the
+    /// problem (each is a copy of every explicit scheme's step on the
+    /// extended system). A start where `V ≥ 0` is still refused at step 0.
+    const NEGATIVE_POTENTIAL: bool = false;
     /// The N-body ability for Wisdom–Holman methods (`wh:ID`,
     /// [`wisdom_holman`](crate::wisdom_holman)): the Jacobi split of the
     /// same bodies, masses and `G`, for a problem whose state is the
@@ -155,6 +165,11 @@ impl StackSizes {
         panic!("a stack path exists for state sizes 2, 4, 6, 12 and 36 only")
     }
 
+    /// Whether the set is empty (timed runs step slices).
+    pub const fn is_empty(self) -> bool {
+        self.0 == 0
+    }
+
     /// Whether `n` is in the set.
     pub const fn contains(self, n: usize) -> bool {
         let mut i = 0;
@@ -179,6 +194,16 @@ pub(crate) struct Adaptable<P>(std::marker::PhantomData<P>);
 
 impl<P: Problem> Adaptable<P> {
     pub(crate) const ON: bool = P::STEP_DENSITY.is_some();
+}
+
+/// `OnSlices::<P>::ON`: whether `P` names no stack size, so that its
+/// timed runs step slices; a constant of the instance like [`Stacked`]'s
+/// (a problem that names sizes has no separate slice copy of the timed
+/// loop: a state of another size takes the observed run's path).
+pub(crate) struct OnSlices<P>(std::marker::PhantomData<P>);
+
+impl<P: Problem> OnSlices<P> {
+    pub(crate) const ON: bool = P::STACK_SIZES.is_empty();
 }
 
 pub(crate) struct Stacked<P, const N: usize>(std::marker::PhantomData<P>);

@@ -201,7 +201,7 @@ impl MethodFamily {
             MethodFamily::Library | MethodFamily::Table => true,
             MethodFamily::Propagator => sys.linear().is_some(),
             MethodFamily::WisdomHolman => sys.wisdom_holman().is_some(),
-            MethodFamily::LogH => separable,
+            MethodFamily::LogH => separable && P::NEGATIVE_POTENTIAL,
             MethodFamily::Adaptive | MethodFamily::AdaptiveImplicit => {
                 separable && P::STEP_DENSITY.is_some()
             }
@@ -366,6 +366,12 @@ fn logh<P: Problem>(base: &str, problem: &str) -> Result<Method<P>> {
         format!(
             "method '{id}': the logarithmic Hamiltonian needs a separable H = T(p) + V(q); the {problem} problem is an OdeSystem only"
         )
+    } else if !P::NEGATIVE_POTENTIAL && library::EXPLICIT_SEPARABLE_IDS.contains(&base) {
+        format!(
+            "method '{id}': the logarithmic Hamiltonian (ds = dt·(−V)) needs a potential that is negative \
+             wherever the problem goes, as gravity's is; the {problem} problem does not declare one \
+             (Problem::NEGATIVE_POTENTIAL)"
+        )
     } else if let Some(i) = info(base) {
         format!(
             "method '{id}': '{base}' is {} {} scheme; logh: takes an explicit scheme for separable Hamiltonians \
@@ -466,61 +472,5 @@ impl<P: Problem> MethodSpec<P> {
             MethodSpec::Table(t) => Method::interpreted(&t),
             MethodSpec::Method(m) => Ok(m),
         }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use integrator_core::linear;
-    use integrator_core::problems::Kepler;
-
-    #[test]
-    fn separable_methods_on_the_linear_problem_say_why_not() {
-        let sys = linear::gyroscopic(3, 1, 10.0).unwrap();
-        let err = match Method::by_id("leapfrog", &sys) {
-            Err(e) => e.to_string(),
-            Ok(_) => panic!("leapfrog cannot step the linear system"),
-        };
-        assert!(err.contains("separable"), "{err}");
-        assert!(Method::by_id("gauss2-propagator", &sys).is_ok());
-        let kepler = Kepler { e: 0.6 };
-        assert!(Method::by_id("gauss2-propagator", &kepler).is_err());
-        let err = match Method::by_id("nope", &kepler) {
-            Err(e) => e.to_string(),
-            Ok(_) => panic!(),
-        };
-        assert!(err.contains("leapfrog") && err.contains("unknown"), "{err}");
-    }
-
-    #[test]
-    fn every_listed_id_resolves_to_its_family() {
-        let kepler = Kepler { e: 0.6 };
-        for id in ids(&kepler) {
-            assert!(Method::by_id(&id, &kepler).is_ok(), "{id}");
-            assert!(MethodFamily::of(&id).is_some(), "{id}");
-        }
-        let solar = integrator_core::problems::OuterSolarSystem;
-        let listed = ids(&solar);
-        assert!(listed.iter().any(|id| id == "wh:leapfrog"));
-        for (id, family) in [
-            ("wh:leapfrog", MethodFamily::WisdomHolman),
-            ("logh:kahan-li8", MethodFamily::LogH),
-            ("adaptive:gauss2", MethodFamily::Adaptive),
-            ("adaptive-implicit:gauss2", MethodFamily::AdaptiveImplicit),
-            ("rebound:whfast", MethodFamily::Rebound),
-            ("dop853", MethodFamily::Dop853),
-            ("gauss2-propagator", MethodFamily::Propagator),
-            ("gauss2", MethodFamily::Library),
-        ] {
-            assert_eq!(MethodFamily::of(id), Some(family), "{id}");
-            assert!(!family.about().is_empty() && !family.pattern().is_empty());
-        }
-        assert!(MethodFamily::WisdomHolman.applies(&solar));
-        assert!(!MethodFamily::WisdomHolman.applies(&kepler));
-        assert!(MethodFamily::Rebound.applies(&kepler));
-        let gyro = linear::gyroscopic(3, 1, 10.0).unwrap();
-        assert!(MethodFamily::Propagator.applies(&gyro));
-        assert!(!MethodFamily::LogH.applies(&gyro));
     }
 }

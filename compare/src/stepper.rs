@@ -14,7 +14,7 @@ use integrator_core::linear::Propagator;
 use integrator_core::scheme::{PrkWorkspace, RkWorkspace, SplitWorkspace};
 use integrator_core::{OdeSystem, Step, check_start};
 
-use crate::problem::{Counted, Kind, Problem, Stacked};
+use crate::problem::{Counted, Kind, OnSlices, Problem, Stacked};
 
 /// How a run ended.
 #[derive(Clone, Debug, PartialEq)]
@@ -295,7 +295,9 @@ where
 /// [`Problem::STACK_SIZES`] (the built-in problems' sizes, and the sizes the
 /// DOP853 peer runs on stack vectors), [`Stepper::bare`] steps
 /// a `[f64; N]` through `StepFixed::step_fixed`, so that both sides of a
-/// timing keep the state in registers; other sizes take the slice path.
+/// timing keep the state in registers. A problem that names no size steps
+/// slices; a state of a size it did not name takes the observed run's path
+/// ([`bare_on_observed`]).
 /// Both paths give the same bits (integrator-core's `tests/fixed.rs`), so
 /// the observed run, which counts evaluations, is [`StepStepper`]'s.
 pub struct FixedSizeStepper<M>(pub M);
@@ -340,11 +342,29 @@ where
     }
 
     fn bare(&self, sys: &P, z: &mut [f64], h: f64, n: usize) -> bool {
+        if OnSlices::<P>::ON {
+            return Stepper::<P>::bare(&StepStepper(self.0), sys, z, h, n);
+        }
         if z.len() == sys.dim() {
             fixed_sizes!(&self.0, sys, z, h, n; 2, 4, 6, 12, 36);
         }
-        Stepper::<P>::bare(&StepStepper(self.0), sys, z, h, n)
+        bare_on_observed(self, sys, z, h, n)
     }
+}
+
+/// A timed run of a problem that names its stack sizes, on a state of
+/// another size: the observed run's path (counted slices, the same bits,
+/// a little slower), not a third copy of every scheme's step for the
+/// problem ([`Problem::STACK_SIZES`]).
+pub(crate) fn bare_on_observed<P: Problem>(
+    stepper: &impl Stepper<P>,
+    sys: &P,
+    z: &mut [f64],
+    h: f64,
+    n: usize,
+) -> bool {
+    let outcome = stepper.observed(sys, z, h, n, true, &mut |_, _, _| true);
+    outcome.status.is_ok() && z.iter().all(|x| x.is_finite())
 }
 
 /// [`StepStepper`]'s bare run on a `[f64; N]` (compensated, first same as last).

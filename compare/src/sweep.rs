@@ -46,20 +46,7 @@ use crate::problem::{Family, Problem, Setup};
 use crate::stepper::Status;
 
 pub use crate::peer::{PEER_TOLERANCES, tolerance_range, tolerances};
-pub use crate::row::{COLUMNS, Row};
-
-fn median(mut v: Vec<f64>) -> f64 {
-    if v.is_empty() {
-        return f64::NAN;
-    }
-    v.sort_by(f64::total_cmp);
-    let m = v.len() / 2;
-    if v.len() % 2 == 1 {
-        v[m]
-    } else {
-        0.5 * (v[m - 1] + v[m])
-    }
-}
+pub use crate::row::{COLUMNS, Row, median};
 
 /// Step counts for the log-spaced step sizes from `h_max` down to `h_min`
 /// (`points` of them), each rounded to a whole number of steps over
@@ -564,27 +551,4 @@ pub fn peer_run<P: Problem>(setup: &Setup<P>, tol: f64, repeats: usize, max_step
         Err(e) => row.status = format!("solver failed: {e}"),
     }
     row
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn step_counts_are_log_spaced_and_distinct() {
-        let s = step_counts(10.0, 1e-3, 0.1, 5);
-        assert_eq!(s, vec![100, 316, 1000, 3162, 10000]);
-        assert_eq!(step_counts(1.0, 0.5, 0.5, 3), vec![2]);
-        let t = tolerances(PEER_TOLERANCES);
-        assert_eq!(t.len(), 15);
-        assert!((t[0] - 1e-4).abs() < 1e-18 && (t[14] - 1e-18).abs() < 1e-30);
-        assert!((t[4] - 1e-8).abs() < 1e-20 && (t[11] - 1e-15).abs() < 1e-27);
-    }
-
-    #[test]
-    fn median_of_even_and_odd() {
-        assert_eq!(median(vec![3.0, 1.0, 2.0]), 2.0);
-        assert_eq!(median(vec![4.0, 1.0, 2.0, 3.0]), 2.5);
-        assert!(median(vec![]).is_nan());
-    }
 }

@@ -19,8 +19,8 @@ use integrator_core::time_transform::LogHamiltonian;
 use integrator_core::{Separable, Step};
 
 use crate::counting::{AsSeparable, Counting};
-use crate::problem::{Kind, Problem, Stacked};
-use crate::stepper::{Outcome, Status, Stepper, Workspace};
+use crate::problem::{Kind, OnSlices, Problem, Stacked};
+use crate::stepper::{Outcome, Status, Stepper, Workspace, bare_on_observed};
 
 /// A scheme on the logarithmic Hamiltonian of the problem.
 pub struct LogH<M>(pub M);
@@ -318,23 +318,27 @@ where
     /// Timed on the fixed-size path where the extended state has 4, 6 or
     /// 38 entries (the oscillator and pendulum, Kepler and Hénon–Heiles,
     /// the outer solar system) and the problem has the stack path of its own
-    /// size ([`Problem::STACK_SIZES`]), on slices otherwise.
+    /// size ([`Problem::STACK_SIZES`]); on slices for a problem that names
+    /// no size, on the observed run's path for a size it did not name.
     fn bare(&self, sys: &P, z: &mut [f64], h: f64, n: usize) -> bool {
         let logh = LogHamiltonian::new(sys.clone());
         let t_end = h * n as f64;
         // The extended state has two entries more than `P`'s: only the
         // sizes `P` names in `Problem::STACK_SIZES` are compiled.
         let ext = 2 * Separable::dof(&logh);
+        if OnSlices::<P>::ON {
+            let mut ws = Step::<LogHamiltonian<P>>::workspace(&self.0, &logh);
+            let (status, _) = run(&Slices(&self.0), &logh, &mut ws, z, t_end, h, |_, _, _| {
+                true
+            });
+            return status.is_ok() && z.iter().all(|x| x.is_finite());
+        }
         let (status, _) = match ext {
             4 if Stacked::<P, 2>::ON => run_fixed::<P, M, 4>(&self.0, &logh, z, t_end, h),
             6 if Stacked::<P, 4>::ON => run_fixed::<P, M, 6>(&self.0, &logh, z, t_end, h),
             38 if Stacked::<P, 36>::ON => run_fixed::<P, M, 38>(&self.0, &logh, z, t_end, h),
-            _ => {
-                let mut ws = Step::<LogHamiltonian<P>>::workspace(&self.0, &logh);
-                run(&Slices(&self.0), &logh, &mut ws, z, t_end, h, |_, _, _| {
-                    true
-                })
-            }
+            // A size `P` did not name: the observed run's path.
+            _ => return bare_on_observed(self, sys, z, h, n),
         };
         status.is_ok() && z.iter().all(|x| x.is_finite())
     }

@@ -11,5 +11,6 @@ mod long_variable;
 mod rebound_hostile;
 mod rebound_peer;
 mod time_transformed;
+mod units;
 mod wisdom_holman;
 mod your_scheme;

@@ -2,7 +2,7 @@
 //! through the comparison library: they land on T exactly, match the
 //! reference to their accuracy, and bad ids are clear errors.
 
-use compare::{Method, Setup, SweepSettings, builtin, work_precision};
+use compare::{Method, SweepSettings, builtin, work_precision};
 use integrator_core::problems::Kepler;
 
 #[test]
@@ -87,21 +87,24 @@ fn bad_logh_ids_are_clear_errors() {
         .unwrap()
         .to_string();
     assert!(e.contains("separable"), "{e}");
-    // A potential that is not negative: the run says so, it does not panic.
-    let setup = Setup::new(integrator_core::problems::Oscillator { k: 1.0 }, 1.0).unwrap();
-    let Method::Fixed(f) = Method::by_id("logh:leapfrog", &setup.sys).unwrap() else {
-        panic!()
-    };
-    let mut z = setup.z0.clone();
-    let out = f
-        .stepper
-        .observed(&setup.sys, &mut z, 0.1, 10, true, &mut |_, _, _| true);
-    match out.status {
-        compare::Status::SolverFailed { step: 0, reason } => {
-            assert!(reason.contains("V(q) < 0"), "{reason}")
-        }
-        other => panic!("{other:?}"),
-    }
+    // A problem whose potential is not negative everywhere has no logh:
+    // methods (Problem::NEGATIVE_POTENTIAL): the refusal names the problem
+    // and the reason. (A start with V ≥ 0 on a problem that declares one is
+    // refused at step 0: integrator-core's tests/time_transform.rs.)
+    let osc = integrator_core::problems::Oscillator { k: 1.0 };
+    let e = Method::by_id("logh:leapfrog", &osc)
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(
+        e.contains("logh:leapfrog")
+            && e.contains("oscillator")
+            && e.contains("negative")
+            && e.contains("NEGATIVE_POTENTIAL"),
+        "{e}"
+    );
+    assert!(!compare::registry::MethodFamily::LogH.applies(&osc));
+    assert!(compare::registry::MethodFamily::LogH.applies(&kepler));
 }
 
 #[test]

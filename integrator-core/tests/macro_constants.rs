@@ -71,11 +71,8 @@ fn coefficients_are_the_nearest_doubles() {
     }
 }
 
-#[test]
-fn compile_fail_diagnostics() {
-    let t = trybuild::TestCases::new();
-    t.compile_fail("tests/ui/*.rs");
-}
+// The compile errors of false claims (trybuild) are integrator-macros'
+// tests: `integrator-macros/tests/compile_fail.rs`.
 
 butcher! {
     /// The triple jump with its coefficients rounded to 17 digits: the order

@@ -1,6 +1,6 @@
 //! `butcher!` claims of generalised orders for near-integrable H = A + εB
 //! (drifts the flow of A, kicks that of εB), checked exactly at compile
-//! time; the false ones are compile errors (tests/ui/near_integrable_order_claims.rs).
+//! time; the false ones are compile errors (integrator-macros/tests/ui/near_integrable_order_claims.rs).
 
 use integrator_core::butcher;
 

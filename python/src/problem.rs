@@ -493,6 +493,9 @@ impl CmpProblem for PySeparable {
     /// Slices: a Python callback costs far more than the step's loads and
     /// stores, and each stack size would compile every scheme again.
     const STACK_SIZES: StackSizes = StackSizes::NONE;
+    /// Offered: the problem is the user's, maybe gravitational; a start with
+    /// `V ≥ 0` is refused at step 0 as any `logh:` run's.
+    const NEGATIVE_POTENTIAL: bool = true;
     fn name(&self) -> String {
         self.0.spec.name.clone()
     }

@@ -23,8 +23,6 @@ mod config;
 mod csv;
 mod findings;
 mod method;
-#[cfg(test)]
-mod tests;
 mod trajectory;
 
 pub use config::{Config, Invalid, MAX_STEPS, MIN_STEPS, h_name};

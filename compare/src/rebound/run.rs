@@ -5,7 +5,7 @@ use serde_json::{Value, json};
 
 use super::{Bodies, ENERGY_SAMPLES, Point, ReboundMethod, hex, request, state_of};
 use crate::problem::{Family, Problem, Setup};
-use crate::row::Row;
+use crate::row::{Row, median};
 
 /// What one REBOUND run gave.
 #[derive(Clone, Debug, PartialEq)]
@@ -83,19 +83,6 @@ pub fn run_bodies(
         reproducible: a["reproducible"] == json!(true),
         version: a["rebound"].as_str().unwrap_or("unknown").to_string(),
     })
-}
-
-fn median(mut v: Vec<f64>) -> f64 {
-    if v.is_empty() {
-        return f64::NAN;
-    }
-    v.sort_by(f64::total_cmp);
-    let m = v.len() / 2;
-    if v.len() % 2 == 1 {
-        v[m]
-    } else {
-        0.5 * (v[m - 1] + v[m])
-    }
 }
 
 /// One row of a sweep: `m` on `setup` at `point`, the error measured here

@@ -1,6 +1,9 @@
-//! The paper's qualitative claims, on the numbers this module computes.
+//! Tests of `compare::paper_oscillator`: the paper's qualitative claims, on
+//! the numbers the module computes (they were its `#[cfg(test)]` module;
+//! see `compare/tests/units/mod.rs`).
 
-use super::*;
+use compare::CompareError;
+use compare::paper_oscillator::*;
 
 fn run_h01() -> Experiment {
     let config = Config {

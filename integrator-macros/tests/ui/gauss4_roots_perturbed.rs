@@ -1,5 +1,5 @@
 // Written by tests/three_readers.rs from the table file of the same name (SYMLAB_BLESS_FIXTURES=1 rewrites it).
-use integrator_core::butcher;
+use integrator_macros::butcher;
 
 butcher! {
     /// Gauss–Legendre, 4 stages via root(...) nodes, a[0][1] + 1/10^40

@@ -1,4 +1,4 @@
-use integrator_core::butcher;
+use integrator_macros::butcher;
 
 butcher! {
     /// Gauss–Legendre 2 via roots has order 4, not 5: the claim is decided

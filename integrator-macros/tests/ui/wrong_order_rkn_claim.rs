@@ -1,4 +1,4 @@
-use integrator_core::butcher;
+use integrator_macros::butcher;
 
 // Störmer–Verlet has order 2 on Runge–Kutta–Nyström systems too.
 butcher! {

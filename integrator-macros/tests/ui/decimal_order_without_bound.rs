@@ -1,4 +1,4 @@
-use integrator_core::butcher;
+use integrator_macros::butcher;
 
 // The triple jump with x rounded to 16 digits: order 4 holds only to a
 // residual, so an unbounded claim is rejected.

@@ -1,4 +1,4 @@
-use integrator_core::butcher;
+use integrator_macros::butcher;
 
 // The Wisdom–Holman leapfrog with the corrector of order 3 has the
 // effective generalised order (4, 2): claiming (6, 2) fails at the first

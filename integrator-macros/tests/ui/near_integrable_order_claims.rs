@@ -1,4 +1,4 @@
-use integrator_core::butcher;
+use integrator_macros::butcher;
 
 // Laskar–Robutel SABA₃ has generalised order (6, 2): claiming (8, 2) fails
 // at the first condition past the truth, εh⁷.

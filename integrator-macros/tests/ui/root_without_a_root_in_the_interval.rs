@@ -1,4 +1,4 @@
-use integrator_core::butcher;
+use integrator_macros::butcher;
 
 butcher! {
     /// The nodes of Gauss–Legendre 2 are (3 ∓ √3)/6 ≈ 0.211, 0.789: none in (0, 1/10].

@@ -1,4 +1,4 @@
-use integrator_core::butcher;
+use integrator_macros::butcher;
 
 butcher! {
     /// Radau IIA with 4 stages is A-stable and of order 7, but not symplectic.
