@@ -7,7 +7,7 @@
 //! | [`Library`](MethodFamily::Library) | `symlab list`'s ids (`gauss2`, `kahan-li8`, …) | every problem (Runge–Kutta tables); the others on separable problems |
 //! | [`Propagator`](MethodFamily::Propagator) | `gauss1-propagator` … `gauss3-propagator` | linear problems ([`Problem::linear`]) |
 //! | [`WisdomHolman`](MethodFamily::WisdomHolman) | `wh:ID` | N-body problems with a Jacobi split ([`Problem::wisdom_holman`]) |
-//! | [`LogH`](MethodFamily::LogH) | `logh:ID` | separable problems |
+//! | [`LogH`](MethodFamily::LogH) | `logh:ID` | separable problems with a negative potential ([`Problem::NEGATIVE_POTENTIAL`]) |
 //! | [`Adaptive`](MethodFamily::Adaptive), [`AdaptiveImplicit`](MethodFamily::AdaptiveImplicit) | `adaptive:ID`, `adaptive-implicit:ID` | separable problems with a step density ([`Problem::STEP_DENSITY`]) |
 //! | [`Dop853`](MethodFamily::Dop853) | `dop853` | every problem (with the `peer` feature) |
 //! | [`Rebound`](MethodFamily::Rebound) | `rebound:NAME[:KEY=VALUE…]` | point masses ([`Problem::rebound_bodies`]) |
@@ -155,7 +155,7 @@ impl MethodFamily {
                 "a splitting or processed method on the Wisdom–Holman split of an N-body problem"
             }
             MethodFamily::LogH => {
-                "an explicit separable scheme on the logarithmic Hamiltonian (separable problems)"
+                "an explicit separable scheme on the logarithmic Hamiltonian (separable problems with a negative potential)"
             }
             MethodFamily::Adaptive => {
                 "a symmetric scheme under the integrating reversible step-size controller (problems with a step density)"
