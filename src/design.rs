@@ -23,6 +23,54 @@ pub struct DesignArgs {
     /// Override the family's number of starts.
     #[arg(long)]
     pub starts: Option<usize>,
+    /// Run the best designs (see --designs) beside library methods on this
+    /// built-in problem (kepler, outer-solar, oscillator, …) in one
+    /// work–precision sweep, as `symlab compare --table` does, and write its
+    /// report (runs.csv, report.md, the plots) into DIR/compare/.
+    #[arg(long, value_name = "PROBLEM", value_parser = problem_id)]
+    pub compare: Option<compare::builtin::Builtin>,
+    /// With --compare: the library methods to run beside the designs
+    /// (comma-separated ids of `symlab list`, wh:ID on outer-solar; default:
+    /// compare's references for table files on that problem).
+    #[arg(
+        long,
+        value_delimiter = ',',
+        value_name = "ID,...",
+        requires = "compare"
+    )]
+    pub methods: Option<Vec<String>>,
+    /// With --compare: how many of the best proven designs to run (default 3).
+    #[arg(long, value_name = "N", default_value_t = 3, requires = "compare")]
+    pub designs: usize,
+    /// With --compare: number of step sizes of the sweep.
+    #[arg(long, value_name = "N", requires = "compare")]
+    pub points: Option<usize>,
+    /// With --compare: timed runs per point (the median is reported).
+    #[arg(long, value_name = "R", requires = "compare")]
+    pub repeats: Option<usize>,
+    /// With --compare: the end time (default per problem).
+    #[arg(long, value_name = "T", requires = "compare")]
+    pub t_end: Option<f64>,
+    /// With --compare: the smallest step size.
+    #[arg(long, value_name = "H", requires = "compare")]
+    pub h_min: Option<f64>,
+    /// With --compare: the largest step size.
+    #[arg(long, value_name = "H", requires = "compare")]
+    pub h_max: Option<f64>,
+    /// With --compare: the error of the time-to-error table (default 1e-8).
+    #[arg(long, value_name = "E", requires = "compare")]
+    pub target: Option<f64>,
+}
+
+fn problem_id(s: &str) -> std::result::Result<compare::builtin::Builtin, String> {
+    compare::builtin::Builtin::from_name(s).map_err(|_| {
+        format!(
+            "the built-in problems are {}",
+            compare::builtin::Builtin::ALL
+                .map(compare::builtin::Builtin::name)
+                .join(", ")
+        )
+    })
 }
 
 pub fn run(args: &DesignArgs) -> Result<ExitCode> {
@@ -84,8 +132,146 @@ pub fn run(args: &DesignArgs) -> Result<ExitCode> {
             d.solution.hits
         );
     }
-    for p in written {
+    for p in &written {
         println!("wrote {}", p.display());
     }
+    if let Some(problem) = args.compare {
+        compare_designs(args, problem, &outcome, &written)?;
+    }
     Ok(ExitCode::SUCCESS)
+}
+
+/// `--compare PROBLEM`: the best `--designs` proven tables written (exact or
+/// certified, in the order of the objective) beside the library's methods
+/// in one sweep of compare's library (the path of `symlab compare --table`),
+/// its report written into DIR/compare/.
+fn compare_designs(
+    args: &DesignArgs,
+    problem: compare::builtin::Builtin,
+    outcome: &design::Outcome,
+    written: &[PathBuf],
+) -> Result<()> {
+    let proven: Vec<PathBuf> = outcome
+        .designs
+        .iter()
+        .filter(|d| d.exact.is_some() || matches!(d.certificate, Some(Ok(_))))
+        .filter_map(|d| d.table.as_ref())
+        .filter_map(|(name, _)| written.iter().find(|p| p.ends_with(name)).cloned())
+        .take(args.designs)
+        .collect();
+    if proven.is_empty() {
+        anyhow::bail!(
+            "--compare {}: no proven design to run (none exact or certified)",
+            problem.name()
+        );
+    }
+    let request = compare::sweep_plan::SweepRequest {
+        t_end: args.t_end,
+        h_min: args.h_min,
+        h_max: args.h_max,
+        points: args.points,
+        repeats: args.repeats,
+        target: args.target,
+        ..Default::default()
+    };
+    let job = compare::mode::SweepJob {
+        problem: compare::mode::SweepProblem::Builtin(problem),
+        request,
+        methods: args.methods.clone(),
+        tables: proven.clone(),
+    };
+    let sweep = compare::mode::prepare_sweep(job)?;
+    println!("{}", sweep.headline());
+    let (result, _) = sweep.run(Vec::new(), &mut compare::Quiet)?;
+    let dir = args.out.join("compare");
+    let files = result
+        .write(&dir)
+        .with_context(|| format!("writing into {}", dir.display()))?;
+    print!("{}", result.summary());
+    print!("{}", result.wrote(&files));
+    let designs: Vec<String> = proven
+        .iter()
+        .filter_map(|p| p.file_stem().map(|s| s.to_string_lossy().into_owned()))
+        .collect();
+    let table = evaluations_to_error(&result.rows, &designs, &[1e-6, 1e-8, 1e-10, 1e-12]);
+    let path = dir.join("designs.md");
+    std::fs::write(&path, &table).with_context(|| format!("writing {}", path.display()))?;
+    print!("{table}");
+    println!("wrote {}", path.display());
+    Ok(())
+}
+
+/// For each error `E` of `targets`: every method's fewest evaluations (force
+/// evaluations on a separable problem) over the rows of the sweep whose
+/// error is at most `E` (no interpolation between step sizes), the methods
+/// ranked by it, and whether the best design needs fewer than the best
+/// library method. Evaluations compare interpreted table rows with generated
+/// code; their times do not.
+fn evaluations_to_error(rows: &[compare::Row], designs: &[String], targets: &[f64]) -> String {
+    use std::fmt::Write as _;
+    let mut methods: Vec<&str> = Vec::new();
+    for r in rows {
+        if !methods.contains(&r.method.as_str()) {
+            methods.push(&r.method);
+        }
+    }
+    let mut out = String::from(
+        "\nEvaluations to reach an error (the fewest over the sweep's step sizes whose error is at most it; `-`: not reached):\n\n",
+    );
+    let _ = write!(out, "| method | design |");
+    for t in targets {
+        let _ = write!(out, " ≤ {t:.0e} |");
+    }
+    out.push_str("\n|---|---|");
+    for _ in targets {
+        out.push_str("---|");
+    }
+    out.push('\n');
+    let fewest = |m: &str, t: f64| -> Option<u64> {
+        rows.iter()
+            .filter(|r| r.method == m && r.ok() && r.error <= t)
+            .map(|r| r.evals)
+            .min()
+    };
+    for m in &methods {
+        let is_design = designs.iter().any(|d| d == m);
+        let _ = write!(out, "| {m} | {} |", if is_design { "yes" } else { "" });
+        for &t in targets {
+            match fewest(m, t) {
+                Some(e) => {
+                    let _ = write!(out, " {e} |");
+                }
+                None => out.push_str(" - |"),
+            }
+        }
+        out.push('\n');
+    }
+    out.push('\n');
+    for &t in targets {
+        let best = |want_design: bool| {
+            methods
+                .iter()
+                .filter(|m| designs.iter().any(|d| d == *m) == want_design)
+                .filter_map(|m| fewest(m, t).map(|e| (e, *m)))
+                .min()
+        };
+        let line = match (best(true), best(false)) {
+            (Some((d, dm)), Some((l, lm))) if d < l => format!(
+                "error ≤ {t:.0e}: the design {dm} needs {d} evaluations, fewer than the library's best in this run, {lm} ({l}): {:.2}×",
+                l as f64 / d as f64
+            ),
+            (Some((d, dm)), Some((l, lm))) => format!(
+                "error ≤ {t:.0e}: the library's {lm} needs {l} evaluations; the best design, {dm}, {d}"
+            ),
+            (None, Some((l, lm))) => {
+                format!("error ≤ {t:.0e}: only library methods reach it; the best, {lm}, with {l}")
+            }
+            (Some((d, dm)), None) => {
+                format!("error ≤ {t:.0e}: only designs reach it; the best, {dm}, with {d}")
+            }
+            (None, None) => format!("error ≤ {t:.0e}: no method reaches it"),
+        };
+        let _ = writeln!(out, "{line}");
+    }
+    out
 }

@@ -101,3 +101,69 @@ fn a_bad_family_is_an_error_naming_file_and_field() {
     assert_eq!(code, 2);
     assert!(err.contains("designs/yoshida4.toml: field starts"), "{err}");
 }
+
+/// `--compare PROBLEM`: the best designs run beside library methods in one
+/// work–precision sweep, its report written into DIR/compare/.
+#[test]
+fn design_compare_runs_designs_beside_the_library() {
+    let dir = out_dir("compare");
+    let d = dir.to_str().unwrap();
+    let (code, out, err) = symlab(&[
+        "design",
+        "designs/mclachlan-sb3a.toml",
+        "--out",
+        d,
+        "--starts",
+        "40",
+        "--compare",
+        "kepler",
+        "--methods",
+        "forest-ruth",
+        "--designs",
+        "2",
+        "--points",
+        "2",
+        "--repeats",
+        "1",
+    ]);
+    assert_eq!(code, 0, "stderr: {err}\n{out}");
+    let cmp = dir.join("compare");
+    assert!(cmp.join("report.md").exists(), "{out}");
+    // The evaluations each method needs to reach an error, designs marked.
+    let table = std::fs::read_to_string(cmp.join("designs.md")).unwrap();
+    assert!(
+        table.contains("| mclachlan-sb3a-order-4-1 | yes |"),
+        "{table}"
+    );
+    assert!(table.contains("| forest-ruth |  |"), "{table}");
+    let csv = std::fs::read_to_string(cmp.join("runs.csv")).unwrap();
+    let mut lines = csv.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let method = header.iter().position(|h| *h == "method").unwrap();
+    let mut ids: Vec<String> = lines
+        .map(|l| l.split(',').nth(method).unwrap().to_string())
+        .collect();
+    ids.dedup();
+    assert_eq!(
+        ids,
+        [
+            "forest-ruth",
+            "mclachlan-sb3a-order-4-1",
+            "mclachlan-sb3a-order-4-2"
+        ],
+        "{csv}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+    // Without a proven design or with a bad problem: errors that say so.
+    let (code, _, err) = symlab(&[
+        "design",
+        "designs/yoshida4.toml",
+        "--out",
+        d,
+        "--compare",
+        "nope",
+    ]);
+    assert_eq!(code, 2);
+    assert!(err.contains("the built-in problems are"), "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
