@@ -24,7 +24,10 @@
 //! independent as functionals on the free Lie algebra (a family may still
 //! make them dependent; the solver checks the Jacobian's rank at each
 //! solution). The objective's terms are the Lyndon coefficients of degree
-//! `p + 1`, the first order not imposed.
+//! `p + 1`, the first order not imposed, or (`error_basis = "brackets"`,
+//! `rkn = true`) the coordinates in the Lyndon basis, modulo the RKN ideal
+//! for `rkn` ([`lyndon_basis_terms`]), which also gives the RKN conditions of
+//! degree ≥ 5.
 
 use std::collections::HashMap;
 

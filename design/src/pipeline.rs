@@ -202,9 +202,16 @@ impl Outcome {
             se.converged,
             se.solutions.len()
         );
+        let measure = match (self.family.rkn, self.family.error_basis) {
+            (true, _) => {
+                "the coordinates in the Lyndon basis outside the ideal of [B,[B,[B,A]]] (RKN)"
+            }
+            (false, crate::ErrorBasis::Brackets) => "the coordinates in the Lyndon basis",
+            (false, crate::ErrorBasis::Words) => "the Lyndon-word coefficients",
+        };
         let _ = writeln!(
             r,
-            "Effective error E_f = s·(Σ e²)^(1/(2p)), e the Lyndon coefficients of degree p + 1 in log Φ.\n"
+            "Effective error E_f = s·(Σ e²)^(1/(2p)), e {measure} of degree p + 1 in log Φ.\n"
         );
         let _ = writeln!(
             r,
