@@ -4,12 +4,12 @@
 //! `report.md`). This module reads the flags into the job's request and
 //! prints what the job returns; a refused field reads as its flag.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use anyhow::Result;
 use compare::paper_oscillator::Config;
-use jobs::paper::{DEFAULT_CLOTH_FRAMES, Quiet, Request};
+use jobs::paper::{DEFAULT_CLOTH_FRAMES, Observer, PaperError, Reproduced, Request, Stage};
 
 #[derive(clap::Args, Debug)]
 pub struct PaperArgs {
@@ -55,11 +55,62 @@ impl PaperArgs {
     }
 }
 
-/// `symlab paper`: run the job (it reports nothing while it goes: the
+/// `symlab paper`: run the job (it reports each cloth run on stderr: the
 /// oscillator takes a second, the cloth comparison about 30 s in release),
-/// then print its summary and the files it wrote.
+/// then print its summary and the files it wrote. SIGINT or SIGTERM stop
+/// it after the cloth run under way, with its checkpoint
+/// (`symlab resume DIR` goes on) and exit status 130 or 143.
 pub fn run(args: &PaperArgs) -> Result<ExitCode> {
-    let done = jobs::paper::run(&args.request(), &mut Quiet)?;
+    let request = args.request();
+    finish(jobs::paper::run(&request, &mut Front), &request.out)
+}
+
+/// `symlab resume DIR` on a paper run's checkpoint.
+pub fn resume(dir: &Path, path: &Path, payload: &[u8]) -> Result<ExitCode> {
+    println!("resuming the paper run in {}", dir.display());
+    finish(jobs::paper::resume(dir, path, payload, &mut Front), dir)
+}
+
+/// The command line's observer: each cloth run on stderr, and a stop when
+/// a signal came.
+struct Front;
+
+impl Observer for Front {
+    fn stage(&mut self, stage: Stage) {
+        if let Stage::Cloth { .. } = stage {
+            crate::signals::install();
+        }
+    }
+    fn cloth_run(&mut self, done: usize, total: usize) {
+        eprintln!("cloth comparison: {done} of {total} runs done");
+    }
+    fn stop(&mut self) -> bool {
+        crate::signals::requested().is_some()
+    }
+}
+
+fn finish(result: Result<Reproduced, PaperError>, dir: &Path) -> Result<ExitCode> {
+    let done = match result {
+        Ok(done) => done,
+        Err(PaperError::Stopped {
+            checkpoint,
+            done,
+            total,
+        }) => {
+            let sig = crate::signals::requested().unwrap_or(15);
+            println!(
+                "stopped by {} after {done} of {total} cloth runs",
+                crate::signals::name(sig)
+            );
+            println!(
+                "checkpoint {} — continue with: symlab resume {}",
+                checkpoint.display(),
+                dir.display()
+            );
+            return Ok(ExitCode::from(crate::signals::exit_status(sig)));
+        }
+        Err(e) => return Err(e.into()),
+    };
     let summary = &done.summary;
     println!("{}", summary.oscillator.heading);
     for line in &summary.oscillator.lines {

@@ -32,9 +32,6 @@ pub fn run(args: &ResumeArgs) -> Result<ExitCode> {
     match kind {
         Kind::Cloth => crate::cloth_cmd::resume(dir, &path, &payload),
         Kind::Compare => crate::compare::resume(dir, &path, &payload),
-        Kind::Paper => bail!(
-            "{}: a `symlab paper` checkpoint; this symlab does not resume paper runs",
-            path.display()
-        ),
+        Kind::Paper => crate::paper::resume(dir, &path, &payload),
     }
 }

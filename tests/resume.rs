@@ -4,7 +4,8 @@
 //! stopped, byte for byte (energy.csv, the OBJ frames, the renderings);
 //! the same after SIGKILL at several points; a damaged checkpoint is
 //! refused with exit 2 naming the file; a `compare` sweep stopped and
-//! resumed has the same rows apart from the wall times.
+//! resumed has the same rows apart from the wall times; a `paper` run
+//! stopped and resumed writes the same files.
 
 #![cfg(unix)]
 
@@ -441,4 +442,107 @@ fn a_compare_sweep_stopped_and_resumed_has_the_same_rows() {
     let got = rows_without_times(&std::fs::read_to_string(dir.join("runs.csv")).unwrap());
     assert_eq!(got, want);
     assert!(!ckpt.exists());
+}
+
+fn paper_args(out: &str) -> Vec<&str> {
+    vec!["paper", "--cloth-frames", "3", "--out", out]
+}
+
+/// cloth_runs.csv without its wall-time columns.
+fn cloth_rows_without_times(csv: &str) -> Vec<String> {
+    let mut lines = csv.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let timed: Vec<usize> = ["stepping_seconds", "ms_per_frame"]
+        .iter()
+        .map(|c| header.iter().position(|h| h == c).unwrap())
+        .collect();
+    let keep = |fields: Vec<&str>| -> String {
+        fields
+            .into_iter()
+            .enumerate()
+            .filter(|(i, _)| !timed.contains(i))
+            .map(|(_, f)| f)
+            .collect::<Vec<_>>()
+            .join(",")
+    };
+    std::iter::once(keep(header.clone()))
+        .chain(lines.map(|l| keep(l.split(',').collect())))
+        .collect()
+}
+
+/// Every file a paper run wrote, but report.md and cloth_runs.csv (which
+/// hold wall times), by name.
+fn paper_files(dir: &Path) -> Vec<(String, Vec<u8>)> {
+    let mut files: Vec<(String, Vec<u8>)> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.is_file())
+        .map(|p| p.file_name().unwrap().to_string_lossy().into_owned())
+        .filter(|n| n != "report.md" && n != "cloth_runs.csv")
+        .map(|n| {
+            let bytes = std::fs::read(dir.join(&n)).unwrap();
+            (n, bytes)
+        })
+        .collect();
+    files.sort();
+    files
+}
+
+/// A `symlab paper` run stopped by SIGTERM after a cloth run exits 143
+/// with a checkpoint; `symlab resume` ends with the files of the run that
+/// was never stopped (the wall times in the run table aside), and removes
+/// the checkpoint. The same after SIGKILL, which leaves the checkpoint of
+/// the last finished run.
+#[test]
+fn a_paper_run_stopped_and_resumed_writes_the_same_files() {
+    let ref_dir = temp_dir("paper-ref");
+    let (code, _, stderr) = symlab(&paper_args(ref_dir.to_str().unwrap()));
+    assert_eq!(code, 0, "stderr: {stderr}");
+    assert!(!ref_dir.join("checkpoint.symlab").exists());
+    let want_files = paper_files(&ref_dir);
+    assert!(want_files.len() > 10, "{} files", want_files.len());
+    let want_rows =
+        cloth_rows_without_times(&std::fs::read_to_string(ref_dir.join("cloth_runs.csv")).unwrap());
+
+    for (name, sig, code_want) in [
+        ("paper-term", libc::SIGTERM, 143),
+        ("paper-kill", libc::SIGKILL, -1),
+    ] {
+        let dir = temp_dir(name);
+        let out = dir.to_str().unwrap().to_string();
+        let ckpt = dir.join("checkpoint.symlab");
+        let mut child = spawn(&paper_args(&out));
+        wait_for(&ckpt, &mut child);
+        signal(&child, sig);
+        let (code, stdout, stderr) = finish(child);
+        assert_eq!(code, code_want, "stdout: {stdout}\nstderr: {stderr}");
+        if sig == libc::SIGTERM {
+            assert!(stdout.contains("stopped by SIGTERM after"), "{stdout}");
+            assert!(stdout.contains("symlab resume"), "{stdout}");
+        }
+        assert!(ckpt.exists(), "{name}: the checkpoint is kept");
+        assert!(
+            !dir.join("report.md").exists(),
+            "{name}: no report of a partial run"
+        );
+        let (code, stdout, stderr) = symlab(&["resume", &out]);
+        assert_eq!(code, 0, "{name}: stdout: {stdout}\nstderr: {stderr}");
+        assert!(stdout.contains("resuming the paper run"), "{stdout}");
+        assert!(
+            !ckpt.exists(),
+            "{name}: a finished run leaves no checkpoint"
+        );
+        let got = paper_files(&dir);
+        assert_eq!(
+            got.iter().map(|(n, _)| n).collect::<Vec<_>>(),
+            want_files.iter().map(|(n, _)| n).collect::<Vec<_>>(),
+            "{name}"
+        );
+        for ((n, a), (_, b)) in got.iter().zip(&want_files) {
+            assert!(a == b, "{name}: {n} differs from the uninterrupted run's");
+        }
+        let rows =
+            cloth_rows_without_times(&std::fs::read_to_string(dir.join("cloth_runs.csv")).unwrap());
+        assert_eq!(rows, want_rows, "{name}");
+    }
 }

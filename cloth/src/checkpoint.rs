@@ -177,7 +177,9 @@ impl RunState {
     }
 }
 
-fn encode_frame(e: &mut Encoder, f: &FrameStats) {
+/// One frame's statistics into a payload (shared with the figure-5
+/// comparison's checkpoints).
+pub fn encode_frame(e: &mut Encoder, f: &FrameStats) {
     e.usize(f.frame)
         .usize(f.step)
         .f64(f.time)
@@ -192,7 +194,8 @@ fn encode_frame(e: &mut Encoder, f: &FrameStats) {
         .f64(f.max_strain);
 }
 
-fn decode_frame(d: &mut Decoder<'_>) -> Result<FrameStats, CheckpointError> {
+/// One frame's statistics as [`encode_frame`] wrote them.
+pub fn decode_frame(d: &mut Decoder<'_>) -> Result<FrameStats, CheckpointError> {
     Ok(FrameStats {
         frame: d.usize("frame")?,
         step: d.usize("step")?,

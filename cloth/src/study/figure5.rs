@@ -10,6 +10,7 @@
 //! and records where. `symlab paper` formats and plots what [`experiment`]
 //! returns.
 
+use crate::checkpoint::{CheckpointError, Decoder, Encoder, decode_frame, encode_frame};
 use crate::study::energy::{reference_energy_or_unit, relative_errors};
 use crate::{
     AVERAGE_VECTOR_FIELD, EnergyGuard, FrameStats, Method, RunError, RunOptions, RunSettings,
@@ -299,14 +300,12 @@ fn grid_limit(scene: &Scene, n: usize) -> Result<GridLimit, SceneError> {
     })
 }
 
-/// Run the comparison: `frames` frames of each setting.
-pub fn experiment(frames: usize) -> Result<ClothExperiment, RunError> {
-    let scene = paper_scene()?;
-    let sim = Simulation::new(&scene)?;
-    let e_ref = reference_energy_or_unit(&scene, &sim);
-    let stab = sim.model.stability();
-    let explicit_substeps = scene.simulation.substeps;
-    let plan: [(&'static str, usize); 14] = [
+/// The runs of the comparison in order, `(method id, steps per frame)`,
+/// for the paper scene whose explicit runs take `explicit_substeps` steps
+/// per frame in the substepped setting; RATTLE on the inextensible sheet
+/// ([`INEXTENSIBLE_SUBSTEPS`]) is the last.
+fn plan(explicit_substeps: usize) -> [(&'static str, usize); 15] {
+    [
         ("euler", 1),
         ("symplectic-euler-a", 1),
         ("stormer-verlet", 1),
@@ -323,34 +322,64 @@ pub fn experiment(frames: usize) -> Result<ClothExperiment, RunError> {
         ("stormer-verlet", explicit_substeps),
         ("implicit-euler", IMPLICIT_SUBSTEPS),
         ("gauss2", IMPLICIT_SUBSTEPS),
-    ];
-    let mut runs = Vec::with_capacity(plan.len());
-    for (id, k) in plan {
-        let n = if !Method::parse(id)?.explicit() && k > 1 {
-            frames.min(IMPLICIT_FRAMES)
-        } else {
-            frames
-        };
-        runs.push(run_one(&scene, id, k, n, e_ref, stab.omega_max)?);
-    }
+        ("rattle", INEXTENSIBLE_SUBSTEPS),
+    ]
+}
+
+/// The number of runs of the comparison ([`experiment_from`] stops between
+/// them).
+pub const RUNS: usize = 15;
+
+/// Run the comparison: `frames` frames of each setting.
+pub fn experiment(frames: usize) -> Result<ClothExperiment, RunError> {
+    let done = experiment_from(frames, Vec::new(), |_| true)?;
+    Ok(done.expect("a comparison that is never stopped completes"))
+}
+
+/// The comparison continued from the runs already `done` (a prefix of the
+/// plan, as a checkpoint kept them: [`encode_run`]), asking `go_on` after
+/// each new run with every run so far whether to go on. `None` when it
+/// said no before the last run; each run is the same computation whether
+/// or not the comparison was stopped before it, so a resumed comparison
+/// has the same runs (apart from their wall times).
+pub fn experiment_from(
+    frames: usize,
+    done: Vec<ClothRun>,
+    mut go_on: impl FnMut(&[ClothRun]) -> bool,
+) -> Result<Option<ClothExperiment>, RunError> {
+    let scene = paper_scene()?;
+    let sim = Simulation::new(&scene)?;
+    let e_ref = reference_energy_or_unit(&scene, &sim);
+    let stab = sim.model.stability();
     // The same sheet inextensible, stepped by RATTLE; its h·ω_max is that
     // of its own soft springs, and E_ref the paper scene's (the same mass,
     // gravity and size).
     let inextensible = paper_scene_inextensible()?;
-    let omega = Simulation::new(&inextensible)?.model.stability().omega_max;
-    runs.push(run_one(
-        &inextensible,
-        "rattle",
-        INEXTENSIBLE_SUBSTEPS,
-        frames,
-        e_ref,
-        omega,
-    )?);
+    let omega_inextensible = Simulation::new(&inextensible)?.model.stability().omega_max;
+    let plan = plan(scene.simulation.substeps);
+    let mut runs = done;
+    runs.truncate(plan.len());
+    for &(id, k) in &plan[runs.len()..] {
+        let run = if id == "rattle" {
+            run_one(&inextensible, id, k, frames, e_ref, omega_inextensible)?
+        } else {
+            let n = if !Method::parse(id)?.explicit() && k > 1 {
+                frames.min(IMPLICIT_FRAMES)
+            } else {
+                frames
+            };
+            run_one(&scene, id, k, n, e_ref, stab.omega_max)?
+        };
+        runs.push(run);
+        if runs.len() < plan.len() && !go_on(&runs) {
+            return Ok(None);
+        }
+    }
     let mut grids = Vec::new();
     for n in [2, 3, 5, 9, 17, 25] {
         grids.push(grid_limit(&scene, n)?);
     }
-    Ok(ClothExperiment {
+    Ok(Some(ClothExperiment {
         scene,
         frames,
         e_ref,
@@ -358,7 +387,149 @@ pub fn experiment(frames: usize) -> Result<ClothExperiment, RunError> {
         h_max: stab.h_max,
         runs,
         grids,
+    }))
+}
+
+/// A finished run into a checkpoint's payload (every field, the doubles'
+/// bits exactly).
+pub fn encode_run(e: &mut Encoder, r: &ClothRun) {
+    e.str(r.id)
+        .str(&r.name)
+        .usize(r.substeps)
+        .f64(r.h)
+        .f64(r.h_omega)
+        .usize(r.frames.len());
+    for f in &r.frames {
+        encode_frame(e, f);
+    }
+    match r.stopped.as_ref().map(|s| &s.0) {
+        None => e.u64(0),
+        Some(Stop::Blowup {
+            step,
+            last_good_step,
+            frame,
+            time,
+            relative_error,
+            substeps,
+        }) => e
+            .u64(1)
+            .usize(*step)
+            .usize(*last_good_step)
+            .usize(*frame)
+            .f64(*time)
+            .f64(*relative_error)
+            .usize(*substeps),
+        Some(Stop::NonFinite { step, time }) => e.u64(2).usize(*step).f64(*time),
+        Some(Stop::Stage { step, time, why }) => e.u64(3).usize(*step).f64(*time).str(why),
+        Some(Stop::Minimise { step, time, why }) => e.u64(4).usize(*step).f64(*time).str(why),
+        Some(Stop::Constraint { step, time, why }) => e.u64(5).usize(*step).f64(*time).str(why),
+    };
+    e.f64(r.stepping_seconds).bool(r.newton_per_step.is_some());
+    if let Some(x) = r.newton_per_step {
+        e.f64(x);
+    }
+    encode_positions(e, &r.last_positions);
+    e.bool(r.blowing_up.is_some());
+    if let Some((step, time, rel, positions)) = &r.blowing_up {
+        e.usize(*step).f64(*time).f64(*rel);
+        encode_positions(e, positions);
+    }
+}
+
+/// A run as [`encode_run`] wrote it; its method must be one of the plan's
+/// (a checkpoint of another comparison is refused, naming the id).
+pub fn decode_run(d: &mut Decoder<'_>) -> Result<ClothRun, CheckpointError> {
+    let id_text = d.str("method id")?;
+    let Some(id) = plan(1).iter().map(|(id, _)| *id).find(|id| *id == id_text) else {
+        return Err(d.error(format!(
+            "method id '{id_text}' is not a run of the figure-5 comparison"
+        )));
+    };
+    let name = d.str("method name")?.to_string();
+    let substeps = d.usize("substeps")?;
+    let h = d.f64("h")?;
+    let h_omega = d.f64("h_omega")?;
+    let n = d.usize("frames")?;
+    // Each frame takes 12 fields: a count beyond the bytes left is refused
+    // by the reads, and the vector grows only as frames are read.
+    let mut frames = Vec::new();
+    for _ in 0..n {
+        frames.push(decode_frame(d)?);
+    }
+    let stopped = match d.u64("stop")? {
+        0 => None,
+        1 => Some(Stop::Blowup {
+            step: d.usize("step")?,
+            last_good_step: d.usize("last_good_step")?,
+            frame: d.usize("frame")?,
+            time: d.f64("time")?,
+            relative_error: d.f64("relative_error")?,
+            substeps: d.usize("substeps")?,
+        }),
+        2 => Some(Stop::NonFinite {
+            step: d.usize("step")?,
+            time: d.f64("time")?,
+        }),
+        k @ 3..=5 => {
+            let (step, time, why) = (d.usize("step")?, d.f64("time")?, d.str("why")?.to_string());
+            Some(match k {
+                3 => Stop::Stage { step, time, why },
+                4 => Stop::Minimise { step, time, why },
+                _ => Stop::Constraint { step, time, why },
+            })
+        }
+        k => return Err(d.error(format!("unknown stop kind {k}"))),
+    }
+    .map(Stopped);
+    let stepping_seconds = d.f64("stepping_seconds")?;
+    let newton_per_step = if d.bool("newton_per_step")? {
+        Some(d.f64("newton_per_step")?)
+    } else {
+        None
+    };
+    let last_positions = decode_positions(d)?;
+    let blowing_up = if d.bool("blowing_up")? {
+        Some((
+            d.usize("step")?,
+            d.f64("time")?,
+            d.f64("relative_error")?,
+            decode_positions(d)?,
+        ))
+    } else {
+        None
+    };
+    Ok(ClothRun {
+        id,
+        name,
+        substeps,
+        h,
+        h_omega,
+        frames,
+        stopped,
+        stepping_seconds,
+        newton_per_step,
+        last_positions,
+        blowing_up,
     })
+}
+
+fn encode_positions(e: &mut Encoder, xs: &[Vec3]) {
+    let flat: Vec<f64> = xs.iter().flat_map(|x| [x.x, x.y, x.z]).collect();
+    e.f64s(&flat);
+}
+
+fn decode_positions(d: &mut Decoder<'_>) -> Result<Vec<Vec3>, CheckpointError> {
+    let flat = d.f64s("positions")?;
+    if flat.len() % 3 != 0 {
+        return Err(d.error(format!(
+            "positions: {} numbers, not a multiple of 3",
+            flat.len()
+        )));
+    }
+    Ok(flat
+        .chunks_exact(3)
+        .map(|c| Vec3::new(c[0], c[1], c[2]))
+        .collect())
 }
 
 /// Why a run of the experiment stopped before its end, as data; its

@@ -34,7 +34,7 @@ use cloth::render::{Camera, Stage, rasterise};
 use cloth::study::energy::relative_errors;
 use cloth::study::figure5::{
     BLOWUP, ClothExperiment, ClothRun, IMPLICIT_FRAMES, IMPLICIT_SUBSTEPS, INEXTENSIBLE_SHEAR,
-    INEXTENSIBLE_SUBSTEPS, experiment,
+    INEXTENSIBLE_SUBSTEPS, experiment_from,
 };
 use cloth::{AVERAGE_VECTOR_FIELD, Mechanism, Method, Simulation, Vec3};
 use compare::format;
@@ -625,20 +625,29 @@ pub(super) struct Section {
 
 /// Run, write the files, return the section. `frames = 0` skips the
 /// comparison (the section then says so).
-pub(super) fn section(dir: &Path, frames: usize) -> Result<Section, PaperError> {
+/// The cloth section from the runs already `done` (a checkpoint's), asking
+/// `go_on` after each new run; `None` when it said no.
+pub(super) fn section(
+    dir: &Path,
+    frames: usize,
+    done: Vec<ClothRun>,
+    go_on: impl FnMut(&[ClothRun]) -> bool,
+) -> Result<Option<Section>, PaperError> {
     if frames == 0 {
-        return Ok(Section {
+        return Ok(Some(Section {
             markdown: "Skipped (`--cloth-frames 0`); run `symlab paper` without it for the figure-5 comparison."
                 .to_string(),
             files: Vec::new(),
             experiment: None,
-        });
+        }));
     }
-    let exp = experiment(frames)?;
+    let Some(exp) = experiment_from(frames, done, go_on)? else {
+        return Ok(None);
+    };
     let files = write_files(&exp, dir)?;
-    Ok(Section {
+    Ok(Some(Section {
         markdown: markdown(&exp, &files),
         files,
         experiment: Some(exp),
-    })
+    }))
 }

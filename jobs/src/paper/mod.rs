@@ -40,6 +40,7 @@
 //! # Ok::<(), jobs::paper::PaperError>(())
 //! ```
 
+mod checkpoint;
 mod cloth;
 mod figures;
 mod report;
@@ -47,7 +48,7 @@ mod request;
 
 use std::path::{Path, PathBuf};
 
-use ::cloth::study::figure5::ClothExperiment;
+use ::cloth::study::figure5::{ClothExperiment, RUNS};
 use compare::paper_oscillator::{Experiment, experiment};
 
 pub use request::{DEFAULT_CLOTH_FRAMES, Field, PaperError, Request};
@@ -70,6 +71,15 @@ pub trait Observer {
     /// A part begins (the cloth part is skipped when the request asks for
     /// no frames).
     fn stage(&mut self, _stage: Stage) {}
+    /// `done` of the `total` cloth runs are finished (and kept in the
+    /// checkpoint).
+    fn cloth_run(&mut self, _done: usize, _total: usize) {}
+    /// Asked after each cloth run: whether the run should stop there (a
+    /// front end's signal); it then ends with [`PaperError::Stopped`] and
+    /// its checkpoint.
+    fn stop(&mut self) -> bool {
+        false
+    }
 }
 
 /// An observer that hears nothing.
@@ -113,8 +123,34 @@ pub struct Reproduced {
 }
 
 /// Check the request, run the experiments and write the tables, plots and
-/// report into `request.out`.
+/// report into `request.out`. After each cloth run a checkpoint
+/// ([`integrator_core::checkpoint::FILE_NAME`] in that folder) keeps the
+/// request and the runs so far; the observer may stop the run there, and
+/// [`resume`] goes on from it to the same files (apart from the wall times
+/// in them). A finished run removes its checkpoint.
 pub fn run(request: &Request, observer: &mut dyn Observer) -> Result<Reproduced, PaperError> {
+    run_from(request, observer, Vec::new())
+}
+
+/// Continue the paper run whose checkpoint `path` (read and checked:
+/// [`integrator_core::checkpoint::read_any`]) holds `payload`, writing
+/// into `dir`, the folder it was found in.
+pub fn resume(
+    dir: &Path,
+    path: &Path,
+    payload: &[u8],
+    observer: &mut dyn Observer,
+) -> Result<Reproduced, PaperError> {
+    let (mut request, done) = checkpoint::decode(path, payload)?;
+    request.out = dir.to_path_buf();
+    run_from(&request, observer, done)
+}
+
+fn run_from(
+    request: &Request,
+    observer: &mut dyn Observer,
+    done: Vec<::cloth::study::figure5::ClothRun>,
+) -> Result<Reproduced, PaperError> {
     request.check()?;
     let dir = &request.out;
     std::fs::create_dir_all(dir).map_err(|source| PaperError::OutDir {
@@ -131,7 +167,28 @@ pub fn run(request: &Request, observer: &mut dyn Observer) -> Result<Reproduced,
             frames: request.cloth_frames,
         });
     }
-    let cloth = cloth::section(dir, request.cloth_frames)?;
+    let checkpoint = dir.join(integrator_core::checkpoint::FILE_NAME);
+    let mut failed = None;
+    let section = cloth::section(dir, request.cloth_frames, done, |runs| {
+        if let Err(e) = checkpoint::write(&checkpoint, request, runs) {
+            failed = Some(e);
+            return false;
+        }
+        observer.cloth_run(runs.len(), RUNS);
+        !observer.stop()
+    })?;
+    if let Some(e) = failed {
+        return Err(e.into());
+    }
+    let Some(cloth) = section else {
+        let done = checkpoint::runs_in(&checkpoint)?;
+        return Err(PaperError::Stopped {
+            checkpoint,
+            done,
+            total: RUNS,
+        });
+    };
+    integrator_core::checkpoint::remove(&checkpoint)?;
 
     observer.stage(Stage::Report);
     let mut files = figures::oscillator_files(&request.oscillator);

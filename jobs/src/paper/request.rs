@@ -128,6 +128,22 @@ pub enum PaperError {
     /// The paper's cloth scene could not be built.
     #[error(transparent)]
     Scene(#[from] cloth::SceneError),
+    /// A checkpoint could not be written, or one to resume from is damaged
+    /// or not a paper run's (it names the file).
+    #[error(transparent)]
+    Checkpoint(#[from] cloth::checkpoint::CheckpointError),
+    /// The front end asked the run to stop (a signal): `done` of `total`
+    /// cloth runs are kept in `checkpoint`, from which `symlab resume` (or
+    /// Python's `symlab.resume`) goes on to the same files.
+    #[error(
+        "stopped after {done} of {total} cloth runs; the checkpoint {} keeps them",
+        checkpoint.display()
+    )]
+    Stopped {
+        checkpoint: PathBuf,
+        done: usize,
+        total: usize,
+    },
 }
 
 impl PaperError {
