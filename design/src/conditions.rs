@@ -396,7 +396,7 @@ pub fn system(family: &Family, file: &str) -> Result<System, FamilyError> {
                     field: None,
                     message: format!(
                         "the fixed values leave the degree-{degree} condition for {label} equal to {c}, so order {} is impossible in this family",
-                        order_text(family)
+                        family.order_text()
                     ),
                 });
             }
@@ -454,7 +454,7 @@ pub fn system(family: &Family, file: &str) -> Result<System, FamilyError> {
             field: Some("stages".into()),
             message: format!(
                 "order {} imposes {} conditions ({}) on {m} unknowns ({}): too few stages",
-                order_text(family),
+                family.order_text(),
                 conditions.len(),
                 conditions
                     .iter()
@@ -631,16 +631,6 @@ pub fn lyndon_basis_terms(
         });
     }
     Ok(out)
-}
-
-/// `4`, or `(4, 2)` for a generalised order.
-pub fn order_text(family: &Family) -> String {
-    if family.generalised.is_empty() {
-        family.order.to_string()
-    } else {
-        let items: Vec<String> = family.generalised.iter().map(usize::to_string).collect();
-        format!("({})", items.join(", "))
-    }
 }
 
 /// `|x|` of a rational, for messages.

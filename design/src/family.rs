@@ -172,6 +172,16 @@ fn half(i: usize, n: usize) -> usize {
 }
 
 impl Family {
+    /// `4`, or `(4, 2)` for a generalised order.
+    pub fn order_text(&self) -> String {
+        if self.generalised.is_empty() {
+            self.order.to_string()
+        } else {
+            let items: Vec<String> = self.generalised.iter().map(usize::to_string).collect();
+            format!("({})", items.join(", "))
+        }
+    }
+
     /// A family with the defaults for the search (seed 1, 200 starts, range
     /// 1, 60 s).
     pub fn new(name: &str, form: Form, stages: usize, order: usize) -> Family {
@@ -274,7 +284,7 @@ impl Family {
                     "rkn",
                     format!(
                         "order {}: RKN families impose a classical order up to 6",
-                        crate::conditions::order_text(self)
+                        self.order_text()
                     ),
                 ));
             }

@@ -144,7 +144,7 @@ impl Outcome {
             } else {
                 "generalised "
             },
-            crate::conditions::order_text(f),
+            f.order_text(),
             f.seed,
             f.starts,
             f.range,
