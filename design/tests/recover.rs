@@ -409,11 +409,9 @@ fn rkn_order_six_designs_check() {
 
 /// Blanes–Moan's SRKN11b and SRKN14a solve the RKN order-6 conditions of
 /// their families (to their printed digits); their E_f in this crate's RKN
-/// measure, for the guide's comparison with `rkn6-aba8.toml`. Slow (the
-/// 14-stage system has 13 unknowns): `cargo test -p design --test
-/// integration blanes_moan_rkn6 -- --ignored --nocapture`.
+/// measure, for the guide's comparison with `rkn6-aba8.toml`.
 #[test]
-#[ignore]
+#[ignore = "slow (the 14-stage system has 13 unknowns): cargo test --workspace --test integration blanes_moan_rkn6 -- --ignored --nocapture"]
 fn blanes_moan_rkn6_effective_errors() {
     for (id, form, stages) in [
         ("blanes-moan-srkn11b", design::Form::Bab, 11),
