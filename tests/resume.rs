@@ -406,7 +406,7 @@ fn compare_args<'a>(out: &'a str, every: &'a str) -> Vec<&'a str> {
         "--points",
         "12",
         "--t-end",
-        "300",
+        "60",
         "--repeats",
         "1",
         "--checkpoint-every",

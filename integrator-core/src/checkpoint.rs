@@ -525,16 +525,44 @@ pub fn check_writable(dir: &Path) -> Result<(), CheckpointError> {
 }
 
 /// Remove a checkpoint (a finished run's, or an older run's in the folder
-/// of a new one); none there is not an error.
+/// of a new one); none there is not an error. The temporaries of
+/// [`write`] beside it (`NAME.tmp-PID`) go too: a run killed while it
+/// wrote one (SIGKILL, a power cut) leaves it behind, and it is never read,
+/// so a finished run would otherwise keep a stray file its uninterrupted
+/// twin does not have.
 pub fn remove(path: &Path) -> Result<(), CheckpointError> {
-    match std::fs::remove_file(path) {
+    let gone = |p: &Path| match std::fs::remove_file(p) {
         Ok(()) => Ok(()),
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(()),
         Err(source) => Err(CheckpointError::Remove {
-            path: path.to_path_buf(),
+            path: p.to_path_buf(),
             source,
         }),
+    };
+    gone(path)?;
+    let Some(name) = path.file_name().map(|n| n.to_string_lossy().into_owned()) else {
+        return Ok(());
+    };
+    let dir = path
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    // A folder that cannot be listed has no temporaries we could remove.
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return Ok(());
+    };
+    let prefix = format!("{name}.tmp-");
+    for entry in entries.flatten() {
+        let file = entry.file_name();
+        let file = file.to_string_lossy();
+        let stray = file
+            .strip_prefix(&prefix)
+            .is_some_and(|pid| !pid.is_empty() && pid.bytes().all(|b| b.is_ascii_digit()));
+        if stray {
+            gone(&entry.path())?;
+        }
     }
+    Ok(())
 }
 
 #[cfg(test)]
@@ -546,6 +574,32 @@ mod tests {
         let _ = std::fs::remove_dir_all(&dir);
         std::fs::create_dir_all(&dir).unwrap();
         dir
+    }
+
+    #[test]
+    fn remove_takes_the_temporaries_a_killed_writer_left() {
+        let dir = temp_dir("stray");
+        let path = dir.join(FILE_NAME);
+        write(&path, Kind::Paper, &sample()).unwrap();
+        let stray = dir.join(format!("{FILE_NAME}.tmp-4242"));
+        std::fs::write(&stray, b"half a checkpoint").unwrap();
+        let keep = [
+            dir.join(format!("{FILE_NAME}.tmp-")),
+            dir.join(format!("{FILE_NAME}.tmp-12x")),
+            dir.join("energy.csv"),
+        ];
+        for k in &keep {
+            std::fs::write(k, b"not ours").unwrap();
+        }
+        remove(&path).unwrap();
+        assert!(!path.exists());
+        assert!(!stray.exists(), "the stray temporary is removed");
+        for k in &keep {
+            assert!(k.exists(), "{} is not a temporary of write", k.display());
+        }
+        // Nothing there is not an error.
+        remove(&path).unwrap();
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 
     fn sample() -> Vec<u8> {
