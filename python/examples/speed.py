@@ -10,8 +10,10 @@
 3. The Dask path: a sweep of at least 100 runs on a 2-worker LocalCluster
    against one process, and the overhead per run.
 
-Figures depend on the build: `maturin develop` builds the dev profile
-(opt-level 1 for the workspace's crates); `pip install ./python` a release.
+Figures depend on the build: `maturin develop` builds the dev profile (the
+bindings and the comparison library at opt-level 0 since issue 35 made the
+test build faster, the other workspace crates at 1, dependencies at 2);
+`pip install ./python` a release.
 """
 
 import math
