@@ -31,13 +31,81 @@ use compare::sweep::{Checkpoint, CheckpointSaver};
 use compare::sweep_plan::{DEFAULT_TARGET, SweepRequest};
 use compare::{CompareError, RowControl};
 
-fn problem_id(s: &str) -> std::result::Result<Builtin, String> {
+pub(crate) fn problem_id(s: &str) -> std::result::Result<Builtin, String> {
     Builtin::from_name(s).map_err(|_| {
         format!(
             "the built-in problems are {}",
             Builtin::ALL.map(Builtin::name).join(", ")
         )
     })
+}
+
+/// The settings of a work–precision sweep: the same flags, with the same
+/// meaning, for `symlab compare` and `symlab design … --compare PROBLEM`
+/// (the one place that turns them into the library's [`SweepRequest`]).
+#[derive(clap::Args, Clone, Debug, Default)]
+pub struct SweepFlags {
+    /// End time (default per problem, e.g. 20π = 10 orbits for Kepler).
+    #[arg(long, value_name = "T", allow_hyphen_values = true)]
+    pub t_end: Option<f64>,
+    /// Smallest step size of the sweep.
+    #[arg(long, value_name = "H", allow_hyphen_values = true)]
+    pub h_min: Option<f64>,
+    /// Largest step size of the sweep.
+    #[arg(long, value_name = "H", allow_hyphen_values = true)]
+    pub h_max: Option<f64>,
+    /// Number of step sizes (log-spaced; default 10), also the number of
+    /// DOP853 tolerances (default 15, one per decade from 1e-4 to 1e-18).
+    #[arg(long, value_name = "N", allow_hyphen_values = true)]
+    pub points: Option<usize>,
+    /// Timed runs per point (the median is reported), after one warm-up.
+    #[arg(long, value_name = "R", allow_hyphen_values = true)]
+    pub repeats: Option<usize>,
+    /// Error for the time-to-error table (default 1e-8); --peer-study adds
+    /// it to its targets 1e-6, 1e-8, 1e-10.
+    #[arg(long, value_name = "E", allow_hyphen_values = true)]
+    pub target: Option<f64>,
+}
+
+impl SweepFlags {
+    /// The library's request of these flags (`quick`: a smoke run).
+    pub fn request(&self, quick: bool) -> SweepRequest {
+        SweepRequest {
+            t_end: self.t_end,
+            h_min: self.h_min,
+            h_max: self.h_max,
+            points: self.points,
+            repeats: self.repeats,
+            target: self.target,
+            quick,
+            ..SweepRequest::default()
+        }
+    }
+
+    /// The first flag given, of those that only a sweep reads (--t-end,
+    /// --h-min, --h-max, --points), for the modes that refuse them.
+    pub fn sweep_only_given(&self) -> Option<&'static str> {
+        [
+            (self.t_end.is_some(), "--t-end"),
+            (self.h_min.is_some(), "--h-min"),
+            (self.h_max.is_some(), "--h-max"),
+            (self.points.is_some(), "--points"),
+        ]
+        .into_iter()
+        .find_map(|(set, name)| set.then_some(name))
+    }
+
+    /// The first flag given, of them all.
+    pub fn any_given(&self) -> Option<&'static str> {
+        self.sweep_only_given().or_else(|| {
+            [
+                (self.repeats.is_some(), "--repeats"),
+                (self.target.is_some(), "--target"),
+            ]
+            .into_iter()
+            .find_map(|(set, name)| set.then_some(name))
+        })
+    }
 }
 
 #[derive(clap::Args)]
@@ -69,29 +137,13 @@ pub struct CompareArgs {
     methods: Option<Vec<String>>,
     /// A table file (TOML, as for `symlab check`) to add to the sweep: its
     /// claims are verified exactly, then it is stepped by the run-time
-    /// interpreter (rows marked interpreted). Repeatable.
+    /// interpreter (rows marked interpreted); `wh:FILE` steps a drift–kick
+    /// sequence or composition on the Wisdom–Holman split (outer-solar) as
+    /// the row wh:STEM, as the wh: methods are stepped. Repeatable.
     #[arg(long, value_name = "FILE", conflicts_with_all = ["long", "hard", "peer_study", "from"])]
     table: Vec<PathBuf>,
-    /// End time (default per problem, e.g. 20π = 10 orbits for Kepler).
-    #[arg(long, value_name = "T", allow_hyphen_values = true)]
-    t_end: Option<f64>,
-    /// Smallest step size of the sweep.
-    #[arg(long, value_name = "H", allow_hyphen_values = true)]
-    h_min: Option<f64>,
-    /// Largest step size of the sweep.
-    #[arg(long, value_name = "H", allow_hyphen_values = true)]
-    h_max: Option<f64>,
-    /// Number of step sizes (log-spaced; default 10), also the number of
-    /// DOP853 tolerances (default 15, one per decade from 1e-4 to 1e-18).
-    #[arg(long, value_name = "N", allow_hyphen_values = true)]
-    points: Option<usize>,
-    /// Timed runs per point (the median is reported), after one warm-up.
-    #[arg(long, value_name = "R", allow_hyphen_values = true)]
-    repeats: Option<usize>,
-    /// Error for the time-to-error table (default 1e-8); --peer-study adds
-    /// it to its targets 1e-6, 1e-8, 1e-10.
-    #[arg(long, value_name = "E", allow_hyphen_values = true)]
-    target: Option<f64>,
+    #[command(flatten)]
+    sweep: SweepFlags,
     /// Output directory (default out/compare/<problem>/, out/compare/hard/).
     #[arg(long, value_name = "DIR")]
     out: Option<PathBuf>,
@@ -137,20 +189,13 @@ impl CompareArgs {
     /// The request of the peer study, the long runs or the hard cases (the
     /// first flag of the work-precision sweep given, which they refuse).
     fn mode_request(&self) -> Result<ModeRequest> {
-        let sweep_value = [
-            (self.t_end.is_some(), "--t-end"),
-            (self.h_min.is_some(), "--h-min"),
-            (self.h_max.is_some(), "--h-max"),
-            (self.points.is_some(), "--points"),
-        ]
-        .into_iter()
-        .find_map(|(set, name)| set.then(|| name.to_string()));
+        let sweep_value = self.sweep.sweep_only_given().map(str::to_string);
         Ok(ModeRequest {
             problem: self.problem,
             methods: method_ids(self)?,
             steps: self.steps,
-            repeats: self.repeats,
-            target: self.target,
+            repeats: self.sweep.repeats,
+            target: self.sweep.target,
             quick: self.quick,
             sweep_value,
         })
@@ -210,16 +255,16 @@ fn run_or_resume(args: &CompareArgs, argv: &[String], done: Vec<compare::Row>) -
             "--checkpoint-every: only work-precision sweeps (--problem, --problem-file) are checkpointed"
         );
     }
-    if let Some(t) = args.target {
+    if let Some(t) = args.sweep.target {
         compare::sweep_plan::positive("--target", t)?;
     }
-    if args.repeats == Some(0) {
+    if args.sweep.repeats == Some(0) {
         bail!("--repeats must be at least 1");
     }
     if let Some(path) = &args.from {
         print!(
             "{}",
-            compare::output::summary_of_file(path, args.target.unwrap_or(DEFAULT_TARGET))?
+            compare::output::summary_of_file(path, args.sweep.target.unwrap_or(DEFAULT_TARGET))?
         );
         return Ok(ExitCode::SUCCESS);
     }
@@ -283,19 +328,9 @@ fn sweep(
             "--problem is required: oscillator, gyroscopic, kepler, kepler-hard, henon-heiles, fpu or pendulum (or --problem-file FILE)"
         ),
     };
-    let request = SweepRequest {
-        t_end: args.t_end,
-        h_min: args.h_min,
-        h_max: args.h_max,
-        points: args.points,
-        repeats: args.repeats,
-        target: args.target,
-        quick: args.quick,
-        ..SweepRequest::default()
-    };
     let job = SweepJob {
         problem,
-        request,
+        request: args.sweep.request(args.quick),
         methods: method_ids(args)?,
         tables: args.table.clone(),
     };

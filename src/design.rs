@@ -27,7 +27,7 @@ pub struct DesignArgs {
     /// built-in problem (kepler, outer-solar, oscillator, …) in one
     /// work–precision sweep, as `symlab compare --table` does, and write its
     /// report (runs.csv, report.md, the plots) into DIR/compare/.
-    #[arg(long, value_name = "PROBLEM", value_parser = problem_id)]
+    #[arg(long, value_name = "PROBLEM", value_parser = crate::compare::problem_id)]
     pub compare: Option<compare::builtin::Builtin>,
     /// With --compare: the library methods to run beside the designs
     /// (comma-separated ids of `symlab list`, wh:ID on outer-solar; default:
@@ -42,38 +42,23 @@ pub struct DesignArgs {
     /// With --compare: how many of the best proven designs to run (default 3).
     #[arg(long, value_name = "N", default_value_t = 3, requires = "compare")]
     pub designs: usize,
-    /// With --compare: number of step sizes of the sweep.
-    #[arg(long, value_name = "N", requires = "compare")]
-    pub points: Option<usize>,
-    /// With --compare: timed runs per point (the median is reported).
-    #[arg(long, value_name = "R", requires = "compare")]
-    pub repeats: Option<usize>,
-    /// With --compare: the end time (default per problem).
-    #[arg(long, value_name = "T", requires = "compare")]
-    pub t_end: Option<f64>,
-    /// With --compare: the smallest step size.
-    #[arg(long, value_name = "H", requires = "compare")]
-    pub h_min: Option<f64>,
-    /// With --compare: the largest step size.
-    #[arg(long, value_name = "H", requires = "compare")]
-    pub h_max: Option<f64>,
-    /// With --compare: the error of the time-to-error table (default 1e-8).
-    #[arg(long, value_name = "E", requires = "compare")]
-    pub target: Option<f64>,
-}
-
-fn problem_id(s: &str) -> std::result::Result<compare::builtin::Builtin, String> {
-    compare::builtin::Builtin::from_name(s).map_err(|_| {
-        format!(
-            "the built-in problems are {}",
-            compare::builtin::Builtin::ALL
-                .map(compare::builtin::Builtin::name)
-                .join(", ")
-        )
-    })
+    /// With --compare: run the designs on the problem's Wisdom–Holman
+    /// split (outer-solar: Kepler drifts, interaction kicks), as the wh:
+    /// methods are run (`symlab compare --table wh:FILE`); their times then
+    /// compare with the wh: methods'.
+    #[arg(long, requires = "compare")]
+    pub wisdom_holman: bool,
+    /// With --compare: the sweep's settings, as for `symlab compare`.
+    #[command(flatten)]
+    pub sweep: crate::compare::SweepFlags,
 }
 
 pub fn run(args: &DesignArgs) -> Result<ExitCode> {
+    if args.compare.is_none()
+        && let Some(flag) = args.sweep.any_given()
+    {
+        anyhow::bail!("{flag} belongs to --compare PROBLEM (the sweep's settings)");
+    }
     let mut family = design::load_family(&args.file)?;
     if let Some(seed) = args.seed {
         family.seed = seed;
@@ -165,20 +150,23 @@ fn compare_designs(
             problem.name()
         );
     }
-    let request = compare::sweep_plan::SweepRequest {
-        t_end: args.t_end,
-        h_min: args.h_min,
-        h_max: args.h_max,
-        points: args.points,
-        repeats: args.repeats,
-        target: args.target,
-        ..Default::default()
-    };
+    // `wh:PATH`: the table on the problem's Wisdom–Holman split (the
+    // registry resolves it, or says the problem has none).
+    let tables = proven
+        .iter()
+        .map(|p| {
+            if args.wisdom_holman {
+                PathBuf::from(format!("{}{}", compare::wisdom_holman::PREFIX, p.display()))
+            } else {
+                p.clone()
+            }
+        })
+        .collect();
     let job = compare::mode::SweepJob {
         problem: compare::mode::SweepProblem::Builtin(problem),
-        request,
+        request: args.sweep.request(false),
         methods: args.methods.clone(),
-        tables: proven.clone(),
+        tables,
     };
     let sweep = compare::mode::prepare_sweep(job)?;
     println!("{}", sweep.headline());
@@ -189,11 +177,19 @@ fn compare_designs(
         .with_context(|| format!("writing into {}", dir.display()))?;
     print!("{}", result.summary());
     print!("{}", result.wrote(&files));
+    let prefix = if args.wisdom_holman {
+        compare::wisdom_holman::PREFIX
+    } else {
+        ""
+    };
     let designs: Vec<String> = proven
         .iter()
-        .filter_map(|p| p.file_stem().map(|s| s.to_string_lossy().into_owned()))
+        .filter_map(|p| {
+            p.file_stem()
+                .map(|s| format!("{prefix}{}", s.to_string_lossy()))
+        })
         .collect();
-    let table = evaluations_to_error(&result.rows, &designs, &[1e-6, 1e-8, 1e-10, 1e-12]);
+    let table = to_error_tables(&result.rows, &designs, &[1e-6, 1e-8, 1e-10, 1e-12]);
     let path = dir.join("designs.md");
     std::fs::write(&path, &table).with_context(|| format!("writing {}", path.display()))?;
     print!("{table}");
@@ -201,13 +197,64 @@ fn compare_designs(
     Ok(())
 }
 
-/// For each error `E` of `targets`: every method's fewest evaluations (force
-/// evaluations on a separable problem) over the rows of the sweep whose
-/// error is at most `E` (no interpolation between step sizes), the methods
-/// ranked by it, and whether the best design needs fewer than the best
-/// library method. Evaluations compare interpreted table rows with generated
-/// code; their times do not.
-fn evaluations_to_error(rows: &[compare::Row], designs: &[String], targets: &[f64]) -> String {
+/// What the designs.md tables count.
+#[derive(Clone, Copy)]
+enum Measure {
+    /// Force evaluations (interaction kicks on the Wisdom–Holman split).
+    Evaluations,
+    /// The median wall time of the timed runs, in milliseconds.
+    Time,
+}
+
+impl Measure {
+    fn of(self, r: &compare::Row) -> f64 {
+        match self {
+            Measure::Evaluations => r.evals as f64,
+            Measure::Time => r.time_s * 1e3,
+        }
+    }
+    fn format(self, v: f64) -> String {
+        match self {
+            Measure::Evaluations => format!("{v:.0}"),
+            Measure::Time => format!("{v:.3}"),
+        }
+    }
+    fn name(self) -> &'static str {
+        match self {
+            Measure::Evaluations => "evaluations",
+            Measure::Time => "ms",
+        }
+    }
+}
+
+/// designs.md: evaluations to each error of `targets`, and wall time too
+/// when no row is interpreted (every `wh:` row's timed run steps its
+/// sequence the same way, designs and library alike; an interpreted table's
+/// time does not compare with generated code).
+fn to_error_tables(rows: &[compare::Row], designs: &[String], targets: &[f64]) -> String {
+    let mut out = String::from(
+        "\nEvaluations to reach an error (the fewest over the sweep's step sizes whose error is at most it; `-`: not reached):\n",
+    );
+    out.push_str(&to_error(rows, designs, targets, Measure::Evaluations));
+    if rows.iter().all(|r| !r.interpreted) {
+        out.push_str(
+            "\nWall time (ms, the median of the timed runs) to reach an error, likewise (no row is interpreted, so the times compare):\n",
+        );
+        out.push_str(&to_error(rows, designs, targets, Measure::Time));
+    }
+    out
+}
+
+/// For each error `E` of `targets`: every method's least `measure` over
+/// the rows of the sweep whose error is at most `E` (no interpolation
+/// between step sizes), and whether the best design needs less than the
+/// best library method.
+fn to_error(
+    rows: &[compare::Row],
+    designs: &[String],
+    targets: &[f64],
+    measure: Measure,
+) -> String {
     use std::fmt::Write as _;
     let mut methods: Vec<&str> = Vec::new();
     for r in rows {
@@ -215,10 +262,7 @@ fn evaluations_to_error(rows: &[compare::Row], designs: &[String], targets: &[f6
             methods.push(&r.method);
         }
     }
-    let mut out = String::from(
-        "\nEvaluations to reach an error (the fewest over the sweep's step sizes whose error is at most it; `-`: not reached):\n\n",
-    );
-    let _ = write!(out, "| method | design |");
+    let mut out = String::from("\n| method | design |");
     for t in targets {
         let _ = write!(out, " ≤ {t:.0e} |");
     }
@@ -227,19 +271,19 @@ fn evaluations_to_error(rows: &[compare::Row], designs: &[String], targets: &[f6
         out.push_str("---|");
     }
     out.push('\n');
-    let fewest = |m: &str, t: f64| -> Option<u64> {
+    let least = |m: &str, t: f64| -> Option<f64> {
         rows.iter()
             .filter(|r| r.method == m && r.ok() && r.error <= t)
-            .map(|r| r.evals)
-            .min()
+            .map(|r| measure.of(r))
+            .min_by(f64::total_cmp)
     };
     for m in &methods {
         let is_design = designs.iter().any(|d| d == m);
         let _ = write!(out, "| {m} | {} |", if is_design { "yes" } else { "" });
         for &t in targets {
-            match fewest(m, t) {
-                Some(e) => {
-                    let _ = write!(out, " {e} |");
+            match least(m, t) {
+                Some(v) => {
+                    let _ = write!(out, " {} |", measure.format(v));
                 }
                 None => out.push_str(" - |"),
             }
@@ -247,28 +291,37 @@ fn evaluations_to_error(rows: &[compare::Row], designs: &[String], targets: &[f6
         out.push('\n');
     }
     out.push('\n');
+    let unit = measure.name();
     for &t in targets {
         let best = |want_design: bool| {
             methods
                 .iter()
                 .filter(|m| designs.iter().any(|d| d == *m) == want_design)
-                .filter_map(|m| fewest(m, t).map(|e| (e, *m)))
-                .min()
+                .filter_map(|m| least(m, t).map(|v| (v, *m)))
+                .min_by(|a, b| a.0.total_cmp(&b.0))
         };
+        let f = |v: f64| measure.format(v);
         let line = match (best(true), best(false)) {
             (Some((d, dm)), Some((l, lm))) if d < l => format!(
-                "error ≤ {t:.0e}: the design {dm} needs {d} evaluations, fewer than the library's best in this run, {lm} ({l}): {:.2}×",
-                l as f64 / d as f64
+                "error ≤ {t:.0e}: the design {dm} needs {} {unit}, less than the library's best in this run, {lm} ({}): {:.2}×",
+                f(d),
+                f(l),
+                l / d
             ),
             (Some((d, dm)), Some((l, lm))) => format!(
-                "error ≤ {t:.0e}: the library's {lm} needs {l} evaluations; the best design, {dm}, {d}"
+                "error ≤ {t:.0e}: the library's {lm} needs {} {unit}; the best design, {dm}, {} ({:.2}×)",
+                f(l),
+                f(d),
+                d / l
             ),
-            (None, Some((l, lm))) => {
-                format!("error ≤ {t:.0e}: only library methods reach it; the best, {lm}, with {l}")
-            }
-            (Some((d, dm)), None) => {
-                format!("error ≤ {t:.0e}: only designs reach it; the best, {dm}, with {d}")
-            }
+            (None, Some((l, lm))) => format!(
+                "error ≤ {t:.0e}: only library methods reach it; the best, {lm}, with {} {unit}",
+                f(l)
+            ),
+            (Some((d, dm)), None) => format!(
+                "error ≤ {t:.0e}: only designs reach it; the best, {dm}, with {} {unit}",
+                f(d)
+            ),
             (None, None) => format!("error ≤ {t:.0e}: no method reaches it"),
         };
         let _ = writeln!(out, "{line}");

@@ -167,3 +167,72 @@ fn design_compare_runs_designs_beside_the_library() {
     assert!(err.contains("the built-in problems are"), "{err}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `--compare outer-solar --wisdom-holman`: the designs run on the
+/// Wisdom–Holman split as `wh:` rows (Kepler drifts, interaction kicks),
+/// stepped as the library's `wh:` methods are, so designs.md compares
+/// their wall times too; the sweep's flags belong to --compare.
+#[test]
+fn design_compare_on_the_wisdom_holman_split() {
+    let dir = out_dir("wh");
+    let d = dir.to_str().unwrap();
+    let (code, out, err) = symlab(&[
+        "design",
+        "designs/saba2.toml",
+        "--out",
+        d,
+        "--compare",
+        "outer-solar",
+        "--wisdom-holman",
+        "--methods",
+        "wh:leapfrog",
+        "--designs",
+        "1",
+        "--t-end",
+        "20000",
+        "--points",
+        "2",
+        "--repeats",
+        "1",
+    ]);
+    assert_eq!(code, 0, "stderr: {err}\n{out}");
+    let cmp = dir.join("compare");
+    let csv = std::fs::read_to_string(cmp.join("runs.csv")).unwrap();
+    let mut lines = csv.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
+    let (method, evals, steps) = (col("method"), col("evals"), col("steps"));
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    let design = "wh:saba2-generalised-order-4-2-1";
+    let mine: Vec<&Vec<&str>> = rows.iter().filter(|r| r[method] == design).collect();
+    assert_eq!(mine.len(), 2, "{csv}");
+    // SABA2: two interaction kicks a step (the drifts are Kepler flows).
+    for r in &mine {
+        let (e, n): (u64, u64) = (r[evals].parse().unwrap(), r[steps].parse().unwrap());
+        assert_eq!(e, 2 * n, "{csv}");
+    }
+    let table = std::fs::read_to_string(cmp.join("designs.md")).unwrap();
+    assert!(table.contains(&format!("| {design} | yes |")), "{table}");
+    assert!(table.contains("| wh:leapfrog |  |"), "{table}");
+    assert!(table.contains("Wall time (ms"), "{table}");
+    let _ = std::fs::remove_dir_all(&dir);
+
+    // A problem without the split, and a sweep flag without --compare.
+    let (code, _, err) = symlab(&[
+        "design",
+        "designs/saba2.toml",
+        "--out",
+        d,
+        "--compare",
+        "kepler",
+        "--wisdom-holman",
+        "--points",
+        "2",
+    ]);
+    assert_eq!(code, 2);
+    assert!(err.contains("kepler has none"), "{err}");
+    let (code, _, err) = symlab(&["design", "designs/saba2.toml", "--out", d, "--points", "2"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("--points belongs to --compare"), "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -100,7 +100,10 @@ install it.
 --table FILE.toml (repeatable) adds a table file: its claims are verified exactly (a false
 claim or a malformed file: exit 2), then it is stepped by the run-time interpreter; its
 rows carry one more column, interpreted = true (errors and evaluations compare with
-generated code, wall times do not). --problem-file FILE.toml runs a linear system
+generated code, wall times do not). --table wh:FILE.toml steps the file (a drift–kick
+sequence or composition, with its corrector if it has one) on the Wisdom–Holman split
+(outer-solar) as the row wh:STEM, as the wh: methods are stepped, so its times compare with
+theirs and it is not marked interpreted. --problem-file FILE.toml runs a linear system
 M q'' + G q' + K q = f read from a file (m, g, k, f, q0, p0, t_end, h_min, h_max) against
 its exact flow; errors name the file and the field.
 
@@ -551,7 +554,8 @@ pub struct SweepJob {
     /// Method ids, each once (`None`: the defaults, see
     /// [`plan::sweep_methods`]).
     pub methods: Option<Vec<String>>,
-    /// Table files added to the methods.
+    /// Table files added to the methods (`wh:PATH`: on the problem's
+    /// Wisdom–Holman split; see [`MethodSpec::table`]).
     pub tables: Vec<PathBuf>,
 }
 
@@ -616,7 +620,7 @@ pub fn prepare_sweep(job: SweepJob) -> Result<Box<dyn PreparedSweep>> {
             let named = self
                 .methods
                 .map(|ids| ids.into_iter().map(MethodSpec::Id).collect());
-            let added = self.tables.into_iter().map(MethodSpec::File).collect();
+            let added = self.tables.into_iter().map(MethodSpec::table).collect();
             let methods = plan::sweep_methods(&setup, self.builtin, named, added, self.quick)?;
             Ok(Box::new(Prepared {
                 setup,

@@ -460,15 +460,45 @@ pub enum MethodSpec<P> {
     /// A table file, verified exactly when the methods are resolved.
     File(std::path::PathBuf),
     Table(Box<VerifiedTable>),
+    /// A table file stepped on the Wisdom–Holman split of an N-body problem
+    /// ([`wisdom_holman::table_method`]): the method `wh:STEM`.
+    WisdomHolmanFile(std::path::PathBuf),
     Method(Method<P>),
 }
 
 impl<P: Problem> MethodSpec<P> {
+    /// A table file as the command line names it: `wh:PATH` (the prefix of
+    /// the Wisdom–Holman ids) for the file on the problem's Wisdom–Holman
+    /// split, any other path for the file stepped by the interpreters. (A
+    /// file whose name begins with `wh:` is named `./wh:…`.)
+    pub fn table(path: std::path::PathBuf) -> Self {
+        match path
+            .to_str()
+            .and_then(|s| s.strip_prefix(wisdom_holman::PREFIX))
+        {
+            Some(rest) => MethodSpec::WisdomHolmanFile(rest.into()),
+            None => MethodSpec::File(path),
+        }
+    }
+
     /// The method on `setup`.
     pub fn resolve(self, setup: &Setup<P>) -> Result<Method<P>> {
         match self {
             MethodSpec::Id(id) => setup.method(&id),
             MethodSpec::File(path) => Method::table_file(&path),
+            MethodSpec::WisdomHolmanFile(path) => {
+                let Some(split) = setup.sys.wisdom_holman() else {
+                    return Err(CompareError::TableFile {
+                        path,
+                        why: format!(
+                            "{}FILE steps a table on the Wisdom–Holman split of an N-body problem; {} has none",
+                            wisdom_holman::PREFIX,
+                            setup.name
+                        ),
+                    });
+                };
+                wisdom_holman::table_method(&crate::interpreted::verify(&path)?, &split)
+            }
             MethodSpec::Table(t) => Method::interpreted(&t),
             MethodSpec::Method(m) => Ok(m),
         }

@@ -56,6 +56,7 @@ use integrator_core::split::{FlowError, PartBuffers, Split, StateSpace};
 use integrator_core::{Scheme, Step};
 
 use crate::error::{CompareError, Result};
+use crate::interpreted::{VerifiedForm, VerifiedTable};
 use crate::method::{Fixed, Method};
 use crate::problem::{Family, Problem};
 use crate::stepper::{Outcome, Status, Stepper, Workspace};
@@ -400,6 +401,62 @@ fn processed_method<P: Problem>(id: &str, base: &str, split: &Jacobi) -> Option<
     // Not marked interpreted: every `wh:` row's timed run steps its
     // sequence (merged across steps), so their times compare.
     Some(processed(id, kernel.clone(), kernel, chi, order, split))
+}
+
+/// A verified table file on the Wisdom–Holman split, as the method
+/// `wh:STEM` (`STEM` the file's id): a drift–kick sequence or composition,
+/// with its corrector if it has one (stepped `χ Kⁿ χ⁻¹` like the
+/// catalogue's processed methods). The file's sequence is stepped as the
+/// catalogue's `wh:` methods' timed runs are (merged across steps), so the
+/// row is not marked interpreted and its times compare with theirs. Its
+/// order is the classical order the file claims, else the last entry of a
+/// claimed generalised order (the order for `ε` of order one), else the
+/// proven order of its printed coefficients.
+pub fn table_method<P: Problem>(t: &VerifiedTable, split: &Jacobi) -> Result<Method<P>> {
+    let not_a_splitting = |what: &str| CompareError::TableFile {
+        path: t.path.clone(),
+        why: format!(
+            "{PREFIX}{}: the Wisdom–Holman split takes a drift–kick sequence or a composition, not {what}",
+            t.id
+        ),
+    };
+    let VerifiedForm::Classic { file, analysis } = &t.form else {
+        return Err(not_a_splitting("a generated or root(...) table"));
+    };
+    let kernel = match &file.table {
+        tableau::Table::Splitting(s) => Sequence::from_splitting(s),
+        tableau::Table::Composition(c) => Sequence::from_splitting(&c.to_splitting()),
+        _ => return Err(not_a_splitting("a Runge–Kutta table or pair")),
+    };
+    let chi = file
+        .corrector
+        .as_ref()
+        .map(Sequence::from_splitting)
+        .unwrap_or_else(|| Sequence::new([]));
+    let order = file
+        .claims
+        .iter()
+        .find_map(|c| match c {
+            tableau::claims::Claim::Order { p, .. }
+            | tableau::claims::Claim::CertifiedOrder { p } => Some(*p),
+            _ => None,
+        })
+        .or_else(|| {
+            file.claims.iter().find_map(|c| match c {
+                tableau::claims::Claim::NearOrder { orders, .. }
+                | tableau::claims::Claim::CertifiedNearOrder { orders } => orders.last().copied(),
+                _ => None,
+            })
+        })
+        .unwrap_or(analysis.claimed_order_report().order);
+    Ok(Method::Fixed(Fixed {
+        id: format!("{PREFIX}{}", t.id),
+        order,
+        symplectic: analysis.symplectic_separable,
+        family: Family::Splitting,
+        interpreted: false,
+        stepper: Box::new(WhStepper::new(kernel.clone(), kernel, chi, split)),
+    }))
 }
 
 /// The ids of the catalogue's processed methods (a kernel with a corrector;

@@ -253,3 +253,63 @@ fn the_exact_modified_kick_kernel_converges_at_order_four() {
         .expect("no such table");
     assert!(err.to_string().contains("whckm-c17"), "{err}");
 }
+
+/// `--table wh:FILE`: a table file on the Wisdom–Holman split, through the
+/// registry (`MethodSpec::table`). The catalogue's ABA(10,6,4) as a file
+/// takes the same steps as the library's `wh:aba-10-6-4` (its `butcher!`
+/// scheme) up to rounding: the same kicks and the same error to a few ulps
+/// per step, far below the method's own error; an RK table and a problem
+/// without the split are refused by name.
+#[test]
+fn a_table_file_runs_on_the_wisdom_holman_split() {
+    use compare::registry::MethodSpec;
+    let catalogue = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../tableau/catalogue");
+    let setup = builtin::outer_solar(2.0e4, true).unwrap();
+    let file = catalogue.join("aba-10-6-4.toml");
+    let spec = MethodSpec::table(format!("wh:{}", file.display()).into());
+    assert!(matches!(spec, MethodSpec::WisdomHolmanFile(_)));
+    let Method::Fixed(f) = spec.resolve(&setup).unwrap() else {
+        panic!("a fixed-step method")
+    };
+    assert_eq!(f.id, "wh:aba-10-6-4");
+    assert!(!f.interpreted, "stepped as the wh: methods' timed runs are");
+    assert_eq!(f.order, 4, "the classical order the file claims");
+    let n = 100;
+    let h = setup.t_end / n as f64;
+    let mut z = setup.z0.clone();
+    let out = f
+        .stepper
+        .observed(&setup.sys, &mut z, h, n, true, &mut |_, _, _| true);
+    assert!(out.status.is_ok(), "{:?}", out.status);
+    let (library, library_evals) = run(&setup, "wh:aba-10-6-4", n);
+    let from_file = setup.error(&z);
+    assert_eq!(out.evals, library_evals);
+    assert_eq!(out.evals, 8 * n as u64, "eight kicks a step");
+    assert!(
+        (from_file - library).abs() < 1e-3 * library,
+        "file {from_file:e} vs library {library:e}"
+    );
+
+    // Without the prefix the same file is stepped by the interpreter on
+    // T + V, a different split: another error.
+    let plain = MethodSpec::table(file.clone()).resolve(&setup).unwrap();
+    assert_eq!(plain.id(), "aba-10-6-4");
+
+    let rk = MethodSpec::table(format!("wh:{}", catalogue.join("gauss2.toml").display()).into());
+    let Err(e) = rk.resolve(&setup) else {
+        panic!("an RK table on the Wisdom–Holman split")
+    };
+    assert!(
+        e.to_string()
+            .contains("takes a drift–kick sequence or a composition"),
+        "{e}"
+    );
+    let kepler = builtin::kepler(false, 10.0, false).unwrap();
+    let Err(e) = MethodSpec::table(format!("wh:{}", file.display()).into()).resolve(&kepler) else {
+        panic!("wh: on kepler")
+    };
+    assert!(
+        e.to_string().contains("kepler has none") && e.to_string().contains("aba-10-6-4.toml"),
+        "{e}"
+    );
+}
