@@ -39,6 +39,12 @@ create_exception!(
     PyValueError,
     "A problem or setting that cannot be run (unknown name, wrong lengths, a method that cannot step it)."
 );
+create_exception!(
+    symlab,
+    DesignError,
+    PyValueError,
+    "A design family that does not parse or cannot be designed; the message names the file and the field."
+);
 
 /// A table refused while reading or analysing it: [`BudgetError`] when a
 /// budget of `tableau::budget` refused it (every such message names its

@@ -9,6 +9,7 @@
 
 mod cloth_py;
 mod convert;
+mod design_py;
 mod errors;
 mod problem;
 mod run;
@@ -28,6 +29,7 @@ fn _symlab(m: &Bound<'_, PyModule>) -> PyResult<()> {
         py.get_type::<errors::IntegrationError>(),
     )?;
     m.add("ProblemError", py.get_type::<errors::ProblemError>())?;
+    m.add("DesignError", py.get_type::<errors::DesignError>())?;
     m.add_class::<table::Table>()?;
     m.add_function(wrap_pyfunction!(table::check, m)?)?;
     m.add_function(wrap_pyfunction!(table::list_tables, m)?)?;
@@ -40,6 +42,7 @@ fn _symlab(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(run::problems, m)?)?;
     m.add_function(wrap_pyfunction!(cloth_py::cloth_run, m)?)?;
     m.add_function(wrap_pyfunction!(cloth_py::cloth_resume, m)?)?;
+    m.add_function(wrap_pyfunction!(design_py::design, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

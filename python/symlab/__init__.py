@@ -15,6 +15,7 @@ from . import _symlab
 from ._symlab import (
     BudgetError,
     ClaimError,
+    DesignError,
     IntegrationError,
     Problem,
     ProblemError,
@@ -33,6 +34,7 @@ __all__ = [
     "BudgetError",
     "COLUMNS",
     "ClaimError",
+    "DesignError",
     "IntegrationError",
     "Problem",
     "ProblemError",
@@ -42,6 +44,7 @@ __all__ = [
     "check",
     "cloth",
     "compare",
+    "design",
     "integrate",
     "integrate_ensemble",
     "list_tables",
@@ -118,3 +121,57 @@ def integrate_ensemble(scheme, problem, y0, h, n):
     """
     y0 = _real_array(y0, "y0", 2)
     return _symlab.integrate_ensemble(scheme, problem, y0, _number(h, "h"), _count(n, "n"))
+
+
+def design(family, *, seed=None, starts=None, out=None):
+    r"""Find the coefficients of a family of methods, as ``symlab design FILE``
+    does: the same pipeline (``design::design``: conditions, seeded
+    multi-start search, 50-digit polish, exact value or Krawczyk
+    certificate, table files).
+
+    ``family``: a family file's path, or its TOML text (a string with a line
+    break). ``seed`` and ``starts`` override the file's. ``out``: a folder to
+    write the tables (``*.toml``) and ``report.md`` into, as the command line
+    does. Returns a dict: ``family``, ``order``, ``unknowns``,
+    ``conditions`` (their Lie words), ``starts_run``, ``distinct``,
+    ``capped``, ``seconds``, ``written`` (paths) and ``designs``, best
+    first, each with ``rank``, ``effective_error``, ``objective``, ``hits``,
+    ``x`` (the unknowns, doubles), ``proof`` (``"exact"``, ``"certified"``,
+    ``"not certified"``, ``"not polished"``), ``exact`` (the value in
+    radicals or as ``root(...)``), ``radius`` (the certificate's, an exact
+    rational as text), ``claims``, ``name`` and ``toml`` (the table file's
+    text, which ``symlab.Table.from_toml`` and ``symlab.check`` read). A
+    family that does not parse or cannot be designed raises
+    ``DesignError`` (a ``ValueError``) naming the file and the field.
+
+    >>> import symlab
+    >>> text = 'name = "Yoshida"\nform = "composition"\nstages = 3\norder = 4\nrange = 2.0\n'
+    >>> d = symlab.design(text, starts=20)
+    >>> d["designs"][0]["exact"]
+    '2/3 + cbrt(2/27) + cbrt(1/54)'
+    """
+    import os
+
+    if isinstance(family, os.PathLike):
+        family = os.fspath(family)
+    if not isinstance(family, str):
+        raise TypeError(f"family: expected a path or TOML text, got {type(family).__name__}")
+    if seed is not None:
+        if isinstance(seed, bool) or not isinstance(seed, (int, _np.integer)):
+            raise TypeError(f"seed: expected an int, got {type(seed).__name__}")
+        if seed < 0 or seed >= 2**64:
+            raise ValueError(f"seed must be from 0 to 2**64 - 1, got {seed}")
+        seed = int(seed)
+    if starts is not None:
+        # 0 goes on to the library, whose refusal names the field as the
+        # command line's does.
+        if isinstance(starts, bool) or not isinstance(starts, (int, _np.integer)):
+            raise TypeError(f"starts: expected an int, got {type(starts).__name__}")
+        if starts < 0:
+            raise ValueError(f"starts must be at least 1, got {starts}")
+        starts = int(starts)
+    if out is not None:
+        if not isinstance(out, (str, os.PathLike)):
+            raise TypeError(f"out: expected a path, got {type(out).__name__}")
+        out = os.fspath(out)
+    return _symlab.design(family, seed=seed, starts=starts, out=out)
