@@ -9,6 +9,13 @@ fn out_dir(name: &str) -> std::path::PathBuf {
     dir
 }
 
+/// `symlab ARGS` exits with status 2 and a message containing `needle`.
+fn refused(args: &[&str], needle: &str) {
+    let (code, out, err) = symlab(args);
+    assert_eq!(code, 2, "{args:?}: {out}");
+    assert!(err.contains(needle), "{args:?}: {err}");
+}
+
 #[test]
 fn design_writes_tables_that_check_accepts() {
     let dir = out_dir("sb3a");
@@ -155,16 +162,17 @@ fn design_compare_runs_designs_beside_the_library() {
     );
     let _ = std::fs::remove_dir_all(&dir);
     // Without a proven design or with a bad problem: errors that say so.
-    let (code, _, err) = symlab(&[
-        "design",
-        "designs/yoshida4.toml",
-        "--out",
-        d,
-        "--compare",
-        "nope",
-    ]);
-    assert_eq!(code, 2);
-    assert!(err.contains("the built-in problems are"), "{err}");
+    refused(
+        &[
+            "design",
+            "designs/yoshida4.toml",
+            "--out",
+            d,
+            "--compare",
+            "nope",
+        ],
+        "the built-in problems are",
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -218,21 +226,23 @@ fn design_compare_on_the_wisdom_holman_split() {
     let _ = std::fs::remove_dir_all(&dir);
 
     // A problem without the split, and a sweep flag without --compare.
-    let (code, _, err) = symlab(&[
-        "design",
-        "designs/saba2.toml",
-        "--out",
-        d,
-        "--compare",
-        "kepler",
-        "--wisdom-holman",
-        "--points",
-        "2",
-    ]);
-    assert_eq!(code, 2);
-    assert!(err.contains("kepler has none"), "{err}");
-    let (code, _, err) = symlab(&["design", "designs/saba2.toml", "--out", d, "--points", "2"]);
-    assert_eq!(code, 2);
-    assert!(err.contains("--points belongs to --compare"), "{err}");
+    refused(
+        &[
+            "design",
+            "designs/saba2.toml",
+            "--out",
+            d,
+            "--compare",
+            "kepler",
+            "--wisdom-holman",
+            "--points",
+            "2",
+        ],
+        "kepler has none",
+    );
+    refused(
+        &["design", "designs/saba2.toml", "--out", d, "--points", "2"],
+        "--points belongs to --compare",
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }
