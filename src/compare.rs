@@ -81,31 +81,6 @@ impl SweepFlags {
             ..SweepRequest::default()
         }
     }
-
-    /// The first flag given, of those that only a sweep reads (--t-end,
-    /// --h-min, --h-max, --points), for the modes that refuse them.
-    pub fn sweep_only_given(&self) -> Option<&'static str> {
-        [
-            (self.t_end.is_some(), "--t-end"),
-            (self.h_min.is_some(), "--h-min"),
-            (self.h_max.is_some(), "--h-max"),
-            (self.points.is_some(), "--points"),
-        ]
-        .into_iter()
-        .find_map(|(set, name)| set.then_some(name))
-    }
-
-    /// The first flag given, of them all.
-    pub fn any_given(&self) -> Option<&'static str> {
-        self.sweep_only_given().or_else(|| {
-            [
-                (self.repeats.is_some(), "--repeats"),
-                (self.target.is_some(), "--target"),
-            ]
-            .into_iter()
-            .find_map(|(set, name)| set.then_some(name))
-        })
-    }
 }
 
 #[derive(clap::Args)]
@@ -189,7 +164,8 @@ impl CompareArgs {
     /// The request of the peer study, the long runs or the hard cases (the
     /// first flag of the work-precision sweep given, which they refuse).
     fn mode_request(&self) -> Result<ModeRequest> {
-        let sweep_value = self.sweep.sweep_only_given().map(str::to_string);
+        let request = self.sweep.request(false);
+        let sweep_value = request.sweep_only_given().map(str::to_string);
         Ok(ModeRequest {
             problem: self.problem,
             methods: method_ids(self)?,
@@ -219,20 +195,11 @@ fn out_dir(args: &CompareArgs, default: &str) -> Result<PathBuf> {
 
 /// `--methods`, each id once.
 fn method_ids(args: &CompareArgs) -> Result<Option<Vec<String>>> {
-    let Some(list) = &args.methods else {
-        return Ok(None);
-    };
-    let mut out: Vec<String> = Vec::new();
-    for m in list {
-        let m = m.trim();
-        if m.is_empty() {
-            bail!("--methods has an empty entry (ids are separated by single commas)");
-        }
-        if !out.iter().any(|x| x == m) {
-            out.push(m.to_string());
-        }
-    }
-    Ok(Some(out))
+    let list = args
+        .methods
+        .as_deref()
+        .map(|l| compare::sweep_plan::method_list("--methods", l));
+    Ok(list.transpose()?)
 }
 
 /// `symlab compare`: `argv` are the arguments after `compare`, kept in a

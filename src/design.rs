@@ -55,7 +55,7 @@ pub struct DesignArgs {
 
 pub fn run(args: &DesignArgs) -> Result<ExitCode> {
     if args.compare.is_none()
-        && let Some(flag) = args.sweep.any_given()
+        && let Some(flag) = args.sweep.request(false).any_given()
     {
         anyhow::bail!("{flag} belongs to --compare PROBLEM (the sweep's settings)");
     }

@@ -217,6 +217,16 @@ fn bad_arguments_are_clear_errors_with_exit_code_2() {
             "--steps must be between",
         ),
         (&["--methods", "rk4"], "--problem is required"),
+        (
+            &["--problem", "kepler", "--methods", "rk4,,leapfrog"],
+            "--methods has an empty entry",
+        ),
+        // A sweep's flag given to a mode that has no sweep is named.
+        (
+            &["--long", "--problem", "kepler", "--h-min", "0.1"],
+            "--h-min",
+        ),
+        (&["--hard", "--points", "5"], "--points"),
         // Negative numbers name their flag (not clap's "unexpected argument").
         (
             &["--problem", "kepler", "--t-end", "-1e-300"],

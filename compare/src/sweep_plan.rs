@@ -75,6 +75,55 @@ impl Default for Names {
     }
 }
 
+impl SweepRequest {
+    /// The name of the first value given of those only a work–precision
+    /// sweep reads (end time, smallest and largest step, points), for the
+    /// modes that refuse them.
+    pub fn sweep_only_given(&self) -> Option<&str> {
+        let n = &self.names;
+        [
+            (self.t_end.is_some(), &n.t_end),
+            (self.h_min.is_some(), &n.h_min),
+            (self.h_max.is_some(), &n.h_max),
+            (self.points.is_some(), &n.points),
+        ]
+        .into_iter()
+        .find_map(|(set, name)| set.then_some(name.as_str()))
+    }
+
+    /// The name of the first value given, of them all.
+    pub fn any_given(&self) -> Option<&str> {
+        let n = &self.names;
+        self.sweep_only_given().or_else(|| {
+            [
+                (self.repeats.is_some(), &n.repeats),
+                (self.target.is_some(), &n.target),
+            ]
+            .into_iter()
+            .find_map(|(set, name)| set.then_some(name.as_str()))
+        })
+    }
+}
+
+/// A list of method ids as a caller gave it, each once, in its order; an
+/// empty entry is an error naming `what` (the flag or argument).
+pub fn method_list(what: &str, list: &[String]) -> Result<Vec<String>> {
+    let mut out: Vec<String> = Vec::new();
+    for m in list {
+        let m = m.trim();
+        if m.is_empty() {
+            return Err(given(
+                what,
+                format!("{what} has an empty entry (ids are separated by single commas)"),
+            ));
+        }
+        if !out.iter().any(|x| x == m) {
+            out.push(m.to_string());
+        }
+    }
+    Ok(out)
+}
+
 /// Defaults a problem file set, each named as the file's field
 /// (`FILE: field h_min`); `None` where the problem's own default applies.
 #[derive(Clone, Debug, Default)]
