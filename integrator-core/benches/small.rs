@@ -21,7 +21,7 @@
 //! step, and the ratios of medians fixed/hand (target ≤ 1.05).
 //!
 //! ```text
-//! cargo bench --bench small
+//! cargo bench -p integrator-core --bench small
 //! ```
 
 use std::hint::black_box;

@@ -28,7 +28,7 @@
 //! variant costs when undisturbed.
 //!
 //! ```text
-//! cargo bench --bench steps -- --warm-up-time 1 --measurement-time 3
+//! cargo bench -p integrator-core --bench steps -- --warm-up-time 1 --measurement-time 3
 //! ```
 
 use std::hint::black_box;
