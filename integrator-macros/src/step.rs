@@ -160,7 +160,7 @@ pub fn explicit_rk(name: &syn::Ident, a: &[Vec<f64>], b: &[f64], c: &[f64]) -> T
             }
             // Always inlined into the caller's loop: with the compensated
             // branch the body outgrew LLVM's `#[inline]` threshold, and an
-            // out-of-line step keeps the state in memory (benches/steps.rs).
+            // out-of-line step keeps the state in memory (integrator-core/benches/steps.rs).
             #[inline(always)]
             #[allow(unused_variables, clippy::all, clippy::approx_constant, clippy::excessive_precision)]
             fn step(&self, sys: &Sys, t: f64, h: f64, z: &mut [f64], ws: &mut Self::Workspace) -> ::core::result::Result<(), ::integrator_core::SolveError> {
