@@ -1,6 +1,7 @@
 """The speed figures of docs/results/python-speed.md.
 
-    .venv/bin/python python/examples/speed.py
+    scripts/results python-speed        (the page, from a release build)
+    target/python-release-venv/bin/python python/examples/speed.py
 
 1. symlab.integrate on Kepler with a library scheme against the same run
    timed in Rust (the comparison library's timed run, `time_s`): the fixed
@@ -10,10 +11,11 @@
 3. The Dask path: a sweep of at least 100 runs on a 2-worker LocalCluster
    against one process, and the overhead per run.
 
-Figures depend on the build: `maturin develop` builds the dev profile (the
-bindings and the comparison library at opt-level 0 since issue 35 made the
-test build faster, the other workspace crates at 1, dependencies at 2);
-`pip install ./python` a release.
+Figures depend on the build: `scripts/python-release` (what the page runs
+first) builds the release profile, as `pip install ./python` does; the
+`.venv` that `scripts/test` makes holds a dev-profile build (the bindings
+and the comparison library at opt-level 0, for a fast test build), where
+the same script runs many times slower.
 """
 
 import math
