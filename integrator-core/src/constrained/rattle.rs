@@ -432,6 +432,19 @@ impl<G, Lin> Rattle<G, Lin> {
         self.last_wave_number
     }
 
+    /// Forget the warm start: the next step starts its position solve from
+    /// zero multipliers, and prepares its force, geometry and factor
+    /// afresh. For a caller that goes back to an earlier state after a
+    /// failed step, whose last iterate (diverged, or stopped at the cap) is
+    /// no guess for the next solve (the cloth's variable step, which then
+    /// integrates the frame again with shorter steps).
+    pub fn forget_warm_start(&mut self) {
+        self.lambda.fill(0.0);
+        self.lambda_prev.fill(0.0);
+        self.solved = 0;
+        self.valid = false;
+    }
+
     /// The force, geometry and factor at `q` (the start of a run, or after
     /// the caller restored a state).
     fn prepare<Sys: RattleSystem<Geometry = G>>(
