@@ -157,6 +157,9 @@
 //! [simulation]
 //! frame_rate = 60.0              # optional, Hz
 //! substeps = 100                 # steps per frame, or "auto" (the default of an inextensible scene)
+//! step = "fixed"                 # optional; "variable" (inextensible only, its default) or "fixed"
+//! # wave_number = 1.0            # variable step only: the largest h·ω of a frame's interior steps, in (0, 2)
+//! # max_substeps = 1024          # variable step only: the most steps per frame before the run stops
 //! frames = 300
 //! method = "symplectic-euler-a"  # any id of Method::all() (symlab list, avf, discrete-gradient, rattle)
 //! ```
@@ -171,8 +174,12 @@
 //! both ends the slack to hang); each is an error naming the field. It
 //! bends with the isometric bending energy `½·B·∫(κ₁ + κ₂)² dA`
 //! (`bending = B` in N·m, [`DEFAULT_BENDING`] when left out, a light cotton
-//! fabric; refused on a spring scene), and without `substeps` chooses its
-//! step from its stability limits ([`schedule::auto_step`]).
+//! fabric; refused on a spring scene), without `substeps` chooses its
+//! step from its stability limits ([`schedule::auto_step`]), and by default
+//! takes RATTLE's reversible variable step (`step = "variable"`,
+//! [`step::variable`]): each frame the fewest steps, at least `substeps`,
+//! whose transverse-wave numbers `h·ω` stay at or below `wave_number`
+//! (default 1; `step = "fixed"` takes `substeps` every frame).
 //!
 //! Unknown keys, missing fields, non-positive sizes or density, negative
 //! stiffness, a resolution below 2, a pin outside the grid, an unknown
@@ -260,7 +267,10 @@ pub use scene::{
     SimulationSpec,
 };
 pub use schedule::run_scene;
-pub use step::{MinimiseSettings, RattleSettings, Solver, SolverStats, StageSettings};
+pub use step::{
+    MinimiseSettings, RattleSettings, Solver, SolverStats, StageSettings, VariableStats,
+    VariableStep,
+};
 
 /// Nalgebra's 3-vector of `f64`, as used for positions and momenta.
 pub type Vec3 = nalgebra::Vector3<f64>;

@@ -53,10 +53,11 @@ use crate::scene::{Scene, SceneError};
 use crate::step::dispatch::{SchemeVisitor, TableVisitor, with_scheme, with_table};
 use crate::step::minimise::MinimiseError;
 use crate::step::rattle::RattleError;
+use crate::step::variable::{Attempt, Controller, Next};
 use crate::step::{
     BandedStepper, Banding, ClothStepper, Halt, Halted, MinimiseSettings, MinimiseStepper,
     RattleSettings, RattleStepper, Refused, SchemeStepper, SolverStats, StageSettings,
-    StageStepper, StepError, sequence_of,
+    StageStepper, StepError, VariableStats, VariableStep, sequence_of,
 };
 
 /// Frames, substeps and frame rate of a run (from the scene, or overridden).
@@ -148,13 +149,21 @@ impl Default for SolverSettings {
 }
 
 /// Everything a run is asked to do besides the method: its length, the
-/// solvers' settings and an optional energy guard.
+/// solvers' settings, the variable step and an optional energy guard.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RunSettings {
     pub options: RunOptions,
     pub solvers: SolverSettings,
     /// Stop once `|H − H₀|/E_ref` passes a limit (none by default).
     pub guard: Option<EnergyGuard>,
+    /// RATTLE's reversible variable step ([`crate::step::variable`]): each
+    /// frame takes the fewest steps, at least
+    /// [`options.substeps`](RunOptions::substeps) (and 2), whose interior
+    /// transverse-wave numbers stay at or below the target. `None` (the
+    /// default of [`RunSettings::new`]): `options.substeps` steps every
+    /// frame. [`RunSettings::from_scene`] takes the scene's
+    /// `simulation.step`. Only a RATTLE run can take it.
+    pub variable: Option<VariableStep>,
 }
 
 impl RunSettings {
@@ -164,11 +173,19 @@ impl RunSettings {
             options,
             solvers: SolverSettings::default(),
             guard: None,
+            variable: None,
         }
     }
-    /// The scene's frames, substeps and frame rate, with the defaults.
+    /// The scene's frames, substeps, frame rate and step
+    /// (`simulation.step`: the variable step by default on an
+    /// inextensible scene), with the default solvers.
     pub fn from_scene(scene: &Scene) -> RunSettings {
-        RunSettings::new(RunOptions::from_scene(scene))
+        RunSettings::new(RunOptions::from_scene(scene)).with_variable(scene.simulation.variable)
+    }
+    /// The variable step, or `None` for the fixed one.
+    pub fn with_variable(mut self, variable: Option<VariableStep>) -> RunSettings {
+        self.variable = variable;
+        self
     }
     pub fn with_guard(mut self, guard: EnergyGuard) -> RunSettings {
         self.guard = Some(guard);
@@ -313,7 +330,7 @@ impl std::fmt::Display for Blowup {
 pub struct RunReport {
     /// The scheme's name.
     pub method: &'static str,
-    /// Step size (s).
+    /// Step size (s); of a variable-step run, the largest (its floor's).
     pub h: f64,
     pub steps: usize,
     /// One entry per frame, the initial state first.
@@ -322,6 +339,8 @@ pub struct RunReport {
     pub stepping_seconds: f64,
     /// What the solver did ([`SolverStats::None`] for an explicit run).
     pub solver: SolverStats,
+    /// What the variable step did (`None` for a fixed step).
+    pub variable: Option<VariableStats>,
 }
 
 /// Why a run stopped.
@@ -370,6 +389,15 @@ pub enum RunError {
         #[source]
         source: RattleError,
     },
+    /// The variable step found no count of steps per frame up to its cap
+    /// that the frame accepts; the message names the scene's fields.
+    #[error("{method}: frame {frame} (t = {time} s): {message}")]
+    StepControl {
+        method: &'static str,
+        frame: usize,
+        time: f64,
+        message: String,
+    },
     /// The energy guard stopped the run ([`RunSettings::guard`]).
     #[error("{0}")]
     Blowup(Box<Blowup>),
@@ -405,6 +433,7 @@ impl RunError {
                 | RunError::Solve { .. }
                 | RunError::Minimise { .. }
                 | RunError::Constraint { .. }
+                | RunError::StepControl { .. }
                 | RunError::Blowup(_)
         )
     }
@@ -496,6 +525,12 @@ impl Simulation {
         settings.options.check()?;
         if let Some(why) = crate::scene::method_mismatch(method, self.model.is_inextensible()) {
             return Err(RunError::Options(format!("method: {why}")));
+        }
+        if settings.variable.is_some() && method.mechanism() != Mechanism::Constrained {
+            return Err(RunError::Options(format!(
+                "simulation.step: the variable step is RATTLE's (an inextensible scene); {} takes a fixed step (step = \"fixed\")",
+                method.id()
+            )));
         }
         let on_frame: &mut OnFrame<'_> = &mut on_frame;
         let name = method.name();
@@ -675,6 +710,7 @@ impl Simulation {
     ) -> Result<RunReport, RunError> {
         let opts = settings.options;
         let h = opts.step_size();
+        let mut controller = settings.variable.map(|v| Controller::new(v, opts.substeps));
         let (mut stepper, mut frames, h0, clock, first_frame, mut stepping) = match resume {
             None => {
                 let stepper = make(self)?;
@@ -701,6 +737,10 @@ impl Simulation {
                 let mut d = Decoder::new(path, bytes);
                 stepper
                     .restore(&self.model, &mut d)
+                    .and_then(|()| match controller.as_mut() {
+                        Some(c) => c.restore(&mut d),
+                        None => Ok(()),
+                    })
                     .and_then(|()| d.end())
                     .map_err(|e| RunError::Resume(format!("{method}: {e}")))?;
                 let clock = Clock {
@@ -721,9 +761,24 @@ impl Simulation {
             }
         };
         let mut saved = self.state.clone();
-        let state_of = |sim: &Simulation, stepper: &St, frames: &[FrameStats], stepping: f64| {
+        // The variable step's kept end state while it tries a count below.
+        let mut kept = if controller.is_some() {
+            self.state.clone()
+        } else {
+            Vec::new()
+        };
+        let state_of = |sim: &Simulation,
+                        stepper: &St,
+                        controller: Option<&Controller>,
+                        frames: &[FrameStats],
+                        stepping: f64| {
             let mut e = Encoder::new();
-            let carried = stepper.save(&mut e).then(|| e.finish());
+            let carried = stepper.save(&mut e).then(|| {
+                if let Some(c) = controller {
+                    c.save(&mut e);
+                }
+                e.finish()
+            });
             RunState {
                 method: method.to_string(),
                 h,
@@ -744,7 +799,9 @@ impl Simulation {
         // at the frame it was saved at).
         if resume.is_none() {
             let last = *frames.last().expect("the initial frame");
-            self.control(control, &last, &|sim| state_of(sim, &stepper, &frames, 0.0))?;
+            self.control(control, &last, &|sim| {
+                state_of(sim, &stepper, controller.as_ref(), &frames, 0.0)
+            })?;
         }
         let done = self.frame - first_frame;
         if done > opts.frames {
@@ -757,15 +814,45 @@ impl Simulation {
         for _ in done..opts.frames {
             saved.copy_from_slice(&self.state);
             let started = Instant::now();
-            self.advance(&mut stepper, opts.substeps, clock, method, &saved)?;
-            stepping += started.elapsed().as_secs_f64();
+            match controller.as_mut() {
+                None => {
+                    let done = self.advance(&mut stepper, opts.substeps, clock, method, &saved);
+                    stepping += started.elapsed().as_secs_f64();
+                    done?;
+                    self.time = clock.time(self.steps);
+                }
+                Some(c) => {
+                    // Frames on the grid: frame k at t0 + k/frame_rate.
+                    let frame_time =
+                        |k: usize| clock.t0 + (k - first_frame) as f64 / opts.frame_rate;
+                    let t = frame_time(self.frame);
+                    let done = self.advance_variable(
+                        &mut stepper,
+                        c,
+                        &mut kept,
+                        t,
+                        opts.frame_rate,
+                        method,
+                        &saved,
+                    );
+                    stepping += started.elapsed().as_secs_f64();
+                    done?;
+                    self.time = frame_time(self.frame + 1);
+                }
+            }
             self.frame += 1;
-            self.time = clock.time(self.steps);
             let stats = self.stats();
             if let Some(guard) = &settings.guard {
                 let rel = guard.relative_error(stats.energy.total(), h0);
                 if guard.exceeded(rel) {
                     let last_good = *frames.last().expect("the initial frame");
+                    // A variable-step frame is not replayed step by step
+                    // (its count of steps was the search's).
+                    let guard = if controller.is_some() {
+                        &guard.without_replay()
+                    } else {
+                        guard
+                    };
                     return Err(self.blowup(
                         method,
                         make,
@@ -782,17 +869,136 @@ impl Simulation {
             }
             self.emit(stats, &mut frames, on_frame)?;
             self.control(control, &stats, &|sim| {
-                state_of(sim, &stepper, &frames, stepping)
+                state_of(sim, &stepper, controller.as_ref(), &frames, stepping)
             })?;
         }
         Ok(RunReport {
             method,
-            h,
+            h: match &controller {
+                Some(c) => 1.0 / (opts.frame_rate * c.floor as f64),
+                None => h,
+            },
             steps: self.steps - clock.step0,
             frames,
             stepping_seconds: stepping,
             solver: stepper.stats(),
+            variable: controller.map(|c| c.stats),
         })
+    }
+
+    /// One frame of the variable step ([`crate::step::variable`]) from
+    /// `saved`, its start at time `t`: integrate it with the count the
+    /// search asks for until the search is done, each time from `saved`,
+    /// keeping the smallest accepted end state in `kept` while a smaller
+    /// count is tried. On an error the state and steps go back to `saved`.
+    #[allow(clippy::too_many_arguments)]
+    fn advance_variable<St: ClothStepper>(
+        &mut self,
+        stepper: &mut St,
+        ctl: &mut Controller,
+        kept: &mut [f64],
+        t: f64,
+        frame_rate: f64,
+        method: &'static str,
+        saved: &[f64],
+    ) -> Result<(), RunError> {
+        let mut search = ctl.search();
+        let mut n = search.first(ctl.guess);
+        let (mut tried, mut kept_w) = (0usize, 0.0f64);
+        loop {
+            self.state.copy_from_slice(saved);
+            // h as the fixed step computes it, so that a frame at the
+            // floor is the fixed step's frame to the bit.
+            let h = 1.0 / (frame_rate * n as f64);
+            let (attempt, done, why) = self.attempt(stepper, n, t, h);
+            tried += done;
+            if let Attempt::Ran(w) = attempt
+                && w <= ctl.settings.wave_number
+            {
+                let end = t + n as f64 * h;
+                stepper.leave(&self.model, end, &mut self.state);
+                kept_w = w;
+            } else {
+                ctl.rejected(attempt);
+                if attempt == Attempt::Failed {
+                    stepper.restart();
+                }
+            }
+            match search.record(n, attempt) {
+                Next::Try(next) => {
+                    if let Attempt::Ran(w) = attempt
+                        && w <= ctl.settings.wave_number
+                    {
+                        kept.copy_from_slice(&self.state);
+                    }
+                    n = next;
+                }
+                Next::Done { steps, latest } => {
+                    if !latest {
+                        self.state.copy_from_slice(kept);
+                    }
+                    ctl.finish(steps, &search, tried, kept_w);
+                    self.steps += steps;
+                    return Ok(());
+                }
+                Next::Exhausted { tried: last } => {
+                    self.state.copy_from_slice(saved);
+                    let what = match (attempt, why) {
+                        (_, Some(why)) => why,
+                        (Attempt::Ran(w), None) => format!("the largest was {w:.3}"),
+                        (Attempt::Failed, None) => "it failed".to_string(),
+                    };
+                    return Err(RunError::StepControl {
+                        method,
+                        frame: self.frame + 1,
+                        time: t,
+                        message: format!(
+                            "the variable step (simulation.step = \"variable\") found no count of steps per frame up to simulation.max_substeps = {} whose interior transverse-wave numbers h·ω stay at or below simulation.wave_number = {}: at {last} steps per frame {what}",
+                            ctl.settings.max_substeps.max(ctl.floor),
+                            ctl.settings.wave_number
+                        ),
+                    });
+                }
+            }
+        }
+    }
+
+    /// Integrate the frame in `self.state` with `n` steps of `h` from time
+    /// `t`: the largest wave number at its interior nodes (after steps 2 to
+    /// `n`), or a failure with the steps done and why.
+    fn attempt<St: ClothStepper>(
+        &mut self,
+        stepper: &mut St,
+        n: usize,
+        t: f64,
+        h: f64,
+    ) -> (Attempt, usize, Option<String>) {
+        stepper.enter(&self.model, t, &mut self.state);
+        let mut w = 0.0f64;
+        for k in 0..n {
+            if let Err(e) = stepper.step(&self.model, t + k as f64 * h, h, &mut self.state) {
+                return (
+                    Attempt::Failed,
+                    k + 1,
+                    Some(format!("step {} failed: {e}", k + 1)),
+                );
+            }
+            if let Some(index) = self.state.iter().position(|x| !x.is_finite()) {
+                return (
+                    Attempt::Failed,
+                    k + 1,
+                    Some(format!(
+                        "step {} left state component {index} = {}",
+                        k + 1,
+                        self.state[index]
+                    )),
+                );
+            }
+            if k >= 1 {
+                w = w.max(stepper.wave_number().unwrap_or(f64::INFINITY));
+            }
+        }
+        (Attempt::Ran(w), n, None)
     }
 
     /// Ask `control` what to do after the frame `stats`; `state` makes the

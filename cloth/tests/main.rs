@@ -25,3 +25,4 @@ mod sag;
 mod scenes;
 mod stencil;
 mod study;
+mod variable_step;

@@ -225,6 +225,12 @@ pub struct SimulationSpec {
     /// [`auto_step`](crate::schedule::auto_step)): the tension waves, the
     /// springs and the bending, each with its safety factor.
     pub auto_substeps: bool,
+    /// `step = "variable"` (the default of an inextensible scene): RATTLE's
+    /// reversible variable step ([`crate::step::variable`]), with
+    /// `substeps` the fewest steps per frame and `wave_number`,
+    /// `max_substeps` its target and cap; `None` for `step = "fixed"` (the
+    /// only step of a spring scene): `substeps` steps every frame.
+    pub variable: Option<crate::step::VariableStep>,
     /// Frames to simulate after the initial one.
     pub frames: usize,
     /// A method id that [`Method::parse`] accepts (every method of

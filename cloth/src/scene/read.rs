@@ -585,10 +585,23 @@ impl Reader<'_> {
     }
 
     /// `inextensible`: the scene's sheet is constrained, so `substeps` may
-    /// be left out (it is then `"auto"`).
+    /// be left out (it is then `"auto"`), and its step is variable unless
+    /// `step = "fixed"`.
     fn simulation(&self, t: &Table, inextensible: bool) -> Result<SimulationSpec, SceneError> {
         let p = "simulation";
-        self.keys(t, p, &["frame_rate", "substeps", "frames", "method"])?;
+        self.keys(
+            t,
+            p,
+            &[
+                "frame_rate",
+                "substeps",
+                "frames",
+                "method",
+                "step",
+                "wave_number",
+                "max_substeps",
+            ],
+        )?;
         let frame_rate = match self.opt_f64(t, p, "frame_rate")? {
             None => 60.0,
             Some(r) => self.positive(r, "simulation.frame_rate")?,
@@ -612,6 +625,7 @@ impl Reader<'_> {
         } else {
             self.count(t, p, "substeps", 1)?
         };
+        let variable = self.variable_step(t, inextensible)?;
         let frames = self.count(t, p, "frames", 0)?;
         let method = self.string_value(self.req(t, p, "method")?, "simulation.method")?;
         Method::parse(method).map_err(|e| self.err("simulation.method", e))?;
@@ -619,8 +633,62 @@ impl Reader<'_> {
             frame_rate,
             substeps,
             auto_substeps,
+            variable,
             frames,
             method: method.to_string(),
         })
+    }
+
+    /// `step` (`"variable"`, the default of an inextensible sheet, or
+    /// `"fixed"`), and the variable step's `wave_number` (in (0, 2): RATTLE
+    /// is stable only below 2) and `max_substeps` (at least 2).
+    fn variable_step(
+        &self,
+        t: &Table,
+        inextensible: bool,
+    ) -> Result<Option<crate::step::VariableStep>, SceneError> {
+        let p = "simulation";
+        let variable = match self.opt_string(t, p, "step")?.as_deref() {
+            None => inextensible,
+            Some("variable") if inextensible => true,
+            Some("variable") => {
+                return Err(self.err(
+                    "simulation.step",
+                    "\"variable\" is RATTLE's reversible variable step, for an inextensible sheet (material.stretch = \"inextensible\"); a spring scene takes \"fixed\"",
+                ));
+            }
+            Some("fixed") => false,
+            Some(other) => {
+                return Err(self.err(
+                    "simulation.step",
+                    format!("expected \"variable\" or \"fixed\", found \"{other}\""),
+                ));
+            }
+        };
+        if !variable {
+            for key in ["wave_number", "max_substeps"] {
+                if t.contains_key(key) {
+                    return Err(self.err(
+                        &join(p, key),
+                        "belongs to the variable step (step = \"variable\"); this scene's step is fixed",
+                    ));
+                }
+            }
+            return Ok(None);
+        }
+        let mut v = crate::step::VariableStep::default();
+        if let Some(w) = self.opt_f64(t, p, "wave_number")? {
+            if !(w > 0.0 && w < 2.0) {
+                return Err(self.err(
+                    "simulation.wave_number",
+                    format!("must lie between 0 and 2, RATTLE's stability limit of h·ω (got {w})"),
+                ));
+            }
+            v.wave_number = w;
+        }
+        if t.contains_key("max_substeps") {
+            v.max_substeps = self.count(t, p, "max_substeps", 2)?;
+        }
+        Ok(Some(v))
     }
 }

@@ -14,6 +14,7 @@ pub mod explicit;
 pub mod minimise;
 pub mod rattle;
 pub mod stage;
+pub mod variable;
 
 use integrator_core::SolveError;
 use integrator_core::checkpoint::{CheckpointError, Decoder, Encoder};
@@ -26,6 +27,7 @@ pub use explicit::SchemeStepper;
 pub use minimise::{MinimiseSettings, MinimiseStepper, Minimiser, Solver};
 pub use rattle::{RattleSettings, RattleStepper};
 pub use stage::{StageSettings, StageStepper};
+pub use variable::{VariableStats, VariableStep};
 
 /// Why a step failed (the run loop adds the step, time and method).
 #[derive(Debug, thiserror::Error)]
@@ -119,6 +121,16 @@ pub trait ClothStepper {
     fn leave(&mut self, _model: &ClothModel, _t: f64, _z: &mut [f64]) {}
     /// What the solver did so far.
     fn stats(&self) -> SolverStats;
+    /// The stability measure of the last step solved, for the variable
+    /// step ([`variable`]): RATTLE's transverse-wave number `h·ω`; `None`
+    /// for a stepper that has none (it cannot take the variable step).
+    fn wave_number(&self) -> Option<f64> {
+        None
+    }
+    /// After a failed step, before the frame is integrated again from its
+    /// start (the variable step): drop what the failed step left as a
+    /// guess for the next (RATTLE: its multipliers). Nothing by default.
+    fn restart(&mut self) {}
     /// Append everything the next steps depend on beyond the state `z`
     /// handed out at a frame (carried momenta, warm starts, factors and
     /// their schedule, compensated-summation residuals) and the solver

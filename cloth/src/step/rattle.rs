@@ -305,6 +305,18 @@ impl ClothStepper for RattleStepper {
         SolverStats::Constrained(self.rattle.stats())
     }
 
+    /// `h·ω = 4·√(½ΣΛ)` of the last step solved (of the whole impulse at
+    /// the step's start when it started from a carried momentum).
+    fn wave_number(&self) -> Option<f64> {
+        Some(self.rattle.last_wave_number())
+    }
+
+    /// Start the next position solve from zero multipliers (the failed
+    /// solve's iterate is no guess).
+    fn restart(&mut self) {
+        self.rattle.forget_warm_start();
+    }
+
     /// The integrator's carried data ([`Rattle::save`]): the carried p̃,
     /// the warm start, the kept factor of `G·Gᵀ` and its age, the force and
     /// edge vectors at `q`, the flags and the statistics.

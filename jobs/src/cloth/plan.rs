@@ -117,12 +117,14 @@ pub(crate) fn plan_with(
     let dir = output_dir(request, &scene)?;
     let render_failure = request.render.as_deref().map(str::trim) != Some("none");
     let every = checkpoint::interval(request.checkpoint_every, &method)?;
+    let variable = scene.simulation.variable;
     Ok(Job {
         request: request.clone(),
         scene,
         scene_text,
         method,
         settings: RunSettings::new(options)
+            .with_variable(variable)
             .with_minimise(minimise)
             .with_guard(EnergyGuard::new(e_ref)),
         renders,

@@ -119,13 +119,26 @@ impl Summary<'_> {
         } else {
             format!("2/ω_max {MISSING} (the power iteration found no positive eigenvalue of M⁻¹K)")
         };
-        let _ = writeln!(
-            s,
-            "  step         h = {} s ({} per frame at {} Hz); {limit}",
-            sci(r.h, 4),
-            self.opts.substeps,
-            fixed(self.opts.frame_rate, 4),
-        );
+        match &r.variable {
+            None => {
+                let _ = writeln!(
+                    s,
+                    "  step         h = {} s ({} per frame at {} Hz); {limit}",
+                    sci(r.h, 4),
+                    self.opts.substeps,
+                    fixed(self.opts.frame_rate, 4),
+                );
+            }
+            Some(v) => {
+                let _ = writeln!(
+                    s,
+                    "  step         variable, at most h = {} s ({} per frame at {} Hz, the floor); {limit}",
+                    sci(r.h, 4),
+                    v.floor,
+                    fixed(self.opts.frame_rate, 4),
+                );
+            }
+        }
         if let Some(wave) = self.model.tension_wave_step() {
             let _ = writeln!(
                 s,
@@ -136,6 +149,9 @@ impl Summary<'_> {
         }
         if let Some(note) = self.note {
             let _ = writeln!(s, "               ({note})");
+        }
+        if let Some(v) = &r.variable {
+            variable_lines(s, v);
         }
     }
 
@@ -287,6 +303,42 @@ impl Summary<'_> {
             files.join(", ")
         );
     }
+}
+
+/// What the variable step chose and why: the steps per frame (fewest, mean,
+/// most, and how many frames took each), the frames integrated again and
+/// the steps that cost.
+fn variable_lines(s: &mut String, v: &cloth::VariableStats) {
+    let (min, mean, max) = v.min_mean_max();
+    let _ = writeln!(
+        s,
+        "  steps/frame  {min} to {max}, mean {} (simulation.step = \"variable\": each frame the fewest steps, at least {}, whose interior h·ω stay ≤ {}; largest accepted {}, largest rejected {})",
+        fixed(mean, 3),
+        v.floor,
+        fixed(v.target, 3),
+        fixed(v.max_accepted, 3),
+        fixed(v.max_rejected, 3)
+    );
+    let shown: Vec<String> = v
+        .histogram
+        .iter()
+        .map(|(n, k)| format!("{n}: {k}"))
+        .collect();
+    let _ = writeln!(
+        s,
+        "               frames by steps per frame {{{}}}; {} of {} frames integrated more than once ({} integrations, {} failed solves), {} steps not kept ({} % of the {} kept)",
+        shown.join(", "),
+        v.redone,
+        v.frames,
+        v.attempts,
+        v.failed,
+        v.discarded_steps,
+        fixed(
+            100.0 * v.discarded_steps as f64 / v.steps().max(1) as f64,
+            3
+        ),
+        v.steps()
+    );
 }
 
 /// "explicit, order 2, symplectic" or "implicit, order 4, symplectic
