@@ -300,7 +300,9 @@ pub fn auto_step(model: &ClothModel, frame_rate: f64) -> AutoStep {
 /// [`schedule`] with `substeps = "auto"` resolved on `model`: where the
 /// scene asks for it and the request gives neither `substeps` nor `dt`,
 /// the steps per frame are [`auto_step`]'s, and the reason comes back in
-/// [`Schedule::note`] and as the [`AutoStep`].
+/// [`Schedule::note`] and as the [`AutoStep`]. With the variable step
+/// (`simulation.step = "variable"`, [`crate::step::variable`]) they are
+/// its floor, and the note says so.
 pub fn schedule_for(
     scene: &Scene,
     model: &ClothModel,
@@ -313,7 +315,12 @@ pub fn schedule_for(
     let mut resolved = scene.clone();
     resolved.simulation.substeps = auto.substeps;
     let mut plan = schedule(&resolved, request)?;
-    let why = auto.describe();
+    let mut why = auto.describe();
+    if scene.simulation.variable.is_some() {
+        why.push_str(
+            "; with step = \"variable\" the fewest a frame takes, each frame taking more where its h·ω would pass wave_number",
+        );
+    }
     plan.note = Some(match plan.note {
         Some(n) => format!("{n}; {why}"),
         None => why,

@@ -25,7 +25,9 @@
 //! state at the frame's start, `N_floor` the run's steps per frame
 //! (`simulation.substeps`, or what `substeps = "auto"` chose) and `target`
 //! [`VariableStep::wave_number`]. While the floor's frames stay below the
-//! target the run is the fixed-step run at the floor, to the bit.
+//! target the run's states are those of the fixed step at the floor, to
+//! the bit (its frame times are `k/frame_rate` where the fixed step's are
+//! sums of steps).
 //!
 //! **Why it is reversible.** RATTLE is symmetric: the frame map `Φ_N` of
 //! `N` steps satisfies `R∘Φ_N∘R∘Φ_N = id` with `R` the flip of the momenta,
