@@ -339,8 +339,9 @@ pub struct RunReport {
     pub stepping_seconds: f64,
     /// What the solver did ([`SolverStats::None`] for an explicit run).
     pub solver: SolverStats,
-    /// What the variable step did (`None` for a fixed step).
-    pub variable: Option<VariableStats>,
+    /// What the variable step did (`None` for a fixed step); boxed, so
+    /// that a report stays small where it is moved about.
+    pub variable: Option<Box<VariableStats>>,
 }
 
 /// Why a run stopped.
@@ -882,7 +883,7 @@ impl Simulation {
             frames,
             stepping_seconds: stepping,
             solver: stepper.stats(),
-            variable: controller.map(|c| c.stats),
+            variable: controller.map(|c| Box::new(c.stats)),
         })
     }
 
