@@ -67,10 +67,13 @@ fn the_step_is_variable_by_default_on_an_inextensible_scene_and_fixed_when_asked
     .unwrap();
     let scene = Scene::from_toml(&text, "p.toml").unwrap();
     assert_eq!(scene.simulation.variable, Some(VariableStep::default()));
-    text = text.replace(
-        "method = \"rattle\"",
-        "method = \"rattle\"\nstep = \"fixed\"",
-    );
+    // The scene writes its step out; without the line it is the default.
+    let line = "step = \"variable\"";
+    assert!(text.contains(line));
+    let without = text.replace(line, "");
+    let scene = Scene::from_toml(&without, "p.toml").unwrap();
+    assert_eq!(scene.simulation.variable, Some(VariableStep::default()));
+    text = text.replace(line, "step = \"fixed\"");
     let scene = Scene::from_toml(&text, "p.toml").unwrap();
     assert_eq!(scene.simulation.variable, None);
     let settings = RunSettings::from_scene(&flat(4, 2, 1, "variable"));
