@@ -48,7 +48,7 @@
 
 use std::cell::Cell;
 
-use integrator_core::problems::wisdom_holman::{GradientKick, Jacobi};
+use integrator_core::problems::wisdom_holman::{GradientKick, Jacobi, WarmJacobi};
 use integrator_core::processed::Processed;
 use integrator_core::scheme::SplitWorkspace;
 use integrator_core::sequence::Sequence;
@@ -78,6 +78,9 @@ fn bare_merged(
     if split.from_inertial(z, &mut w).is_err() {
         return false;
     }
+    // The run's own history of Kepler roots (the warm start where the
+    // split has it on; see `WarmJacobi`).
+    let split = &WarmJacobi::new(split);
     let mut ws = SplitWorkspace::new(split.buffer_len());
     if method.enter(split, h, &mut w, &mut ws).is_err()
         || method
@@ -89,14 +92,16 @@ fn bare_merged(
     }
     let mut out = vec![0.0; w.len()];
     method.output(split, h, &w, &mut out, &mut ws).is_ok()
-        && split.to_inertial(&out, z).is_ok()
+        && split.split().to_inertial(&out, z).is_ok()
         && z.iter().all(|x| x.is_finite())
 }
 
 /// The split with its interaction kicks counted: one kick is one N-body
-/// force evaluation, the `evals` of a Wisdom–Holman row.
+/// force evaluation, the `evals` of a Wisdom–Holman row. Its Kepler flows
+/// carry the run's own history of roots ([`WarmJacobi`]: the warm start
+/// where the split has it on, a fresh history per run).
 pub struct Counting<'a> {
-    split: &'a Jacobi,
+    split: WarmJacobi<'a>,
     kicks: Cell<u64>,
 }
 
@@ -271,7 +276,7 @@ where
         observe: &mut dyn FnMut(usize, f64, &[f64]) -> bool,
     ) -> Outcome {
         let counting = Counting {
-            split: &self.split,
+            split: WarmJacobi::new(&self.split),
             kicks: Cell::new(0),
         };
         let status = self.run_observed(&counting, z, h, n, compensated, observe);
