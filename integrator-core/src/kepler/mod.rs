@@ -54,6 +54,14 @@
 //! four coefficients miss it by roundings whose mean is not zero, a bias
 //! that made the energy of a long run drift linearly.
 //!
+//! A caller that drifts the same orbit over the same `h` again and again
+//! may keep a [`WarmStart`] and call [`KeplerSolver::drift_warm`]: a long
+//! solve then starts from the previous root (measured: more evaluations
+//! than the cold starter for nearly circular orbits, about the same time;
+//! off by default in the Wisdom–Holman runs, see
+//! [`KEPLER_WARM_START_DEFAULT`](crate::problems::wisdom_holman::KEPLER_WARM_START_DEFAULT)).
+//! Short steps are the same bits either way.
+//!
 //! Several orbits over the same `h` (the planets of a Wisdom–Holman step)
 //! are drifted side by side, bit for bit as one by one, by
 //! [`KeplerSolver::drift_lanes`] (four at a time) and

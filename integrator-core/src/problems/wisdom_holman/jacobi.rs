@@ -57,7 +57,32 @@ pub struct Jacobi {
 pub const KEPLER_WARM_START_ENV: &str = "SYMLAB_KEPLER_WARM";
 
 /// Whether a [`WarmJacobi`](super::WarmJacobi) run warm-starts its long Kepler solves unless
-/// told otherwise: off, as measured (see [`Jacobi::with_kepler_warm_start`]).
+/// told otherwise: off, as measured (AMD EPYC Zen 5, one run at a time
+/// beside one busy core of another process).
+///
+/// - Evaluations: from the previous root a planet's long solve (e ≤ 0.1,
+///   0.3 … 0.9 P) takes 2–3 evaluations where the cold starter ends in
+///   one (390 against 180 over 60 solves; `tests/kepler_warm.rs`): the
+///   previous root is off by about `e·nh`, the cold starter (Danby's and
+///   two Newton steps on Kepler's equation) is nearly the root.
+/// - Time: the starter's `atan2`, `hypot` and three `sin_cos` that it
+///   saves about pay for that. 100 merged leapfrog steps
+///   (`benches/kepler.rs`, `wisdom_holman_warm`): at 500 and 1000 days
+///   the same code (every drift short); at 1500 and 2000 days 2–4 %
+///   faster (AVX2: 89.8 → 87.0 µs and 93.4 → 91.7 µs; AVX-512: 63.5 →
+///   62.4 µs and 66.6 → 64.2 µs). compare's outer-solar sweep at h = 200
+///   … 2000 days: wh:leapfrog 0.91–1.02 of the cold time at 1124 and
+///   2000 days, wh:whckl-c17 0.96–1.01, wh:aba-10-6-4 0.96–1.01 (its
+///   drifts stay short), the same within the noise (±5 %) below; the
+///   errors there are 6e-4 and worse, outside the accuracies the sweep
+///   is about.
+/// - And a warm-started run's last bits depend on its history, which a
+///   checkpoint of a run in progress would have to hold.
+///
+/// A gain of a few per cent at steps nobody takes does not pay for that.
+/// The cost at those steps is elsewhere: Jupiter's long drift takes the
+/// whole step out of the lanes' loop (100 steps: 16.7 µs at 1000 days,
+/// 66.6 µs at 2000 on AVX-512).
 pub const KEPLER_WARM_START_DEFAULT: bool = false;
 
 /// How the Jacobi split takes a gradient (modified) kick

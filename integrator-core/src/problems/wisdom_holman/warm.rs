@@ -99,7 +99,7 @@ impl KeplerHistory {
     /// is not one (a wrong length or slot index).
     pub fn from_f64s(a: &[f64]) -> Option<Self> {
         let per = 1 + 2 * SLOTS;
-        if a.len() % per != 0 {
+        if !a.len().is_multiple_of(per) {
             return None;
         }
         let mut h = Self::new(a.len() / per);
