@@ -122,6 +122,7 @@ impl KeplerSolver {
         self.drift_lanes_from(gm, h, x, v, used, Some(warm))
     }
 
+    #[inline(always)]
     fn drift_lanes_from(
         &self,
         gm: &[f64; LANES],

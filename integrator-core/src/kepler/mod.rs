@@ -156,6 +156,7 @@ impl KeplerSolver {
         self.drift_from(gm, h, x, v, Some(warm))
     }
 
+    #[inline(always)]
     fn drift_from(
         &self,
         gm: f64,
@@ -222,20 +223,19 @@ impl KeplerSolver {
     /// series starter's case: the root a [`WarmStart`] keeps). `warm`, a
     /// previous root for the same `h`, replaces the long-step starters
     /// where it lies inside the bracket.
-    // The bracket tests are written `!(lo < s && s < hi)` so that a NaN
-    // iterate fails them too.
-    #[allow(clippy::nonminimal_bool)]
+    #[inline(always)]
     fn solve(
         &self,
         o: &Orbit,
         h: f64,
         warm: Option<f64>,
     ) -> Result<(f64, [f64; 5], f64, bool), KeplerError> {
-        let long = o.series_guess(h).is_none();
-        let (s, g, r) = self.solve_from(o, h, warm)?;
-        Ok((s, g, r, long))
+        let series = o.series_guess(h);
+        let (s, g, r) = self.solve_from(o, h, series, warm)?;
+        Ok((s, g, r, series.is_none()))
     }
 
+    /// [`solve`](Self::solve) with the series starter already formed.
     // The bracket tests are written `!(lo < s && s < hi)` so that a NaN
     // iterate fails them too.
     #[allow(clippy::nonminimal_bool)]
@@ -243,13 +243,14 @@ impl KeplerSolver {
         &self,
         o: &Orbit,
         h: f64,
+        series: Option<f64>,
         warm: Option<f64>,
     ) -> Result<(f64, [f64; 5], f64), KeplerError> {
         let mut ht = h;
         // The bracket [lo, hi] of the root; F(lo) ≤ 0 ≤ F(hi).
         let (mut lo, mut hi);
         let mut s;
-        if let Some(guess) = o.series_guess(h) {
+        if let Some(guess) = series {
             // A short step (the Wisdom–Holman regime): well under a period,
             // so no reduction, and the root has the sign of h (F is
             // increasing, F(0) = −h). The series is close enough that the

@@ -71,11 +71,12 @@ pub const KEPLER_WARM_START_ENV: &str = "SYMLAB_KEPLER_WARM";
 ///   the same code (every drift short); at 1500 and 2000 days 2–4 %
 ///   faster (AVX2: 89.8 → 87.0 µs and 93.4 → 91.7 µs; AVX-512: 63.5 →
 ///   62.4 µs and 66.6 → 64.2 µs). compare's outer-solar sweep at h = 200
-///   … 2000 days: wh:leapfrog 0.91–1.02 of the cold time at 1124 and
-///   2000 days, wh:whckl-c17 0.96–1.01, wh:aba-10-6-4 0.96–1.01 (its
-///   drifts stay short), the same within the noise (±5 %) below; the
-///   errors there are 6e-4 and worse, outside the accuracies the sweep
-///   is about.
+///   … 2000 days (21 timed runs a point, twice, against the tree before
+///   the warm start): at 1124 and 2000 days wh:leapfrog 0.92–0.98 of the
+///   cold time, wh:whckl-c17 0.97–1.02, wh:aba-10-6-4 0.98–1.02; below,
+///   where every drift is short, the warm run's history costs up to 2 %
+///   (wh:aba-10-6-4 on AVX-512); the errors at 1124 days and beyond are
+///   6e-4 and worse, outside the accuracies the sweep is about.
 /// - And a warm-started run's last bits depend on its history, which a
 ///   checkpoint of a run in progress would have to hold.
 ///
@@ -304,6 +305,9 @@ impl Jacobi {
         self.kepler_flow_from(h, w, Some(history))
     }
 
+    // Inlined into both entries, so that `kepler_flow` (no history) is
+    // compiled as it was before the warm start existed.
+    #[inline(always)]
     fn kepler_flow_from(
         &self,
         h: f64,
