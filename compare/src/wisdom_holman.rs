@@ -48,7 +48,7 @@
 
 use std::cell::Cell;
 
-use integrator_core::problems::wisdom_holman::{GradientKick, Jacobi};
+use integrator_core::problems::wisdom_holman::{GradientKick, Jacobi, WarmJacobi};
 use integrator_core::processed::Processed;
 use integrator_core::scheme::SplitWorkspace;
 use integrator_core::sequence::Sequence;
@@ -78,25 +78,48 @@ fn bare_merged(
     if split.from_inertial(z, &mut w).is_err() {
         return false;
     }
+    // With the warm start on, the run's own history of Kepler roots (see
+    // `WarmJacobi`); off (the default), the split itself, so that the
+    // default run is the code it was before the warm start existed.
+    let stepped = if split.kepler_warm_start() {
+        steps(&WarmJacobi::new(split), method, &mut w, h, n)
+    } else {
+        steps(split, method, &mut w, h, n)
+    };
+    stepped.is_some_and(|out| split.to_inertial(&out, z).is_ok() && z.iter().all(|x| x.is_finite()))
+}
+
+/// `χ⁻¹`, `n` merged steps and `χ` on `split`: the corrected output, or
+/// `None` where a flow failed.
+fn steps<S: Split>(
+    split: &S,
+    method: &Processed<Sequence>,
+    w: &mut [f64],
+    h: f64,
+    n: usize,
+) -> Option<Vec<f64>> {
     let mut ws = SplitWorkspace::new(split.buffer_len());
-    if method.enter(split, h, &mut w, &mut ws).is_err()
+    if method.enter(split, h, w, &mut ws).is_err()
         || method
             .kernel()
-            .steps_merged(split, h, n, &mut w, &mut ws)
+            .steps_merged(split, h, n, w, &mut ws)
             .is_err()
     {
-        return false;
+        return None;
     }
     let mut out = vec![0.0; w.len()];
-    method.output(split, h, &w, &mut out, &mut ws).is_ok()
-        && split.to_inertial(&out, z).is_ok()
-        && z.iter().all(|x| x.is_finite())
+    method
+        .output(split, h, w, &mut out, &mut ws)
+        .ok()
+        .map(|()| out)
 }
 
 /// The split with its interaction kicks counted: one kick is one N-body
-/// force evaluation, the `evals` of a Wisdom–Holman row.
+/// force evaluation, the `evals` of a Wisdom–Holman row. Its Kepler flows
+/// carry the run's own history of roots ([`WarmJacobi`]: the warm start
+/// where the split has it on, a fresh history per run).
 pub struct Counting<'a> {
-    split: &'a Jacobi,
+    split: WarmJacobi<'a>,
     kicks: Cell<u64>,
 }
 
@@ -271,7 +294,7 @@ where
         observe: &mut dyn FnMut(usize, f64, &[f64]) -> bool,
     ) -> Outcome {
         let counting = Counting {
-            split: &self.split,
+            split: WarmJacobi::new(&self.split),
             kicks: Cell::new(0),
         };
         let status = self.run_observed(&counting, z, h, n, compensated, observe);

@@ -19,8 +19,11 @@ use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use integrator_core::kepler::{KeplerSolver, LANES, drift};
 use integrator_core::problems::OuterSolarSystem;
 use integrator_core::problems::wisdom_holman::GradientKick;
-use integrator_core::problems::wisdom_holman::{DemocraticHeliocentric, Jacobi};
+use integrator_core::problems::wisdom_holman::{DemocraticHeliocentric, Jacobi, WarmJacobi};
+use integrator_core::scheme::SplitWorkspace;
+use integrator_core::sequence::Sequence;
 use integrator_core::simd::{Level, Simd};
+use integrator_core::split::Split;
 
 fn state(a: f64, e: f64, nu: f64) -> ([f64; 3], [f64; 3]) {
     let p = a * (1.0 - e * e);
@@ -224,6 +227,39 @@ fn bench(c: &mut Criterion) {
             format!("democratic_heliocentric_100_steps_h10_{level}"),
             |b| b.iter(|| dh.integrate(black_box(10.0), 100, &mut w).unwrap()),
         );
+    }
+    group.finish();
+
+    // The Kepler solver's warm start at long steps: 100 leapfrog steps
+    // merged across steps (`Sequence::steps_merged`, as compare's timed
+    // `wh:` runs), the run's history carried from one batch to the next,
+    // warm start off and on, at the level `SYMLAB_SIMD` allows. Each
+    // batch is a fresh run from the same state with a fresh history, as
+    // compare's timed runs (a state carried over millions of steps this
+    // long would wander off). Jupiter's drift is long (outside the lanes'
+    // short-step path) from about 1100 days; below that the two are the
+    // same code.
+    let mut group = c.benchmark_group("wisdom_holman_warm");
+    group.warm_up_time(Duration::from_millis(500));
+    group.measurement_time(Duration::from_secs(2));
+    let seq = Sequence::from_catalogue("leapfrog").unwrap();
+    for h in [500.0, 1000.0, 1500.0, 2000.0] {
+        for warm in [false, true] {
+            let jac = Jacobi::outer_solar().with_kepler_warm_start(warm);
+            let mut w0 = vec![0.0; 36];
+            jac.from_inertial(&z0, &mut w0).unwrap();
+            let mut ws = SplitWorkspace::new(jac.buffer_len());
+            let label = if warm { "warm" } else { "cold" };
+            group.bench_function(format!("leapfrog_100_steps_h{h}_{label}"), |b| {
+                b.iter(|| {
+                    let mut w = w0.clone();
+                    let run = WarmJacobi::new(&jac);
+                    seq.steps_merged(&run, black_box(h), 100, &mut w, &mut ws)
+                        .unwrap();
+                    black_box(w)
+                })
+            });
+        }
     }
     group.finish();
 }

@@ -23,7 +23,7 @@ const EPS: f64 = f64::EPSILON;
 /// The state at true anomaly `nu` on the conic of semi-major axis `a`
 /// (negative for hyperbolae) and eccentricity `e`, rotated out of the
 /// plane by fixed, generic angles.
-fn state(gm: f64, a: f64, e: f64, nu: f64) -> ([f64; 3], [f64; 3]) {
+pub(crate) fn state(gm: f64, a: f64, e: f64, nu: f64) -> ([f64; 3], [f64; 3]) {
     let p = a * (1.0 - e * e);
     let r = p / (1.0 + e * nu.cos());
     let w = (gm / p).sqrt();
@@ -64,7 +64,7 @@ fn cross(a: &[f64; 3], b: &[f64; 3]) -> [f64; 3] {
 }
 
 /// `max(|Δx|/|x_ref|, |Δv|/|v_ref|)`.
-fn scaled_error(x: &[f64; 3], v: &[f64; 3], xr: &[Dd; 3], vr: &[Dd; 3]) -> f64 {
+pub(crate) fn scaled_error(x: &[f64; 3], v: &[f64; 3], xr: &[Dd; 3], vr: &[Dd; 3]) -> f64 {
     let dx = [0, 1, 2].map(|k| (Dd::new(x[k]) - xr[k]).f64());
     let dv = [0, 1, 2].map(|k| (Dd::new(v[k]) - vr[k]).f64());
     let xr = xr.map(Dd::f64);
@@ -73,7 +73,7 @@ fn scaled_error(x: &[f64; 3], v: &[f64; 3], xr: &[Dd; 3], vr: &[Dd; 3]) -> f64 {
 }
 
 /// The reference, rounded to f64.
-fn reference(gm: f64, h: f64, x: [f64; 3], v: [f64; 3]) -> ([f64; 3], [f64; 3]) {
+pub(crate) fn reference(gm: f64, h: f64, x: [f64; 3], v: [f64; 3]) -> ([f64; 3], [f64; 3]) {
     let (xr, vr) = double_double::flow(gm, h, x, v)
         .unwrap_or_else(|| panic!("the reference solve converges: h = {h}, x = {x:?}, v = {v:?}"));
     (xr.map(Dd::f64), vr.map(Dd::f64))
@@ -82,7 +82,7 @@ fn reference(gm: f64, h: f64, x: [f64; 3], v: [f64; 3]) -> ([f64; 3], [f64; 3]) 
 /// `κ`: the ∞-norm of the flow's Jacobian scaled by `|x|, |v|` in and
 /// out, by central differences of the double-double flow (relative
 /// increments 1e-7, so κ is good to a few digits, all a bound needs).
-fn kappa(gm: f64, h: f64, x: [f64; 3], v: [f64; 3]) -> f64 {
+pub(crate) fn kappa(gm: f64, h: f64, x: [f64; 3], v: [f64; 3]) -> f64 {
     let (xr, vr) = reference(gm, h, x, v);
     let (sx_out, sv_out) = (norm(&xr), norm(&vr));
     let (sx_in, sv_in) = (norm(&x), norm(&v));
@@ -111,7 +111,7 @@ fn kappa(gm: f64, h: f64, x: [f64; 3], v: [f64; 3]) -> f64 {
 /// The bound every evaluation of the flow must meet: `C·ε·(1 + κ)`.
 /// Measured, the worst `error/(ε(1 + κ))` over the grid below is printed by
 /// the test; `C = 8` is "a few ulps".
-const C: f64 = 8.0;
+pub(crate) const C: f64 = 8.0;
 
 struct Case {
     gm: f64,

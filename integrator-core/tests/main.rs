@@ -26,6 +26,7 @@ mod hard_problems;
 mod high_precision;
 mod implicit_library;
 mod kepler_flow;
+mod kepler_warm;
 mod linear;
 mod macro_constants;
 mod midpoint_weights;

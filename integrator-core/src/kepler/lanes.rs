@@ -24,7 +24,7 @@
 //! `tests/kepler_flow.rs`), only cheaper.
 
 use super::stumpff::{C2, C3, SERIES_LIMIT, SERIES_LONG, SERIES_MID, SERIES_SHORT, series_head};
-use super::{KeplerError, KeplerSolver, SHORT_STEP, SHORT_TURN, update};
+use super::{KeplerError, KeplerSolver, SHORT_STEP, SHORT_TURN, WarmStart, update};
 
 /// The number of orbits [`KeplerSolver::drift_lanes`] takes at once: four
 /// doubles fill two SSE2 registers (the baseline x86-64 build) or one AVX
@@ -102,6 +102,36 @@ impl KeplerSolver {
         v: &mut [[f64; 3]; LANES],
         used: usize,
     ) -> Result<(), (usize, KeplerError)> {
+        self.drift_lanes_from(gm, h, x, v, used, None)
+    }
+
+    /// [`drift_lanes`](Self::drift_lanes) with a [`WarmStart`] per lane: a
+    /// lane the lanes leave to the scalar solve is drifted by
+    /// [`drift_warm`](Self::drift_warm) with `warm[l]`. The lanes take only
+    /// short steps, which a warm start leaves exactly as they were, so
+    /// every lane is `drift_warm`'s bits.
+    pub fn drift_lanes_warm(
+        &self,
+        gm: &[f64; LANES],
+        h: f64,
+        x: &mut [[f64; 3]; LANES],
+        v: &mut [[f64; 3]; LANES],
+        used: usize,
+        warm: &mut [WarmStart; LANES],
+    ) -> Result<(), (usize, KeplerError)> {
+        self.drift_lanes_from(gm, h, x, v, used, Some(warm))
+    }
+
+    #[inline(always)]
+    fn drift_lanes_from(
+        &self,
+        gm: &[f64; LANES],
+        h: f64,
+        x: &mut [[f64; 3]; LANES],
+        v: &mut [[f64; 3]; LANES],
+        used: usize,
+        mut warm: Option<&mut [WarmStart; LANES]>,
+    ) -> Result<(), (usize, KeplerError)> {
         let used = used.min(LANES);
         if used == 0 {
             return Ok(());
@@ -131,9 +161,11 @@ impl KeplerSolver {
                     x[l] = [xn[0][l], xn[1][l], xn[2][l]];
                     v[l] = [vn[0][l], vn[1][l], vn[2][l]];
                 }
-                _ => self
-                    .drift(gm[l], h, &mut x[l], &mut v[l])
-                    .map_err(|e| (l, e))?,
+                _ => match warm.as_deref_mut() {
+                    Some(w) => self.drift_warm(gm[l], h, &mut x[l], &mut v[l], &mut w[l]),
+                    None => self.drift(gm[l], h, &mut x[l], &mut v[l]),
+                }
+                .map_err(|e| (l, e))?,
             }
         }
         Ok(())

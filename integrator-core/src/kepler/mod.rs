@@ -54,6 +54,14 @@
 //! four coefficients miss it by roundings whose mean is not zero, a bias
 //! that made the energy of a long run drift linearly.
 //!
+//! A caller that drifts the same orbit over the same `h` again and again
+//! may keep a [`WarmStart`] and call [`KeplerSolver::drift_warm`]: a long
+//! solve then starts from the previous root (measured: more evaluations
+//! than the cold starter for nearly circular orbits, about the same time;
+//! off by default in the Wisdom–Holman runs, see
+//! [`KEPLER_WARM_START_DEFAULT`](crate::problems::wisdom_holman::KEPLER_WARM_START_DEFAULT)).
+//! Short steps are the same bits either way.
+//!
 //! Several orbits over the same `h` (the planets of a Wisdom–Holman step)
 //! are drifted side by side, bit for bit as one by one, by
 //! [`KeplerSolver::drift_lanes`] (four at a time) and
@@ -121,6 +129,42 @@ impl KeplerSolver {
         x: &mut [f64; 3],
         v: &mut [f64; 3],
     ) -> Result<(), KeplerError> {
+        self.drift_from(gm, h, x, v, None)
+    }
+
+    /// [`drift`](Self::drift) with a [`WarmStart`]: where the step is long
+    /// (not the short-step series' case) and `warm` holds a root for the
+    /// same `h` inside the solve's bracket, Halley's method starts from
+    /// that root instead of the long-step starters; afterwards `warm`
+    /// holds this solve's root (long steps only; a short step leaves it as
+    /// it was). A short step is exactly [`drift`](Self::drift), so that
+    /// the lanes, which take only short steps, give the same bits with or
+    /// without the history, on every SIMD level.
+    ///
+    /// The result is the root to the solve's tolerance either way, but
+    /// the last bits may depend on where the iteration started: a run that
+    /// warm-starts is a function of its own history, which a checkpoint of
+    /// such a run must save ([`WarmStart::h`], [`WarmStart::s`]).
+    pub fn drift_warm(
+        &self,
+        gm: f64,
+        h: f64,
+        x: &mut [f64; 3],
+        v: &mut [f64; 3],
+        warm: &mut WarmStart,
+    ) -> Result<(), KeplerError> {
+        self.drift_from(gm, h, x, v, Some(warm))
+    }
+
+    #[inline(always)]
+    fn drift_from(
+        &self,
+        gm: f64,
+        h: f64,
+        x: &mut [f64; 3],
+        v: &mut [f64; 3],
+        warm: Option<&mut WarmStart>,
+    ) -> Result<(), KeplerError> {
         if !(gm.is_finite() && gm > 0.0) {
             return Err(KeplerError::BadGm { gm });
         }
@@ -156,7 +200,8 @@ impl KeplerSolver {
             beta,
             zeta,
         };
-        let (_s, g, r) = self.solve(&orbit, h)?;
+        let guess = warm.as_ref().and_then(|w| w.guess(h));
+        let (root, g, r, long) = self.solve(&orbit, h, guess)?;
 
         let (xn, vn) = update(gm, g[4], ir0, r, g[1], g[2], g[3], x, v);
         if xn.iter().chain(&vn).any(|c| !c.is_finite()) {
@@ -164,21 +209,48 @@ impl KeplerSolver {
         }
         *x = xn;
         *v = vn;
+        if let Some(w) = warm
+            && long
+        {
+            *w = WarmStart { h, s: root };
+        }
         Ok(())
     }
 
     /// The root `s` of the universal Kepler equation for a step `h`, with
     /// `[G₀, G₁, G₂, G₃, h']` at it (`h'` the step after the reduction by
-    /// whole periods) and `r = F'(s)`.
+    /// whole periods), `r = F'(s)` and whether the step was long (not the
+    /// series starter's case: the root a [`WarmStart`] keeps). `warm`, a
+    /// previous root for the same `h`, replaces the long-step starters
+    /// where it lies inside the bracket.
+    #[inline(always)]
+    fn solve(
+        &self,
+        o: &Orbit,
+        h: f64,
+        warm: Option<f64>,
+    ) -> Result<(f64, [f64; 5], f64, bool), KeplerError> {
+        let series = o.series_guess(h);
+        let (s, g, r) = self.solve_from(o, h, series, warm)?;
+        Ok((s, g, r, series.is_none()))
+    }
+
+    /// [`solve`](Self::solve) with the series starter already formed.
     // The bracket tests are written `!(lo < s && s < hi)` so that a NaN
     // iterate fails them too.
     #[allow(clippy::nonminimal_bool)]
-    fn solve(&self, o: &Orbit, h: f64) -> Result<(f64, [f64; 5], f64), KeplerError> {
+    fn solve_from(
+        &self,
+        o: &Orbit,
+        h: f64,
+        series: Option<f64>,
+        warm: Option<f64>,
+    ) -> Result<(f64, [f64; 5], f64), KeplerError> {
         let mut ht = h;
         // The bracket [lo, hi] of the root; F(lo) ≤ 0 ≤ F(hi).
         let (mut lo, mut hi);
         let mut s;
-        if let Some(guess) = o.series_guess(h) {
+        if let Some(guess) = series {
             // A short step (the Wisdom–Holman regime): well under a period,
             // so no reduction, and the root has the sign of h (F is
             // increasing, F(0) = −h). The series is close enough that the
@@ -204,19 +276,25 @@ impl KeplerSolver {
             // margin covers a reduced step that rounding left just above P.
             let turn = 2.0 * PI / sb * (1.0 + 1e-9);
             (lo, hi) = if ht >= 0.0 { (0.0, turn) } else { (-turn, 0.0) };
-            s = o
-                .short_step_guess(ht)
-                .unwrap_or_else(|| o.elliptic_guess(ht));
+            s = match warm {
+                Some(w) if w > lo && w < hi => w,
+                _ => o
+                    .short_step_guess(ht)
+                    .unwrap_or_else(|| o.elliptic_guess(ht)),
+            };
         } else {
             (lo, hi) = if ht >= 0.0 {
                 (0.0, f64::INFINITY)
             } else {
                 (f64::NEG_INFINITY, 0.0)
             };
-            s = o
-                .short_step_guess(ht)
-                .or_else(|| o.hyperbolic_guess(ht))
-                .unwrap_or_else(|| o.parabolic_guess(ht));
+            s = match warm {
+                Some(w) if w > lo && w < hi => w,
+                _ => o
+                    .short_step_guess(ht)
+                    .or_else(|| o.hyperbolic_guess(ht))
+                    .unwrap_or_else(|| o.parabolic_guess(ht)),
+            };
         }
         if !(s > lo && s < hi) {
             s = o.parabolic_guess(ht).clamp(lo, hi);
@@ -371,6 +449,76 @@ const SHORT_STEP: f64 = 0.5;
 /// h ≈ 1100 days) stay on this path, which the lanes run
 /// ([`KeplerSolver::drift_lanes8`]).
 const SHORT_TURN: f64 = 2.5;
+
+/// The history of one orbit's Kepler solves that a warm start needs
+/// ([`KeplerSolver::drift_warm`]): the step `h` of its last long solve and
+/// that solve's root `s` (after the reduction by whole periods), or none.
+///
+/// Why the previous root: the drifts of a Wisdom–Holman run repeat the
+/// same few steps `h` on orbits that change little from one step to the
+/// next, so the root of the last solve with the same `h` is a starter that
+/// costs nothing, where the long-step starter costs an `atan2`, a `hypot`
+/// and three `sin_cos` (Danby's starter refined by two Newton steps). It is
+/// a guess only: the solve keeps its bracket and stopping tests, and a
+/// guess for another `h` or outside the bracket is not used.
+///
+/// Why a value the caller keeps rather than state inside the solver: the
+/// drift stays a pure function of its arguments for every caller without
+/// history, and a run that warm-starts owns its history (and can save it
+/// in a checkpoint: [`h`](Self::h) and [`s`](Self::s) as bits, restored
+/// by [`new`](Self::new)), so two runs from the same start give the same
+/// bits whatever ran before them in the same process.
+///
+/// Two are equal where their bits are (so that no history equals itself).
+#[derive(Clone, Copy, Debug)]
+pub struct WarmStart {
+    h: f64,
+    s: f64,
+}
+
+impl WarmStart {
+    /// No history: the next solve uses the cold starters.
+    pub const NONE: Self = Self {
+        h: f64::NAN,
+        s: f64::NAN,
+    };
+
+    /// A history of a root `s` for the step `h` (as [`h`](Self::h) and
+    /// [`s`](Self::s) gave them, e.g. from a checkpoint).
+    pub fn new(h: f64, s: f64) -> Self {
+        Self { h, s }
+    }
+
+    /// The step of the remembered solve (NaN for none).
+    pub fn h(&self) -> f64 {
+        self.h
+    }
+
+    /// The remembered root (NaN for none).
+    pub fn s(&self) -> f64 {
+        self.s
+    }
+
+    /// The guess for a solve over `h`: the root, where it was for the same
+    /// `h` bit for bit and is finite.
+    fn guess(&self, h: f64) -> Option<f64> {
+        (self.h.to_bits() == h.to_bits() && self.s.is_finite()).then_some(self.s)
+    }
+}
+
+impl PartialEq for WarmStart {
+    fn eq(&self, o: &Self) -> bool {
+        self.h.to_bits() == o.h.to_bits() && self.s.to_bits() == o.s.to_bits()
+    }
+}
+
+impl Eq for WarmStart {}
+
+impl Default for WarmStart {
+    fn default() -> Self {
+        Self::NONE
+    }
+}
 
 impl Default for KeplerSolver {
     fn default() -> Self {

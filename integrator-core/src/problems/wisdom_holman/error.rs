@@ -67,6 +67,8 @@ pub enum WhError {
         "a gradient kick needs a finite, nonzero kick time and a finite weight (h = {h}, γ = {gamma}): the lazy modified kick moves the positions by 2γ/h times the accelerations"
     )]
     GradientKick { h: f64, gamma: f64 },
+    #[error("a Kepler history for {found} bodies given to a split of {expected}")]
+    History { expected: usize, found: usize },
 }
 
 impl WhError {

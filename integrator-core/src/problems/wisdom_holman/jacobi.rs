@@ -5,8 +5,9 @@
 #![allow(clippy::needless_range_loop)]
 
 use super::lanes::{JacobiKick, JacobiLanes, JacobiRun, KeplerKernel, LaneKick, Lanes};
+use super::warm::KeplerHistory;
 use super::{Bodies, WhError, get3, set3, with_scratch};
-use crate::kepler::{KeplerSolver, LANES};
+use crate::kepler::{KeplerSolver, LANES, WarmStart};
 use crate::simd::{Level, Simd, W, dispatch};
 
 /// Wisdom–Holman in Jacobi coordinates (Wisdom & Holman 1991; the form of
@@ -44,7 +45,46 @@ pub struct Jacobi {
     /// How [`Split::flow_b_gradient`](crate::split::Split::flow_b_gradient)
     /// takes a gradient kick.
     gradient: GradientKick,
+    /// Whether a [`WarmJacobi`](super::WarmJacobi) run warm-starts its long Kepler solves
+    /// ([`Jacobi::with_kepler_warm_start`]).
+    warm_start: bool,
 }
+
+/// The environment variable that sets [`Jacobi::kepler_warm_start`]'s
+/// default: `1` on, `0` off; unset (or anything else) gives
+/// [`KEPLER_WARM_START_DEFAULT`]. For measuring both ways with the same
+/// binary (`symlab compare`'s `wh:` rows).
+pub const KEPLER_WARM_START_ENV: &str = "SYMLAB_KEPLER_WARM";
+
+/// Whether a [`WarmJacobi`](super::WarmJacobi) run warm-starts its long Kepler solves unless
+/// told otherwise: off, as measured (AMD EPYC Zen 5, one run at a time
+/// beside one busy core of another process).
+///
+/// - Evaluations: from the previous root a planet's long solve (e ≤ 0.1,
+///   0.3 … 0.9 P) takes 2–3 evaluations where the cold starter ends in
+///   one (390 against 180 over 60 solves; `tests/kepler_warm.rs`): the
+///   previous root is off by about `e·nh`, the cold starter (Danby's and
+///   two Newton steps on Kepler's equation) is nearly the root.
+/// - Time: the starter's `atan2`, `hypot` and three `sin_cos` that it
+///   saves about pay for that. 100 merged leapfrog steps
+///   (`benches/kepler.rs`, `wisdom_holman_warm`): at 500 and 1000 days
+///   the same code (every drift short); at 1500 and 2000 days 2–4 %
+///   faster (AVX2: 89.8 → 87.0 µs and 93.4 → 91.7 µs; AVX-512: 63.5 →
+///   62.4 µs and 66.6 → 64.2 µs). compare's outer-solar sweep at h = 200
+///   … 2000 days (21 timed runs a point, twice, against the tree before
+///   the warm start): at 1124 and 2000 days wh:leapfrog 0.92–0.98 of the
+///   cold time, wh:whckl-c17 0.97–1.02, wh:aba-10-6-4 0.98–1.02; below,
+///   where every drift is short, the warm run's history costs up to 2 %
+///   (wh:aba-10-6-4 on AVX-512); the errors at 1124 days and beyond are
+///   6e-4 and worse, outside the accuracies the sweep is about.
+/// - And a warm-started run's last bits depend on its history, which a
+///   checkpoint of a run in progress would have to hold.
+///
+/// A gain of a few per cent at steps nobody takes does not pay for that.
+/// The cost at those steps is elsewhere: Jupiter's long drift takes the
+/// whole step out of the lanes' loop (100 steps: 16.7 µs at 1000 days,
+/// 66.6 µs at 2000 on AVX-512).
+pub const KEPLER_WARM_START_DEFAULT: bool = false;
 
 /// How the Jacobi split takes a gradient (modified) kick
 /// `exp(h·B + γ·[B,[A,B]])`, the kick `Pᵢ += h·m'ᵢQ̈ᵢ + 2γ·m'ᵢ·DQ̈ᵢ[Q̈]`
@@ -105,7 +145,34 @@ impl Jacobi {
             lanes,
             simd: Simd::Auto,
             gradient: GradientKick::Lazy,
+            warm_start: match std::env::var(KEPLER_WARM_START_ENV).as_deref() {
+                Ok("1") => true,
+                Ok("0") => false,
+                _ => KEPLER_WARM_START_DEFAULT,
+            },
         })
+    }
+
+    /// The same split with the Kepler solver's warm start on or off (the
+    /// default [`KEPLER_WARM_START_DEFAULT`], or `SYMLAB_KEPLER_WARM`,
+    /// [`KEPLER_WARM_START_ENV`]). It takes effect in the runs that carry
+    /// a history, [`WarmJacobi`](super::WarmJacobi) (compare's `wh:` rows step one): a long
+    /// drift (not the short-step series' case: Jupiter beyond about a
+    /// quarter of its period) then starts Halley's method from the body's
+    /// previous root for the same `h`
+    /// ([`KeplerSolver::drift_warm`]). The plain flows
+    /// ([`kepler_flow`](Self::kepler_flow), [`step`](Self::step),
+    /// [`integrate`](Self::integrate)) have no history and never
+    /// warm-start.
+    pub fn with_kepler_warm_start(mut self, on: bool) -> Self {
+        self.warm_start = on;
+        self
+    }
+
+    /// Whether [`WarmJacobi`](super::WarmJacobi) runs warm-start
+    /// ([`Jacobi::with_kepler_warm_start`]).
+    pub fn kepler_warm_start(&self) -> bool {
+        self.warm_start
     }
 
     /// The same split taking gradient kicks as `kick` (the default
@@ -222,7 +289,40 @@ impl Jacobi {
     /// `(Qᵢ, Pᵢ/m'ᵢ)` by the exact [Kepler drift](crate::kepler::drift)
     /// with `GM = G·Mᵢ`.
     pub fn kepler_flow(&self, h: f64, w: &mut [f64]) -> Result<(), WhError> {
+        self.kepler_flow_from(h, w, None)
+    }
+
+    /// [`kepler_flow`](Self::kepler_flow) with the warm starts of
+    /// `history` ([`KeplerSolver::drift_warm`]): each long solve starts
+    /// from the body's root for the same `h` where `history` has one, and
+    /// leaves its root there. Short solves are `kepler_flow`'s bits.
+    pub fn kepler_flow_warm(
+        &self,
+        h: f64,
+        w: &mut [f64],
+        history: &mut KeplerHistory,
+    ) -> Result<(), WhError> {
+        self.kepler_flow_from(h, w, Some(history))
+    }
+
+    // Inlined into both entries, so that `kepler_flow` (no history) is
+    // compiled as it was before the warm start existed.
+    #[inline(always)]
+    fn kepler_flow_from(
+        &self,
+        h: f64,
+        w: &mut [f64],
+        mut history: Option<&mut KeplerHistory>,
+    ) -> Result<(), WhError> {
         self.bodies.check_len("the Jacobi state", w)?;
+        if let Some(hist) = &history
+            && hist.bodies() != self.bodies.n()
+        {
+            return Err(WhError::History {
+                expected: self.bodies.n(),
+                found: hist.bodies(),
+            });
+        }
         let n = self.bodies.n();
         let (q, p) = w.split_at_mut(3 * n);
         let v0 = 1.0 / self.reduced[0];
@@ -277,7 +377,27 @@ impl Jacobi {
                 x[l] = get3(q, i);
                 v[l] = get3(p, i).map(|c| c / mr);
             }
-            let done = solver.drift_lanes(&gm, h, &mut x, &mut v, used);
+            let done = match history.as_deref_mut() {
+                Some(hist) => {
+                    let mut warm: [WarmStart; LANES] = std::array::from_fn(|l| {
+                        if l < used {
+                            hist.get(body[l], h)
+                        } else {
+                            WarmStart::NONE
+                        }
+                    });
+                    let before = warm;
+                    let done = solver.drift_lanes_warm(&gm, h, &mut x, &mut v, used, &mut warm);
+                    // Only a long solve writes its root.
+                    for l in 0..used {
+                        if warm[l] != before[l] {
+                            hist.put(body[l], warm[l]);
+                        }
+                    }
+                    done
+                }
+                None => solver.drift_lanes(&gm, h, &mut x, &mut v, used),
+            };
             // Lanes before a failing one have been drifted: store them, so
             // that the state is what drifting body by body would leave.
             let stored = match &done {

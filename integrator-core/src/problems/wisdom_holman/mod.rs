@@ -35,10 +35,12 @@ mod error;
 mod jacobi;
 mod lanes;
 mod split;
+mod warm;
 
 pub use democratic::DemocraticHeliocentric;
 pub use error::WhError;
-pub use jacobi::{GradientKick, Jacobi};
+pub use jacobi::{GradientKick, Jacobi, KEPLER_WARM_START_DEFAULT, KEPLER_WARM_START_ENV};
+pub use warm::{KeplerHistory, SLOTS, WarmJacobi};
 
 /// The bodies a split kernel's interaction kick handles with scratch on the
 /// stack; beyond this it allocates its scratch once per call.
