@@ -35,7 +35,9 @@ pub struct ClothArgs {
     /// most 10⁶, and at most 10⁹ steps in all).
     #[arg(long, value_name = "N", allow_hyphen_values = true, value_parser = count_parser(0))]
     pub frames: Option<usize>,
-    /// Steps per frame (default: the scene's).
+    /// Steps per frame (default: the scene's); under a variable step
+    /// (`simulation.step = "variable"`, the default of an inextensible
+    /// scene) the fewest a frame may take.
     #[arg(long, value_name = "K", conflicts_with = "dt", allow_hyphen_values = true, value_parser = count_parser(1))]
     pub substeps: Option<usize>,
     /// The step size in seconds instead of --substeps: the frame is split
