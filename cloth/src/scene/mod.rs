@@ -230,7 +230,7 @@ pub struct SimulationSpec {
     /// `substeps` the fewest steps per frame and `wave_number`,
     /// `max_substeps` its target and cap; `None` for `step = "fixed"` (the
     /// only step of a spring scene): `substeps` steps every frame.
-    pub variable: Option<crate::step::VariableStep>,
+    pub variable: Option<VariableStep>,
     /// Frames to simulate after the initial one.
     pub frames: usize,
     /// A method id that [`Method::parse`] accepts (every method of
@@ -382,5 +382,38 @@ impl Scene {
             n += nx.saturating_sub(2) * ny + nx * ny.saturating_sub(2);
         }
         n
+    }
+}
+
+/// The scene's `[simulation] step = "variable"` (the default of an
+/// inextensible scene, stepped by RATTLE): its target and its cap.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct VariableStep {
+    /// The largest transverse-wave number `h·ω` an accepted frame may show
+    /// at its interior nodes (`simulation.wave_number`, default
+    /// [`VariableStep::DEFAULT_WAVE_NUMBER`]); RATTLE is stable below 2.
+    pub wave_number: f64,
+    /// The most steps per frame the search may try before the run stops
+    /// with an error (`simulation.max_substeps`, default
+    /// [`VariableStep::DEFAULT_MAX_SUBSTEPS`]).
+    pub max_substeps: usize,
+}
+
+impl VariableStep {
+    /// Half of RATTLE's linear limit `h·ω < 2`: the margin for the
+    /// nonlinear tension peaks between the sampled nodes, and for the
+    /// position solve, whose simplified Newton iteration slows down as
+    /// `h·ω` grows.
+    pub const DEFAULT_WAVE_NUMBER: f64 = 1.0;
+    /// 1024 steps per frame (h ≈ 16 µs at 60 Hz).
+    pub const DEFAULT_MAX_SUBSTEPS: usize = 1024;
+}
+
+impl Default for VariableStep {
+    fn default() -> Self {
+        VariableStep {
+            wave_number: VariableStep::DEFAULT_WAVE_NUMBER,
+            max_substeps: VariableStep::DEFAULT_MAX_SUBSTEPS,
+        }
     }
 }

@@ -646,7 +646,7 @@ impl Reader<'_> {
         &self,
         t: &Table,
         inextensible: bool,
-    ) -> Result<Option<crate::step::VariableStep>, SceneError> {
+    ) -> Result<Option<super::VariableStep>, SceneError> {
         let p = "simulation";
         let variable = match self.opt_string(t, p, "step")?.as_deref() {
             None => inextensible,
@@ -676,7 +676,7 @@ impl Reader<'_> {
             }
             return Ok(None);
         }
-        let mut v = crate::step::VariableStep::default();
+        let mut v = super::VariableStep::default();
         if let Some(w) = self.opt_f64(t, p, "wave_number")? {
             if !(w > 0.0 && w < 2.0) {
                 return Err(self.err(

@@ -59,38 +59,9 @@ use std::collections::BTreeMap;
 
 use integrator_core::checkpoint::{CheckpointError, Decoder, Encoder};
 
-/// The scene's `[simulation] step = "variable"` (the default of an
-/// inextensible scene, stepped by RATTLE): its target and its cap.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct VariableStep {
-    /// The largest transverse-wave number `h·ω` an accepted frame may show
-    /// at its interior nodes (`simulation.wave_number`, default
-    /// [`VariableStep::DEFAULT_WAVE_NUMBER`]); RATTLE is stable below 2.
-    pub wave_number: f64,
-    /// The most steps per frame the search may try before the run stops
-    /// with an error (`simulation.max_substeps`, default
-    /// [`VariableStep::DEFAULT_MAX_SUBSTEPS`]).
-    pub max_substeps: usize,
-}
-
-impl VariableStep {
-    /// Half of RATTLE's linear limit `h·ω < 2`: the margin for the
-    /// nonlinear tension peaks between the sampled nodes, and for the
-    /// position solve, whose simplified Newton iteration slows down as
-    /// `h·ω` grows.
-    pub const DEFAULT_WAVE_NUMBER: f64 = 1.0;
-    /// 1024 steps per frame (h ≈ 16 µs at 60 Hz).
-    pub const DEFAULT_MAX_SUBSTEPS: usize = 1024;
-}
-
-impl Default for VariableStep {
-    fn default() -> Self {
-        VariableStep {
-            wave_number: VariableStep::DEFAULT_WAVE_NUMBER,
-            max_substeps: VariableStep::DEFAULT_MAX_SUBSTEPS,
-        }
-    }
-}
+/// The settings, read from the scene's `[simulation]` table (they live in
+/// the scene module, which knows the fields).
+pub use crate::scene::VariableStep;
 
 /// What the variable step did over a run.
 #[derive(Clone, Debug, Default, PartialEq)]
