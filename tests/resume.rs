@@ -203,25 +203,61 @@ fn sigint_exits_130_and_resumes_to_the_same_bytes() {
     assert_same_outputs(&reference, &dir);
 }
 
+/// The wall time of the reference run (spawn to exit), measured once: the
+/// kill points below are fractions of it, so that they fall inside the run
+/// on a fast machine as on a slow one (fixed delays of 150 and 600 ms
+/// outlasted the whole run on a 2-core AMD EPYC Zen 5).
+fn reference_time() -> Duration {
+    static TIME: std::sync::OnceLock<Duration> = std::sync::OnceLock::new();
+    *TIME.get_or_init(|| {
+        let dir = temp_dir("reference-time");
+        let start = Instant::now();
+        let (code, _, stderr) = symlab(&cloth_args(dir.to_str().unwrap(), "0"));
+        assert_eq!(code, 0, "stderr: {stderr}");
+        start.elapsed()
+    })
+}
+
 #[test]
 fn killed_at_several_points_and_resumed_gives_the_same_bytes() {
     let (reference, _) = reference();
-    for (i, delay_ms) in [0u64, 150, 600].into_iter().enumerate() {
-        let dir = temp_dir(&format!("kill{i}"));
+    let whole = reference_time();
+    // Right after the first checkpoint, about a tenth and a third of the
+    // way on (the run checkpoints after every frame).
+    for (i, share) in [0.0, 0.1, 0.35].into_iter().enumerate() {
+        let mut delay = whole.mul_f64(share);
+        let mut tries = 0;
+        let dir = loop {
+            let dir = temp_dir(&format!("kill{i}-{tries}"));
+            let out = dir.to_str().unwrap().to_string();
+            let ckpt = dir.join("checkpoint.symlab");
+            let mut child = spawn(&cloth_args(&out, "0"));
+            wait_for(&ckpt, &mut child);
+            std::thread::sleep(delay);
+            // SIGKILL: no clean stop; the last whole checkpoint must do.
+            signal(&child, libc::SIGKILL);
+            let (code, _, _) = finish(child);
+            if code == 0 {
+                // The run ended before the signal came (a machine faster
+                // than the reference run said): kill it earlier. A kill
+                // must happen; the test does not pass without one.
+                tries += 1;
+                assert!(
+                    tries < 6,
+                    "the run ended before SIGKILL at every delay down to {delay:?}"
+                );
+                delay /= 2;
+                continue;
+            }
+            assert_eq!(code, -1, "killed by SIGKILL");
+            break dir;
+        };
         let out = dir.to_str().unwrap().to_string();
-        let ckpt = dir.join("checkpoint.symlab");
-        let mut child = spawn(&cloth_args(&out, "0"));
-        wait_for(&ckpt, &mut child);
-        std::thread::sleep(Duration::from_millis(delay_ms));
-        // SIGKILL: no clean stop; the last whole checkpoint must do.
-        signal(&child, libc::SIGKILL);
-        let (code, _, _) = finish(child);
-        assert_eq!(code, -1, "killed by SIGKILL");
         // Never a half-written checkpoint under its own name.
         let (code, stdout, stderr) = symlab(&["resume", &out]);
         assert_eq!(
             code, 0,
-            "delay {delay_ms} ms\nstdout: {stdout}\nstderr: {stderr}"
+            "delay {delay:?}\nstdout: {stdout}\nstderr: {stderr}"
         );
         assert_same_outputs(&reference, &dir);
     }
