@@ -145,11 +145,7 @@ impl Jacobi {
             lanes,
             simd: Simd::Auto,
             gradient: GradientKick::Lazy,
-            warm_start: match std::env::var(KEPLER_WARM_START_ENV).as_deref() {
-                Ok("1") => true,
-                Ok("0") => false,
-                _ => KEPLER_WARM_START_DEFAULT,
-            },
+            warm_start: kepler_warm_start_from_env(),
         })
     }
 
@@ -785,4 +781,31 @@ impl Jacobi {
         }
         Ok(())
     }
+}
+
+/// [`KEPLER_WARM_START_ENV`] read once: `1` on, `0` off, unset the
+/// default. Any other value is refused aloud, as `SYMLAB_SIMD`'s are: one
+/// line on standard error naming the variable and the value, and the
+/// default — never silently taken for either.
+fn kepler_warm_start_from_env() -> bool {
+    static WARM: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
+    *WARM.get_or_init(|| match std::env::var(KEPLER_WARM_START_ENV) {
+        Err(std::env::VarError::NotPresent) => KEPLER_WARM_START_DEFAULT,
+        Ok(v) if v == "1" => true,
+        Ok(v) if v == "0" => false,
+        Ok(v) => {
+            eprintln!(
+                "{KEPLER_WARM_START_ENV}={v:?} is neither 1 nor 0: ignored, the Kepler warm start stays {}",
+                if KEPLER_WARM_START_DEFAULT { "on" } else { "off" }
+            );
+            KEPLER_WARM_START_DEFAULT
+        }
+        Err(std::env::VarError::NotUnicode(v)) => {
+            eprintln!(
+                "{KEPLER_WARM_START_ENV}={v:?} is neither 1 nor 0: ignored, the Kepler warm start stays {}",
+                if KEPLER_WARM_START_DEFAULT { "on" } else { "off" }
+            );
+            KEPLER_WARM_START_DEFAULT
+        }
+    })
 }
