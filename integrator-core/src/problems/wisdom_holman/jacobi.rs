@@ -789,18 +789,11 @@ impl Jacobi {
 /// default — never silently taken for either.
 fn kepler_warm_start_from_env() -> bool {
     static WARM: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
-    *WARM.get_or_init(|| match std::env::var(KEPLER_WARM_START_ENV) {
-        Err(std::env::VarError::NotPresent) => KEPLER_WARM_START_DEFAULT,
-        Ok(v) if v == "1" => true,
-        Ok(v) if v == "0" => false,
-        Ok(v) => {
-            eprintln!(
-                "{KEPLER_WARM_START_ENV}={v:?} is neither 1 nor 0: ignored, the Kepler warm start stays {}",
-                if KEPLER_WARM_START_DEFAULT { "on" } else { "off" }
-            );
-            KEPLER_WARM_START_DEFAULT
-        }
-        Err(std::env::VarError::NotUnicode(v)) => {
+    *WARM.get_or_init(|| match std::env::var_os(KEPLER_WARM_START_ENV) {
+        None => KEPLER_WARM_START_DEFAULT,
+        Some(v) if v == "1" => true,
+        Some(v) if v == "0" => false,
+        Some(v) => {
             eprintln!(
                 "{KEPLER_WARM_START_ENV}={v:?} is neither 1 nor 0: ignored, the Kepler warm start stays {}",
                 if KEPLER_WARM_START_DEFAULT { "on" } else { "off" }
