@@ -11,7 +11,9 @@
 //! updates) from [`enter`](super::ClothStepper::enter) to
 //! [`leave`](super::ClothStepper::leave), and runs the frame's steps
 //! ([`steps`](super::ClothStepper::steps)) on long-lived workers, one per
-//! band of rows, started once per frame (`std::thread::scope`). Every
+//! band of rows, started once with the stepper and kept awake between
+//! frames (`crew.rs`, which says why); `enter` and `leave` copy each band's
+//! particles on its own thread too. Every
 //! worker applies every flow of the [`Sequence`] to its own rows; before a
 //! force evaluation the workers meet at a spinning barrier (the force
 //! reads the neighbour rows' positions), and nowhere else (`grid`).
@@ -25,10 +27,11 @@
 //!
 //! `worker.rs` holds a band's share of a frame (flows, force, the
 //! non-finite check), `grid.rs` the shared position buffers and why the
-//! one barrier per force suffices, `barrier.rs` the barrier, `sequence.rs`
-//! the flows by method id.
+//! one barrier per force suffices, `barrier.rs` the barrier, `crew.rs` the
+//! threads, `sequence.rs` the flows by method id.
 
 mod barrier;
+mod crew;
 mod grid;
 mod sequence;
 mod worker;
@@ -41,6 +44,7 @@ pub use sequence::sequence_of;
 use super::{ClothStepper, Halt, Halted, SolverStats, StepError};
 use crate::model::ClothModel;
 use barrier::SpinBarrier;
+use crew::Crew;
 use grid::Positions;
 use worker::{Band, Frame, Phase};
 
@@ -70,9 +74,9 @@ pub const BANDS: usize = 2;
 /// 64 steps on an idle two-core machine): two threads against the
 /// scheme's own step gained 1.03–1.17× at 16² (within the noise; a frame
 /// there is a few hundred microseconds, against 66–98 µs to start and join
-/// the second worker and a barrier per force), 1.19–1.82× at 32², 1.50–2.42×
-/// at 64² and 1.56–2.19× at 128². With the second core busy they lose at
-/// every size.
+/// the second worker, then started once per frame, and a barrier per
+/// force), 1.19–1.82× at 32², 1.50–2.42× at 64² and 1.56–2.19× at 128².
+/// With the second core busy they lose at every size.
 pub const BANDED_FROM: usize = 32 * 32;
 
 impl Banding {
@@ -107,6 +111,10 @@ pub struct BandedStepper {
     /// Each band's own arrays.
     own: Vec<Own>,
     barrier: SpinBarrier,
+    /// The threads of the bands after the first (the calling thread works
+    /// the first), started with the stepper and kept for its life
+    /// (`crew.rs` says why).
+    crew: Crew,
 }
 
 /// A band's arrays over its rows' particles: momenta, the carried rounding
@@ -119,6 +127,27 @@ struct Own {
     f: [Vec<f64>; 3],
     free: Vec<f64>,
     row: [Vec<f64>; 3],
+    /// The band's first non-finite step in the last frame.
+    bad: Option<worker::NonFinite>,
+}
+
+/// The bands' arrays as the crew's threads take them, each its own (no
+/// lock and no allocation per frame: a frame allocates nothing,
+/// `tests/banded_no_alloc.rs`).
+struct PerBand(*mut Own);
+
+// SAFETY: each thread takes only its own band's arrays (`get`).
+unsafe impl Sync for PerBand {}
+
+impl PerBand {
+    /// # Safety
+    /// `i` is a band of the stepper, and only one thread takes it while
+    /// the returned borrow lives.
+    #[allow(clippy::mut_from_ref)]
+    unsafe fn get(&self, i: usize) -> &mut Own {
+        // SAFETY: by the caller's promise.
+        unsafe { &mut *self.0.add(i) }
+    }
 }
 
 /// Three arrays as slices.
@@ -146,12 +175,20 @@ impl BandedStepper {
     pub fn new(seq: Sequence, model: &ClothModel, bands: usize) -> BandedStepper {
         let (nx, ny) = model.grid();
         let n = nx * ny;
-        let bands = bands.clamp(1, ny);
-        let per = ny.div_ceil(bands);
-        let rows: Vec<Range<usize>> = (0..bands)
-            .map(|b| (b * per).min(ny)..((b + 1) * per).min(ny))
-            .filter(|r| !r.is_empty())
-            .collect();
+        let cut = |bands: usize| -> Vec<Range<usize>> {
+            let per = ny.div_ceil(bands);
+            (0..bands)
+                .map(|b| (b * per).min(ny)..((b + 1) * per).min(ny))
+                .filter(|r| !r.is_empty())
+                .collect()
+        };
+        let mut rows = cut(bands.clamp(1, ny));
+        // Where a thread cannot be started, one band: the same bits, on
+        // one core.
+        let crew = Crew::new(rows.len()).unwrap_or_else(|_| {
+            rows = cut(1);
+            Crew::alone()
+        });
         let free_of: Vec<u32> = (0..n)
             .map(|id| {
                 let (i, j) = model.grid_index(id);
@@ -176,6 +213,7 @@ impl BandedStepper {
                         .map(|&k| if k == u32::MAX { 0.0 } else { 1.0 })
                         .collect(),
                     row: std::array::from_fn(|_| vec![0.0; nx]),
+                    bad: None,
                 }
             })
             .collect();
@@ -192,15 +230,9 @@ impl BandedStepper {
             },
             own,
             barrier: SpinBarrier::new(rows.len()),
+            crew,
             rows,
         }
-    }
-
-    /// The band of particle `id` and its index there.
-    fn locate(&self, id: usize) -> (usize, usize) {
-        let j = id / self.nx;
-        let b = self.rows.partition_point(|r| r.end <= j);
-        (b, id - self.rows[b].start * self.nx)
     }
 
     /// The bands (threads) it steps in.
@@ -221,6 +253,7 @@ impl BandedStepper {
             phase,
             own,
             barrier,
+            crew,
         } = self;
         let nx = *nx;
         let positions = Positions::new(pos, nx);
@@ -235,51 +268,80 @@ impl BandedStepper {
             free_of,
             free_count: *free_count,
         };
-        let mut bands = own
+        let bands = PerBand(own.as_mut_ptr());
+        let end = crew.run(&|i| {
+            // SAFETY: thread `i` alone works band `i` (`i < own.len()`:
+            // the crew has one thread per band).
+            let own = unsafe { bands.get(i) };
+            let (end, bad) = worker::run(&frame, own.band(rows[i].clone()));
+            own.bad = bad;
+            end
+        });
+        // The first bad step, and its smallest index, over the bands.
+        let bad = own
             .iter_mut()
-            .zip(rows.iter())
-            .map(|(o, r)| o.band(r.clone()));
-        let first = bands.next().expect("at least one band");
-        let (end, mut bad) = if rows.len() == 1 {
-            worker::run(&frame, first)
-        } else {
-            std::thread::scope(|s| {
-                let others: Vec<_> = bands
-                    .map(|band| {
-                        let frame = &frame;
-                        s.spawn(move || worker::run(frame, band))
-                    })
-                    .collect();
-                let (end, mut bad) = worker::run(&frame, first);
-                for other in others {
-                    let (_, b) = other.join().expect("a band's worker panicked");
-                    bad = match (bad, b) {
-                        (Some(a), Some(b)) => Some(if (b.0, b.1) < (a.0, a.1) { b } else { a }),
-                        (a, b) => a.or(b),
-                    };
-                }
-                (end, bad)
-            })
-        };
+            .filter_map(|o| o.bad.take())
+            .min_by_key(|&(step, index, _)| (step, index));
         *phase = end;
-        bad.take()
+        bad
+    }
+}
+
+/// The state `z` as the bands write it back, each its own particles'
+/// entries.
+struct Out(*mut f64);
+
+// SAFETY: the bands write disjoint entries (`BandedStepper::leave`).
+unsafe impl Sync for Out {}
+
+impl Out {
+    /// # Safety
+    /// `i` is in bounds and no other thread accesses entry `i`.
+    unsafe fn write(&self, i: usize, v: f64) {
+        // SAFETY: by the caller's promise.
+        unsafe { *self.0.add(i) = v }
+    }
+}
+
+/// The work of one band between frames, given the free index of each of
+/// its particles (`u32::MAX` for a pinned one), its own arrays and its rows
+/// of the current positions.
+type BandWork<'a> = dyn Fn(&[u32], &mut Own, [&mut [f64]; 3]) + Sync + 'a;
+
+impl BandedStepper {
+    /// `f` on every band, each on its own thread.
+    fn each_band(&mut self, f: &BandWork<'_>) {
+        let positions = Positions::new(&mut self.pos, self.nx);
+        let (cur, nx, rows, free_of) = (self.phase.cur, self.nx, &self.rows, &self.free_of);
+        let bands = PerBand(self.own.as_mut_ptr());
+        self.crew.run(&|b| {
+            // SAFETY: thread `b` alone works band `b`.
+            let own = unsafe { bands.get(b) };
+            // SAFETY: each band writes only its own rows, and nothing
+            // else reads the buffer meanwhile.
+            let pos = unsafe { positions.rows_mut(cur, rows[b].clone()) };
+            let ids = &free_of[rows[b].start * nx..rows[b].end * nx];
+            f(ids, own, pos);
+        });
     }
 }
 
 impl ClothStepper for BandedStepper {
-    /// The free particles' `q` and `p` into the grid arrays.
-    fn enter(&mut self, model: &ClothModel, _t: f64, z: &mut [f64]) {
-        let n = self.free_count;
-        let (q, p) = z.split_at(3 * n);
-        let cur = self.phase.cur;
-        for k in 0..n {
-            let id = model.free_particle(k);
-            let (b, i) = self.locate(id);
-            for c in 0..3 {
-                self.pos[cur][c][id] = q[3 * k + c];
-                self.own[b].p[c][i] = p[3 * k + c];
+    /// The free particles' `q` and `p` into the grid arrays, each band's
+    /// by its own thread.
+    fn enter(&mut self, _model: &ClothModel, _t: f64, z: &mut [f64]) {
+        let (q, p) = z.split_at(3 * self.free_count);
+        self.each_band(&|ids, own, pos| {
+            for (i, &k) in ids.iter().enumerate() {
+                if k != u32::MAX {
+                    let k = k as usize;
+                    for c in 0..3 {
+                        pos[c][i] = q[3 * k + c];
+                        own.p[c][i] = p[3 * k + c];
+                    }
+                }
             }
-        }
+        });
     }
 
     /// One step, in the grid arrays (between `enter` and `leave`; the run
@@ -317,19 +379,27 @@ impl ClothStepper for BandedStepper {
         }
     }
 
-    /// The grid arrays back into `z`.
-    fn leave(&mut self, model: &ClothModel, _t: f64, z: &mut [f64]) {
+    /// The grid arrays back into `z`, each band's by its own thread.
+    fn leave(&mut self, _model: &ClothModel, _t: f64, z: &mut [f64]) {
         let n = self.free_count;
-        let (q, p) = z.split_at_mut(3 * n);
-        let cur = self.phase.cur;
-        for k in 0..n {
-            let id = model.free_particle(k);
-            let (b, i) = self.locate(id);
-            for c in 0..3 {
-                q[3 * k + c] = self.pos[cur][c][id];
-                p[3 * k + c] = self.own[b].p[c][i];
+        assert!(z.len() >= 6 * n, "the state of the stepper's model");
+        let out = Out(z.as_mut_ptr());
+        self.each_band(&|ids, own, pos| {
+            for (i, &k) in ids.iter().enumerate() {
+                if k != u32::MAX {
+                    let k = k as usize;
+                    for (c, (q, p)) in pos.iter().zip(&own.p).enumerate() {
+                        // SAFETY: in bounds (`k < n`); each free particle
+                        // lies in one band, so no two threads write the
+                        // same entries.
+                        unsafe {
+                            out.write(3 * k + c, q[i]);
+                            out.write(3 * (n + k) + c, p[i]);
+                        }
+                    }
+                }
             }
-        }
+        });
     }
 
     fn stats(&self) -> SolverStats {
