@@ -225,6 +225,87 @@ fn the_kick_drift_run_on_the_portable_lanes_is_the_flows_one_by_one_bit_for_bit(
     run_is_the_flows_one_by_one(Simd::Portable);
 }
 
+/// The democratic heliocentric split's registers' loop
+/// (`DemocraticHeliocentric::steps_in_lanes`, which `integrate` takes) on
+/// `simd` against its flows one at a time on the portable lanes: short,
+/// long and backward steps, and steps so long that Jupiter's drift leaves
+/// the lanes, where the loop takes no step and the flows take them all.
+fn democratic_run_is_the_flows_one_by_one(simd: Simd) {
+    let z = OuterSolarSystem.initial_state();
+    for h in [10.0, 600.0, -250.0, 3000.0] {
+        let fast = DemocraticHeliocentric::outer_solar().with_simd(simd);
+        let slow = DemocraticHeliocentric::outer_solar().with_simd(Simd::Portable);
+        let n = 40;
+        let mut w = vec![0.0; z.len()];
+        fast.from_inertial(&z, &mut w).unwrap();
+        let mut u = w.clone();
+        // The loop and the flows, as `integrate` mixes them.
+        fast.jump(0.5 * h, &mut w).unwrap();
+        let (mut k, mut in_run) = (0, 0);
+        while k < n {
+            let done = fast.steps_in_lanes(h, n - k, &mut w);
+            (k, in_run) = (k + done, in_run + done);
+            if k == n {
+                break;
+            }
+            fast.interaction_kick(0.5 * h, &mut w).unwrap();
+            fast.kepler_flow(h, &mut w).unwrap();
+            fast.interaction_kick(0.5 * h, &mut w).unwrap();
+            fast.jump(if k + 1 < n { h } else { 0.5 * h }, &mut w)
+                .unwrap();
+            k += 1;
+        }
+        // The flows alone.
+        slow.jump(0.5 * h, &mut u).unwrap();
+        for k in 0..n {
+            slow.interaction_kick(0.5 * h, &mut u).unwrap();
+            slow.kepler_flow(h, &mut u).unwrap();
+            slow.interaction_kick(0.5 * h, &mut u).unwrap();
+            slow.jump(if k + 1 < n { h } else { 0.5 * h }, &mut u)
+                .unwrap();
+        }
+        let what = format!("{simd:?}: democratic heliocentric, h = {h}");
+        assert_eq!(bits(&w), bits(&u), "{what}");
+        // And `integrate` is that mix.
+        let mut v = vec![0.0; z.len()];
+        fast.from_inertial(&z, &mut v).unwrap();
+        fast.integrate(h, n, &mut v).unwrap();
+        assert_eq!(bits(&v), bits(&u), "{what}: integrate");
+        if simd.level() == Level::Portable {
+            assert_eq!(in_run, 0, "{what}");
+        } else if h.abs() < 1000.0 {
+            assert_eq!(in_run, n, "{what}");
+        } else {
+            assert!(in_run < n, "{what}");
+        }
+    }
+}
+
+#[test]
+#[cfg_attr(
+    not(symlab_avx512),
+    ignore = "this machine has no AVX-512F (found when the tests were built)"
+)]
+fn the_democratic_run_on_avx512_is_the_flows_one_by_one_bit_for_bit() {
+    require(Level::Avx512);
+    democratic_run_is_the_flows_one_by_one(Simd::Avx512);
+}
+
+#[test]
+#[cfg_attr(
+    not(symlab_avx2),
+    ignore = "this machine has no AVX2 (found when the tests were built)"
+)]
+fn the_democratic_run_on_avx2_is_the_flows_one_by_one_bit_for_bit() {
+    require(Level::Avx2);
+    democratic_run_is_the_flows_one_by_one(Simd::Avx2);
+}
+
+#[test]
+fn the_democratic_run_on_the_portable_lanes_takes_no_step() {
+    democratic_run_is_the_flows_one_by_one(Simd::Portable);
+}
+
 #[test]
 fn the_eight_kepler_lanes_are_the_scalar_drift_bit_for_bit() {
     // Mixed orbits side by side (different GM, e, phase; a hyperbola), at

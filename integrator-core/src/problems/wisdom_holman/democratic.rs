@@ -4,7 +4,7 @@
 // momenta) at once; an index reads clearer than zipped iterators.
 #![allow(clippy::needless_range_loop)]
 
-use super::lanes::{KeplerKernel, Lanes, MutualKick};
+use super::lanes::{DemocraticRun, KeplerKernel, Lanes, MutualKick};
 use super::{Bodies, WhError, get3, set3};
 use crate::kepler::{KeplerSolver, LANES};
 use crate::simd::{Level, Simd, W, dispatch};
@@ -341,20 +341,76 @@ impl DemocraticHeliocentric {
 
     /// `n` steps of [`step`](Self::step), the half jumps of consecutive
     /// steps merged into one (the same map up to rounding). Errors name the
-    /// step (numbered from 0).
+    /// step (numbered from 0). Up to eight planets step in the lanes with
+    /// the state in registers from step to step on AVX2 and AVX-512
+    /// ([`steps_in_lanes`](Self::steps_in_lanes)), the same bits as the
+    /// flows one by one, which take the steps the lanes leave.
     pub fn integrate(&self, h: f64, n: usize, w: &mut [f64]) -> Result<(), WhError> {
         if n == 0 {
             return Ok(());
         }
         self.jump(0.5 * h, w).map_err(|e| e.at_step(0))?;
-        for k in 0..n {
+        let mut k = 0;
+        while k < n {
+            k += self.steps_in_lanes(h, n - k, w);
+            if k == n {
+                break;
+            }
             let at = |e: WhError| e.at_step(k);
             self.interaction_kick(0.5 * h, w).map_err(at)?;
             self.kepler_flow(h, w).map_err(at)?;
             self.interaction_kick(0.5 * h, w).map_err(at)?;
             let last = if k + 1 == n { 0.5 * h } else { h };
             self.jump(last, w).map_err(at)?;
+            k += 1;
         }
         Ok(())
+    }
+
+    /// Up to `n` steps of [`integrate`](Self::integrate)'s loop (`I(h/2)
+    /// K(h) I(h/2) J(h)`, the last jump `J(h/2)`) with up to eight planets
+    /// in the lanes, the state in registers from step to step, as the
+    /// Jacobi split's [`kick_drift_run`](super::Jacobi::kick_drift_run)
+    /// takes its steps. Returns the steps taken; it stops, with `w` as that
+    /// step found it, before a step whose kick or jump is not finite or
+    /// whose Kepler flow leaves a lane to the scalar solve, and takes none
+    /// on the portable level (where the flows one by one are faster, as
+    /// for the Jacobi split) or for more than eight planets: the caller
+    /// takes that step flow by flow.
+    pub fn steps_in_lanes(&self, h: f64, n: usize, w: &mut [f64]) -> usize {
+        let nb = self.bodies.n();
+        let Some(lanes) = &self.lanes else { return 0 };
+        if n == 0 || self.simd.level() < Level::Avx2 || w.len() != 6 * nb {
+            return 0;
+        }
+        let (q, p) = w.split_at_mut(3 * nb);
+        // The barycentre must stay finite over the whole run (the flows
+        // one by one would stop at the step where it did not).
+        let v0 = h / self.total;
+        if (0..3).any(|k| !(q[k].abs() + n as f64 * (p[k] * v0).abs()).is_finite()) {
+            return 0;
+        }
+        let m0 = self.bodies.m[0];
+        let done = dispatch(
+            self.simd,
+            DemocraticRun {
+                lanes,
+                hg: 0.5 * h * self.bodies.g,
+                h,
+                f: h / m0,
+                f_last: 0.5 * h / m0,
+                n,
+                q: &mut q[3..],
+                p: &mut p[3..],
+            },
+        );
+        // The barycentre's free drift, step by step as `kepler_flow` takes
+        // it (its momentum `P₀` is no other flow's).
+        for _ in 0..done {
+            for k in 0..3 {
+                q[k] += p[k] * v0;
+            }
+        }
+        done
     }
 }

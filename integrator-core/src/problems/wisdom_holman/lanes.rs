@@ -228,6 +228,75 @@ impl Lanes {
         }
     }
 
+    /// Up to `n` democratic heliocentric steps in lanes, the state kept in
+    /// registers from step to step: step `k` is `I K I J` — the
+    /// interaction kick over `hg/G`, the Kepler flow over `h`, the kick
+    /// again, and the jump of every position by `f·ΣPᵢ` (`f` = the jump's
+    /// time over the central mass; `f_last` for the last step), the step of
+    /// [`DemocraticHeliocentric::integrate`](super::DemocraticHeliocentric::integrate)
+    /// after its first half jump. It stops before a step whose kick or jump
+    /// is not finite or whose Kepler flow leaves a lane to the scalar
+    /// solve, with the state as that step found it, and returns the steps
+    /// done: each the same operations as the flows one by one
+    /// ([`MutualKick`], [`Lanes::kepler`], the jump's sum in body order),
+    /// so the same bits.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    pub fn democratic_run<V: F8>(
+        &self,
+        hg: f64,
+        h: f64,
+        f: f64,
+        f_last: f64,
+        n: usize,
+        q: &mut [f64],
+        pm: &mut [f64],
+    ) -> usize {
+        let p = self.p;
+        let used = self.used;
+        let solver = KeplerSolver::default();
+        let finite = |v: &[V; 3]| v[0].finite() & v[1].finite() & v[2].finite();
+        let mut x = V::load3(q, p);
+        let mut pv = V::load3(pm, p);
+        let mut done = 0;
+        while done < n {
+            let f = if done + 1 < n { f } else { f_last };
+            let mut kicked = pv;
+            self.mutual_kick(hg, &x, &mut kicked);
+            if finite(&kicked) != 0xff {
+                break;
+            }
+            let (xn, mut pn, ok) = self.kepler_regs(&solver, h, &x, &kicked);
+            if ok != used {
+                break;
+            }
+            self.mutual_kick(hg, &xn, &mut pn);
+            if finite(&pn) != 0xff {
+                break;
+            }
+            // The jump: ΣPᵢ summed body by body from 0, as the flow sums it.
+            let mut sum = [0.0; 3];
+            for k in 0..3 {
+                let lanes = pn[k].to_array();
+                for l in 0..p {
+                    sum[k] += lanes[l];
+                }
+            }
+            let d = sum.map(|c| c * f);
+            if !d.iter().all(|c| c.is_finite()) {
+                break;
+            }
+            for k in 0..3 {
+                x[k] = V::select(used, xn[k].add(V::splat(d[k])), xn[k]);
+            }
+            pv = pn;
+            done += 1;
+        }
+        V::store3(&x, q, p);
+        V::store3(&pv, pm, p);
+        done
+    }
+
     /// The derivative of [`mutual`](Self::mutual)'s accelerations along
     /// the displacement `dx` of the positions `x`: lane `l` gets
     /// `Σ_j mⱼ G (δd/r³ − 3(d·δd) d/r⁵)` over the other planets (`d = xⱼ −
@@ -580,5 +649,26 @@ impl Kernel for JacobiRun<'_> {
             self.q,
             self.p,
         )
+    }
+}
+
+/// [`Lanes::democratic_run`] as a [`Kernel`].
+pub(super) struct DemocraticRun<'a> {
+    pub lanes: &'a Lanes,
+    pub hg: f64,
+    pub h: f64,
+    pub f: f64,
+    pub f_last: f64,
+    pub n: usize,
+    pub q: &'a mut [f64],
+    pub p: &'a mut [f64],
+}
+
+impl Kernel for DemocraticRun<'_> {
+    type Out = usize;
+    #[inline(always)]
+    fn run<V: F8>(self) -> usize {
+        self.lanes
+            .democratic_run::<V>(self.hg, self.h, self.f, self.f_last, self.n, self.q, self.p)
     }
 }
