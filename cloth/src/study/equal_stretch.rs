@@ -22,8 +22,14 @@
 //! the bound, `k₀ = 3·(ny − 1)·m·|g| / 1 %` (the swinging sheet's tension
 //! peaks at about 3.1× the static one, `crate::schedule::TENSION_SAFETY`);
 //! a trial with stretch `s` moves to `k·s/(0.95 %)` (a spring's stretch
-//! under a given tension goes like `1/k`); the first trial with `0.9 % ≤ s ≤
-//! 1 %` is taken. Every trial is kept and reported.
+//! under a given tension goes like `1/k`), or, once a stiffness has passed
+//! and a softer one failed and that prediction falls outside them, to their
+//! geometric mean (the peak stretch also moves with the motion and the
+//! step, so the prediction can overshoot: at 128² it swung between two
+//! values); the first trial with `0.9 % ≤ s ≤ 1 %` is taken, and otherwise,
+//! after [`EqualStretchSettings::max_trials`] or once the two bracketing
+//! stiffnesses are within 1 % of each other, the softest that passed.
+//! Every trial is kept and reported.
 //!
 //! Then each model is run once more with frames at the scene's rate and
 //! timed ([`Measured`]): the twin at the stiffness found, on one thread
@@ -88,6 +94,10 @@ pub const AIM: f64 = 0.95;
 
 /// A trial is taken once its stretch is within `[CLOSE·bound, bound]`.
 pub const CLOSE: f64 = 0.9;
+
+/// The search stops once the softest stiffness that passed is within this
+/// factor of the stiffest that failed.
+pub const BRACKET: f64 = 1.01;
 
 /// What the study runs.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -380,10 +390,13 @@ fn spring_method() -> Result<Method, EqualStretchError> {
     })
 }
 
-/// The stiffness search ([`first_stiffness`], then `k·s/(AIM·bound)`
-/// until a trial's stretch is within `[CLOSE·bound, bound]`); every trial,
-/// and the index of the one taken: that one, or after `max_trials` the
-/// softest whose stretch is within the bound.
+/// The stiffness search ([`first_stiffness`], then `k·s/(AIM·bound)`,
+/// or the geometric mean of the softest stiffness that passed and the
+/// stiffest that failed where that prediction is not between them, until a
+/// trial's stretch is within `[CLOSE·bound, bound]`); every trial, and the
+/// index of the one taken: that one, or after `max_trials` (or once the
+/// bracket is within [`BRACKET`]) the softest whose stretch is within the
+/// bound.
 pub fn search_stiffness(
     scene: &Scene,
     settings: &EqualStretchSettings,
@@ -399,12 +412,35 @@ pub fn search_stiffness(
             let taken = trials.len() - 1;
             return Ok((trials, taken));
         }
-        k = if s.is_finite() && s > 0.0 {
+        let predicted = if s.is_finite() && s > 0.0 {
             k * s / (AIM * bound)
         } else if s == 0.0 {
             k / 4.0
         } else {
             k * 4.0
+        };
+        // The softest that passed and the stiffest that failed.
+        let passed = trials
+            .iter()
+            .filter(|t| t.max_stretch <= bound)
+            .map(|t| t.stiffness)
+            .fold(f64::INFINITY, f64::min);
+        let failed = trials
+            .iter()
+            .filter(|t| t.max_stretch > bound || t.max_stretch.is_nan())
+            .map(|t| t.stiffness)
+            .fold(0.0f64, f64::max);
+        k = if passed.is_finite() && failed > 0.0 {
+            if passed / failed <= BRACKET {
+                break;
+            }
+            if predicted > failed && predicted < passed {
+                predicted
+            } else {
+                (passed * failed).sqrt()
+            }
+        } else {
+            predicted
         };
     }
     let softest = trials

@@ -8,9 +8,10 @@ use std::fs;
 use std::path::PathBuf;
 
 use cloth::study::equal_stretch::{
-    AIM, CLOSE, EqualStretchError, EqualStretchSettings, PEAK_FACTOR, SPRING_METHOD, Sampled,
-    check, study,
+    AIM, BRACKET, CLOSE, EqualStretchError, EqualStretchSettings, PEAK_FACTOR, SPRING_METHOD,
+    Sampled, check, study,
 };
+use compare::format;
 use compare::output::csv_field;
 
 use super::plan::{output_dir, rename};
@@ -96,11 +97,13 @@ pub fn run(asked: &EqualStretchRequest) -> Result<String, JobError> {
     );
     let _ = writeln!(
         out,
-        "the rule: the first k whose warp and weft stretch, measured at every step of the whole run, is within [{}, {}]: k₀ = {PEAK_FACTOR}·(ny − 1)·m·|g|/{} (the static tension at the top of a column, {PEAK_FACTOR}×), then k·s/({})",
+        "the rule: the first k whose warp and weft stretch, measured at every step of the whole run, is within [{}, {}]: k₀ = {PEAK_FACTOR}·(ny − 1)·m·|g|/{} (the static tension at the top of a column, {PEAK_FACTOR}×), then k·s/({}), or the geometric mean of the softest k that passed and the stiffest that failed where that is not between them; else, after {} trials or with those two within {} %, the softest that passed",
         percent(CLOSE * bound),
         percent(bound),
         percent(bound),
-        percent(AIM * bound)
+        percent(AIM * bound),
+        settings.max_trials,
+        format::fixed(100.0 * (BRACKET - 1.0), 0)
     );
     let _ = writeln!(out);
     let _ = writeln!(
