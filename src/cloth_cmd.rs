@@ -13,6 +13,7 @@ use anyhow::Result;
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 use integrator_core::checkpoint::{Every, parse_every};
+use jobs::cloth::equal_stretch::EqualStretchRequest;
 use jobs::cloth::stability::StabilityRequest;
 use jobs::cloth::{Job, Observer, Outcome, Request, SceneSource, Stop};
 
@@ -69,6 +70,22 @@ pub struct ClothArgs {
     /// writes stability.csv.
     #[arg(long)]
     pub stability: bool,
+    /// Instead of a run, on an inextensible scene: the spring model against
+    /// the constrained one at equal stretch. The warp and weft become
+    /// stretch springs (Störmer–Verlet at substeps = "auto"), their
+    /// stiffness found by trials so that no warp or weft edge stretches by
+    /// more than 1 % at any step of the run; then both models (RATTLE
+    /// without and with the scene's bending) are run --frames frames
+    /// (default: the scene's) and timed. Prints a table, writes
+    /// equal_stretch.csv.
+    #[arg(
+        long,
+        conflicts_with_all = [
+            "stability", "method", "substeps", "dt", "tolerance", "solver",
+            "render", "obj_every", "checkpoint_every",
+        ]
+    )]
+    pub equal_stretch: bool,
     /// Of a run of the midpoint family (midpoint, paper-dirk2, paper-dirk4),
     /// avf or discrete-gradient: the minimisation solver's convergence
     /// tolerance, ‖∇Φ‖_∞ relative to the force scale (default 1e-12; 1e-15
@@ -140,6 +157,16 @@ fn count_parser(min: usize) -> impl Fn(&str) -> Result<usize, String> + Clone {
 /// `symlab cloth`.
 pub fn run(args: &ClothArgs) -> Result<ExitCode> {
     let scene = SceneSource::File(args.scene.clone());
+    if args.equal_stretch {
+        let table = jobs::cloth::equal_stretch::run(&EqualStretchRequest {
+            scene,
+            grid: args.grid.clone(),
+            frames: args.frames,
+            out: args.out.clone(),
+        })?;
+        print!("{table}");
+        return Ok(ExitCode::SUCCESS);
+    }
     if args.stability {
         let methods = args.methods.as_ref().map(|list| {
             list.split(',')

@@ -41,7 +41,9 @@ enum Command {
     Paper(paper::PaperArgs),
     /// Simulate a cloth scene (scenes/*.toml) with any method: energy.csv,
     /// an energy plot, OBJ frames, PNG renderings and a summary in
-    /// out/cloth/<scene-name>/; or --stability: the largest stable step per method.
+    /// out/cloth/<scene-name>/; or --stability: the largest stable step per
+    /// method; or --equal-stretch: springs against constraints at ≤ 1 %
+    /// stretch.
     Cloth(cloth_cmd::ClothArgs),
     /// Continue an interrupted run (cloth or compare) from the checkpoint
     /// in its output folder (DIR/checkpoint.symlab), to the same bits and

@@ -911,3 +911,55 @@ fn the_inextensible_scene_runs_with_rattle_and_names_it() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn the_equal_stretch_study_prints_both_models_and_writes_a_csv() {
+    let dir = temp_dir("equal-stretch");
+    let out = dir.to_str().unwrap();
+    let (code, stdout, stderr) = symlab(&[
+        "cloth",
+        "scenes/paper64-inextensible.toml",
+        "--equal-stretch",
+        "--grid",
+        "6x6",
+        "--frames",
+        "20",
+        "--out",
+        out,
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    for model in [
+        "springs, 1 thread",
+        "RATTLE, no bending",
+        "RATTLE, bending 3e-6 N·m",
+        "← taken",
+    ] {
+        assert!(stdout.contains(model), "{model}: {stdout}");
+    }
+    let csv = std::fs::read_to_string(dir.join("equal_stretch.csv")).unwrap();
+    let lines: Vec<&str> = csv.lines().collect();
+    assert!(lines[0].starts_with("model,method,stiffness_n,"), "{csv}");
+    assert_eq!(lines.len(), 1 + 3, "{csv}");
+    // The springs' stretch, measured at every step, within 1 %.
+    let header: Vec<&str> = lines[0].split(',').collect();
+    let col = header.iter().position(|h| *h == "max_stretch").unwrap();
+    let springs: Vec<&str> = lines[1].split(',').collect();
+    let stretch: f64 = springs[col].parse().unwrap();
+    assert!(stretch > 0.0 && stretch <= 0.01, "{stretch}");
+    std::fs::remove_dir_all(&dir).unwrap();
+
+    // Flags that mean nothing to the study are refused, naming them; so is
+    // a spring scene, naming its field.
+    let (code, _, stderr) = symlab(&[
+        "cloth",
+        "scenes/paper64-inextensible.toml",
+        "--equal-stretch",
+        "--method",
+        "stormer-verlet",
+    ]);
+    assert_eq!(code, 2);
+    assert!(stderr.contains("--method"), "{stderr}");
+    let (code, _, stderr) = symlab(&["cloth", "scenes/paper.toml", "--equal-stretch"]);
+    assert_eq!(code, 2);
+    assert!(stderr.contains("material.stretch"), "{stderr}");
+}

@@ -911,7 +911,10 @@ impl Simulation {
             // h as the fixed step computes it, so that a frame at the
             // floor is the fixed step's frame to the bit.
             let h = 1.0 / (frame_rate * n as f64);
-            let (attempt, done, why) = self.attempt(stepper, n, t, h);
+            // The check below an accepted count stops at its first node
+            // past the target: that node alone rejects it.
+            let stop = search.is_check(n).then_some(ctl.settings.wave_number);
+            let (attempt, done, why) = self.attempt(stepper, n, t, h, stop);
             tried += done;
             if let Attempt::Ran(w) = attempt
                 && w <= ctl.settings.wave_number
@@ -966,13 +969,16 @@ impl Simulation {
 
     /// Integrate the frame in `self.state` with `n` steps of `h` from time
     /// `t`: the largest wave number at its interior nodes (after steps 2 to
-    /// `n`), or a failure with the steps done and why.
+    /// `n`), or a failure with the steps done and why. With `stop`, the
+    /// integration ends at the first interior node whose wave number
+    /// passes it (that value, and the steps done).
     fn attempt<St: ClothStepper>(
         &mut self,
         stepper: &mut St,
         n: usize,
         t: f64,
         h: f64,
+        stop: Option<f64>,
     ) -> (Attempt, usize, Option<String>) {
         stepper.enter(&self.model, t, &mut self.state);
         let mut w = 0.0f64;
@@ -997,6 +1003,9 @@ impl Simulation {
             }
             if k >= 1 {
                 w = w.max(stepper.wave_number().unwrap_or(f64::INFINITY));
+                if k + 1 < n && stop.is_some_and(|target| w > target) {
+                    return (Attempt::Ran(w), k + 1, None);
+                }
             }
         }
         (Attempt::Ran(w), n, None)

@@ -15,6 +15,7 @@ mod banded;
 mod bending;
 mod checkpoint;
 mod conservation;
+mod equal_stretch;
 mod hostile;
 mod implicit;
 mod minimise;

@@ -49,7 +49,11 @@
 //! decides — a frame accepted at `N > N_floor` is accepted only after
 //! `N − 1` was tried from the same start and rejected, which costs a
 //! second integration of that frame (reported as redone frames and extra
-//! steps in [`VariableStats`]). The constraints stay at round-off at every
+//! steps in [`VariableStats`]). That check stops at the first interior
+//! node whose `h·ω` passes the target ([`Search::is_check`]): one node
+//! rejects `N − 1`, and the search then ends with `N` whatever the
+//! others would show, so the rule and the chosen counts are those of the
+//! whole integration. The constraints stay at round-off at every
 //! frame: every step solves them, and the frame's end is projected as in
 //! the fixed step.
 //!
@@ -81,8 +85,10 @@ pub struct VariableStats {
     /// Integrations stopped by a failed position solve or a non-finite
     /// state (counted as `W_N = ∞`).
     pub failed: usize,
-    /// The largest interior `h·ω` of an accepted frame, and of a rejected
-    /// one.
+    /// The largest interior `h·ω` of an accepted frame, and the largest
+    /// seen in a rejected integration (the check of `N − 1` below an
+    /// accepted `N` stops at its first interior node past the target, so
+    /// there it is that node's).
     pub max_accepted: f64,
     pub max_rejected: f64,
 }
@@ -235,6 +241,16 @@ impl Search {
         }
     }
 
+    /// Whether the integration with `n` steps is the check below an
+    /// accepted count (`n + 1` accepted): rejected, whatever its `h·ω`, it
+    /// ends the search with that count ([`record`](Self::record) uses the
+    /// rejected `W` only to predict the next count up), so it may stop at
+    /// the first interior node past the target. The decision is the one
+    /// the whole integration would give.
+    pub fn is_check(&self, n: usize) -> bool {
+        self.hi.is_some_and(|hi| hi <= n + 1)
+    }
+
     /// Integrations of this frame so far.
     pub fn attempts(&self) -> usize {
         self.attempts
@@ -378,6 +394,33 @@ mod tests {
             Next::Done {
                 steps: 11,
                 latest: true
+            }
+        );
+    }
+
+    #[test]
+    fn only_the_count_below_an_accepted_one_is_a_check() {
+        let mut s = search(4, 100);
+        assert!(!s.is_check(4));
+        assert_eq!(s.record(4, Attempt::Ran(2.5)), Next::Try(10));
+        assert!(!s.is_check(10));
+        assert_eq!(s.record(10, Attempt::Ran(0.95)), Next::Try(9));
+        // 10 accepted: 9 is the check, and its rejection ends the search
+        // at 10 whatever its h·ω.
+        assert!(s.is_check(9));
+        let mut t = s;
+        assert_eq!(
+            s.record(9, Attempt::Ran(1.01)),
+            Next::Done {
+                steps: 10,
+                latest: false
+            }
+        );
+        assert_eq!(
+            t.record(9, Attempt::Ran(7.0)),
+            Next::Done {
+                steps: 10,
+                latest: false
             }
         );
     }

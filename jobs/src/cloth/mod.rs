@@ -52,9 +52,10 @@
 
 // Imports go one way, each module from those above it: request →
 // observer → checkpoint → plan → summary, energy, render → run; stability
-// (another job on the same plan) last.
+// and equal_stretch (other jobs on the same plan) last.
 mod checkpoint;
 mod energy;
+pub mod equal_stretch;
 mod observer;
 mod plan;
 mod render;
