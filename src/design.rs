@@ -59,6 +59,10 @@ pub fn run(args: &DesignArgs) -> Result<ExitCode> {
     {
         anyhow::bail!("{flag} belongs to --compare PROBLEM (the sweep's settings)");
     }
+    if std::fs::read_to_string(&args.file).is_ok_and(|t| design::processed::is_corrector_family(&t))
+    {
+        return run_corrector(args);
+    }
     let mut family = design::load_family(&args.file)?;
     if let Some(seed) = args.seed {
         family.seed = seed;
@@ -121,29 +125,70 @@ pub fn run(args: &DesignArgs) -> Result<ExitCode> {
         println!("wrote {}", p.display());
     }
     if let Some(problem) = args.compare {
-        compare_designs(args, problem, &outcome, &written)?;
+        let proven: Vec<PathBuf> = outcome
+            .designs
+            .iter()
+            .filter(|d| d.exact.is_some() || matches!(d.certificate, Some(Ok(_))))
+            .filter_map(|d| d.table.as_ref())
+            .filter_map(|(name, _)| written.iter().find(|p| p.ends_with(name)).cloned())
+            .take(args.designs)
+            .collect();
+        compare_designs(args, problem, &proven)?;
     }
     Ok(ExitCode::SUCCESS)
 }
 
-/// `--compare PROBLEM`: the best `--designs` proven tables written (exact or
-/// certified, in the order of the objective) beside the library's methods
-/// in one sweep of compare's library (the path of `symlab compare --table`),
-/// its report written into DIR/compare/.
+/// A second-corrector family (`form = "second-corrector"`,
+/// [`design::processed`]): one unknown, solved exactly, no search, so
+/// `--seed` and `--starts` do not apply.
+fn run_corrector(args: &DesignArgs) -> Result<ExitCode> {
+    for (flag, given) in [
+        ("--seed", args.seed.is_some()),
+        ("--starts", args.starts.is_some()),
+    ] {
+        if given {
+            anyhow::bail!(
+                "{flag}: {} is a {} family, solved exactly with no random starts",
+                args.file.display(),
+                design::processed::FORM
+            );
+        }
+    }
+    let family = design::processed::load_corrector_family(&args.file)?;
+    let origin = args.file.display().to_string();
+    let d = design::processed::design_corrector(&family, &origin)?;
+    let written = d
+        .write(&args.out)
+        .with_context(|| format!("writing into {}", args.out.display()))?;
+    println!(
+        "{}: a second corrector for {}: c² = {} exactly, c = {} ≈ {}; effective generalised order {} without it, {} with it",
+        family.name,
+        family.kernel,
+        d.c_squared,
+        d.c,
+        d.c.approx_text(),
+        d.orders_before,
+        d.orders_after
+    );
+    for p in &written {
+        println!("wrote {}", p.display());
+    }
+    if let Some(problem) = args.compare {
+        let table = written.first().cloned().into_iter().collect::<Vec<_>>();
+        compare_designs(args, problem, &table)?;
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// `--compare PROBLEM`: the proven tables written (exact or certified, the
+/// best `--designs` in the order of the objective) beside the library's
+/// methods in one sweep of compare's library (the path of `symlab compare
+/// --table`), its report written into DIR/compare/.
 fn compare_designs(
     args: &DesignArgs,
     problem: compare::builtin::Builtin,
-    outcome: &design::Outcome,
-    written: &[PathBuf],
+    proven: &[PathBuf],
 ) -> Result<()> {
-    let proven: Vec<PathBuf> = outcome
-        .designs
-        .iter()
-        .filter(|d| d.exact.is_some() || matches!(d.certificate, Some(Ok(_))))
-        .filter_map(|d| d.table.as_ref())
-        .filter_map(|(name, _)| written.iter().find(|p| p.ends_with(name)).cloned())
-        .take(args.designs)
-        .collect();
     if proven.is_empty() {
         anyhow::bail!(
             "--compare {}: no proven design to run (none exact or certified)",

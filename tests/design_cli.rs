@@ -246,3 +246,74 @@ fn design_compare_on_the_wisdom_holman_split() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The second-corrector family (`designs/whckl-c17-corrector2.toml`): an
+/// exact design with no search (its search flags refused), its table run
+/// beside WHCKL c17 on the Wisdom–Holman split of the outer solar system in
+/// one sweep, at the same step sizes.
+#[test]
+fn design_second_corrector_runs_beside_whckl() {
+    let dir = out_dir("corrector2");
+    let d = dir.to_str().unwrap();
+    let (code, out, err) = symlab(&[
+        "design",
+        "designs/whckl-c17-corrector2.toml",
+        "--out",
+        d,
+        "--compare",
+        "outer-solar",
+        "--wisdom-holman",
+        "--methods",
+        "wh:whckl-c17",
+        "--t-end",
+        "20000",
+        "--h-min",
+        "100",
+        "--h-max",
+        "400",
+        "--points",
+        "2",
+        "--repeats",
+        "1",
+    ]);
+    assert_eq!(code, 0, "stderr: {err}\n{out}");
+    assert!(out.contains("c² = 11/5760 exactly"), "{out}");
+    assert!(dir.join("report.md").exists(), "{out}");
+    let csv = std::fs::read_to_string(dir.join("compare").join("runs.csv")).unwrap();
+    let mut lines = csv.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
+    let (method, steps, error) = (col("method"), col("steps"), col("error"));
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    let of = |m: &str| -> Vec<(u64, f64)> {
+        rows.iter()
+            .filter(|r| r[method] == m)
+            .map(|r| (r[steps].parse().unwrap(), r[error].parse().unwrap()))
+            .collect()
+    };
+    let library = of("wh:whckl-c17");
+    let design = of("wh:whckl-c17-with-a-second-corrector");
+    assert_eq!(library.len(), 2, "{csv}");
+    assert_eq!(design.len(), 2, "{csv}");
+    for ((nl, _), (nd, ed)) in library.iter().zip(&design) {
+        assert_eq!(nl, nd, "{csv}");
+        assert!(ed.is_finite() && *ed < 1e-3, "{csv}");
+    }
+    let table = std::fs::read_to_string(dir.join("compare").join("designs.md")).unwrap();
+    assert!(
+        table.contains("| wh:whckl-c17-with-a-second-corrector | yes |"),
+        "{table}"
+    );
+    refused(
+        &[
+            "design",
+            "designs/whckl-c17-corrector2.toml",
+            "--out",
+            d,
+            "--starts",
+            "5",
+        ],
+        "--starts",
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

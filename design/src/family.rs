@@ -409,7 +409,9 @@ pub fn parse_family(file: &str, text: &str) -> Result<Family, FamilyError> {
         other => {
             return Err(err(
                 "form",
-                format!("`{other}`: the forms are \"ABA\", \"BAB\" and \"composition\""),
+                format!(
+                    "`{other}`: the forms are \"ABA\", \"BAB\" and \"composition\" (and \"second-corrector\", a corrector for a processed method, which `symlab design` reads with design::processed)"
+                ),
             ));
         }
     };

@@ -20,8 +20,13 @@
 //! assert!((best.solution.x[0] - 1.3512071919596578).abs() < 1e-12);
 //! ```
 //!
+//! A second family kind, a second corrector for a processed method of the
+//! catalogue ([`processed`]), has one unknown and an exact answer, found from
+//! tableau's exact near-integrable coefficients.
+//!
 //! Modules import one way: `poly`, `linalg` ← `family` ← `conditions` ←
-//! `solve` ← `polish` ← `certify`, `exact` ← `emit` ← `verify`, `pipeline`.
+//! `solve` ← `polish` ← `certify`, `exact` ← `emit` ← `verify`, `pipeline`;
+//! `family` ← `processed`.
 
 pub mod certify;
 pub mod conditions;
@@ -32,6 +37,7 @@ pub mod linalg;
 pub mod pipeline;
 pub mod polish;
 pub mod poly;
+pub mod processed;
 pub mod solve;
 pub mod verify;
 

@@ -1,10 +1,11 @@
 //! The design crate's integration tests, one binary (see the workspace's
 //! convention): the conditions against tableau's own order theory, the
-//! recovery of published methods from random starts, the certificates, and
-//! the family files.
+//! recovery of published methods from random starts, the certificates, the
+//! family files, and the second-corrector family.
 
 mod certificate;
 mod common;
 mod conditions;
 mod families;
+mod processed;
 mod recover;
