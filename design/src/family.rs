@@ -558,6 +558,21 @@ pub fn load_family(path: &std::path::Path) -> Result<Family, FamilyError> {
     parse_family(&file, &text)
 }
 
+/// A file-name stem from a family's name, for the tables a run writes:
+/// `yoshida-triple-jump` (one place, for every form's writer).
+pub(crate) fn stem(name: &str) -> String {
+    let mut s = String::new();
+    for ch in name.chars() {
+        if ch.is_ascii_alphanumeric() {
+            s.push(ch.to_ascii_lowercase());
+        } else if !s.ends_with('-') && !s.is_empty() {
+            s.push('-');
+        }
+    }
+    let s = s.trim_end_matches('-').to_string();
+    if s.is_empty() { "design".into() } else { s }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -10,7 +10,7 @@ use crate::certify::{Certificate, Refusal, certify};
 use crate::conditions::{System, system};
 use crate::emit::{Proof, table_text};
 use crate::exact::{Exact, exact_value};
-use crate::family::{Family, FamilyError};
+use crate::family::{Family, FamilyError, stem};
 use crate::polish::{DIGITS, PolishError, Polished, decimal_text, polish};
 use crate::poly::to_f64;
 use crate::solve::{Progress, Search, Solution, search};
@@ -40,20 +40,6 @@ pub struct Outcome {
     pub system: System,
     pub search: Search,
     pub designs: Vec<Designed>,
-}
-
-/// A file-name stem from the family's name: `yoshida-triple-jump`.
-fn stem(name: &str) -> String {
-    let mut s = String::new();
-    for ch in name.chars() {
-        if ch.is_ascii_alphanumeric() {
-            s.push(ch.to_ascii_lowercase());
-        } else if !s.ends_with('-') && !s.is_empty() {
-            s.push('-');
-        }
-    }
-    let s = s.trim_end_matches('-').to_string();
-    if s.is_empty() { "design".into() } else { s }
 }
 
 /// Run a family (read from `family_file`, which messages and the emitted

@@ -36,7 +36,7 @@ use tableau::near_integrable::{
 };
 use tableau::{Number, Splitting, Table};
 
-use crate::family::FamilyError;
+use crate::family::{FamilyError, stem};
 
 /// The `form` of a second-corrector family.
 pub const FORM: &str = "second-corrector";
@@ -381,20 +381,6 @@ pub fn design_corrector(
         c,
         table,
     })
-}
-
-/// A file-name stem from the family's name.
-fn stem(name: &str) -> String {
-    let mut s = String::new();
-    for ch in name.chars() {
-        if ch.is_ascii_alphanumeric() {
-            s.push(ch.to_ascii_lowercase());
-        } else if !s.ends_with('-') && !s.is_empty() {
-            s.push('-');
-        }
-    }
-    let s = s.trim_end_matches('-').to_string();
-    if s.is_empty() { "design".into() } else { s }
 }
 
 /// The emitted table: the catalogue file of the method with `χ₂` appended
