@@ -124,7 +124,7 @@ pub enum MethodError {
 
 /// The id of the average vector field scheme
 /// ([`integrator_core::minimise::AvfStepper`], the cloth's integrals in
-/// [`ClothModel::avf_force`]), solved as a minimisation. Conserves energy
+/// [`ClothModel::avf_force`](crate::ClothModel::avf_force)), solved as a minimisation. Conserves energy
 /// and linear momentum; not symplectic.
 pub const AVERAGE_VECTOR_FIELD: &str = "avf";
 

@@ -113,7 +113,7 @@ pub enum FlowError {
         correction: f64,
     },
     /// The flow left a value in the state that is not finite (checked by the
-    /// step after every flow of a system with [`Split::CHECK_FINITE`]).
+    /// step after every flow of a system with [`Split::CHECK_FINITE`](crate::Split::CHECK_FINITE)).
     #[error("the flow left a non-finite value: z[{index}] = {value}")]
     NonFinite { index: usize, value: f64 },
     /// Any other reason, in the flow's words.

@@ -278,7 +278,7 @@ impl Bending {
     }
 }
 
-/// Power iterations of [`ClothModel::bending_rate`]: the start vector is
+/// Power iterations of [`ClothModel::bending_rate`](crate::ClothModel::bending_rate): the start vector is
 /// the grid's checkerboard, close to the top mode of the discrete
 /// biharmonic, so the Rayleigh quotient settles within a few dozen.
 pub const BENDING_POWER_ITERATIONS: usize = 200;

@@ -194,7 +194,7 @@ impl integrator_core::Separable for ClothModel {
         }
     }
 
-    /// The stencil kernel ([`super::stencil`]): the springs' forces as
+    /// The stencil kernel (`model/stencil.rs`): the springs' forces as
     /// [`force_and_scale`](ClothModel::force_and_scale) computes them from
     /// the lists, to round-off, in vectorised loops.
     fn force(&self, q: &[f64], out: &mut [f64]) {

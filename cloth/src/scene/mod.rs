@@ -233,8 +233,8 @@ pub struct SimulationSpec {
     pub variable: Option<VariableStep>,
     /// Frames to simulate after the initial one.
     pub frames: usize,
-    /// A method id that [`Method::parse`] accepts (every method of
-    /// [`Method::all`]).
+    /// A method id that [`Method::parse`](crate::method::Method::parse) accepts (every method of
+    /// [`Method::all`](crate::method::Method::all)).
     pub method: String,
 }
 

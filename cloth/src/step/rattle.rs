@@ -21,7 +21,7 @@
 //! and its conjugate gradients) lives in `integrator_core`; what is the
 //! cloth's is here and in `constraints.rs`:
 //!
-//! - the system ([`ClothSystem`]): one edge vector `d_c = x_a − x_b` per
+//! - the system (`ClothSystem`): one edge vector `d_c = x_a − x_b` per
 //!   constraint as the geometry of `G` (row `2d_cᵀ`), the scaled
 //!   multipliers `Λ = h²λ/(2m)` (so that the displacement is `G(q)ᵀΛ` and
 //!   the matrix `G·Gᵀ`: `M⁻¹ = I/m` absorbed), the stop rule

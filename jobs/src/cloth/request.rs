@@ -27,7 +27,7 @@ impl SceneSource {
 }
 
 /// A cloth run as the user asked for it. `None` means the scene's value
-/// (or the documented default); [`plan`] checks every field.
+/// (or the documented default); `plan.rs` checks every field.
 #[derive(Clone, Debug)]
 pub struct Request {
     pub scene: SceneSource,
@@ -189,7 +189,7 @@ impl std::fmt::Display for InputError {
 }
 
 /// Why a cloth job could not be planned or run to its end. A run that
-/// blew up is not an error but an [`Outcome`]: it keeps what was good.
+/// blew up is not an error but an [`Outcome`](super::Outcome): it keeps what was good.
 #[derive(Debug, Error)]
 pub enum JobError {
     #[error("{0}")]

@@ -8,7 +8,7 @@
 //! 2. The cloth comparison of their figure 5 (explicit Euler against
 //!    symplectic Euler on the undamped scene at 16.7 ms frames, with
 //!    Störmer–Verlet, implicit Euler and Gauss–Legendre 2; the runs are
-//!    [`cloth::study::figure5`]'s): a CSV, a plot and renderings.
+//!    [`cloth::study::figure5`](::cloth::study::figure5)'s): a CSV, a plot and renderings.
 //! 3. `report.md`: what the paper claims, what this run measured, where
 //!    they differ. Every number in it is computed in the run.
 //!
