@@ -107,7 +107,9 @@ pub struct CompareArgs {
     /// wh:ID (a drift–kick sequence or composition on the Wisdom–Holman
     /// split, Kepler flows and interaction kicks, or a processed method of
     /// the catalogue, e.g. wh:leapfrog-c11, its corrector at output only:
-    /// outer-solar).
+    /// outer-solar), interp:ID (a `symlab list` table stepped by the
+    /// run-time interpreter, as --table files are, so that their times
+    /// compare).
     #[arg(long, value_delimiter = ',', value_name = "ID,...")]
     methods: Option<Vec<String>>,
     /// A table file (TOML, as for `symlab check`) to add to the sweep: its

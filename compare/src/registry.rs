@@ -11,6 +11,7 @@
 //! | [`Adaptive`](MethodFamily::Adaptive), [`AdaptiveImplicit`](MethodFamily::AdaptiveImplicit) | `adaptive:ID`, `adaptive-implicit:ID` | separable problems with a step density ([`Problem::STEP_DENSITY`]) |
 //! | [`Dop853`](MethodFamily::Dop853) | `dop853` | every problem (with the `peer` feature) |
 //! | [`Rebound`](MethodFamily::Rebound) | `rebound:NAME[:KEY=VALUE…]` | point masses ([`Problem::rebound_bodies`]) |
+//! | [`Interpreted`](MethodFamily::Interpreted) | `interp:ID`: a catalogue table of the library stepped by the run-time interpreter | as its form allows |
 //! | [`Table`](MethodFamily::Table) | a table file or a verified table: its id is the file's stem | as its form allows |
 //!
 //! [`MethodFamily::of`] answers "what is this id"; [`resolve`] (behind
@@ -95,6 +96,12 @@ pub enum MethodFamily {
     Dop853,
     /// `rebound:NAME`: REBOUND's integrators through its Python package.
     Rebound,
+    /// `interp:ID`: the library's catalogue table `ID`, verified as a table
+    /// file is and stepped by the same run-time interpreter as table files
+    /// and designs, so that a table file's wall time has a library method
+    /// to compare with on equal terms (generated code and the interpreter
+    /// differ in speed, not in steps: their errors and evaluations agree).
+    Interpreted,
     /// A table file or a verified table, stepped by the run-time
     /// interpreters; its id is the file's stem (not an id of the registry).
     Table,
@@ -103,7 +110,7 @@ pub enum MethodFamily {
 impl MethodFamily {
     /// Every family, in the order [`resolve`] tries them and [`ids`] lists
     /// them.
-    pub const ALL: [MethodFamily; 9] = [
+    pub const ALL: [MethodFamily; 10] = [
         MethodFamily::Library,
         MethodFamily::Propagator,
         MethodFamily::WisdomHolman,
@@ -112,6 +119,7 @@ impl MethodFamily {
         MethodFamily::AdaptiveImplicit,
         MethodFamily::Dop853,
         MethodFamily::Rebound,
+        MethodFamily::Interpreted,
         MethodFamily::Table,
     ];
 
@@ -123,6 +131,7 @@ impl MethodFamily {
             MethodFamily::Adaptive => Some(adaptive::PREFIXES[0].0),
             MethodFamily::AdaptiveImplicit => Some(adaptive::PREFIXES[1].0),
             MethodFamily::Rebound => Some(REBOUND),
+            MethodFamily::Interpreted => Some(INTERP),
             _ => None,
         }
     }
@@ -138,6 +147,7 @@ impl MethodFamily {
             MethodFamily::AdaptiveImplicit => "adaptive-implicit:ID",
             MethodFamily::Dop853 => "dop853",
             MethodFamily::Rebound => "rebound:NAME[:KEY=VALUE...]",
+            MethodFamily::Interpreted => "interp:ID",
             MethodFamily::Table => "FILE.toml",
         }
     }
@@ -166,6 +176,9 @@ impl MethodFamily {
             MethodFamily::Dop853 => "the adaptive peer DOP853 (ode_solvers), tolerances swept",
             MethodFamily::Rebound => {
                 "REBOUND's integrator NAME through its Python package (problems of point masses)"
+            }
+            MethodFamily::Interpreted => {
+                "a catalogue table of the library (symlab list), stepped by the run-time interpreter as table files are, so that their times compare"
             }
             MethodFamily::Table => {
                 "a table file, verified exactly, stepped by the run-time interpreter"
@@ -198,7 +211,7 @@ impl MethodFamily {
     pub fn applies<P: Problem>(self, sys: &P) -> bool {
         let separable = <P::Kind as Kind<P>>::SEPARABLE;
         match self {
-            MethodFamily::Library | MethodFamily::Table => true,
+            MethodFamily::Library | MethodFamily::Interpreted | MethodFamily::Table => true,
             MethodFamily::Propagator => sys.linear().is_some(),
             MethodFamily::WisdomHolman => sys.wisdom_holman().is_some(),
             MethodFamily::LogH => separable && P::NEGATIVE_POTENTIAL,
@@ -212,7 +225,7 @@ impl MethodFamily {
 
     /// The family's ids that a default sweep of `sys` runs (empty for the
     /// families run only when named: `logh:`, `adaptive:`, `rebound:`,
-    /// tables).
+    /// `interp:`, tables).
     pub fn ids<P: Problem>(self, sys: &P) -> Vec<String> {
         if !self.applies(sys) {
             return vec![];
@@ -237,6 +250,8 @@ impl MethodFamily {
 const LOGH: &str = "logh:";
 /// The prefix of REBOUND's methods.
 const REBOUND: &str = "rebound:";
+/// The prefix of the library's tables stepped by the interpreter.
+pub const INTERP: &str = "interp:";
 /// The peer's id.
 const DOP853: &str = "dop853";
 
@@ -281,6 +296,9 @@ pub fn resolve<P: Problem>(id: &str, sys: &P, problem: &str) -> Result<Method<P>
     }
     if id.starts_with(REBOUND) {
         return rebound::method(id, sys, problem).map(Method::Rebound);
+    }
+    if let Some(base) = id.strip_prefix(INTERP) {
+        return interp(base);
     }
     if library::is_propagator(id) {
         return Err(CompareError::method(
@@ -345,6 +363,31 @@ fn propagator<P: Problem>(id: &str) -> Option<Method<P>> {
         interpreted: false,
         stepper: Box::new(PropagatorStepper { p, q }),
     }))
+}
+
+/// `interp:BASE`: the catalogue's table `BASE` verified as a table file is
+/// ([`VerifiedTable::from_verdict`]: every claim decided exactly) and
+/// stepped by the interpreters ([`Method::interpreted`]), as the row
+/// `interp:BASE`. Whether its form steps the problem is the interpreter's
+/// to say, as for a table file.
+fn interp<P: Problem>(base: &str) -> Result<Method<P>> {
+    let id = format!("{INTERP}{base}");
+    if tableau::catalogue::find(base).is_none() {
+        // The catalogue's own message lists the closest ids.
+        let why = tableau::catalogue::load(base).err().map(|e| e.message);
+        return Err(CompareError::method(
+            &id,
+            format!(
+                "method '{id}': '{base}' is not a table of the library's catalogue{}",
+                why.map(|w| format!("; {w}")).unwrap_or_default()
+            ),
+        ));
+    }
+    let source = tableau::verdict::Source::Builtin(base);
+    let verdict = tableau::verdict::check(&source, &tableau::verdict::Options::default())?;
+    let table = VerifiedTable::from_verdict(format!("builtin:{base}").into(), id.clone(), verdict)
+        .map_err(|why| CompareError::method(&id, format!("method '{id}': {why}")))?;
+    Method::interpreted(&table)
 }
 
 /// `logh:BASE` on problems of type `P`, called `problem` in errors.
