@@ -222,7 +222,8 @@ fn design_compare_on_the_wisdom_holman_split() {
     let table = std::fs::read_to_string(cmp.join("designs.md")).unwrap();
     assert!(table.contains(&format!("| {design} | yes |")), "{table}");
     assert!(table.contains("| wh:leapfrog |  |"), "{table}");
-    assert!(table.contains("Wall time (ms"), "{table}");
+    assert!(table.contains("Wall time, ms"), "{table}");
+    assert!(table.contains("| wh:leapfrog |  | generated |"), "{table}");
     let _ = std::fs::remove_dir_all(&dir);
 
     // A problem without the split, and a sweep flag without --compare.

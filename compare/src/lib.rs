@@ -121,6 +121,7 @@ pub mod stepper;
 pub mod sweep;
 pub mod sweep_plan;
 pub mod time_transformed;
+pub mod versus;
 pub mod wisdom_holman;
 mod work_precision;
 

@@ -22,3 +22,4 @@ mod rebound_names;
 mod registry;
 mod report;
 mod sweep;
+mod versus;
