@@ -11,6 +11,7 @@ mod check_cli;
 mod cloth_cli;
 mod compare_cli;
 mod design_cli;
+mod designed_method;
 mod hostile_flags;
 mod hostile_surfaces;
 mod input_messages;

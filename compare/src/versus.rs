@@ -318,7 +318,8 @@ impl AtTarget {
             match v {
                 Verdict::DesignLess { ratio } => {
                     format!(
-                        "the design {d} needs {ratio:.2}× less {unit} than the library's best, {l}"
+                        "the design {d} needs {ratio:.2}× {} {unit} than the library's best, {l}: the design wins",
+                        if unit == "time" { "less" } else { "fewer" }
                     )
                 }
                 Verdict::LibraryLess { ratio } => {

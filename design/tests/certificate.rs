@@ -170,3 +170,28 @@ fn every_emitted_certificate_checks_and_is_refused_beyond_its_radius() {
     }
     assert!(checked >= 3, "{checked} certified tables");
 }
+
+/// The design committed for the pendulum comparison
+/// (`designs/found/rkn-aba-8-stages-order-6-3.toml`, compiled by the
+/// `designed_method` example with `butcher! { file: … }`) is what the
+/// designer wrote: a certified member of `designs/rkn6-aba8.toml`, its
+/// certificate re-checked from the committed text, and refused once a
+/// coefficient moves beyond the radius.
+#[test]
+fn the_committed_pendulum_design_is_certified_in_its_family() {
+    let family = load("rkn6-aba8.toml");
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../designs/found/rkn-aba-8-stages-order-6-3.toml"
+    );
+    let text = std::fs::read_to_string(path).unwrap();
+    assert!(
+        text.contains("Designed by `symlab design designs/rkn6-aba8.toml`"),
+        "{text}"
+    );
+    verify_table(&family, path, &text).unwrap();
+    match verify_table(&family, path, &shift_a1(&text, "1e-44")) {
+        Err(VerifyError::Refused(_)) => {}
+        other => panic!("{other:?}"),
+    }
+}

@@ -39,8 +39,32 @@ pub fn butcher(input: TokenStream) -> TokenStream {
         Some(Err(err)) => return emit::stub(&input, err).into(),
         None => {}
     }
-    match valid::validate(&input) {
-        Ok(verified) => expand::expand(&input, &verified).into(),
-        Err(err) => emit::stub(&input, err).into(),
+    let tracked = tracked_file(&input);
+    let out = match valid::validate(&input) {
+        Ok(verified) => expand::expand(&input, &verified),
+        Err(err) => emit::stub(&input, err),
+    };
+    quote::quote!(#out #tracked).into()
+}
+
+/// For `file: "PATH"`: the file's bytes included in the emitted code and
+/// never used, so that cargo rebuilds the invoking crate when the file
+/// changes (a proc macro's own reads are not tracked). Only where the file
+/// exists: a missing file is `valid`'s error, on the path's token.
+fn tracked_file(input: &ast::Input) -> proc_macro2::TokenStream {
+    let Some(ast::Value::Str(path)) = input
+        .fields
+        .iter()
+        .find(|f| f.key == "file")
+        .map(|f| &f.value)
+    else {
+        return proc_macro2::TokenStream::new();
+    };
+    let full = valid::file_path(&path.value());
+    match full.to_str() {
+        Some(p) if full.is_file() => quote::quote!(
+            const _: &[u8] = include_bytes!(#p);
+        ),
+        _ => proc_macro2::TokenStream::new(),
     }
 }

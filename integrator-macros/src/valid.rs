@@ -40,6 +40,7 @@ const KEYS: &[&str] = &[
     "kick_gradient",
     "compose",
     "from",
+    "file",
     "kernel",
     "corrector_drift",
     "corrector_kick",
@@ -95,18 +96,19 @@ pub fn validate(input: &Input) -> Result<Verified, Error> {
     let table = build_table(input, &fields, &env, &mut errs);
     let inline_corrector = build_corrector(&fields, &env, &mut errs);
     errs.finish()?;
-    let Some((table, name, file_claims, source, file_corrector)) = table else {
+    let Some((table, name, file_claims, source, file_corrector, file_certificate)) = table else {
         return Err(Error::new(
             input.name.span(),
-            "no table: give `a` and `b`, `drift` and `kick`, `compose`, or `from`",
+            "no table: give `a` and `b`, `drift` and `kick`, `compose`, `from` or `file`",
         ));
     };
 
-    // A table read `from` the catalogue brings the claims its file states,
-    // unless the invocation states its own.
+    // A table read `from` the catalogue or from a `file` brings the claims
+    // its file states, unless the invocation states its own.
     if claims.is_empty() && !file_claims.is_empty() {
         let span = fields
             .get("from")
+            .or(fields.get("file"))
             .map_or(input.name.span(), |f| f.value.span());
         claim_spans = vec![span; file_claims.len()];
         claims = file_claims;
@@ -145,7 +147,10 @@ pub fn validate(input: &Input) -> Result<Verified, Error> {
             return Err(Error::new(span, format!("the corrector: {}", e.message)));
         }
     }
-    let certificate = certificate_of(input, &fields, &env, &table)?;
+    let certificate = match certificate_of(input, &fields, &env, &table)? {
+        Some(c) => Some(c),
+        None => file_certificate,
+    };
     let mut errs = Errors::default();
     for (claim, span) in claims.iter().zip(&claim_spans) {
         // A certified order is proven from the certificate's fields, by the
@@ -191,6 +196,81 @@ pub fn validate(input: &Input) -> Result<Verified, Error> {
         source,
         corrector,
     })
+}
+
+/// `file: "PATH"`: a table file (the format of `symlab check`, e.g. a
+/// table `symlab design` emitted), read at compile time from `PATH`
+/// relative to the invoking crate's `Cargo.toml`, with its claims and its
+/// certificate; the invocation gives no entries of its own. The emitted
+/// code includes the file's bytes (`lib.rs`), so that cargo rebuilds when
+/// the file changes.
+fn read_file(f: &Field, fields: &BTreeMap<String, &Field>, errs: &mut Errors) -> Option<Built> {
+    let Value::Str(path) = &f.value else {
+        errs.push(
+            f.value.span(),
+            "`file` is a table file's path relative to the crate's Cargo.toml: `file: \"designs/mine.toml\"`",
+        );
+        return None;
+    };
+    if let Some(other) = KEYS
+        .iter()
+        .find(|k| **k != "file" && **k != "claims" && fields.contains_key(**k))
+    {
+        errs.push(
+            fields[*other].span(),
+            "a table read from a `file` takes no entries of its own",
+        );
+        return None;
+    }
+    let full = file_path(&path.value());
+    let text = match read_limited(&full) {
+        Ok(t) => t,
+        Err(why) => {
+            errs.push(path.span(), format!("{}: {why}", full.display()));
+            return None;
+        }
+    };
+    match tableau::file::parse_table_file(&full.display().to_string(), &text) {
+        Ok(tf) => Some((
+            tf.table,
+            tf.name,
+            tf.claims,
+            tf.source,
+            tf.corrector,
+            tf.certificate,
+        )),
+        Err(e) => {
+            errs.push(path.span(), e);
+            None
+        }
+    }
+}
+
+/// `path` relative to the invoking crate's directory (`CARGO_MANIFEST_DIR`,
+/// which cargo sets for the compiler and so for the macro); as given where
+/// it is absolute or the variable is unset.
+pub(crate) fn file_path(path: &str) -> std::path::PathBuf {
+    match std::env::var_os("CARGO_MANIFEST_DIR") {
+        Some(dir) => std::path::Path::new(&dir).join(path),
+        None => std::path::PathBuf::from(path),
+    }
+}
+
+/// The most bytes a `file:` table may have: `symlab check`'s limit for a
+/// table file, so that a build never reads a huge file into memory.
+const FILE_LIMIT: u64 = tableau::budget::MAX_FILE_BYTES;
+
+fn read_limited(path: &std::path::Path) -> Result<String, String> {
+    use std::io::Read;
+    let f = std::fs::File::open(path).map_err(|e| format!("cannot read the file: {e}"))?;
+    let mut bytes = Vec::new();
+    f.take(FILE_LIMIT + 1)
+        .read_to_end(&mut bytes)
+        .map_err(|e| format!("cannot read the file: {e}"))?;
+    if bytes.len() as u64 > FILE_LIMIT {
+        return Err(format!("larger than {FILE_LIMIT} bytes, not a table file"));
+    }
+    String::from_utf8(bytes).map_err(|_| "not UTF-8 text".to_string())
 }
 
 /// The certificate of a certified order claim, from the fields
@@ -368,7 +448,14 @@ fn matrix(
 /// A table as built: the table (a processed method's kernel), its name, the
 /// claims and source of a catalogue file it was read `from`, and the
 /// corrector of such a file.
-type Built = (Table, String, Vec<Claim>, Option<String>, Option<Splitting>);
+type Built = (
+    Table,
+    String,
+    Vec<Claim>,
+    Option<String>,
+    Option<Splitting>,
+    Option<tableau::certificate::CertificateSpec>,
+);
 
 fn build_table(
     input: &Input,
@@ -397,12 +484,15 @@ fn build_table(
             return None;
         }
         return match tableau::catalogue::load(&id.value()) {
-            Ok(tf) => Some((tf.table, tf.name, tf.claims, tf.source, tf.corrector)),
+            Ok(tf) => Some((tf.table, tf.name, tf.claims, tf.source, tf.corrector, None)),
             Err(e) => {
                 errs.push(id.span(), e);
                 None
             }
         };
+    }
+    if let Some(f) = fields.get("file") {
+        return read_file(f, fields, errs);
     }
     if let Some(f) = fields.get("kernel") {
         let Value::Str(id) = &f.value else {
@@ -431,7 +521,7 @@ fn build_table(
                 errs.push(id.span(), format!("builtin:{} is itself a processed method; a kernel is a drift–kick sequence or composition", id.value()));
                 None
             }
-            Ok(tf) => Some((tf.table, name, Vec::new(), None, None)),
+            Ok(tf) => Some((tf.table, name, Vec::new(), None, None, None)),
             Err(e) => {
                 errs.push(id.span(), e);
                 None
@@ -477,7 +567,7 @@ fn build_table(
             },
         };
         if !pair {
-            return Some((Table::Rk(q), name, Vec::new(), None, None));
+            return Some((Table::Rk(q), name, Vec::new(), None, None, None));
         }
         let p = Rk {
             a: matrix(fields.get("a_hat"), env, errs)?,
@@ -488,7 +578,7 @@ fn build_table(
                 None
             },
         };
-        return Some((Table::Prk(Prk { q, p }), name, Vec::new(), None, None));
+        return Some((Table::Prk(Prk { q, p }), name, Vec::new(), None, None, None));
     }
     if split {
         require("drift", errs);
@@ -503,7 +593,7 @@ fn build_table(
             kick: vector(fields.get("kick"), env, errs)?,
             gradient,
         };
-        return Some((Table::Splitting(s), name, Vec::new(), None, None));
+        return Some((Table::Splitting(s), name, Vec::new(), None, None, None));
     }
     if comp {
         let gamma = vector(fields.get("compose"), env, errs)?;
@@ -511,6 +601,7 @@ fn build_table(
             Table::Composition(Composition { gamma }),
             name,
             Vec::new(),
+            None,
             None,
             None,
         ));
@@ -555,6 +646,45 @@ mod tests {
         let msg = err.to_string();
         assert!(msg.contains("beyond the budget"), "{msg}");
         assert!(msg.contains("degree 64"), "{msg}");
+    }
+
+    /// `file:` reads a table file relative to the crate (the workspace's
+    /// designed table, from integrator-macros), brings its claims and
+    /// proves them; a missing file, a file with entries beside it, and a
+    /// false claim over the file's table are errors naming what is wrong.
+    #[test]
+    fn file_tables_are_read_and_their_claims_proven() {
+        let found = "../designs/found/rkn-aba-8-stages-order-6-3.toml";
+        let v = validate_text(&format!("pub Designed {{ file: \"{found}\", }}"))
+            .unwrap_or_else(|e| panic!("{e}"));
+        assert!(matches!(v.table, Table::Splitting(_)));
+        let err = validate_text("pub Missing { file: \"no/such/table.toml\", }")
+            .err()
+            .expect("refused");
+        assert!(
+            err.to_string().contains("no/such/table.toml")
+                && err.to_string().contains("cannot read"),
+            "{err}"
+        );
+        let err = validate_text(&format!(
+            "pub Both {{ file: \"{found}\", drift: [1/2, 1/2], kick: [1], }}"
+        ))
+        .err()
+        .expect("refused");
+        assert!(err.to_string().contains("no entries of its own"), "{err}");
+        let err = validate_text(&format!(
+            "pub Wrong {{ file: \"{found}\", claims: [order_rkn = 8], }}"
+        ))
+        .err()
+        .expect("refused");
+        assert!(err.to_string().contains("order"), "{err}");
+        let err = validate_text("pub NotText { file: [a], }")
+            .err()
+            .expect("refused");
+        assert!(
+            err.to_string().contains("`file` is a table file's path"),
+            "{err}"
+        );
     }
 
     #[test]

@@ -43,9 +43,16 @@ fn level_within_the_margin_and_the_library_ahead_beyond_it() {
     let mut rows = ladder("lib", 100, 1.0, false);
     rows.extend(ladder("d", 97, 1.0, false));
     let v = versus(&rows, &designs, &[1e-7]);
-    assert!(matches!(v.targets[0].evaluations, Verdict::Level { .. }), "{v:?}");
+    assert!(
+        matches!(v.targets[0].evaluations, Verdict::Level { .. }),
+        "{v:?}"
+    );
     assert!(matches!(v.targets[0].time, Verdict::Level { .. }), "{v:?}");
-    assert!(v.targets[0].line().contains("level"), "{}", v.targets[0].line());
+    assert!(
+        v.targets[0].line().contains("level"),
+        "{}",
+        v.targets[0].line()
+    );
     // The design needs twice the evaluations and time: the library's.
     let mut rows = ladder("lib", 100, 1.0, false);
     rows.extend(ladder("d", 200, 1.0, false));
@@ -54,7 +61,11 @@ fn level_within_the_margin_and_the_library_ahead_beyond_it() {
         Verdict::LibraryLess { ratio } => assert!((ratio - 2.0).abs() < 1e-9, "{ratio}"),
         other => panic!("{other:?}"),
     }
-    assert!(!v.markdown().contains("the design wins"), "{}", v.markdown());
+    assert!(
+        !v.markdown().contains("the design wins"),
+        "{}",
+        v.markdown()
+    );
 }
 
 /// An interpreted design's time is ranked only against interpreted library
@@ -67,7 +78,10 @@ fn times_compare_only_between_rows_stepped_alike() {
     let mut rows = ladder("lib", 100, 0.5, false);
     rows.extend(ladder("d", 50, 1.0, true));
     let v = versus(&rows, &designs, &[1e-7]);
-    assert!(matches!(v.targets[0].evaluations, Verdict::DesignLess { .. }), "{v:?}");
+    assert!(
+        matches!(v.targets[0].evaluations, Verdict::DesignLess { .. }),
+        "{v:?}"
+    );
     match &v.targets[0].time {
         Verdict::Undecided { why } => assert!(why.contains("interp:ID"), "{why}"),
         other => panic!("{other:?}"),
@@ -78,9 +92,14 @@ fn times_compare_only_between_rows_stepped_alike() {
         Verdict::DesignLess { ratio } => assert!(*ratio > TIME_MARGIN, "{ratio}"),
         other => panic!("{other:?}"),
     }
-    let (m, _) = v.targets[0].fastest_generated.clone().expect("named beside");
+    let (m, _) = v.targets[0]
+        .fastest_generated
+        .clone()
+        .expect("named beside");
     assert_eq!(m, "lib");
     let text = v.markdown();
+    assert!(text.contains("needs 2.00× fewer evaluations"), "{text}");
+    assert!(text.contains("the design wins"), "{text}");
     assert!(text.contains("| d | yes | interpreter |"), "{text}");
     assert!(text.contains("| lib |  | generated |"), "{text}");
 }
@@ -97,6 +116,9 @@ fn upper_bounds_are_not_ranked() {
         row("d", 1e-10, 100, 1.0, false),
     ]);
     let v = versus(&rows, &designs, &[1e-7]);
-    assert!(matches!(v.targets[0].evaluations, Verdict::Undecided { .. }), "{v:?}");
+    assert!(
+        matches!(v.targets[0].evaluations, Verdict::Undecided { .. }),
+        "{v:?}"
+    );
     assert!(v.markdown().contains("≤ 10 |"), "{}", v.markdown());
 }
