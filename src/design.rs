@@ -42,6 +42,12 @@ pub struct DesignArgs {
     /// With --compare: how many of the best proven designs to run (default 3).
     #[arg(long, value_name = "N", default_value_t = 3, requires = "compare")]
     pub designs: usize,
+    /// With --compare: rank the proven designs by their error on the
+    /// problem after N equal steps over its end time (the smallest first),
+    /// instead of by the family's objective, before choosing --designs of
+    /// them: the error measured on a named problem as the objective.
+    #[arg(long, value_name = "N", requires = "compare", value_parser = clap::value_parser!(u64).range(1..=10_000_000))]
+    pub rank_steps: Option<u64>,
     /// With --compare: run the designs on the problem's Wisdom–Holman
     /// split (outer-solar: Kepler drifts, interaction kicks), as the wh:
     /// methods are run (`symlab compare --table wh:FILE`); their times then
@@ -125,14 +131,17 @@ pub fn run(args: &DesignArgs) -> Result<ExitCode> {
         println!("wrote {}", p.display());
     }
     if let Some(problem) = args.compare {
-        let proven: Vec<PathBuf> = outcome
+        let mut proven: Vec<PathBuf> = outcome
             .designs
             .iter()
             .filter(|d| d.exact.is_some() || matches!(d.certificate, Some(Ok(_))))
             .filter_map(|d| d.table.as_ref())
             .filter_map(|(name, _)| written.iter().find(|p| p.ends_with(name)).cloned())
-            .take(args.designs)
             .collect();
+        if let Some(steps) = args.rank_steps {
+            proven = rank_on_problem(args, problem, proven, steps as usize)?;
+        }
+        proven.truncate(args.designs);
         compare_designs(args, problem, &proven)?;
     }
     Ok(ExitCode::SUCCESS)
@@ -180,6 +189,52 @@ fn run_corrector(args: &DesignArgs) -> Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
+/// `--rank-steps N`: the proven designs ordered by their error on the
+/// problem after `N` steps ([`compare::versus::errors_after`]), the runs
+/// that failed last; the ranking printed.
+fn rank_on_problem(
+    args: &DesignArgs,
+    problem: compare::builtin::Builtin,
+    proven: Vec<PathBuf>,
+    steps: usize,
+) -> Result<Vec<PathBuf>> {
+    let tables: Vec<PathBuf> = proven.iter().map(|p| on_split(args, p)).collect();
+    let errors = compare::versus::errors_after(problem, args.sweep.t_end, &tables, steps)?;
+    let mut ranked: Vec<(PathBuf, std::result::Result<f64, String>)> =
+        proven.into_iter().zip(errors).collect();
+    ranked.sort_by(|a, b| match (&a.1, &b.1) {
+        (Ok(x), Ok(y)) => x.total_cmp(y),
+        (Ok(_), Err(_)) => std::cmp::Ordering::Less,
+        (Err(_), Ok(_)) => std::cmp::Ordering::Greater,
+        (Err(_), Err(_)) => std::cmp::Ordering::Equal,
+    });
+    println!(
+        "ranked by the error on {} after {steps} steps (--rank-steps):",
+        problem.name()
+    );
+    for (i, (p, e)) in ranked.iter().enumerate() {
+        let name = p
+            .file_stem()
+            .map(|s| s.to_string_lossy())
+            .unwrap_or_default();
+        match e {
+            Ok(e) => println!("  {}. {name}: {e:.3e}", i + 1),
+            Err(why) => println!("  {}. {name}: {why}", i + 1),
+        }
+    }
+    Ok(ranked.into_iter().map(|(p, _)| p).collect())
+}
+
+/// A design's table as the sweep takes it: `wh:PATH` with
+/// `--wisdom-holman` (the registry resolves it), else the path.
+fn on_split(args: &DesignArgs, p: &std::path::Path) -> PathBuf {
+    if args.wisdom_holman {
+        PathBuf::from(format!("{}{}", compare::wisdom_holman::PREFIX, p.display()))
+    } else {
+        p.to_path_buf()
+    }
+}
+
 /// `--compare PROBLEM`: the proven tables written (exact or certified, the
 /// best `--designs` in the order of the objective) beside the library's
 /// methods in one sweep of compare's library (the path of `symlab compare
@@ -197,16 +252,7 @@ fn compare_designs(
     }
     // `wh:PATH`: the table on the problem's Wisdom–Holman split (the
     // registry resolves it, or says the problem has none).
-    let tables = proven
-        .iter()
-        .map(|p| {
-            if args.wisdom_holman {
-                PathBuf::from(format!("{}{}", compare::wisdom_holman::PREFIX, p.display()))
-            } else {
-                p.clone()
-            }
-        })
-        .collect();
+    let tables = proven.iter().map(|p| on_split(args, p)).collect();
     let job = compare::mode::SweepJob {
         problem: compare::mode::SweepProblem::Builtin(problem),
         request: args.sweep.request(false),

@@ -318,3 +318,78 @@ fn design_second_corrector_runs_beside_whckl() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `--rank-steps N`: the proven designs ranked by their error on the
+/// problem after N steps (printed, smallest first), and the first of that
+/// ranking is the one compared; N = 0 and the flag without --compare are
+/// refused by name.
+#[test]
+fn design_rank_steps_ranks_by_the_error_on_the_problem() {
+    let dir = out_dir("rank-steps");
+    let d = dir.to_str().unwrap();
+    let (code, out, err) = symlab(&[
+        "design",
+        "designs/rkn6-aba8.toml",
+        "--out",
+        d,
+        "--starts",
+        "300",
+        "--compare",
+        "pendulum",
+        "--rank-steps",
+        "300",
+        "--designs",
+        "1",
+        "--methods",
+        "blanes-moan-prk10",
+        "--points",
+        "3",
+        "--repeats",
+        "1",
+    ]);
+    assert_eq!(code, 0, "stderr: {err}\n{out}");
+    let ranking: Vec<(String, f64)> = out
+        .lines()
+        .skip_while(|l| !l.starts_with("ranked by the error on pendulum after 300 steps"))
+        .skip(1)
+        .map_while(|l| {
+            let (name, e) = l.trim().split_once(". ")?.1.split_once(": ")?;
+            Some((name.to_string(), e.parse().ok()?))
+        })
+        .collect();
+    assert!(ranking.len() >= 2, "{out}");
+    assert!(ranking.windows(2).all(|w| w[0].1 <= w[1].1), "{ranking:?}");
+    let table = std::fs::read_to_string(dir.join("compare").join("designs.md")).unwrap();
+    assert!(
+        table.contains(&format!("| {} | yes |", ranking[0].0)),
+        "{table}"
+    );
+    for (name, _) in &ranking[1..] {
+        assert!(!table.contains(&format!("| {name} | yes |")), "{table}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+    refused(
+        &[
+            "design",
+            "designs/rkn6-aba8.toml",
+            "--out",
+            d,
+            "--compare",
+            "pendulum",
+            "--rank-steps",
+            "0",
+        ],
+        "--rank-steps",
+    );
+    refused(
+        &[
+            "design",
+            "designs/rkn6-aba8.toml",
+            "--out",
+            d,
+            "--rank-steps",
+            "10",
+        ],
+        "--rank-steps",
+    );
+}

@@ -350,3 +350,57 @@ impl AtTarget {
         line
     }
 }
+
+/// The relative error at the end time of each of `tables` (paths as
+/// `symlab compare --table` takes them: `wh:PATH` on the Wisdom–Holman
+/// split) after `steps` equal steps on the built-in `problem` over `t_end`
+/// (default: the problem's): the designer's "error measured on a named
+/// problem", by which `symlab design --rank-steps` ranks the proven designs
+/// before choosing the ones it compares. `None` for a table whose run
+/// failed (it diverged, or its solver did), with the run's status.
+pub fn errors_after(
+    problem: crate::builtin::Builtin,
+    t_end: Option<f64>,
+    tables: &[std::path::PathBuf],
+    steps: usize,
+) -> crate::Result<Vec<Result<f64, String>>> {
+    use crate::mode::{SweepJob, SweepProblem, prepare_sweep};
+    let t = t_end.unwrap_or(problem.defaults().t_end);
+    let h = t / steps.max(1) as f64;
+    let request = crate::sweep_plan::SweepRequest {
+        t_end,
+        h_min: Some(h),
+        h_max: Some(h),
+        points: Some(1),
+        repeats: Some(1),
+        ..Default::default()
+    };
+    let sweep = prepare_sweep(SweepJob {
+        problem: SweepProblem::Builtin(problem),
+        request,
+        methods: Some(Vec::new()),
+        tables: tables.to_vec(),
+    })?;
+    let (result, _) = sweep.run(Vec::new(), &mut crate::Quiet)?;
+    if result.rows.len() != tables.len() {
+        return Err(crate::CompareError::Setting {
+            name: "--rank-steps",
+            why: format!(
+                "expected one run per table, got {} for {}",
+                result.rows.len(),
+                tables.len()
+            ),
+        });
+    }
+    Ok(result
+        .rows
+        .iter()
+        .map(|r| {
+            if r.ok() {
+                Ok(r.error)
+            } else {
+                Err(r.status.clone())
+            }
+        })
+        .collect())
+}
