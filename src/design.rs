@@ -65,11 +65,11 @@ pub fn run(args: &DesignArgs) -> Result<ExitCode> {
     {
         anyhow::bail!("{flag} belongs to --compare PROBLEM (the sweep's settings)");
     }
-    if std::fs::read_to_string(&args.file).is_ok_and(|t| design::processed::is_corrector_family(&t))
-    {
+    let text = design::read_family_text(&args.file)?;
+    if design::processed::is_corrector_family(&text) {
         return run_corrector(args);
     }
-    let mut family = design::load_family(&args.file)?;
+    let mut family = design::parse_family(&args.file.display().to_string(), &text)?;
     if let Some(seed) = args.seed {
         family.seed = seed;
     }

@@ -393,3 +393,18 @@ fn design_rank_steps_ranks_by_the_error_on_the_problem() {
         "--rank-steps",
     );
 }
+
+/// A family file is read up to a limit: `/dev/zero` is refused by name,
+/// quickly, never read until memory runs out.
+#[test]
+#[cfg_attr(not(unix), ignore = "reads /dev/zero, which only Unix has")]
+fn an_endless_family_file_is_read_up_to_a_limit() {
+    let start = std::time::Instant::now();
+    let (code, _, err) = symlab(&["design", "/dev/zero", "--out", "/tmp/symlab-design-zero"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("/dev/zero") && err.contains("larger than 1048576 bytes"),
+        "{err}"
+    );
+    assert!(start.elapsed().as_secs() < 10, "{:?}", start.elapsed());
+}

@@ -549,13 +549,33 @@ pub fn parse_family(file: &str, text: &str) -> Result<Family, FamilyError> {
 
 /// Read a family file from disk; messages name the path.
 pub fn load_family(path: &std::path::Path) -> Result<Family, FamilyError> {
+    let text = read_family_text(path)?;
+    parse_family(&path.display().to_string(), &text)
+}
+
+/// A family file's text, of at most [`tableau::budget::MAX_FILE_BYTES`]
+/// (a table file's limit: `/dev/zero` is refused, not read until memory
+/// runs out); every front end reads family files through this.
+pub fn read_family_text(path: &std::path::Path) -> Result<String, FamilyError> {
+    use std::io::Read;
     let file = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|e| FamilyError {
+    let fail = |message: String| FamilyError {
         file: file.clone(),
         field: None,
-        message: format!("cannot read it: {e}"),
-    })?;
-    parse_family(&file, &text)
+        message,
+    };
+    let f = std::fs::File::open(path).map_err(|e| fail(format!("cannot read it: {e}")))?;
+    let limit = tableau::budget::MAX_FILE_BYTES;
+    let mut bytes = Vec::new();
+    f.take(limit + 1)
+        .read_to_end(&mut bytes)
+        .map_err(|e| fail(format!("cannot read it: {e}")))?;
+    if bytes.len() as u64 > limit {
+        return Err(fail(format!(
+            "larger than {limit} bytes; a family file is a few lines of TOML"
+        )));
+    }
+    String::from_utf8(bytes).map_err(|_| fail("not UTF-8 text".into()))
 }
 
 /// A file-name stem from a family's name, for the tables a run writes:

@@ -41,7 +41,9 @@ pub mod processed;
 pub mod solve;
 pub mod verify;
 
-pub use family::{ErrorBasis, Family, FamilyError, Form, load_family, parse_family};
+pub use family::{
+    ErrorBasis, Family, FamilyError, Form, load_family, parse_family, read_family_text,
+};
 pub use pipeline::{Designed, Outcome, design};
 
 /// The guide's design chapter, compiled and run as doctests.

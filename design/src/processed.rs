@@ -141,10 +141,8 @@ fn processed_ids() -> Vec<&'static str> {
 
 /// Read a second-corrector family file.
 pub fn load_corrector_family(path: &Path) -> Result<CorrectorFamily, FamilyError> {
-    let file = path.display().to_string();
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| error(&file, None, format!("cannot read it: {e}")))?;
-    parse_corrector_family(&file, &text)
+    let text = crate::family::read_family_text(path)?;
+    parse_corrector_family(&path.display().to_string(), &text)
 }
 
 /// The designed second corrector.

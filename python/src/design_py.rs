@@ -47,14 +47,17 @@ pub fn design<'py>(
     starts: Option<usize>,
     out: Option<PathBuf>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let (origin, parsed) = if family.contains('\n') {
-        let origin = "<family>".to_string();
-        let parsed = ::design::parse_family(&origin, &family);
-        (origin, parsed)
+    let (origin, text) = if family.contains('\n') {
+        ("<family>".to_string(), family.clone())
     } else {
         let path = PathBuf::from(&family);
-        (path.display().to_string(), ::design::load_family(&path))
+        let text = ::design::read_family_text(&path).map_err(design_error)?;
+        (path.display().to_string(), text)
     };
+    if ::design::processed::is_corrector_family(&text) {
+        return corrector(py, &origin, &text, seed, starts, out);
+    }
+    let parsed = ::design::parse_family(&origin, &text);
     let mut fam = parsed.map_err(design_error)?;
     if let Some(seed) = seed {
         fam.seed = seed;
@@ -136,4 +139,65 @@ pub fn design<'py>(
     let written: Vec<String> = written.iter().map(|p| p.display().to_string()).collect();
     d.set_item("written", written)?;
     Ok(d)
+}
+
+/// A second-corrector family (`form = "second-corrector"`,
+/// `design::processed`), as `symlab design` runs it: one unknown solved
+/// exactly, no search, so `seed` and `starts` are refused. Returns a dict:
+/// `family`, `form`, `kernel`, `c_squared` and `c` (exact, as text),
+/// `c_value` (a float), the effective generalised orders `orders_before` and
+/// `orders_after`, and `designs` with the one emitted table (`name`,
+/// `claims`, `toml`, `proof` = "exact").
+fn corrector<'py>(
+    py: Python<'py>,
+    origin: &str,
+    text: &str,
+    seed: Option<u64>,
+    starts: Option<usize>,
+    out: Option<PathBuf>,
+) -> PyResult<Bound<'py, PyDict>> {
+    for (name, given) in [("seed", seed.is_some()), ("starts", starts.is_some())] {
+        if given {
+            return Err(design_error(format!(
+                "{name}: {origin} is a {} family, solved exactly with no random starts",
+                ::design::processed::FORM
+            )));
+        }
+    }
+    let fam = ::design::processed::parse_corrector_family(origin, text).map_err(design_error)?;
+    let (d, written) = py
+        .detach(|| {
+            let d =
+                ::design::processed::design_corrector(&fam, origin).map_err(|e| e.to_string())?;
+            let written = match &out {
+                Some(dir) => d
+                    .write(dir)
+                    .map_err(|e| format!("out: writing into {}: {e}", dir.display()))?,
+                None => Vec::new(),
+            };
+            Ok::<_, String>((d, written))
+        })
+        .map_err(design_error)?;
+    let r = PyDict::new(py);
+    r.set_item("family", &d.family.name)?;
+    r.set_item("form", ::design::processed::FORM)?;
+    r.set_item("kernel", &d.family.kernel)?;
+    r.set_item("c_squared", d.c_squared.to_string())?;
+    r.set_item("c", d.c.to_string())?;
+    r.set_item("c_value", d.c.to_f64())?;
+    r.set_item("orders_before", &d.orders_before)?;
+    r.set_item("orders_after", &d.orders_after)?;
+    let e = PyDict::new(py);
+    e.set_item("rank", 1)?;
+    e.set_item("proof", "exact")?;
+    e.set_item("exact", d.c.to_string())?;
+    e.set_item("name", &d.table.0)?;
+    e.set_item("claims", claims(&d.table.1))?;
+    e.set_item("toml", &d.table.1)?;
+    let designs = PyList::empty(py);
+    designs.append(e)?;
+    r.set_item("designs", designs)?;
+    let written: Vec<String> = written.iter().map(|p| p.display().to_string()).collect();
+    r.set_item("written", written)?;
+    Ok(r)
 }

@@ -141,6 +141,11 @@ def design(family, *, seed=None, starts=None, out=None):
     radicals or as ``root(...)``), ``radius`` (the certificate's, an exact
     rational as text), ``claims``, ``name`` and ``toml`` (the table file's
     text, which ``symlab.Table.from_toml`` and ``symlab.check`` read). A
+    second-corrector family (``form = "second-corrector"``) is solved
+    exactly with no search (``seed`` and ``starts`` are refused) and returns
+    ``family``, ``form``, ``kernel``, ``c_squared`` and ``c`` (exact, as
+    text), ``c_value``, ``orders_before``, ``orders_after``, ``written``
+    and ``designs`` (the one table, ``proof`` ``"exact"``). A
     family that does not parse or cannot be designed raises
     ``DesignError`` (a ``ValueError``) naming the file and the field.
 

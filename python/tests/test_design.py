@@ -95,3 +95,23 @@ def test_bad_arguments_name_the_argument(tmp_path):
         symlab.design(3)
     with pytest.raises(symlab.DesignError, match="cannot read it"):
         symlab.design(tmp_path / "missing.toml")
+
+
+def test_second_corrector_family_is_solved_exactly(root, tmp_path):
+    """`form = "second-corrector"` from Python, as `symlab design` runs it:
+    c² exact, the emitted table's claims hold, and seed/starts refused."""
+    path = root / "designs" / "whckl-c17-corrector2.toml"
+    d = symlab.design(path, out=tmp_path / "c2")
+    assert d["form"] == "second-corrector"
+    assert d["kernel"] == "whckl-c17"
+    assert d["c_squared"] == "11/5760"
+    assert abs(d["c_value"] - (11 / 5760) ** 0.5) < 1e-15
+    best = d["designs"][0]
+    assert best["proof"] == "exact"
+    assert (tmp_path / "c2" / best["name"]).read_text() == best["toml"]
+    v = symlab.check(symlab.Table.from_toml(best["toml"]))
+    assert all(c["holds"] for c in v["claims"]), v["claims"]
+    with pytest.raises(symlab.DesignError, match="starts"):
+        symlab.design(path, starts=5)
+    with pytest.raises(symlab.DesignError, match="seed"):
+        symlab.design(path, seed=1)
