@@ -215,30 +215,8 @@ pub fn not_bracketed(rows: &[Row], target: f64) -> Vec<String> {
         .collect()
 }
 
-/// A text file of at most `limit` bytes; `what` says what such a file
-/// holds, for the message when it is larger (`/dev/zero` is refused, not
-/// read until memory runs out).
-pub(crate) fn read_text(
-    path: &Path,
-    limit: u64,
-    what: &str,
-) -> std::result::Result<String, String> {
-    use std::io::Read;
-    let f = std::fs::File::open(path).map_err(|e| format!("cannot read the file: {e}"))?;
-    let mut bytes = Vec::new();
-    f.take(limit + 1)
-        .read_to_end(&mut bytes)
-        .map_err(|e| format!("cannot read the file: {e}"))?;
-    if bytes.len() as u64 > limit {
-        return Err(format!("the file is larger than {limit} bytes; {what}"));
-    }
-    String::from_utf8(bytes).map_err(|e| {
-        format!(
-            "not UTF-8 text (invalid byte at offset {})",
-            e.utf8_error().valid_up_to()
-        )
-    })
-}
+/// A text file of at most `limit` bytes ([`tableau::file::read_text`]).
+pub(crate) use tableau::file::read_text;
 
 /// The records of a CSV text as RFC 4180 writes them: fields separated by
 /// commas, a field in double quotes may hold commas, doubled quotes and line

@@ -557,25 +557,16 @@ pub fn load_family(path: &std::path::Path) -> Result<Family, FamilyError> {
 /// (a table file's limit: `/dev/zero` is refused, not read until memory
 /// runs out); every front end reads family files through this.
 pub fn read_family_text(path: &std::path::Path) -> Result<String, FamilyError> {
-    use std::io::Read;
-    let file = path.display().to_string();
-    let fail = |message: String| FamilyError {
-        file: file.clone(),
+    tableau::file::read_text(
+        path,
+        tableau::budget::MAX_FILE_BYTES,
+        "a family file is a few lines of TOML",
+    )
+    .map_err(|message| FamilyError {
+        file: path.display().to_string(),
         field: None,
         message,
-    };
-    let f = std::fs::File::open(path).map_err(|e| fail(format!("cannot read it: {e}")))?;
-    let limit = tableau::budget::MAX_FILE_BYTES;
-    let mut bytes = Vec::new();
-    f.take(limit + 1)
-        .read_to_end(&mut bytes)
-        .map_err(|e| fail(format!("cannot read it: {e}")))?;
-    if bytes.len() as u64 > limit {
-        return Err(fail(format!(
-            "larger than {limit} bytes; a family file is a few lines of TOML"
-        )));
-    }
-    String::from_utf8(bytes).map_err(|_| fail("not UTF-8 text".into()))
+    })
 }
 
 /// A file-name stem from a family's name, for the tables a run writes:

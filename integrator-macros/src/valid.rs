@@ -223,14 +223,7 @@ fn read_file(f: &Field, fields: &BTreeMap<String, &Field>, errs: &mut Errors) ->
         return None;
     }
     let full = file_path(&path.value());
-    let text = match read_limited(&full) {
-        Ok(t) => t,
-        Err(why) => {
-            errs.push(path.span(), format!("{}: {why}", full.display()));
-            return None;
-        }
-    };
-    match tableau::file::parse_table_file(&full.display().to_string(), &text) {
+    match tableau::file::load(&full) {
         Ok(tf) => Some((
             tf.table,
             tf.name,
@@ -254,23 +247,6 @@ pub(crate) fn file_path(path: &str) -> std::path::PathBuf {
         Some(dir) => std::path::Path::new(&dir).join(path),
         None => std::path::PathBuf::from(path),
     }
-}
-
-/// The most bytes a `file:` table may have: `symlab check`'s limit for a
-/// table file, so that a build never reads a huge file into memory.
-const FILE_LIMIT: u64 = tableau::budget::MAX_FILE_BYTES;
-
-fn read_limited(path: &std::path::Path) -> Result<String, String> {
-    use std::io::Read;
-    let f = std::fs::File::open(path).map_err(|e| format!("cannot read the file: {e}"))?;
-    let mut bytes = Vec::new();
-    f.take(FILE_LIMIT + 1)
-        .read_to_end(&mut bytes)
-        .map_err(|e| format!("cannot read the file: {e}"))?;
-    if bytes.len() as u64 > FILE_LIMIT {
-        return Err(format!("larger than {FILE_LIMIT} bytes, not a table file"));
-    }
-    String::from_utf8(bytes).map_err(|_| "not UTF-8 text".to_string())
 }
 
 /// The certificate of a certified order claim, from the fields

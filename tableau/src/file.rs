@@ -150,6 +150,30 @@ pub const KEYS: [&str; 18] = [
 /// The deepest chain of `let` bindings referring to one another.
 const MAX_LET_DEPTH: usize = 64;
 
+/// A text file of at most `limit` bytes, read so that no file makes it
+/// allocate more (`/dev/zero` is refused, not read until memory runs out);
+/// `what` says what such a file holds, for the message when it is larger.
+/// The error is the message without the file's name, for the caller to
+/// name it as its messages do. Every front end that reads a user's file
+/// reads it through this (table files through [`load`]).
+pub fn read_text(path: &Path, limit: u64, what: &str) -> Result<String, String> {
+    use std::io::Read;
+    let f = std::fs::File::open(path).map_err(|e| format!("cannot read the file: {e}"))?;
+    let mut bytes = Vec::new();
+    f.take(limit + 1)
+        .read_to_end(&mut bytes)
+        .map_err(|e| format!("cannot read the file: {e}"))?;
+    if bytes.len() as u64 > limit {
+        return Err(format!("the file is larger than {limit} bytes; {what}"));
+    }
+    String::from_utf8(bytes).map_err(|e| {
+        format!(
+            "not UTF-8 text (invalid byte at offset {})",
+            e.utf8_error().valid_up_to()
+        )
+    })
+}
+
 /// Read and check the table file at `path`; messages name the file by
 /// `path` as given. At most [`MAX_FILE_BYTES`] (1 MiB) are read: a larger
 /// file is refused, and so is one that is not UTF-8 text.
