@@ -39,7 +39,7 @@
 //!
 //! The modules are arranged in rooms that import only downwards, with no
 //! circle: the base ([`error`](CompareError), [`guard`], [`counting`],
-//! [`format`], [`plot`]); problems ([`Problem`], [`builtin`],
+//! [`format`](mod@format), [`plot`]); problems ([`Problem`], [`builtin`],
 //! [`linear_file`], [`nbody`]); run loops and their data ([`stepper`],
 //! [`peer`], [`row`]); methods ([`Method`], [`library`], [`adaptive`],
 //! [`time_transformed`], [`processed`], [`interpreted`],
@@ -52,7 +52,7 @@
 //! section 5 (six schemes against the closed form), which `symlab paper`
 //! reports on.
 //!
-//! The reports print numbers through [`format`], one set of formatters
+//! The reports print numbers through [`format`](mod@format), one set of formatters
 //! with one marker ([`format::MISSING`]) for a value that is not there.
 //!
 //! ```no_run

@@ -2,7 +2,7 @@
 //! sweep ([`work_precision`](crate::work_precision)), the peer study, the
 //! long runs and the hard cases ([`Mode`]). A front end maps its flags to a
 //! [`Mode`] and a [`ModeRequest`], calls [`peer_study_settings`],
-//! [`long`] or [`hard`], and prints or writes what they return; the
+//! [`long`](mod@long) or [`hard`](mod@hard), and prints or writes what they return; the
 //! library prints nothing. Messages name the values as the command line's
 //! flags (`--steps`, `--methods`), as [`sweep_plan`](crate::sweep_plan)'s do
 //! by default.

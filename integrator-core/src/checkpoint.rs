@@ -526,7 +526,7 @@ pub fn check_writable(dir: &Path) -> Result<(), CheckpointError> {
 
 /// Remove a checkpoint (a finished run's, or an older run's in the folder
 /// of a new one); none there is not an error. The temporaries of
-/// [`write`] beside it (`NAME.tmp-PID`) go too: a run killed while it
+/// [`write`](fn@write) beside it (`NAME.tmp-PID`) go too: a run killed while it
 /// wrote one (SIGKILL, a power cut) leaves it behind, and it is never read,
 /// so a finished run would otherwise keep a stray file its uninterrupted
 /// twin does not have.

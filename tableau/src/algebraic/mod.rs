@@ -17,7 +17,7 @@
 //!   intervals ([`root`]), with an exact and complete zero test (the
 //!   characteristic polynomial of multiplication, plus a certified
 //!   enclosure), within a budget on the size of the algebra. Table files
-//!   with `root(...)` entries use it ([`file`]); [`rounded`] turns such a
+//!   with `root(...)` entries use it ([`file`](mod@file)); [`rounded`] turns such a
 //!   table into the correctly rounded doubles and the exact structure that
 //!   `butcher!` and `symlab compare --table` step.
 //!
