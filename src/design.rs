@@ -199,21 +199,13 @@ fn rank_on_problem(
     steps: usize,
 ) -> Result<Vec<PathBuf>> {
     let tables: Vec<PathBuf> = proven.iter().map(|p| on_split(args, p)).collect();
-    let errors = compare::versus::errors_after(problem, args.sweep.t_end, &tables, steps)?;
-    let mut ranked: Vec<(PathBuf, std::result::Result<f64, String>)> =
-        proven.into_iter().zip(errors).collect();
-    ranked.sort_by(|a, b| match (&a.1, &b.1) {
-        (Ok(x), Ok(y)) => x.total_cmp(y),
-        (Ok(_), Err(_)) => std::cmp::Ordering::Less,
-        (Err(_), Ok(_)) => std::cmp::Ordering::Greater,
-        (Err(_), Err(_)) => std::cmp::Ordering::Equal,
-    });
+    let ranked = compare::versus::rank_by_error(problem, args.sweep.t_end, &tables, steps)?;
     println!(
         "ranked by the error on {} after {steps} steps (--rank-steps):",
         problem.name()
     );
-    for (i, (p, e)) in ranked.iter().enumerate() {
-        let name = p
+    for (i, (k, e)) in ranked.iter().enumerate() {
+        let name = proven[*k]
             .file_stem()
             .map(|s| s.to_string_lossy())
             .unwrap_or_default();
@@ -222,7 +214,7 @@ fn rank_on_problem(
             Err(why) => println!("  {}. {name}: {why}", i + 1),
         }
     }
-    Ok(ranked.into_iter().map(|(p, _)| p).collect())
+    Ok(ranked.into_iter().map(|(k, _)| proven[k].clone()).collect())
 }
 
 /// A design's table as the sweep takes it: `wh:PATH` with

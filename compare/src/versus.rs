@@ -404,3 +404,23 @@ pub fn errors_after(
         })
         .collect())
 }
+
+/// `tables` ranked by [`errors_after`] (the smallest error first, the
+/// failed runs last, in their given order), each with its error or why its
+/// run failed: `symlab design --rank-steps`.
+pub fn rank_by_error(
+    problem: crate::builtin::Builtin,
+    t_end: Option<f64>,
+    tables: &[std::path::PathBuf],
+    steps: usize,
+) -> crate::Result<Vec<(usize, Result<f64, String>)>> {
+    let errors = errors_after(problem, t_end, tables, steps)?;
+    let mut ranked: Vec<(usize, Result<f64, String>)> = errors.into_iter().enumerate().collect();
+    ranked.sort_by(|a, b| match (&a.1, &b.1) {
+        (Ok(x), Ok(y)) => x.total_cmp(y),
+        (Ok(_), Err(_)) => std::cmp::Ordering::Less,
+        (Err(_), Ok(_)) => std::cmp::Ordering::Greater,
+        (Err(_), Err(_)) => a.0.cmp(&b.0),
+    });
+    Ok(ranked)
+}
