@@ -491,7 +491,7 @@ pub fn interpreted_section(rows: &[Row]) -> Option<String> {
     );
     let _ = writeln!(
         s,
-        "{} came from table files, verified exactly and stepped by the run-time interpreters          (`interpreted = true` in runs.csv). Their errors and evaluation counts compare with the          generated schemes; their wall times do not: a loop over a table held in memory is slower          than the step code `butcher!` generates, so they take no part in the comparison with          DOP853. For generated-code timings declare the table with `butcher!` and add it through          the library, as `cargo run --release --example my_scheme` does.",
+        "{} came from table files, verified exactly and stepped by the run-time interpreters          (`interpreted = true` in runs.csv). Their errors and evaluation counts compare with the          generated schemes; their wall times do not: a loop over a table held in memory is slower          than the step code `butcher!` generates, so they take no part in the comparison with          DOP853. Their times compare with library tables stepped by the same interpreter          (`--methods interp:ID`). For generated-code timings declare the table with `butcher!`          (`butcher! {{ file: \"PATH\" }}` reads a table file) and add it through the library, as          `cargo run --release --example my_scheme` and `--example designed_method` do.",
         ids.iter()
             .map(|i| format!("`{i}`"))
             .collect::<Vec<_>>()
