@@ -83,11 +83,15 @@ pub(crate) struct EdgeConstraints {
     /// `a`, `−1` for end `b`): `inc[inc_ptr[k]..inc_ptr[k + 1]]`.
     inc_ptr: Vec<u32>,
     inc: Vec<(u32, f64)>,
-    /// The lower triangle of `G·Gᵀ` in compressed-column order.
-    pattern: SymbolicSparseColMat<usize>,
+    /// The lower triangle of `G·Gᵀ` in compressed-column order, with 32-bit
+    /// indices (as the particles and edges: a grid has at most 2²² particles,
+    /// so fewer than 2²⁶ entries): the factor's row indices then take half
+    /// the memory, and a numeric factorisation at 64² took 1.74 ms instead
+    /// of 2.0 (Zen 5, 2026-11-30, under load), with the same arithmetic.
+    pattern: SymbolicSparseColMat<u32>,
     entries: Vec<Entry>,
     /// The symbolic Cholesky of the pattern, computed once.
-    symbolic: Arc<SymbolicCholesky<usize>>,
+    symbolic: Arc<SymbolicCholesky<u32>>,
     /// Both triangles of the same pattern, for the true Newton matrix
     /// `G(q')·G(q)ᵀ` (not symmetric): `full_entries[k] = (row, column,
     /// coefficient)` with value `coef·d'_row·d_column`.
@@ -578,7 +582,7 @@ fn gram_pattern(
     edges: &[Edge],
     inc_ptr: &[u32],
     inc: &[(u32, f64)],
-) -> (SymbolicSparseColMat<usize>, Vec<Entry>) {
+) -> (SymbolicSparseColMat<u32>, Vec<Entry>) {
     let n = edges.len();
     // (column, row, coefficient) with row ≥ column.
     let mut all: Vec<(usize, usize, f64)> = edges
@@ -603,7 +607,8 @@ fn gram_pattern(
     for c in 0..n {
         col_ptr[c + 1] += col_ptr[c];
     }
-    let row_idx: Vec<usize> = all.iter().map(|&(_, r, _)| r).collect();
+    let row_idx: Vec<u32> = all.iter().map(|&(_, r, _)| r as u32).collect();
+    let col_ptr: Vec<u32> = col_ptr.iter().map(|&k| k as u32).collect();
     let entries = all
         .iter()
         .map(|&(c, r, coef)| Entry {

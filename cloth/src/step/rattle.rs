@@ -30,8 +30,13 @@
 //!   step's limit;
 //! - the linear algebra (`SparseGram` in `constraints.rs`): a sparse
 //!   Cholesky of `G·Gᵀ` whose symbolic analysis (the pattern never
-//!   changes) is made once with the model, and a sparse LU of the true
-//!   Jacobian `G(q')·G(q)ᵀ` for the refreshes (a symmetric refresh,
+//!   changes) is made once with the model, renewed at a step's `q` when the
+//!   kept one stops contracting (measured on the 64² sheet released 45°
+//!   over 600 frames: 769 LU refreshes became 0 and 2428 Cholesky 2792,
+//!   at 1.8 ms against 5.9 ms for an LU; 49.8 → 39.7 ms per frame, under
+//!   load), and a sparse LU of the true
+//!   Jacobian `G(q')·G(q)ᵀ` for the refreshes that still do not contract
+//!   (a symmetric refresh,
 //!   `½(G(q')G(q)ᵀ + G(q)G(q')ᵀ)` by Cholesky, was tried first and does
 //!   not help: the slow modes come from the skew part of the difference,
 //!   which it leaves out; on the falling 64² sheet at 8 steps per frame the
@@ -66,9 +71,19 @@ pub struct RattleSettings {
     /// than this factor (default 0.5).
     pub contraction: f64,
     /// Assemble, factorise and run the per-edge loops on both cores
-    /// (default false: measured on the 64² sheet, the per-edge loops took
-    /// 6.1 ms per frame on two threads against 2.2 ms on one, and faer's
-    /// factorisation and solves gained nothing; see docs/results/cloth-inextensible.md).
+    /// (default false: two cores do not pay anywhere in a RATTLE step at
+    /// 64²). Measured on the paper's sheet released 45°, 100 frames (Zen 5,
+    /// 2026-11-30, the other core busy with a build, so the two-thread
+    /// figures are upper bounds): the per-edge loops and the assembly on
+    /// two rayon threads 26.0 ms per frame against 17.8 on one (earlier, in
+    /// the dev build, 6.1 against 2.2 ms for the loops alone). faer chooses
+    /// its simplicial Cholesky for `G·Gᵀ` (8001 rows, 146 324 entries in
+    /// the factor), which has no parallel path; forced to its supernodal
+    /// one (2080 supernodes of 3.8 columns on average, too small for its
+    /// parallel dense kernels) a factorisation took 1.64 ms on two threads
+    /// against 1.49 on one, and a pair of triangular solves 0.33 ms on
+    /// either, twice the simplicial 0.157 ms, which the ~9 solves of every
+    /// step make the larger cost.
     pub parallel: bool,
     /// Factorise `G·Gᵀ` afresh every this many steps (default 6; 1: every
     /// step; 0: only when the conjugate gradients of a frame's velocity
@@ -85,6 +100,16 @@ pub struct RattleSettings {
     /// Conjugate-gradient iterations of one velocity projection before it
     /// falls back to a factorisation (default 12).
     pub max_pcg: usize,
+    /// Anderson acceleration of the position solve with this many of its
+    /// last corrections (default 4; 0: the plain simplified Newton
+    /// iteration; see `integrator_core`'s `rattle::Settings::anderson`).
+    /// Measured on the paper's sheet released 45° at 64² over 600 frames
+    /// (with the renewal of an old factor at the step's `q`; Zen 5, under
+    /// load): 11.31 → 8.88 iterations per step and 37.4 → 33.7 ms per frame
+    /// at depth 4; depth 3 gave 9.07 iterations, depth 6 8.75 and no faster
+    /// (35.4 ms), the history costing more. The same steps per frame and
+    /// energy error to the printed digits.
+    pub anderson: usize,
 }
 
 impl Default for RattleSettings {
@@ -95,6 +120,7 @@ impl Default for RattleSettings {
             parallel: false,
             refactor_every: 6,
             max_pcg: 12,
+            anderson: 4,
         }
     }
 }
@@ -132,6 +158,7 @@ impl RattleSettings {
             max_iterations: self.max_iterations,
             contraction: self.contraction,
             refactor_every: self.refactor_every,
+            anderson: self.anderson,
             max_pcg: self.max_pcg,
             projection: Projection::AtLeave,
         }
