@@ -71,19 +71,22 @@ pub struct RattleSettings {
     /// than this factor (default 0.5).
     pub contraction: f64,
     /// Assemble, factorise and run the per-edge loops on both cores
-    /// (default false: two cores do not pay anywhere in a RATTLE step at
-    /// 64²). Measured on the paper's sheet released 45°, 100 frames (Zen 5,
-    /// 2026-11-30, the other core busy with a build, so the two-thread
-    /// figures are upper bounds): the per-edge loops and the assembly on
-    /// two rayon threads 26.0 ms per frame against 17.8 on one (earlier, in
-    /// the dev build, 6.1 against 2.2 ms for the loops alone). faer chooses
-    /// its simplicial Cholesky for `G·Gᵀ` (8001 rows, 146 324 entries in
-    /// the factor), which has no parallel path; forced to its supernodal
-    /// one (2080 supernodes of 3.8 columns on average, too small for its
+    /// (default false: two cores do not pay anywhere in a RATTLE step on
+    /// these grids). Measured on the paper's sheet released 45° (Zen 5,
+    /// 2026-11-30, quiet, one run at a time): at 64² over 100 frames
+    /// 15.7–15.9 ms per frame on one core against 22.3–25.7 on two, the
+    /// per-edge loops and the mixing 2.5 against 8.5 ms per frame (8001
+    /// edges are too few for rayon's hand-over) and the factorisations,
+    /// with the assembly on two threads, 5.0 against 5.2; at 128² over 30
+    /// frames 115–117 against 127–133 ms. faer chooses its simplicial
+    /// Cholesky for `G·Gᵀ` (at 64², 8001 rows, 146 324 entries in the
+    /// factor), which has no parallel path; forced to its supernodal one
+    /// (2080 supernodes of 3.8 columns on average, too small for its
     /// parallel dense kernels) a factorisation took 1.64 ms on two threads
     /// against 1.49 on one, and a pair of triangular solves 0.33 ms on
-    /// either, twice the simplicial 0.157 ms, which the ~9 solves of every
-    /// step make the larger cost.
+    /// either (with the other core busy: upper bounds), twice the
+    /// simplicial solves, which the ~9 solves of every step make the
+    /// larger cost.
     pub parallel: bool,
     /// Factorise `G·Gᵀ` afresh every this many steps (default 6; 1: every
     /// step; 0: only when the conjugate gradients of a frame's velocity
