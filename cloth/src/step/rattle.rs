@@ -107,11 +107,12 @@ pub struct RattleSettings {
     /// last corrections (default 4; 0: the plain simplified Newton
     /// iteration; see `integrator_core`'s `rattle::Settings::anderson`).
     /// Measured on the paper's sheet released 45° at 64² over 600 frames
-    /// (with the renewal of an old factor at the step's `q`; Zen 5, under
-    /// load): 11.31 → 8.88 iterations per step and 37.4 → 33.7 ms per frame
-    /// at depth 4; depth 3 gave 9.07 iterations, depth 6 8.75 and no faster
-    /// (35.4 ms), the history costing more. The same steps per frame and
-    /// energy error to the printed digits.
+    /// (Zen 5, quiet, one run at a time, 2026-11-30): depth 0, 2, 3, 4 and
+    /// 6 took 11.31, 9.29, 9.07, 8.88 and 8.75 iterations per step and
+    /// 33.6, 31.0, 30.9, 30.5 and 30.9 ms per frame (beyond 4 the history
+    /// costs what the iterations save), with the same steps per frame and
+    /// energy error to the printed digits. `refactor_every` 4, 6, 9 and 12
+    /// gave 30.7, 30.5, 31.8 and 31.0 ms there: 6 stays.
     pub anderson: usize,
 }
 
