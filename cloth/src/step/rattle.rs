@@ -30,8 +30,13 @@
 //!   step's limit;
 //! - the linear algebra (`SparseGram` in `constraints.rs`): a sparse
 //!   Cholesky of `G·Gᵀ` whose symbolic analysis (the pattern never
-//!   changes) is made once with the model, and a sparse LU of the true
-//!   Jacobian `G(q')·G(q)ᵀ` for the refreshes (a symmetric refresh,
+//!   changes) is made once with the model, renewed at a step's `q` when the
+//!   kept one stops contracting (measured on the 64² sheet released 45°
+//!   over 600 frames: 769 LU refreshes became 0 and 2428 Cholesky 2792,
+//!   at 1.8 ms against 5.9 ms for an LU; 49.8 → 39.7 ms per frame, under
+//!   load), and a sparse LU of the true
+//!   Jacobian `G(q')·G(q)ᵀ` for the refreshes that still do not contract
+//!   (a symmetric refresh,
 //!   `½(G(q')G(q)ᵀ + G(q)G(q')ᵀ)` by Cholesky, was tried first and does
 //!   not help: the slow modes come from the skew part of the difference,
 //!   which it leaves out; on the falling 64² sheet at 8 steps per frame the
@@ -66,9 +71,22 @@ pub struct RattleSettings {
     /// than this factor (default 0.5).
     pub contraction: f64,
     /// Assemble, factorise and run the per-edge loops on both cores
-    /// (default false: measured on the 64² sheet, the per-edge loops took
-    /// 6.1 ms per frame on two threads against 2.2 ms on one, and faer's
-    /// factorisation and solves gained nothing; see docs/results/cloth-inextensible.md).
+    /// (default false: two cores do not pay anywhere in a RATTLE step on
+    /// these grids). Measured on the paper's sheet released 45° (Zen 5,
+    /// 2026-11-30, quiet, one run at a time): at 64² over 100 frames
+    /// 15.7–15.9 ms per frame on one core against 22.3–25.7 on two, the
+    /// per-edge loops and the mixing 2.5 against 8.5 ms per frame (8001
+    /// edges are too few for rayon's hand-over) and the factorisations,
+    /// with the assembly on two threads, 5.0 against 5.2; at 128² over 30
+    /// frames 115–117 against 127–133 ms. faer chooses its simplicial
+    /// Cholesky for `G·Gᵀ` (at 64², 8001 rows, 146 324 entries in the
+    /// factor), which has no parallel path; forced to its supernodal one
+    /// (2080 supernodes of 3.8 columns on average, too small for its
+    /// parallel dense kernels) a factorisation took 1.64 ms on two threads
+    /// against 1.49 on one, and a pair of triangular solves 0.33 ms on
+    /// either (with the other core busy: upper bounds), twice the
+    /// simplicial solves, which the ~9 solves of every step make the
+    /// larger cost.
     pub parallel: bool,
     /// Factorise `G·Gᵀ` afresh every this many steps (default 6; 1: every
     /// step; 0: only when the conjugate gradients of a frame's velocity
@@ -85,6 +103,17 @@ pub struct RattleSettings {
     /// Conjugate-gradient iterations of one velocity projection before it
     /// falls back to a factorisation (default 12).
     pub max_pcg: usize,
+    /// Anderson acceleration of the position solve with this many of its
+    /// last corrections (default 4; 0: the plain simplified Newton
+    /// iteration; see `integrator_core`'s `rattle::Settings::anderson`).
+    /// Measured on the paper's sheet released 45° at 64² over 600 frames
+    /// (Zen 5, quiet, one run at a time, 2026-11-30): depth 0, 2, 3, 4 and
+    /// 6 took 11.31, 9.29, 9.07, 8.88 and 8.75 iterations per step and
+    /// 33.6, 31.0, 30.9, 30.5 and 30.9 ms per frame (beyond 4 the history
+    /// costs what the iterations save), with the same steps per frame and
+    /// energy error to the printed digits. `refactor_every` 4, 6, 9 and 12
+    /// gave 30.7, 30.5, 31.8 and 31.0 ms there: 6 stays.
+    pub anderson: usize,
 }
 
 impl Default for RattleSettings {
@@ -95,6 +124,7 @@ impl Default for RattleSettings {
             parallel: false,
             refactor_every: 6,
             max_pcg: 12,
+            anderson: 4,
         }
     }
 }
@@ -132,6 +162,7 @@ impl RattleSettings {
             max_iterations: self.max_iterations,
             contraction: self.contraction,
             refactor_every: self.refactor_every,
+            anderson: self.anderson,
             max_pcg: self.max_pcg,
             projection: Projection::AtLeave,
         }

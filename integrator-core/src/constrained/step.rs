@@ -320,6 +320,9 @@ impl<const S: usize> ConstrainedPair<S> {
             // A factor at every step's end: the next position solve and
             // this step's projection (a direct solve) use it.
             refactor_every: 1,
+            // The plain simplified Newton iteration: with a factor at every
+            // step there is little to accelerate.
+            anderson: 0,
             max_pcg: 12,
             projection: Projection::EveryStep,
         };
