@@ -146,18 +146,7 @@ fn factorising_every_step_reuses_the_projection_factor_for_the_position_solve() 
 fn states(substeps: usize, steps: usize) -> (Vec<Vec<f64>>, cloth::step::rattle::Stats) {
     let mut scene = hanging(12, substeps, steps / substeps);
     scene.simulation.frame_rate = 480.0 / substeps as f64;
-    let mut sim = Simulation::new(&scene).unwrap();
-    let mut out = Vec::new();
-    let report = sim
-        .run(&rattle(), &RunSettings::from_scene(&scene), |f| {
-            out.push(f.state.to_vec());
-            Ok(())
-        })
-        .unwrap();
-    let SolverStats::Constrained(stats) = report.solver else {
-        panic!("{:?}", report.solver)
-    };
-    (out, stats)
+    frames_and_stats(&scene, RattleSettings::default())
 }
 
 #[test]
