@@ -10,34 +10,18 @@ use cloth::study::equal_stretch::{
 use cloth::{Method, RunOptions, RunSettings, Scene, Simulation};
 use nalgebra::Vector3;
 
-/// The paper's sheet at `n²`, inextensible, released 45° from hanging,
-/// as `scenes/paper64-inextensible.toml` (with its bending).
+/// The shipped `scenes/paper64-inextensible.toml` (the paper's sheet,
+/// inextensible, released 45° from hanging, with its bending) at `n²` for
+/// `frames` frames.
 fn sheet(n: usize, frames: usize) -> Scene {
-    Scene::from_toml(
-        &format!(
-            r#"
-            gravity = [0.0, -6.9367, 6.9367]
-            [cloth]
-            width = 1.0
-            height = 1.0
-            nx = {n}
-            ny = {n}
-            plane = "vertical"
-            [material]
-            density = 0.01378
-            stretch = "inextensible"
-            shear = 0.002
-            bending = 3.0e-6
-            [pins]
-            edges = ["top"]
-            [simulation]
-            frames = {frames}
-            method = "rattle"
-        "#
-        ),
-        "sheet.toml",
-    )
-    .unwrap()
+    let mut scene = Scene::load(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../scenes/paper64-inextensible.toml"
+    ))
+    .unwrap();
+    cloth::scene::regrid(&mut scene, n, n);
+    scene.simulation.frames = frames;
+    scene
 }
 
 #[test]
