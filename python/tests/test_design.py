@@ -93,7 +93,7 @@ def test_bad_arguments_name_the_argument(tmp_path):
         symlab.design(YOSHIDA, seed=-1)
     with pytest.raises(TypeError, match="family"):
         symlab.design(3)
-    with pytest.raises(symlab.DesignError, match="cannot read it"):
+    with pytest.raises(symlab.DesignError, match="missing.toml: cannot read the file"):
         symlab.design(tmp_path / "missing.toml")
 
 
