@@ -414,6 +414,9 @@ pub fn rank_by_error(
     tables: &[std::path::PathBuf],
     steps: usize,
 ) -> crate::Result<Vec<(usize, Result<f64, String>)>> {
+    if tables.is_empty() {
+        return Ok(Vec::new());
+    }
     let errors = errors_after(problem, t_end, tables, steps)?;
     let mut ranked: Vec<(usize, Result<f64, String>)> = errors.into_iter().enumerate().collect();
     ranked.sort_by(|a, b| match (&a.1, &b.1) {
