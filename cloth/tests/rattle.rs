@@ -141,6 +141,26 @@ fn factorising_every_step_reuses_the_projection_factor_for_the_position_solve() 
     assert!(worst_v <= 1e-13, "G·v residual {worst_v:e}");
 }
 
+/// Over pairs `(x, y)` of states `[q; p]`: the largest position and
+/// momentum differences, the largest momentum of `x`, and how far `x`'s
+/// positions moved from `start`'s.
+fn apart<'a>(
+    pairs: impl Iterator<Item = (&'a [f64], &'a [f64])>,
+    start: &[f64],
+) -> (f64, f64, f64, f64) {
+    let n = start.len() / 2;
+    let (mut dq, mut dp, mut pmax, mut moved) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
+    for (x, y) in pairs {
+        for i in 0..n {
+            dq = dq.max((x[i] - y[i]).abs());
+            dp = dp.max((x[n + i] - y[n + i]).abs());
+            pmax = pmax.max(x[n + i].abs());
+            moved = moved.max((x[i] - start[i]).abs());
+        }
+    }
+    (dq, dp, pmax, moved)
+}
+
 /// The states at every frame of the 12 × 12 sheet at `h = 1/480 s`, with
 /// `substeps` steps per frame, and the run's solver statistics.
 fn states(substeps: usize, steps: usize) -> (Vec<Vec<f64>>, cloth::step::rattle::Stats) {
@@ -160,18 +180,13 @@ fn projecting_only_at_frames_gives_rattles_positions_and_momenta() {
     let (every, every_stats) = states(1, 240);
     let (frames, frame_stats) = states(8, 240);
     assert_eq!(frames.len(), 31);
-    let n = every[0].len() / 2;
-    let (mut dq, mut dp, mut pmax) = (0.0f64, 0.0f64, 0.0f64);
-    let mut moved = 0.0f64;
-    for (k, f) in frames.iter().enumerate() {
-        let e = &every[8 * k];
-        for i in 0..n {
-            dq = dq.max((f[i] - e[i]).abs());
-            dp = dp.max((f[n + i] - e[n + i]).abs());
-            pmax = pmax.max(e[n + i].abs());
-            moved = moved.max((e[i] - every[0][i]).abs());
-        }
-    }
+    let (dq, dp, pmax, moved) = apart(
+        frames
+            .iter()
+            .enumerate()
+            .map(|(k, f)| (every[8 * k].as_slice(), f.as_slice())),
+        &every[0],
+    );
     assert!(moved > 0.1, "moved {moved}");
     assert!(dq < 1e-12, "positions differ by {dq:e} m");
     assert!(
@@ -490,16 +505,10 @@ fn anderson_mixing_takes_the_same_steps_to_round_off_in_fewer_iterations() {
     let (a, sa) = frames_and_stats(&scene, plain);
     let (b, sb) = frames_and_stats(&scene, RattleSettings::default());
     assert_eq!(a.len(), b.len());
-    let n = a[0].len() / 2;
-    let (mut dq, mut dp, mut pmax, mut moved) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
-    for (x, y) in a.iter().zip(&b) {
-        for i in 0..n {
-            dq = dq.max((x[i] - y[i]).abs());
-            dp = dp.max((x[n + i] - y[n + i]).abs());
-            pmax = pmax.max(x[n + i].abs());
-            moved = moved.max((x[i] - a[0][i]).abs());
-        }
-    }
+    let (dq, dp, pmax, moved) = apart(
+        a.iter().zip(&b).map(|(x, y)| (x.as_slice(), y.as_slice())),
+        &a[0],
+    );
     assert!(moved > 0.1, "moved {moved}");
     assert!(dq < 1e-12, "positions differ by {dq:e} m");
     assert!(
