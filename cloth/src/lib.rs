@@ -179,7 +179,8 @@
 //! takes RATTLE's reversible variable step (`step = "variable"`,
 //! [`step::variable`]): each frame the fewest steps, at least `substeps`,
 //! whose transverse-wave numbers `h·ω` stay at or below `wave_number`
-//! (default 1; `step = "fixed"` takes `substeps` every frame).
+//! (default 1), as `h·ω ∝ 1/N` from the counts integrated (`step =
+//! "fixed"` takes `substeps` every frame).
 //!
 //! Unknown keys, missing fields, non-positive sizes or density, negative
 //! stiffness, a resolution below 2, a pin outside the grid, an unknown

@@ -159,7 +159,8 @@ pub struct RunSettings {
     /// RATTLE's reversible variable step ([`crate::step::variable`]): each
     /// frame takes the fewest steps, at least
     /// [`options.substeps`](RunOptions::substeps) (and 2), whose interior
-    /// transverse-wave numbers stay at or below the target. `None` (the
+    /// transverse-wave numbers stay at or below the target, as `h·ω ∝ 1/N`
+    /// from the counts integrated. `None` (the
     /// default of [`RunSettings::new`]): `options.substeps` steps every
     /// frame. [`RunSettings::from_scene`] takes the scene's
     /// `simulation.step`. Only a RATTLE run can take it.
@@ -890,8 +891,9 @@ impl Simulation {
     /// One frame of the variable step ([`crate::step::variable`]) from
     /// `saved`, its start at time `t`: integrate it with the count the
     /// search asks for until the search is done, each time from `saved`,
-    /// keeping the smallest accepted end state in `kept` while a smaller
-    /// count is tried. On an error the state and steps go back to `saved`.
+    /// keeping in `kept` the end state of the fewest steps found within the
+    /// target while another count is tried. On an error the state and steps
+    /// go back to `saved`.
     #[allow(clippy::too_many_arguments)]
     fn advance_variable<St: ClothStepper>(
         &mut self,
@@ -904,24 +906,21 @@ impl Simulation {
         saved: &[f64],
     ) -> Result<(), RunError> {
         let mut search = ctl.search();
-        let mut n = search.first(ctl.guess);
-        let (mut tried, mut kept_w) = (0usize, 0.0f64);
+        let mut n = search.first(ctl.guess());
+        let mut tried = 0usize;
+        let target = ctl.settings.wave_number;
         loop {
             self.state.copy_from_slice(saved);
             // h as the fixed step computes it, so that a frame at the
             // floor is the fixed step's frame to the bit.
             let h = 1.0 / (frame_rate * n as f64);
-            // The check below an accepted count stops at its first node
-            // past the target: that node alone rejects it.
-            let stop = search.is_check(n).then_some(ctl.settings.wave_number);
-            let (attempt, done, why) = self.attempt(stepper, n, t, h, stop);
+            // An integration stops at its first interior node past the
+            // target: that node alone rejects the count.
+            let (attempt, done, why) = self.attempt(stepper, n, t, h, target);
             tried += done;
-            if let Attempt::Ran(w) = attempt
-                && w <= ctl.settings.wave_number
-            {
+            if matches!(attempt, Attempt::Ran(w) if w <= target) {
                 let end = t + n as f64 * h;
                 stepper.leave(&self.model, end, &mut self.state);
-                kept_w = w;
             } else {
                 ctl.rejected(attempt);
                 if attempt == Attempt::Failed {
@@ -930,9 +929,7 @@ impl Simulation {
             }
             match search.record(n, attempt) {
                 Next::Try(next) => {
-                    if let Attempt::Ran(w) = attempt
-                        && w <= ctl.settings.wave_number
-                    {
+                    if search.keep() {
                         kept.copy_from_slice(&self.state);
                     }
                     n = next;
@@ -941,7 +938,8 @@ impl Simulation {
                     if !latest {
                         self.state.copy_from_slice(kept);
                     }
-                    ctl.finish(steps, &search, tried, kept_w);
+                    let w = search.taken().unwrap_or(0.0);
+                    ctl.finish(steps, &search, tried, w);
                     self.steps += steps;
                     return Ok(());
                 }
@@ -969,16 +967,16 @@ impl Simulation {
 
     /// Integrate the frame in `self.state` with `n` steps of `h` from time
     /// `t`: the largest wave number at its interior nodes (after steps 2 to
-    /// `n`), or a failure with the steps done and why. With `stop`, the
-    /// integration ends at the first interior node whose wave number
-    /// passes it (that value, and the steps done).
+    /// `n`), or a failure with the steps done and why. The integration ends
+    /// at the first interior node whose wave number passes `stop` (that
+    /// value, and the steps done).
     fn attempt<St: ClothStepper>(
         &mut self,
         stepper: &mut St,
         n: usize,
         t: f64,
         h: f64,
-        stop: Option<f64>,
+        stop: f64,
     ) -> (Attempt, usize, Option<String>) {
         stepper.enter(&self.model, t, &mut self.state);
         let mut w = 0.0f64;
@@ -1003,7 +1001,7 @@ impl Simulation {
             }
             if k >= 1 {
                 w = w.max(stepper.wave_number().unwrap_or(f64::INFINITY));
-                if k + 1 < n && stop.is_some_and(|target| w > target) {
+                if k + 1 < n && w > stop {
                     return (Attempt::Ran(w), k + 1, None);
                 }
             }

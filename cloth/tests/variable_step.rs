@@ -158,10 +158,10 @@ fn forwards_flipped_and_back_returns_to_the_start_to_round_off() {
     // Tolerance: each step solves the constraints to 32·ε relative (about
     // 7e-15 m on this 1 m sheet), and the backward run starts from the
     // forward's rounded end, so the miss is that round-off carried through
-    // 2 × 213 steps of the sheet's motion; measured 1.9e-13 m and
-    // 1.5e-16 kg·m/s (the momenta are of order 1e-2 kg·m/s), the bounds
-    // 1e-11 m and 1e-14 kg·m/s leave a factor 50. A different choice of
-    // steps misses by far more (checked below).
+    // 2 × 213 steps of the sheet's motion; measured 8.3e-13 m and
+    // 4.2e-16 kg·m/s (the momenta are of order 1e-2 kg·m/s), the bounds
+    // 1e-11 m and 1e-14 kg·m/s leave a factor 12 and 24. A different
+    // choice of steps misses by far more (checked below).
     let scene = flat(12, 2, 100, "variable");
     let ((dq, dp), report) = there_and_back(&scene, 100, RunSettings::from_scene(&scene));
     let v = report.variable.unwrap();

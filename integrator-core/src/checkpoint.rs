@@ -53,8 +53,9 @@ pub const MAGIC: &[u8; 8] = b"SYMLABCK";
 /// file of another version is refused (the payloads hold a run's internal
 /// state, which changes with the code that reads it).
 // 2: a cloth checkpoint holds the run's request (`jobs::cloth`), no longer the
-// command line's arguments.
-pub const FORMAT_VERSION: u32 = 2;
+// command line's arguments. 3: the cloth's variable step keeps its last
+// continuous count, not the last count (its search changed with it).
+pub const FORMAT_VERSION: u32 = 3;
 /// The name of a run's checkpoint in its output folder.
 pub const FILE_NAME: &str = "checkpoint.symlab";
 /// The header's length in bytes.

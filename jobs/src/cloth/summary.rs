@@ -312,7 +312,7 @@ fn variable_lines(s: &mut String, v: &cloth::VariableStats) {
     let (min, mean, max) = v.min_mean_max();
     let _ = writeln!(
         s,
-        "  steps/frame  {min} to {max}, mean {} (simulation.step = \"variable\": each frame the fewest steps, at least {}, whose interior h·ω stay ≤ {}; largest accepted {}, largest rejected seen {})",
+        "  steps/frame  {min} to {max}, mean {} (simulation.step = \"variable\": each frame the fewest steps, at least {}, whose interior h·ω stay ≤ {}, as h·ω ∝ 1/N from the counts tried; largest accepted {}, largest rejected seen {})",
         fixed(mean, 3),
         v.floor,
         fixed(v.target, 3),
