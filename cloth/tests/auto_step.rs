@@ -1,13 +1,15 @@
 //! `substeps = "auto"` (`cloth::schedule::auto_step`, `schedule_for`): the
 //! step is chosen from the scene's limits (tension waves, springs,
 //! bending), frames land on `1/frame_rate`, the choice is said with its
-//! reason, and every shipped inextensible scene runs at its own settings on
-//! short runs from 16² to 128².
+//! reason, and every shipped inextensible scene that chooses its step runs
+//! on short runs from 16² to 128²: with the fixed step at the count chosen,
+//! and with its own step (that count as the floor of the variable step),
+//! the flat-released sheet through its whip.
 
 use cloth::scene::regrid;
 use cloth::schedule::{LINEAR_SAFETY, RunRequest, TENSION_SAFETY, auto_step, schedule_for};
 use cloth::study::energy::reference_energy;
-use cloth::{CONSTRAINT_TOLERANCE, EnergyGuard, Method, RunSettings, Scene, Simulation};
+use cloth::{CONSTRAINT_TOLERANCE, EnergyGuard, Method, RunReport, RunSettings, Scene, Simulation};
 
 fn shipped(name: &str) -> Scene {
     Scene::load(format!("{}/../scenes/{name}", env!("CARGO_MANIFEST_DIR"))).unwrap()
@@ -168,5 +170,83 @@ fn shipped_auto_scenes_run_at_16_32_and_64() {
 fn shipped_auto_scenes_run_a_few_frames_at_128() {
     for name in AUTO_SCENES {
         runs_at(&shipped(name), 128, 4);
+    }
+}
+
+/// Run `scene` at `n × n` for `frames` frames with its own step: the count
+/// `"auto"` chooses as the floor of the variable step (the scene's
+/// `simulation.step`). The constraints must hold at every frame; the
+/// largest `|H − H₀|/E_ref` and the report come back.
+fn runs_own(scene: &Scene, n: usize, frames: usize) -> (f64, RunReport) {
+    let mut scene = scene.clone();
+    regrid(&mut scene, n, n);
+    scene.simulation.frames = frames;
+    let mut sim = Simulation::new(&scene).unwrap();
+    let (plan, auto) = schedule_for(&scene, &sim.model, &RunRequest::default()).unwrap();
+    let auto = auto.expect("the scene chooses its step");
+    let variable = scene
+        .simulation
+        .variable
+        .expect("the scene's own step is variable");
+    let method = Method::parse(&scene.simulation.method).unwrap();
+    let e_ref = reference_energy(&scene, &sim).unwrap();
+    let settings = RunSettings::new(plan.options)
+        .with_variable(Some(variable))
+        .with_guard(EnergyGuard::new(e_ref));
+    let mut worst_g: f64 = 0.0;
+    let report = sim
+        .run(&method, &settings, |f| {
+            worst_g = worst_g.max(f.model.constraint_residual(f.q()).unwrap());
+            Ok(())
+        })
+        .unwrap_or_else(|e| panic!("{}: {n}² from {}: {e}", scene.name, auto.describe()));
+    assert_eq!(report.frames.len(), frames + 1);
+    let v = report.variable.as_ref().expect("a variable-step run");
+    assert_eq!(v.floor, auto.substeps.max(2));
+    assert!(
+        worst_g <= CONSTRAINT_TOLERANCE,
+        "{n}²: residual {worst_g:e}"
+    );
+    let h0 = report.frames[0].energy.total();
+    let worst = report
+        .frames
+        .iter()
+        .map(|f| (f.energy.total() - h0).abs() / e_ref)
+        .fold(0.0, f64::max);
+    eprintln!(
+        "{}: {n}², {frames} frames: steps per frame {:?}, max |H − H₀|/E_ref {worst:.3e}",
+        scene.name,
+        v.min_mean_max()
+    );
+    (worst, report)
+}
+
+#[test]
+fn shipped_auto_scenes_run_at_their_own_step_from_16_to_128() {
+    // Released 45° from hanging: the energy error stays within the
+    // issue's 1e-3 of E_ref.
+    let hanging = shipped("paper64-inextensible.toml");
+    for (n, frames) in [(16, 240), (32, 120), (64, 30), (128, 3)] {
+        let (worst, _) = runs_own(&hanging, n, frames);
+        assert!(worst <= 1e-3, "45°, {n}²: {worst:e}");
+    }
+    // Released flat: the sheet whips as it swings through the vertical
+    // (t ≈ 1.4 s, frame 84), where no fixed step tried carries the
+    // constraint solve and the variable step takes more steps. Its energy
+    // error jumps there, past the 1e-3 of E_ref: 6.0e-3 at 16² and
+    // 2.9e-3 at 32² over these 100 frames, 1.7e-3 at 64²
+    // (docs/results/cloth-inextensible.md), so it is printed, not bounded.
+    let flat = shipped("paper64-inextensible-flat.toml");
+    for n in [16, 32] {
+        let (_, report) = runs_own(&flat, n, 100);
+        let v = report.variable.unwrap();
+        let (_, _, most) = v.min_mean_max();
+        assert!(
+            most > v.floor,
+            "flat, {n}²: the steps rose at the whip: {v:?}"
+        );
+    }
+    for n in [64, 128] {
+        runs_own(&flat, n, 3);
     }
 }
