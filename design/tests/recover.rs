@@ -435,7 +435,7 @@ fn aba_10_4_certified() {
 /// The published point is no minimum of the shipped objective there: it
 /// decreases towards more negative b3, to a minimum about 0.2 away that is
 /// 3 % lower; nor is the εh¹¹ term extremal at it (|εh¹¹| decreases the same
-/// way). Its small relative tangential gradient (the guide's 8·10⁻⁴) comes
+/// way). Its small relative tangential gradient (the guide's 8.1·10⁻⁴) comes
 /// from the flatness of the curve, not from a minimum. The coefficients'
 /// sizes grow that way (Σ|aᵢ| + Σ|bᵢ|), so the paper's choice may weigh
 /// them; its criterion is not known here. Prints the figures the guide
