@@ -106,8 +106,8 @@ fn bab6_order4_beats_blanes_moan_s6_in_its_own_measure() {
     let out = design(&family, "designs/bab6-order4.toml", &mut |_| {}).unwrap();
     // Blanes–Moan's S6 (15 printed digits) satisfies the conditions to its
     // digits, and the search's best is at least as good by this objective
-    // (the Lyndon coefficients of degree 5; the paper's basis weights the
-    // error terms differently, so its minimiser is another point).
+    // (the Lyndon coefficients of degree 5; S6 is no minimum of this or of
+    // any other measure here: `blanes_moan_s6_is_stationary_for_no_measure_here`).
     let bm = tableau::catalogue::load("blanes-moan-prk6").unwrap();
     let Table::Splitting(s) = &bm.table else {
         panic!()
@@ -252,9 +252,10 @@ fn bab6_unknowns(id: &str) -> ([f64; 5], [BigRational; 5]) {
 /// the error measured modulo `[B,[B,[B,A]]] = 0`, in the Lyndon basis) has
 /// as its best solution the paper's method, to the paper's optimisation
 /// accuracy: their printed point is nearly stationary for this objective
-/// (the S6 of the same paper is not, for any of the objectives here), and
-/// the found one is closer to stationary and no worse. Prints the table the
-/// guide quotes (`-- --nocapture`).
+/// (the S6 of the same paper is not, for any of the objectives here: see
+/// `blanes_moan_s6_is_stationary_for_no_measure_here`), and the found one is
+/// closer to stationary and no worse. Prints the table the guide quotes
+/// (`-- --nocapture`).
 #[test]
 fn blanes_moan_srkn6b_recovered() {
     let family = load("srkn6-order4.toml");
@@ -300,22 +301,65 @@ fn blanes_moan_srkn6b_recovered() {
         "the paper's point is nearly stationary: {s_theirs:e}"
     );
     assert!(s_ours < s_theirs);
-    // Blanes–Moan's S6 is not a stationary point of either objective of its
-    // family (Lyndon-word coefficients, or the Lyndon basis), so no search
-    // for a minimum recovers it.
-    let (s6, _) = bab6_unknowns("blanes-moan-prk6");
-    for basis in [design::ErrorBasis::Words, design::ErrorBasis::Brackets] {
-        let mut f = load("bab6-order4.toml");
-        f.error_basis = basis;
-        let sys = design::conditions::system(&f, "x").unwrap();
-        let cs = design::solve::Compiled::new(&sys);
-        let st = cs.stationarity(&s6);
-        println!("S6 stationarity, {basis:?}: {st:.3}");
-        assert!(st > 1e-2, "{basis:?}: {st:e}");
-    }
     let (name, text) = best.table.as_ref().unwrap();
     assert!(text.contains("\"order = 4 (certified)\""), "{text}");
     assert_claims_hold(name, text);
+}
+
+/// Blanes–Moan's S6 (15 printed digits) is not a stationary point of any
+/// error measure the designer has, so no search for a minimum recovers it:
+/// the part of the gradient tangent to the conditions (relative to the
+/// whole) is above 0.05, against 5.3·10⁻⁵ at SRKN₆ᵇ's printed digits in its
+/// own measure. The measures: the Lyndon-word coefficients and the Lyndon
+/// basis, with or without the RKN quotient, and each with the letters'
+/// roles exchanged (the same sequence read as an ABA table whose drifts are
+/// S6's kicks; the Lyndon basis in the exchanged letters is, up to signs,
+/// the classical Hall basis `[A,[A,[A,[A,B]]]]`, `[B,[A,[A,[A,B]]]]`,
+/// `[B,[B,[A,[A,B]]]]`, `[B,[B,[B,[A,B]]]]`, `[[A,B],[A,[A,B]]]`,
+/// `[[A,B],[B,[A,B]]]` in the original ones). The paper's criterion for S6
+/// is not one of these. Prints the figures the guide quotes
+/// (`-- --nocapture`).
+#[test]
+fn blanes_moan_s6_is_stationary_for_no_measure_here() {
+    let (s6, _) = bab6_unknowns("blanes-moan-prk6");
+    let [a1, a2, b1, b2, b3] = s6;
+    for exchanged in [false, true] {
+        for (rkn, basis) in [
+            (false, design::ErrorBasis::Words),
+            (false, design::ErrorBasis::Brackets),
+            (true, design::ErrorBasis::Brackets),
+        ] {
+            let mut f = if exchanged {
+                design::Family::new("S6, letters exchanged", design::Form::Aba, 6, 4)
+            } else {
+                load("bab6-order4.toml")
+            };
+            f.rkn = rkn;
+            f.error_basis = basis;
+            let sys = design::conditions::system(&f, "x").unwrap();
+            let names: [&str; 5] = if exchanged {
+                ["a1", "a2", "a3", "b1", "b2"]
+            } else {
+                ["a1", "a2", "b1", "b2", "b3"]
+            };
+            assert_eq!(sys.names, names);
+            // The exchanged reading: drifts b1 b2 b3 b4 b3 b2 b1, kicks
+            // a1 a2 a3 a3 a2 a1 (a4 and b3 of the ABA family are the middle
+            // ones consistency determines).
+            let x = if exchanged {
+                [b1, b2, b3, a1, a2]
+            } else {
+                [a1, a2, b1, b2, b3]
+            };
+            let cs = design::solve::Compiled::new(&sys);
+            assert!(cs.residual(&x) < 1e-14, "{:e}", cs.residual(&x));
+            let st = cs.stationarity(&x);
+            println!(
+                "S6 stationarity, letters exchanged {exchanged}, rkn {rkn}, {basis:?}: {st:.3}"
+            );
+            assert!(st > 5e-2, "{exchanged} {rkn} {basis:?}: {st:e}");
+        }
+    }
 }
 
 /// A near-integrable method of generalised order (10, 4), from random
@@ -381,6 +425,184 @@ fn aba_10_4_certified() {
         .find(|(c, _)| c.contains("(10, 4) (certified)"))
         .unwrap();
     assert!(verdict.is_err(), "{claim} holds beyond the radius");
+}
+
+/// Why the search does not return Blanes et al.'s ABA(10,4): its five
+/// conditions leave one unknown free, so the published point lies on a
+/// curve of solutions, and along that curve (followed here by fixing b3 and
+/// solving the conditions for the other five unknowns) every error term of
+/// the objective varies by a few per cent only, and in the same direction.
+/// The published point is no minimum of the shipped objective there: it
+/// decreases towards more negative b3, to a minimum about 0.2 away that is
+/// 3 % lower; nor is the εh¹¹ term extremal at it (|εh¹¹| decreases the same
+/// way). Its small relative tangential gradient (the guide's 8.1·10⁻⁴) comes
+/// from the flatness of the curve, not from a minimum. The coefficients'
+/// sizes grow that way (Σ|aᵢ| + Σ|bᵢ|), so the paper's choice may weigh
+/// them; its criterion is not known here. Prints the figures the guide
+/// quotes (`-- --nocapture`).
+#[test]
+fn aba_10_4_published_point_is_no_minimum_on_its_curve() {
+    let family = load("aba-10-4.toml");
+    let sys = design::conditions::system(&family, "designs/aba-10-4.toml").unwrap();
+    assert_eq!(sys.names, ["a1", "a2", "a3", "b1", "b2", "b3"]);
+    let c = design::solve::Compiled::new(&sys);
+    let t = tableau::catalogue::load("aba-10-4").unwrap();
+    let Table::Splitting(s) = &t.table else {
+        panic!()
+    };
+    let theirs = [
+        s.drift[0].to_f64(),
+        s.drift[1].to_f64(),
+        s.drift[2].to_f64(),
+        s.kick[0].to_f64(),
+        s.kick[1].to_f64(),
+        s.kick[2].to_f64(),
+    ];
+    assert!(c.residual(&theirs) < 1e-15);
+    // The point of the curve with the given b3: Newton steps on the
+    // conditions in a1, a2, a3, b1, b2 (exact Jacobians), from the
+    // published point.
+    let on_curve = |b3: f64| -> Vec<f64> {
+        let mut x = theirs.to_vec();
+        x[5] = b3;
+        for _ in 0..40 {
+            let f: Vec<f64> = c.f.iter().map(|p| -p.eval(&x)).collect();
+            let j: Vec<Vec<f64>> = c
+                .condition_jacobian(&x)
+                .into_iter()
+                .map(|row| row[..5].to_vec())
+                .collect();
+            let dx = design::linalg::solve_f64(&j, &f).expect("a regular point of the curve");
+            for (xk, d) in x.iter_mut().zip(dx) {
+                *xk += d;
+            }
+        }
+        assert!(c.residual(&x) < 1e-15, "b3 = {b3}: {:e}", c.residual(&x));
+        x
+    };
+    let e11 = sys
+        .error_terms
+        .iter()
+        .position(|e| e.degree == 11)
+        .expect("the εh¹¹ term");
+    let eps_h11 = |x: &[f64]| c.e[e11].eval(x);
+    let size = |x: &[f64]| -> f64 {
+        sys.drift
+            .iter()
+            .chain(&sys.kick)
+            .map(|p| p.compile().eval(x).abs())
+            .sum()
+    };
+    let b3 = theirs[5];
+    let at_theirs = on_curve(b3);
+    assert!(
+        at_theirs
+            .iter()
+            .zip(&theirs)
+            .all(|(p, q)| (p - q).abs() < 1e-14),
+        "the curve passes through the published point"
+    );
+    let theirs_obj = c.objective(&theirs);
+    // The objective along the curve, b3 from 0.1 above the published value
+    // to 0.5 below, in steps of 0.01.
+    let scan: Vec<(f64, f64)> = (-50..=10)
+        .map(|k| {
+            let b = b3 + f64::from(k) / 100.0;
+            (b, c.objective(&on_curve(b)))
+        })
+        .collect();
+    let (b_min, obj_min) = scan
+        .iter()
+        .copied()
+        .min_by(|p, q| p.1.total_cmp(&q.1))
+        .unwrap();
+    let largest = scan.iter().map(|p| p.1).fold(0.0, f64::max);
+    let x_min = on_curve(b_min);
+    println!(
+        "ABA(10,4) curve: published b3 = {b3:.10}, Σe² = {theirs_obj:.6e}, εh¹¹ = {:.4e}, Σ|coefficients| = {:.6}",
+        eps_h11(&theirs),
+        size(&theirs)
+    );
+    println!(
+        "  smallest Σe² on b3 ∈ [b3 − 0.5, b3 + 0.1]: {obj_min:.6e} at b3 = {b_min:.4} ({:.1} % lower), εh¹¹ = {:.4e}, Σ|coefficients| = {:.6}; largest {largest:.6e}",
+        100.0 * (1.0 - obj_min / theirs_obj),
+        eps_h11(&x_min),
+        size(&x_min)
+    );
+    // Flat: within 10 % over the whole stretch.
+    assert!(largest < 1.1 * obj_min, "{largest:e} {obj_min:e}");
+    // No minimum at the published point: the objective falls towards more
+    // negative b3, to a minimum at least 0.1 away and 2 % lower, inside the
+    // scanned stretch.
+    let below = c.objective(&on_curve(b3 - 0.01));
+    let above = c.objective(&on_curve(b3 + 0.01));
+    assert!(
+        below < theirs_obj && theirs_obj < above,
+        "{below:e} {theirs_obj:e} {above:e}"
+    );
+    assert!(b_min < b3 - 0.1 && b_min > b3 - 0.5, "{b_min}");
+    assert!(obj_min < 0.98 * theirs_obj);
+    // Nor is the εh¹¹ term extremal there: one sign, |εh¹¹| decreasing the
+    // same way.
+    let (lo, mid, hi) = (
+        eps_h11(&on_curve(b3 - 0.1)),
+        eps_h11(&at_theirs),
+        eps_h11(&on_curve(b3 + 0.1)),
+    );
+    println!("  εh¹¹ at b3 − 0.1, b3, b3 + 0.1: {lo:.6e}, {mid:.6e}, {hi:.6e}");
+    assert!(lo.signum() == mid.signum() && mid.signum() == hi.signum());
+    assert!(lo.abs() < mid.abs() && mid.abs() < hi.abs());
+    // The measure that looked like stationarity: the gradient's part
+    // tangent to the conditions is small relative to the whole only because
+    // the objective hardly changes along the curve.
+    let st = c.stationarity(&theirs);
+    println!("  tangential part of the gradient at the published point: {st:.1e} of it");
+    assert!(st < 1e-2, "{st:e}");
+    // The coefficients grow towards the objective's minimum.
+    assert!(size(&x_min) > size(&theirs));
+}
+
+/// The εh¹¹ term alone as the objective (the shipped family's 20000 starts,
+/// seed 1): every start that reaches the conditions ends at a distinct
+/// point, and on none of them does the term vanish. Its smallest magnitude
+/// there is above the published ABA(10,4)'s −4.01·10⁻¹³, so a search on
+/// this term does not return the published point either, and an objective
+/// of ~10⁻²⁵ (the square of such a term) is no zero of it.
+#[test]
+#[ignore = "slow (20000 starts, 20 to 70 s in release): cargo test --release -p design --test integration aba_10_4_eh11 -- --ignored --nocapture"]
+fn aba_10_4_eh11_alone_does_not_vanish() {
+    let family = load("aba-10-4.toml");
+    let mut sys = design::conditions::system(&family, "designs/aba-10-4.toml").unwrap();
+    sys.error_terms.retain(|e| e.degree == 11);
+    assert_eq!(sys.error_terms.len(), 1, "one Lie term with one letter B");
+    let out = design::solve::search(&sys, &family, &mut |_| {});
+    assert!(!out.capped, "all 20000 starts ran");
+    let c = design::solve::Compiled::new(&sys);
+    let t = tableau::catalogue::load("aba-10-4").unwrap();
+    let Table::Splitting(s) = &t.table else {
+        panic!()
+    };
+    let theirs = [
+        s.drift[0].to_f64(),
+        s.drift[1].to_f64(),
+        s.drift[2].to_f64(),
+        s.kick[0].to_f64(),
+        s.kick[1].to_f64(),
+        s.kick[2].to_f64(),
+    ];
+    let published = c.e[0].eval(&theirs);
+    let smallest = out
+        .solutions
+        .iter()
+        .map(|sol| c.e[0].eval(&sol.x).abs())
+        .fold(f64::INFINITY, f64::min);
+    println!(
+        "εh¹¹ alone: {} starts reached the conditions, {} distinct points; smallest |εh¹¹| {smallest:.3e}, published {published:.3e}",
+        out.converged,
+        out.solutions.len()
+    );
+    assert!(!out.solutions.is_empty());
+    assert!(smallest > published.abs(), "{smallest:e} {published:e}");
 }
 
 /// RKN order 6 (`designs/rkn6-aba8.toml`, 8 stages): the emitted tables
