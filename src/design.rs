@@ -120,8 +120,11 @@ pub fn run(args: &DesignArgs) -> Result<ExitCode> {
             (_, Some(Err(e))) => format!("not certified: {e}"),
             (None, None) => "not polished".to_string(),
         };
+        let stability = d
+            .stability_per_stage(family.stages)
+            .map_or(String::new(), |x| format!(", x*/s = {x:.6}"));
         println!(
-            "  {}. E_f = {:.6}, found {} times: {proof}",
+            "  {}. E_f = {:.6}{stability}, found {} times: {proof}",
             i + 1,
             d.solution.effective_error,
             d.solution.hits

@@ -39,6 +39,7 @@ pub mod polish;
 pub mod poly;
 pub mod processed;
 pub mod solve;
+pub mod stability;
 pub mod verify;
 
 pub use family::{

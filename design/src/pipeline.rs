@@ -14,6 +14,7 @@ use crate::family::{Family, FamilyError, stem};
 use crate::polish::{DIGITS, PolishError, Polished, decimal_text, polish};
 use crate::poly::to_f64;
 use crate::solve::{Progress, Search, Solution, search};
+use crate::stability::{Threshold, ThresholdError, flows_of, threshold};
 
 /// The most solutions polished, certified and emitted (the best by the
 /// objective).
@@ -30,6 +31,19 @@ pub struct Designed {
     pub certificate: Option<Result<Certificate, Refusal>>,
     /// The table file's name and text, when the solution was proven.
     pub table: Option<(String, String)>,
+    /// The linear stability threshold `x* = hω` of the emitted table on the
+    /// harmonic oscillator ([`crate::stability`]); `None` without a table.
+    pub stability: Option<Result<Threshold, ThresholdError>>,
+}
+
+/// The bits to which [`Designed::stability`] encloses `x*²`.
+pub const STABILITY_PRECISION: u32 = 64;
+
+/// The stability threshold of a table's text, as `symlab check` reads it.
+fn stability_of(name: &str, text: &str) -> Option<Result<Threshold, ThresholdError>> {
+    let file = tableau::file::parse_table_file(name, text).ok()?;
+    let flows = flows_of(&file.table)?;
+    Some(threshold(&flows, STABILITY_PRECISION))
 }
 
 /// A whole run.
@@ -95,12 +109,16 @@ pub fn design(
                 }
             }
         }
+        let stability = table
+            .as_ref()
+            .and_then(|(name, text)| stability_of(name, text));
         designs.push(Designed {
             solution: solution.clone(),
             polished,
             exact,
             certificate,
             table,
+            stability,
         });
     }
     Ok(Outcome {
@@ -110,6 +128,17 @@ pub fn design(
         search: found,
         designs,
     })
+}
+
+impl Designed {
+    /// `x*/s`, the stability threshold per force evaluation (`stages` of
+    /// the family); `None` without a table or a threshold.
+    pub fn stability_per_stage(&self, stages: usize) -> Option<f64> {
+        match &self.stability {
+            Some(Ok(t)) => Some(t.x() / stages as f64),
+            _ => None,
+        }
+    }
 }
 
 impl Outcome {
@@ -201,10 +230,14 @@ impl Outcome {
         );
         let _ = writeln!(
             r,
-            "| rank | {} | Σ e² | E_f | hits | proof | table |",
+            "x*/s: the linear stability threshold hω of the emitted table on the harmonic oscillator, per force evaluation (enclosed exactly, `design::stability`).\n"
+        );
+        let _ = writeln!(
+            r,
+            "| rank | {} | Σ e² | E_f | x*/s | hits | proof | table |",
             s.names.join(" | ")
         );
-        let _ = writeln!(r, "|{}", "---|".repeat(s.names.len() + 6));
+        let _ = writeln!(r, "|{}", "---|".repeat(s.names.len() + 7));
         for (i, d) in self.designs.iter().enumerate() {
             let proof = match (&d.exact, &d.certificate, &d.polished) {
                 (Some(e), _, _) => format!(
@@ -219,7 +252,7 @@ impl Outcome {
             };
             let _ = writeln!(
                 r,
-                "| {} | {} | {:.6e} | {:.6} | {} | {proof} | {} |",
+                "| {} | {} | {:.6e} | {:.6} | {} | {} | {proof} | {} |",
                 i + 1,
                 d.solution
                     .x
@@ -229,6 +262,8 @@ impl Outcome {
                     .join(" | "),
                 d.solution.objective,
                 d.solution.effective_error,
+                d.stability_per_stage(f.stages)
+                    .map_or("—".to_string(), |x| format!("{x:.6}")),
                 d.solution.hits,
                 d.table.as_ref().map_or("—", |t| t.0.as_str())
             );

@@ -9,3 +9,4 @@ mod conditions;
 mod families;
 mod processed;
 mod recover;
+mod stability;

@@ -103,6 +103,10 @@ pub fn design<'py>(
         e.set_item("effective_error", found.solution.effective_error)?;
         e.set_item("objective", found.solution.objective)?;
         e.set_item("hits", found.solution.hits)?;
+        e.set_item(
+            "stability_per_stage",
+            found.stability_per_stage(outcome.family.stages),
+        )?;
         let x = PyDict::new(py);
         for (name, v) in outcome.system.names.iter().zip(&found.solution.x) {
             x.set_item(name, v)?;

@@ -136,7 +136,9 @@ def design(family, *, seed=None, starts=None, out=None):
     ``conditions`` (their Lie words), ``starts_run``, ``distinct``,
     ``capped``, ``seconds``, ``written`` (paths) and ``designs``, best
     first, each with ``rank``, ``effective_error``, ``objective``, ``hits``,
-    ``x`` (the unknowns, doubles), ``proof`` (``"exact"``, ``"certified"``,
+    ``stability_per_stage`` (the emitted table's linear stability threshold
+    hω on the harmonic oscillator per force evaluation, or ``None`` without
+    a table), ``x`` (the unknowns, doubles), ``proof`` (``"exact"``, ``"certified"``,
     ``"not certified"``, ``"not polished"``), ``exact`` (the value in
     radicals or as ``root(...)``), ``radius`` (the certificate's, an exact
     rational as text), ``claims``, ``name`` and ``toml`` (the table file's
