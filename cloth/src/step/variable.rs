@@ -67,7 +67,9 @@
 //! not matter where the search starts: it does not as long as the counts
 //! that ask for themselves are found from any start, which the tie band
 //! ensures when the continuous counts of neighbouring counts differ by
-//! less than it. `W` is a largest value over the nodes a count samples, so
+//! less than it (a property test runs the search from every start on
+//! frames whose continuous counts wander by up to ½ between neighbours,
+//! `the_count_taken_does_not_depend_on_the_guess`). `W` is a largest value over the nodes a count samples, so
 //! they differ: over 600 frames of the 64² sheet, every frame above the
 //! floor integrated with `N − 1`, `N` and `N + 1` steps, by 0.005 in the
 //! median, by less than 0.13 in 90 % of frames and by 0.91 at most; four
@@ -581,5 +583,50 @@ mod tests {
         let mut back = controller(4, 100);
         back.restore(&mut d).unwrap();
         assert_eq!(back, c);
+    }
+
+    /// Run a search from `guess` on a frame whose counts `N` measure
+    /// `W_N = target·c_N/N` (`target` 1): the count taken.
+    fn taken(floor: usize, cap: usize, guess: usize, c: &dyn Fn(usize) -> f64) -> Option<usize> {
+        let mut s = search(floor, cap);
+        let mut n = s.first(guess);
+        for _ in 0..=cap {
+            match s.record(n, Attempt::Ran(c(n) / n as f64)) {
+                Next::Try(next) => n = next,
+                Next::Done { steps, .. } => return Some(steps),
+                Next::Exhausted { .. } => return None,
+            }
+        }
+        panic!("the search did not end");
+    }
+
+    proptest::proptest! {
+        /// Where the search starts does not change the count it takes, as
+        /// long as the continuous counts `N·W_N/target` of neighbouring
+        /// counts differ by less than the tie band: here they are
+        /// `c + j(N)` with `|j| ≤ ¼`, so they differ by at most ½. The
+        /// count taken is then the fewest that asks for itself (at a tie
+        /// where none does, the fewest within the target), whatever the
+        /// guess (the forward and backward runs' guesses differ).
+        #[test]
+        fn the_count_taken_does_not_depend_on_the_guess(
+            c in 2.0f64..40.0,
+            amplitude in 0.0f64..0.2499,
+            k in 0.1f64..3.0,
+            phase in 0.0f64..6.3,
+            floor in 2usize..8,
+        ) {
+            let cap = 64;
+            let cn = |n: usize| c + amplitude * (k * n as f64 + phase).sin();
+            // The fewest that asks for itself; at a tie where none does
+            // (N asks for N + 1, N + 1 for N), the fewest within the target.
+            let asks_itself = |n: usize| cn(n) <= n as f64 && (n == floor || cn(n) > (n - 1) as f64);
+            let fewest = (floor..=cap)
+                .find(|&n| asks_itself(n))
+                .or_else(|| (floor..=cap).find(|&n| cn(n) <= n as f64));
+            for guess in floor..=cap {
+                proptest::prop_assert_eq!(taken(floor, cap, guess, &cn), fewest, "guess {}", guess);
+            }
+        }
     }
 }
