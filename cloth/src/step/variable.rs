@@ -190,7 +190,7 @@ pub enum Next {
     /// Integrate the frame again from its start with this many steps.
     Try(usize),
     /// The frame is done with this many steps (`latest`: the integration
-    /// just made, else the one kept, [`Search::kept`]).
+    /// just made, else the one kept, [`Search::keep`]).
     Done { steps: usize, latest: bool },
     /// No count up to the cap is accepted.
     Exhausted { tried: usize },
