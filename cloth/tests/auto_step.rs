@@ -117,10 +117,11 @@ fn auto_is_the_default_of_a_constrained_scene_and_an_integer_still_works() {
     assert_eq!(auto.binding().name, "springs", "{auto:?}");
 }
 
-/// Run `scene` at `n × n` for `frames` frames with its own step choice;
-/// the constraints must hold at every frame and the energy error stay
-/// below 1e-3 of E_ref.
-fn runs_at(scene: &Scene, n: usize, frames: usize) {
+/// Run `scene` regridded to `n × n` for `frames` frames with the count
+/// `"auto"` chooses, as the fixed step or (`variable`) as the floor of the
+/// scene's variable step. The constraints must hold at every frame; the
+/// largest `|H − H₀|/E_ref`, the report and the count come back.
+fn run_checked(scene: &Scene, n: usize, frames: usize, variable: bool) -> (f64, RunReport, usize) {
     let mut scene = scene.clone();
     regrid(&mut scene, n, n);
     scene.simulation.frames = frames;
@@ -129,7 +130,15 @@ fn runs_at(scene: &Scene, n: usize, frames: usize) {
     let auto = auto.expect("the scene chooses its step");
     let method = Method::parse(&scene.simulation.method).unwrap();
     let e_ref = reference_energy(&scene, &sim).unwrap();
-    let settings = RunSettings::new(plan.options).with_guard(EnergyGuard::new(e_ref));
+    let step = variable.then(|| {
+        scene
+            .simulation
+            .variable
+            .expect("the scene's own step is variable")
+    });
+    let settings = RunSettings::new(plan.options)
+        .with_variable(step)
+        .with_guard(EnergyGuard::new(e_ref));
     let mut worst_g: f64 = 0.0;
     let report = sim
         .run(&method, &settings, |f| {
@@ -137,7 +146,7 @@ fn runs_at(scene: &Scene, n: usize, frames: usize) {
             Ok(())
         })
         .unwrap_or_else(|e| panic!("{}: {n}² at {}: {e}", scene.name, auto.describe()));
-    assert_eq!(report.steps, frames * auto.substeps);
+    assert_eq!(report.frames.len(), frames + 1);
     assert!(
         worst_g <= CONSTRAINT_TOLERANCE,
         "{n}²: residual {worst_g:e}"
@@ -148,11 +157,18 @@ fn runs_at(scene: &Scene, n: usize, frames: usize) {
         .iter()
         .map(|f| (f.energy.total() - h0).abs() / e_ref)
         .fold(0.0, f64::max);
+    (worst, report, auto.substeps)
+}
+
+/// Run `scene` at `n × n` for `frames` frames with the fixed step at the
+/// count chosen; the energy error must stay below 1e-3 of E_ref.
+fn runs_at(scene: &Scene, n: usize, frames: usize) {
+    let (worst, report, substeps) = run_checked(scene, n, frames, false);
+    assert_eq!(report.steps, frames * substeps);
     assert!(
         worst <= 1e-3,
-        "{}: {n}², {frames} frames at {} per frame: max |H − H₀|/E_ref = {worst:e}",
+        "{}: {n}², {frames} frames at {substeps} per frame: max |H − H₀|/E_ref = {worst:e}",
         scene.name,
-        auto.substeps
     );
 }
 
@@ -175,44 +191,11 @@ fn shipped_auto_scenes_run_a_few_frames_at_128() {
 
 /// Run `scene` at `n × n` for `frames` frames with its own step: the count
 /// `"auto"` chooses as the floor of the variable step (the scene's
-/// `simulation.step`). The constraints must hold at every frame; the
-/// largest `|H − H₀|/E_ref` and the report come back.
+/// `simulation.step`). The largest `|H − H₀|/E_ref` and the report.
 fn runs_own(scene: &Scene, n: usize, frames: usize) -> (f64, RunReport) {
-    let mut scene = scene.clone();
-    regrid(&mut scene, n, n);
-    scene.simulation.frames = frames;
-    let mut sim = Simulation::new(&scene).unwrap();
-    let (plan, auto) = schedule_for(&scene, &sim.model, &RunRequest::default()).unwrap();
-    let auto = auto.expect("the scene chooses its step");
-    let variable = scene
-        .simulation
-        .variable
-        .expect("the scene's own step is variable");
-    let method = Method::parse(&scene.simulation.method).unwrap();
-    let e_ref = reference_energy(&scene, &sim).unwrap();
-    let settings = RunSettings::new(plan.options)
-        .with_variable(Some(variable))
-        .with_guard(EnergyGuard::new(e_ref));
-    let mut worst_g: f64 = 0.0;
-    let report = sim
-        .run(&method, &settings, |f| {
-            worst_g = worst_g.max(f.model.constraint_residual(f.q()).unwrap());
-            Ok(())
-        })
-        .unwrap_or_else(|e| panic!("{}: {n}² from {}: {e}", scene.name, auto.describe()));
-    assert_eq!(report.frames.len(), frames + 1);
+    let (worst, report, substeps) = run_checked(scene, n, frames, true);
     let v = report.variable.as_ref().expect("a variable-step run");
-    assert_eq!(v.floor, auto.substeps.max(2));
-    assert!(
-        worst_g <= CONSTRAINT_TOLERANCE,
-        "{n}²: residual {worst_g:e}"
-    );
-    let h0 = report.frames[0].energy.total();
-    let worst = report
-        .frames
-        .iter()
-        .map(|f| (f.energy.total() - h0).abs() / e_ref)
-        .fold(0.0, f64::max);
+    assert_eq!(v.floor, substeps.max(2));
     eprintln!(
         "{}: {n}², {frames} frames: steps per frame {:?}, max |H − H₀|/E_ref {worst:.3e}",
         scene.name,

@@ -6,7 +6,7 @@ use design::certify::Refusal;
 use design::design;
 use design::verify::{VerifyError, verify_table};
 
-use crate::common::{claims_hold, load};
+use crate::common::{claims_hold, load, shifted};
 
 fn mclachlan_table() -> (design::Family, String) {
     let mut family = load("mclachlan-sb3a.toml");
@@ -18,13 +18,7 @@ fn mclachlan_table() -> (design::Family, String) {
 
 /// The text with `let.a1`'s value replaced by itself plus `delta`.
 fn shift_a1(text: &str, delta: &str) -> String {
-    text.lines()
-        .map(|l| match l.strip_prefix("let.a1 = \"") {
-            Some(v) => format!("let.a1 = \"{} + {delta}\"", v.trim_end_matches('"')),
-            None => l.to_string(),
-        })
-        .collect::<Vec<_>>()
-        .join("\n")
+    shifted(text, "a1", delta)
 }
 
 #[test]

@@ -44,3 +44,29 @@ pub fn claims_hold(origin: &str, text: &str) -> Vec<(String, Result<(), String>)
     .unwrap();
     v.claims.into_iter().map(|c| (c.claim, c.verdict)).collect()
 }
+
+/// A table's text with `let.NAME`'s value replaced by itself plus `delta`
+/// (to move a certified coefficient beyond its radius).
+pub fn shifted(text: &str, name: &str, delta: &str) -> String {
+    let prefix = format!("let.{name} = \"");
+    text.lines()
+        .map(|l| match l.strip_prefix(&prefix) {
+            Some(v) => format!("{prefix}{} + {delta}\"", v.trim_end_matches('"')),
+            None => l.to_string(),
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+/// The claim containing `claim` is refused once `let.NAME` moves by
+/// `delta` (beyond the certificate's radius).
+pub fn refused_when_moved(origin: &str, text: &str, name: &str, delta: &str, claim: &str) {
+    let moved = shifted(text, name, delta);
+    assert_ne!(moved, text, "no let.{name} in the table");
+    let refused = claims_hold(origin, &moved);
+    let (c, verdict) = refused
+        .iter()
+        .find(|(c, _)| c.contains(claim))
+        .unwrap_or_else(|| panic!("no claim {claim}"));
+    assert!(verdict.is_err(), "{c} holds with {name} moved by {delta}");
+}

@@ -8,7 +8,7 @@ use num_rational::BigRational;
 use num_traits::Signed;
 use tableau::{Number, Table};
 
-use crate::common::{self, claims_hold, load};
+use crate::common::{self, claims_hold, load, refused_when_moved};
 
 fn assert_claims_hold(origin: &str, text: &str) {
     for (claim, verdict) in claims_hold(origin, text) {
@@ -430,21 +430,7 @@ fn blanes_aba_8_6_4_recovered_to_the_printed_digits() {
     assert!(text.contains("\"order = (8, 6, 4) (certified)\""), "{text}");
     assert_claims_hold(name, text);
     // Beyond the radius (1e-46) the claim is refused: b1 moved by 1e-44.
-    let moved: String = text
-        .lines()
-        .map(|l| match l.strip_prefix("let.b1 = \"") {
-            Some(v) => format!("let.b1 = \"{} + 1e-44\"", v.trim_end_matches('"')),
-            None => l.to_string(),
-        })
-        .collect::<Vec<_>>()
-        .join("\n");
-    assert_ne!(moved, *text);
-    let refused = claims_hold(name, &moved);
-    let (claim, verdict) = refused
-        .iter()
-        .find(|(c, _)| c.contains("(8, 6, 4) (certified)"))
-        .unwrap();
-    assert!(verdict.is_err(), "{claim} holds beyond the radius");
+    refused_when_moved(name, text, "b1", "1e-44", "(8, 6, 4) (certified)");
 }
 
 #[test]
@@ -489,21 +475,7 @@ fn aba_10_4_certified() {
     assert!(text.contains("\"order = (10, 4) (certified)\""), "{text}");
     assert_claims_hold(name, text);
     // Beyond the radius (1e-46), the claim is refused: a1 moved by 1e-45.
-    let moved: String = text
-        .lines()
-        .map(|l| match l.strip_prefix("let.a1 = \"") {
-            Some(v) => format!("let.a1 = \"{} + 1e-45\"", v.trim_end_matches('"')),
-            None => l.to_string(),
-        })
-        .collect::<Vec<_>>()
-        .join("\n");
-    assert_ne!(moved, *text);
-    let refused = claims_hold(name, &moved);
-    let (claim, verdict) = refused
-        .iter()
-        .find(|(c, _)| c.contains("(10, 4) (certified)"))
-        .unwrap();
-    assert!(verdict.is_err(), "{claim} holds beyond the radius");
+    refused_when_moved(name, text, "a1", "1e-45", "(10, 4) (certified)");
 }
 
 /// Why the search does not return Blanes et al.'s ABA(10,4): its five

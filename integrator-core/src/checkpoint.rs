@@ -703,7 +703,12 @@ mod tests {
         bytes[24..28].copy_from_slice(&sum);
         let err = decode(path, &bytes).unwrap_err();
         assert!(matches!(err, CheckpointError::Version { .. }), "{err}");
-        assert!(err.to_string().contains("version 2"), "{err}");
+        let text = err.to_string();
+        assert!(
+            text.contains(&format!("version {}", FORMAT_VERSION + 1))
+                && text.contains(&format!("reads version {FORMAT_VERSION} only")),
+            "{err}"
+        );
 
         let dir = temp_dir("kind");
         let p = dir.join(FILE_NAME);
