@@ -56,6 +56,8 @@ fn the_exact_threshold_agrees_with_a_floating_point_scan() {
         "blanes-moan-srkn6b",
         "pefrl",
         "blanes-moan-prk10",
+        "blanes-moan-srkn14a",
+        "yoshida6",
     ] {
         let started = std::time::Instant::now();
         let t = tableau::catalogue::load(id).unwrap();
@@ -93,4 +95,20 @@ fn the_report_states_the_threshold_per_stage() {
     let report = out.report();
     assert!(report.contains("| x*/s |"), "{report}");
     assert!(report.contains(&format!("{per_stage:.6}")), "{report}");
+}
+
+#[test]
+fn a_sequence_beyond_the_budget_is_refused_not_run_long() {
+    // Sofroniou–Spaletta's 35 base steps: 105 flows, tr M/2 of degree 52
+    // in y; its Sturm sequence passes `MAX_BITS` and the threshold is
+    // refused (in well under a second).
+    let t = tableau::catalogue::load("sofroniou-spaletta10").unwrap();
+    let flows = flows_of(&t.table).unwrap();
+    assert_eq!(flows.len(), 105);
+    let started = std::time::Instant::now();
+    assert!(matches!(
+        threshold(&flows, 64),
+        Err(design::stability::ThresholdError::TooLarge)
+    ));
+    assert!(started.elapsed().as_secs_f64() < 30.0);
 }
