@@ -76,6 +76,21 @@ pub enum ErrorBasis {
     Brackets,
 }
 
+/// What the free coefficients are chosen for, and the designs ranked by.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Objective {
+    /// The size of the first error terms not imposed (the default,
+    /// `objective = "effective-error"`).
+    #[default]
+    EffectiveError,
+    /// The linear stability threshold on the harmonic oscillator
+    /// (`objective = "stability"`, [`crate::stability`]): from each
+    /// solution of the error search, the free coefficients move to a local
+    /// maximum of the threshold on the conditions, and the designs are
+    /// ranked by it, largest first.
+    Stability,
+}
+
 /// A family to design.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Family {
@@ -111,6 +126,8 @@ pub struct Family {
     pub rkn: bool,
     /// The basis the objective's error terms are measured in.
     pub error_basis: ErrorBasis,
+    /// What the free coefficients are chosen for.
+    pub objective: Objective,
     pub seed: u64,
     pub starts: usize,
     pub range: f64,
@@ -196,6 +213,7 @@ impl Family {
             equal: Vec::new(),
             rkn: false,
             error_basis: ErrorBasis::Words,
+            objective: Objective::EffectiveError,
             seed: 1,
             starts: 200,
             range: 1.0,
@@ -441,14 +459,16 @@ pub fn parse_family(file: &str, text: &str) -> Result<Family, FamilyError> {
             Vec::new(),
         ),
     };
-    if let Some(obj) = string("objective")?
-        && obj != "effective-error"
-    {
-        return Err(err(
-            "objective",
-            format!("`{obj}`: the one objective is \"effective-error\""),
-        ));
-    }
+    let objective = match string("objective")?.as_deref() {
+        None | Some("effective-error") => Objective::EffectiveError,
+        Some("stability") => Objective::Stability,
+        Some(obj) => {
+            return Err(err(
+                "objective",
+                format!("`{obj}`: the objectives are \"effective-error\" and \"stability\""),
+            ));
+        }
+    };
     let mut family = Family::new(
         &name,
         form,
@@ -456,6 +476,7 @@ pub fn parse_family(file: &str, text: &str) -> Result<Family, FamilyError> {
         usize::try_from(order).unwrap_or(usize::MAX),
     );
     family.generalised = generalised;
+    family.objective = objective;
     family.source = string("source")?;
     match table.get("rkn") {
         None => {}

@@ -43,7 +43,7 @@ pub mod stability;
 pub mod verify;
 
 pub use family::{
-    ErrorBasis, Family, FamilyError, Form, load_family, parse_family, read_family_text,
+    ErrorBasis, Family, FamilyError, Form, Objective, load_family, parse_family, read_family_text,
 };
 pub use pipeline::{Designed, Outcome, design};
 

@@ -232,6 +232,13 @@ impl Outcome {
             r,
             "x*/s: the linear stability threshold hω of the emitted table on the harmonic oscillator, per force evaluation (enclosed exactly, `design::stability`).\n"
         );
+        if f.objective == crate::family::Objective::Stability {
+            let _ = writeln!(
+                r,
+                "Objective \"stability\": from the best {} solutions of the error search, the free coefficients moved to a local maximum of x* on the conditions (a compass search, x* at the double coefficients); ranked by x*, largest first.\n",
+                crate::solve::STABILITY_STARTS
+            );
+        }
         let _ = writeln!(
             r,
             "| rank | {} | Σ e² | E_f | x*/s | hits | proof | table |",

@@ -54,7 +54,15 @@ pub struct Solution {
     /// The rank of the conditions' Jacobian here (full: the number of
     /// conditions).
     pub rank: usize,
+    /// The stability threshold `x* = hω` at the `f64` unknowns
+    /// ([`crate::stability::CompiledFlows`]), with
+    /// `objective = "stability"`; `None` otherwise.
+    pub threshold: Option<f64>,
 }
+
+/// How many of the error search's solutions `objective = "stability"`
+/// starts its maximisation from (the best by the error first).
+pub const STABILITY_STARTS: usize = 16;
 
 /// The outcome of a search.
 #[derive(Clone, Debug)]
@@ -269,6 +277,45 @@ impl Compiled {
 
     /// Minimum-norm Newton steps `dx = −J_Fᵀ(J_F J_Fᵀ)⁻¹F` back onto the
     /// conditions; `None` when they do not converge.
+    /// A local maximum of the stability threshold on the conditions from
+    /// `x` (on them): a compass search, each trial moved back onto the
+    /// conditions, its step halved when no direction improves, down to
+    /// `10⁻⁹`. The threshold is not smooth (it jumps where `|tr M/2|`
+    /// reaches 1 inside the interval), which a compass search tolerates.
+    pub fn maximise_stability(
+        &self,
+        flows: &crate::stability::CompiledFlows,
+        mut x: Vec<f64>,
+    ) -> Vec<f64> {
+        let Some(mut best) = flows.threshold(&x) else {
+            return x;
+        };
+        let mut step = 0.05;
+        let mut trials = 0;
+        while step > 1e-9 && trials < 20_000 {
+            let mut improved = false;
+            for k in 0..self.n {
+                for sign in [1.0, -1.0] {
+                    trials += 1;
+                    let mut t = x.clone();
+                    t[k] += sign * step;
+                    let Some(t) = self.retract(t) else { continue };
+                    if let Some(v) = flows.threshold(&t)
+                        && v > best * (1.0 + 1e-12)
+                    {
+                        x = t;
+                        best = v;
+                        improved = true;
+                    }
+                }
+            }
+            if !improved {
+                step *= 0.5;
+            }
+        }
+        x
+    }
+
     fn retract(&self, mut x: Vec<f64>) -> Option<Vec<f64>> {
         let m = self.f.len();
         for _ in 0..20 {
@@ -413,6 +460,33 @@ pub fn search(system: &System, family: &Family, progress: &mut dyn FnMut(Progres
         });
     }
     solutions.sort_by(|a, b| a.objective.total_cmp(&b.objective));
+    if family.objective == crate::family::Objective::Stability {
+        let flows = crate::stability::CompiledFlows::new(system);
+        let mut moved = Vec::new();
+        for s in solutions.iter().take(STABILITY_STARTS) {
+            // The time cap holds here too: past it the solutions are kept
+            // where the error search left them.
+            let x = if free > 0 && started.elapsed() < cap {
+                c.maximise_stability(&flows, s.x.clone())
+            } else {
+                capped |= free > 0;
+                s.x.clone()
+            };
+            let residual = c.residual(&x);
+            if residual < 1e-10 {
+                record(&c, system, &mut moved, x, residual);
+            }
+        }
+        for s in &mut moved {
+            s.threshold = flows.threshold(&s.x);
+        }
+        moved.sort_by(|a, b| {
+            b.threshold
+                .unwrap_or(0.0)
+                .total_cmp(&a.threshold.unwrap_or(0.0))
+        });
+        solutions = moved;
+    }
     Search {
         solutions,
         starts_run,
@@ -454,5 +528,6 @@ fn record(c: &Compiled, system: &System, out: &mut Vec<Solution>, x: Vec<f64>, r
         objective,
         hits: 1,
         rank,
+        threshold: None,
     });
 }

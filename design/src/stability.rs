@@ -379,6 +379,71 @@ pub fn flows_of(table: &tableau::Table) -> Option<Vec<Flow>> {
     }
 }
 
+/// A design's drift–kick sequence compiled for `f64` at its unknowns (the
+/// layout its table is emitted in), for the search of
+/// `objective = "stability"`: the threshold at `f64` coefficients, which
+/// steers the search; the emitted table's threshold is computed again
+/// from its printed coefficients.
+pub struct CompiledFlows {
+    /// `(drift, factor, coefficient)`: a drift (else a kick) of
+    /// `factor · coefficient(x)`.
+    items: Vec<(bool, f64, crate::poly::FPoly)>,
+}
+
+impl CompiledFlows {
+    pub fn new(system: &crate::conditions::System) -> CompiledFlows {
+        use crate::family::Form;
+        let mut items = Vec::new();
+        match system.form {
+            Form::Composition => {
+                for g in &system.gamma {
+                    let g = g.compile();
+                    items.push((true, 0.5, g.clone()));
+                    items.push((false, 1.0, g.clone()));
+                    items.push((true, 0.5, g));
+                }
+            }
+            Form::Aba | Form::Bab => {
+                let (first, second, first_is_drift) = match system.form {
+                    Form::Aba => (&system.drift, &system.kick, true),
+                    _ => (&system.kick, &system.drift, false),
+                };
+                for (i, f) in first.iter().enumerate() {
+                    items.push((first_is_drift, 1.0, f.compile()));
+                    if let Some(c) = second.get(i) {
+                        items.push((!first_is_drift, 1.0, c.compile()));
+                    }
+                }
+            }
+        }
+        CompiledFlows { items }
+    }
+
+    /// The threshold `x*` at the unknowns `u`: [`threshold`] on the flows'
+    /// `f64` values (exact binary fractions) to 30 bits, so that a thin
+    /// interval of instability, which a scan on a grid would step over, is
+    /// seen; `None` where there is none (`tr M/2` does not fall from 1, or
+    /// beyond the budget).
+    pub fn threshold(&self, u: &[f64]) -> Option<f64> {
+        let flows: Option<Vec<Flow>> = self
+            .items
+            .iter()
+            .map(|(drift, f, p)| {
+                let v = f * p.eval(u);
+                v.is_finite().then(|| {
+                    let r = crate::polish::from_f64(v);
+                    if *drift {
+                        Flow::Drift(r)
+                    } else {
+                        Flow::Kick(r)
+                    }
+                })
+            })
+            .collect();
+        threshold(&flows?, 30).ok().map(|t| t.x())
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -147,3 +147,17 @@ fn rkn_families_are_drift_kick_of_order_at_most_six() {
     let words: Vec<&str> = s.error_terms.iter().map(|c| c.word.as_str()).collect();
     assert_eq!(words, ["P(AAAAB)", "P(AAABB)", "P(AABAB)", "P(ABABB)"]);
 }
+
+#[test]
+fn the_objective_is_read_and_a_wrong_one_named() {
+    let f = parse_family("fam.toml", BASE).unwrap();
+    assert_eq!(f.objective, design::Objective::EffectiveError);
+    let f = parse_family("fam.toml", &format!("{BASE}objective = \"stability\"\n")).unwrap();
+    assert_eq!(f.objective, design::Objective::Stability);
+    let m = err(&format!("{BASE}objective = \"speed\"\n"));
+    assert!(
+        m.starts_with("fam.toml: field objective: `speed`")
+            && m.contains("\"effective-error\" and \"stability\""),
+        "{m}"
+    );
+}
