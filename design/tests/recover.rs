@@ -433,6 +433,23 @@ fn blanes_aba_8_6_4_recovered_to_the_printed_digits() {
     refused_when_moved(name, text, "b1", "1e-44", "(8, 6, 4) (certified)");
 }
 
+/// A seven-kick ABA table of the catalogue as the designer's unknowns
+/// `a1, a2, a3, b1, b2, b3` (the first three drifts and kicks), in `f64`.
+fn aba_unknowns(id: &str) -> [f64; 6] {
+    let t = tableau::catalogue::load(id).unwrap();
+    let Table::Splitting(s) = &t.table else {
+        panic!("{id}: a drift–kick sequence")
+    };
+    [
+        s.drift[0].to_f64(),
+        s.drift[1].to_f64(),
+        s.drift[2].to_f64(),
+        s.kick[0].to_f64(),
+        s.kick[1].to_f64(),
+        s.kick[2].to_f64(),
+    ]
+}
+
 #[test]
 fn aba_10_4_certified() {
     let mut family = load("aba-10-4.toml");
@@ -448,18 +465,7 @@ fn aba_10_4_certified() {
         .collect();
     assert_eq!(words, ["AAB", "ABB", "AAAAB", "AAAAAAB", "AAAAAAAAB"]);
     let c = design::solve::Compiled::new(&out.system);
-    let t = tableau::catalogue::load("aba-10-4").unwrap();
-    let Table::Splitting(s) = &t.table else {
-        panic!()
-    };
-    let theirs = [
-        s.drift[0].to_f64(),
-        s.drift[1].to_f64(),
-        s.drift[2].to_f64(),
-        s.kick[0].to_f64(),
-        s.kick[1].to_f64(),
-        s.kick[2].to_f64(),
-    ];
+    let theirs = aba_unknowns("aba-10-4");
     assert!(c.residual(&theirs) < 1e-15);
     let best = out
         .designs
@@ -497,18 +503,7 @@ fn aba_10_4_published_point_is_no_minimum_on_its_curve() {
     let sys = design::conditions::system(&family, "designs/aba-10-4.toml").unwrap();
     assert_eq!(sys.names, ["a1", "a2", "a3", "b1", "b2", "b3"]);
     let c = design::solve::Compiled::new(&sys);
-    let t = tableau::catalogue::load("aba-10-4").unwrap();
-    let Table::Splitting(s) = &t.table else {
-        panic!()
-    };
-    let theirs = [
-        s.drift[0].to_f64(),
-        s.drift[1].to_f64(),
-        s.drift[2].to_f64(),
-        s.kick[0].to_f64(),
-        s.kick[1].to_f64(),
-        s.kick[2].to_f64(),
-    ];
+    let theirs = aba_unknowns("aba-10-4");
     assert!(c.residual(&theirs) < 1e-15);
     // The point of the curve with the given b3: Newton steps on the
     // conditions in a1, a2, a3, b1, b2 (exact Jacobians), from the
@@ -629,18 +624,7 @@ fn aba_10_4_eh11_alone_does_not_vanish() {
     let out = design::solve::search(&sys, &family, &mut |_| {});
     assert!(!out.capped, "all 20000 starts ran");
     let c = design::solve::Compiled::new(&sys);
-    let t = tableau::catalogue::load("aba-10-4").unwrap();
-    let Table::Splitting(s) = &t.table else {
-        panic!()
-    };
-    let theirs = [
-        s.drift[0].to_f64(),
-        s.drift[1].to_f64(),
-        s.drift[2].to_f64(),
-        s.kick[0].to_f64(),
-        s.kick[1].to_f64(),
-        s.kick[2].to_f64(),
-    ];
+    let theirs = aba_unknowns("aba-10-4");
     let published = c.e[0].eval(&theirs);
     let smallest = out
         .solutions
