@@ -430,8 +430,8 @@ impl CompiledFlows {
             .iter()
             .map(|(drift, f, p)| {
                 let v = f * p.eval(u);
-                v.is_finite().then(|| {
-                    let r = crate::polish::from_f64(v);
+                // A finite double is a binary fraction: exactly a rational.
+                BigRational::from_float(v).map(|r| {
                     if *drift {
                         Flow::Drift(r)
                     } else {
