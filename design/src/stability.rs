@@ -31,6 +31,8 @@ use num_bigint::BigInt;
 use num_rational::BigRational;
 use num_traits::{One, Signed, Zero};
 
+use crate::poly::to_f64;
+
 /// The most drifts and kicks a sequence may have.
 pub const MAX_FLOWS: usize = 128;
 
@@ -70,11 +72,6 @@ pub enum ThresholdError {
     TooLarge,
     #[error("not stable for small steps on the harmonic oscillator (tr M/2 = 1 + {0}·(hω)² + …)")]
     Inconsistent(String),
-}
-
-fn to_f64(r: &BigRational) -> f64 {
-    use num_traits::ToPrimitive;
-    r.to_f64().unwrap_or(f64::NAN)
 }
 
 /// Polynomials with rational coefficients, constant first, no trailing
