@@ -87,7 +87,7 @@ impl System {
 
 /// Letters: `A = 0`, `B = 1` for drift–kick sequences; `Y₁ = 0`, `Y₃ = 1`,
 /// … for compositions.
-type Word = Vec<u8>;
+pub(crate) type Word = Vec<u8>;
 
 /// The words' letters, weights and labels are tableau's (the certificate
 /// builds the same conditions); a composition's letters are `Y₁, Y₃, …`.
@@ -97,14 +97,14 @@ fn comp(form: Form) -> bool {
 
 /// One factor of the product: `exp(x·L)` for a drift or kick, or
 /// `exp(γY₁ + γ³Y₃ + …)` for a step of the base method.
-enum Factor<'a> {
+pub(crate) enum Factor<'a> {
     Letter(u8, &'a Poly),
     Step(&'a Poly),
 }
 
 /// The coefficients of every word of weight `≤ top` in the product of the
 /// factors' exponentials, with polynomial coefficients.
-fn product(
+pub(crate) fn product(
     form: Form,
     factors: &[Factor<'_>],
     top: usize,
@@ -178,7 +178,7 @@ fn product(
 
 /// The coefficient of `w` in `log P`: `Σ_k (−1)^{k+1}/k Σ P[w₁]⋯P[w_k]` over
 /// the ways of cutting `w` into `k` nonempty consecutive pieces.
-fn log_coefficient(p: &HashMap<Word, Poly>, w: &[u8], nvars: usize) -> Poly {
+pub(crate) fn log_coefficient(p: &HashMap<Word, Poly>, w: &[u8], nvars: usize) -> Poly {
     let n = w.len();
     // s[k][i]: Σ over cuttings of w[i..] into k pieces of the products.
     let mut s: Vec<Vec<Poly>> = vec![vec![Poly::zero(nvars); n + 1]; n + 1];
@@ -354,6 +354,46 @@ pub fn system(family: &Family, file: &str) -> Result<System, FamilyError> {
         comp(family.form) || w.len() <= reach(w.iter().filter(|&&l| l == 1).count())
     };
     let prod = product(family.form, &factors, top, m, &keep);
+    if family.processed {
+        // A processed kernel: the effective-order conditions instead of the
+        // classical ones (crate::effective), from the whole of log K.
+        let mut log_k: crate::effective::Series = HashMap::new();
+        for n in 1..=top {
+            for w in words_of_weight(true, n) {
+                let c = log_coefficient(&prod, &w, m);
+                if !c.is_zero() {
+                    log_k.insert(w, c);
+                }
+            }
+        }
+        let elim =
+            crate::effective::eliminate(&log_k, p_order, m, false).map_err(|e| FamilyError {
+                file: file.to_string(),
+                field: None,
+                message: e.to_string(),
+            })?;
+        let to_condition = |t: crate::effective::Term| Condition {
+            word: t.word,
+            degree: t.weight,
+            poly: t.poly,
+        };
+        let conditions = elim.conditions.into_iter().map(to_condition).collect();
+        let error_terms = elim.errors.into_iter().map(to_condition).collect();
+        return finish(
+            family,
+            file,
+            Parts {
+                names,
+                params,
+                unknown_names,
+                drift,
+                kick,
+                gamma,
+            },
+            conditions,
+            error_terms,
+        );
+    }
     let mut conditions = Vec::new();
     let mut error_terms = Vec::new();
     for degree in 1..=top {
@@ -448,6 +488,51 @@ pub fn system(family: &Family, file: &str) -> Result<System, FamilyError> {
             })?;
         error_terms.retain(|c| !c.poly.is_zero());
     }
+    finish(
+        family,
+        file,
+        Parts {
+            names,
+            params,
+            unknown_names,
+            drift,
+            kick,
+            gamma,
+        },
+        conditions,
+        error_terms,
+    )
+}
+
+/// What a system is made of besides its conditions.
+struct Parts {
+    names: Vec<String>,
+    params: Vec<Poly>,
+    unknown_names: Vec<String>,
+    drift: Vec<Poly>,
+    kick: Vec<Poly>,
+    gamma: Vec<Poly>,
+}
+
+/// The system, once its conditions are known: refused when they outnumber
+/// the unknowns.
+fn finish(
+    family: &Family,
+    file: &str,
+    parts: Parts,
+    conditions: Vec<Condition>,
+    error_terms: Vec<Condition>,
+) -> Result<System, FamilyError> {
+    let Parts {
+        names,
+        params,
+        unknown_names,
+        drift,
+        kick,
+        gamma,
+    } = parts;
+    let m = unknown_names.len();
+    let p_order = family.order;
     if conditions.len() > m {
         return Err(FamilyError {
             file: file.to_string(),

@@ -128,6 +128,16 @@ pub struct Family {
     pub error_basis: ErrorBasis,
     /// What the free coefficients are chosen for.
     pub objective: Objective,
+    /// A processed kernel (`processed = true`; compositions): the order
+    /// imposed is the *effective* order of `χ K χ⁻¹`, for a processor `χ`
+    /// the designer then finds ([`crate::effective`]), and the error
+    /// measured is the part of the first order not imposed that no
+    /// processor removes.
+    pub processed: bool,
+    /// The processor's stages (`processor_stages`, even): the composition
+    /// `S(z₁h)⋯S(z_kh) S(−z₁h)⋯S(−z_kh)` of the same basic method, `k` of
+    /// them unknown. Only with `processed`.
+    pub processor_stages: usize,
     pub seed: u64,
     pub starts: usize,
     pub range: f64,
@@ -152,7 +162,7 @@ impl fmt::Display for FamilyError {
     }
 }
 
-const KEYS: [&str; 14] = [
+const KEYS: [&str; 16] = [
     "name",
     "source",
     "form",
@@ -167,6 +177,8 @@ const KEYS: [&str; 14] = [
     "objective",
     "rkn",
     "error_basis",
+    "processed",
+    "processor_stages",
 ];
 
 /// How a coefficient of the method is made of the family's parameters.
@@ -214,6 +226,8 @@ impl Family {
             rkn: false,
             error_basis: ErrorBasis::Words,
             objective: Objective::EffectiveError,
+            processed: false,
+            processor_stages: 0,
             seed: 1,
             starts: 200,
             range: 1.0,
@@ -317,6 +331,45 @@ impl Family {
             return Err(err(
                 "error_basis",
                 "\"brackets\" is for a classical order; a generalised order's error terms are Lyndon-word coefficients".into(),
+            ));
+        }
+        if self.processed {
+            if self.form != Form::Composition {
+                return Err(err(
+                    "processed",
+                    "a processed kernel is designed as a composition (form = \"composition\"): its effective-order conditions are those of the free Lie algebra on Y₁, Y₃, …".into(),
+                ));
+            }
+            if self.objective != Objective::EffectiveError {
+                return Err(err(
+                    "objective",
+                    "a processed kernel is chosen for its effective error (\"effective-error\")"
+                        .into(),
+                ));
+            }
+            if self.error_basis != ErrorBasis::Words {
+                return Err(err(
+                    "error_basis",
+                    "a processed kernel's error is the part no processor removes, measured on the Lyndon words (\"words\")".into(),
+                ));
+            }
+            if self.processor_stages < 2
+                || self.processor_stages % 2 == 1
+                || self.processor_stages > 2 * MAX_STAGES
+            {
+                return Err(err(
+                    "processor_stages",
+                    format!(
+                        "{}: the processor S(z₁h)⋯S(z_kh) S(−z₁h)⋯S(−z_kh) has an even number of stages, from 2 to {}",
+                        self.processor_stages,
+                        2 * MAX_STAGES
+                    ),
+                ));
+            }
+        } else if self.processor_stages != 0 {
+            return Err(err(
+                "processor_stages",
+                "a processor is designed only for a processed kernel (`processed = true`)".into(),
             ));
         }
         if self.starts == 0 {
@@ -496,6 +549,19 @@ pub fn parse_family(file: &str, text: &str) -> Result<Family, FamilyError> {
             ));
         }
     };
+    match table.get("processed") {
+        None => {}
+        Some(Value::Boolean(b)) => family.processed = *b,
+        Some(v) => {
+            return Err(err(
+                "processed",
+                format!("expected true or false, found {v}"),
+            ));
+        }
+    }
+    if let Some(k) = integer("processor_stages")? {
+        family.processor_stages = usize::try_from(k).unwrap_or(usize::MAX);
+    }
     if let Some(seed) = integer("seed")? {
         family.seed = seed;
     }

@@ -30,6 +30,7 @@
 
 pub mod certify;
 pub mod conditions;
+pub mod effective;
 pub mod emit;
 pub mod exact;
 pub mod family;
@@ -38,6 +39,7 @@ pub mod pipeline;
 pub mod polish;
 pub mod poly;
 pub mod processed;
+pub mod processor;
 pub mod solve;
 pub mod stability;
 pub mod verify;

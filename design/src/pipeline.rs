@@ -6,6 +6,8 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
+use num_rational::BigRational;
+
 use crate::certify::{Certificate, Refusal, certify};
 use crate::conditions::{System, system};
 use crate::emit::{Proof, table_text};
@@ -13,6 +15,9 @@ use crate::exact::{Exact, exact_value};
 use crate::family::{Family, FamilyError, stem};
 use crate::polish::{DIGITS, PolishError, Polished, decimal_text, polish};
 use crate::poly::to_f64;
+use crate::processor::{
+    KernelProof, check_text, processor_system, table_text as processor_table_text,
+};
 use crate::solve::{Progress, Search, Solution, search};
 use crate::stability::{Threshold, ThresholdError, flows_of, threshold};
 
@@ -34,6 +39,81 @@ pub struct Designed {
     /// The linear stability threshold `x* = hω` of the emitted table on the
     /// harmonic oscillator ([`crate::stability`]); `None` without a table.
     pub stability: Option<Result<Threshold, ThresholdError>>,
+    /// For a processed kernel (`processed = true`): its processor, or why
+    /// none was found; `None` for other families or an uncertified kernel.
+    pub processor: Option<Result<ProcessorDesign, String>>,
+}
+
+/// A processed kernel's processor ([`crate::processor`]).
+#[derive(Clone, Debug)]
+pub struct ProcessorDesign {
+    /// Its conditions and objective, in `z1, z2, …`.
+    pub system: System,
+    pub search: Search,
+    /// The printed coefficients (50 decimals where determined).
+    pub z: Vec<BigRational>,
+    /// The claims tableau decided on the emitted table's text.
+    pub claims: Vec<String>,
+}
+
+/// The processor for the kernel `x`, its table's text, and the claims
+/// tableau decided on it.
+fn process(
+    family: &Family,
+    family_file: &str,
+    system: &System,
+    x: &[BigRational],
+    certificate: &Certificate,
+    determined: &[usize],
+    rank: usize,
+    effective_error: f64,
+) -> Result<(ProcessorDesign, String, String), String> {
+    let psys = processor_system(family, family_file, system, x).map_err(|e| e.to_string())?;
+    let mut pfamily = family.clone();
+    pfamily.stages = family.processor_stages;
+    let found = search(&psys, &pfamily, &mut |_| {});
+    let best = found
+        .solutions
+        .first()
+        .ok_or_else(|| {
+            format!(
+                "no processor found: none of {} starts met its {} conditions",
+                found.starts_run,
+                psys.conditions.len()
+            )
+        })?
+        .clone();
+    let polished = polish(&psys, &best).map_err(|e| format!("the processor's polish: {e}"))?;
+    let name = format!("{}-{rank}.toml", stem(&family.name));
+    let proof = KernelProof {
+        radius: &certificate.radius,
+        determined: determined
+            .iter()
+            .map(|&i| system.names[i].as_str())
+            .collect(),
+    };
+    let text = processor_table_text(
+        family,
+        family_file,
+        system,
+        x,
+        &psys,
+        &polished.x,
+        rank,
+        effective_error,
+        &proof,
+    );
+    let claims = check_text(&name, &text)?;
+    Ok((
+        ProcessorDesign {
+            system: psys,
+            search: found,
+            z: polished.x,
+            claims,
+        },
+        name,
+        text,
+    ))
 }
 
 /// The bits to which [`Designed::stability`] encloses `x*²`.
@@ -69,11 +149,37 @@ pub fn design(
     for (rank, solution) in found.solutions.iter().take(MAX_EMITTED).enumerate() {
         let rank = rank + 1;
         let polished = polish(&system, solution);
-        let exact = exact_value(&system, solution.x.first().copied().unwrap_or(0.0))
-            .filter(|e| e.radicals.is_some());
+        let exact = if family.processed {
+            // A processed kernel is proven by its certificate and its
+            // processed table's claims, decided by tableau.
+            None
+        } else {
+            exact_value(&system, solution.x.first().copied().unwrap_or(0.0))
+                .filter(|e| e.radicals.is_some())
+        };
         let mut certificate = None;
         let mut table = None;
-        if let Ok(p) = &polished {
+        let mut processor = None;
+        if let (true, Ok(p)) = (family.processed, &polished) {
+            let c = certify(&system, &p.x, &p.determined, DIGITS - 4);
+            if let Ok(cert) = &c {
+                let made = process(
+                    family,
+                    family_file,
+                    &system,
+                    &p.x,
+                    cert,
+                    &p.determined,
+                    rank,
+                    solution.effective_error,
+                );
+                processor = Some(made.map(|(design, name, text)| {
+                    table = Some((name, text));
+                    design
+                }));
+            }
+            certificate = Some(c);
+        } else if let Ok(p) = &polished {
             let name = format!("{}-{rank}.toml", stem(&family.name));
             match &exact {
                 Some(e) => {
@@ -119,6 +225,7 @@ pub fn design(
             certificate,
             table,
             stability,
+            processor,
         });
     }
     Ok(Outcome {

@@ -6,6 +6,7 @@
 mod certificate;
 mod common;
 mod conditions;
+mod effective;
 mod families;
 mod processed;
 mod recover;

@@ -1,0 +1,486 @@
+//! Effective order: the conditions on a processed kernel, and the
+//! conjugator its processor must approximate.
+//!
+//! **Processing.** A kernel `K` stepped as `χ Kⁿ χ⁻¹`, the processor `χ`
+//! applied only at output and `χ⁻¹` once on entry, has the errors of the one
+//! method `χ K χ⁻¹` (Butcher 1969; López-Marcos, Sanz-Serna & Skeel 1996;
+//! Blanes, Casas & Ros 1999). Its logarithm is `exp(ad_Z) log K` with
+//! `−Z = log χ` (maps in the order applied, as the conditions' products are
+//! formed), so what `χ` can change at weight `n` is `[Z_{n−1}, Y₁]` plus
+//! terms fixed by lower weights: the image of `ad_{Y₁}`. The kernel's
+//! *effective-order conditions* are what remains: at each weight `n`, the
+//! part of the weight-`n` Lie element outside that image.
+//!
+//! **The elimination.** Weight by weight (`n = 2, 3, …`): the weight-`n`
+//! part of the current series, as coordinates `e` on the Lyndon words of
+//! weight `n`, is split as `e = M c + r`, `M`'s columns the coordinates of
+//! `[P_u, Y₁]` for the Lyndon basis `P_u` of weight `n − 1` (standard
+//! bracketing; `ad_{Y₁}` is injective there, which is checked). Pivot rows
+//! of `M` give `c` exactly and `r` vanishes on them; the other rows of `r`
+//! are the conditions (independent functionals that vanish exactly when the
+//! part lies in the image). Then `X = −Σ c_u P_u` and the series becomes
+//! `exp(ad_X)` of itself, which clears weight `n` up to `r`; the conjugators
+//! compose to `exp(Z) = ⋯ exp(X₃) exp(X₂)`. Off the conditions, `c` depends
+//! on which pivot rows were taken, and so do the higher conditions; on them
+//! every choice gives the same, the unique `X` (injectivity), so the zero set
+//! is the effective-order set. The error measured at weight `p + 1` is the
+//! orthogonal projection of `e` onto the complement of the image (in the
+//! Lyndon-word coordinates), which no choice of rows changes.
+//!
+//! Compositions only: the letters `Y₁, Y₃, Y₅, …` of a symmetric basic
+//! method, `Y_k` of weight `k` (see [`crate::conditions`]).
+
+use std::collections::HashMap;
+
+use num_rational::BigRational;
+use num_traits::{One, Zero};
+
+use crate::linalg::solve_rational;
+use crate::poly::Poly;
+use tableau::certificate::{factorial, is_lyndon, word_label, word_weight, words_of_weight};
+
+/// A word in the letters `Y₁ = 0, Y₃ = 1, …`.
+pub type Word = Vec<u8>;
+
+/// A series in the free associative algebra, truncated by weight, with
+/// polynomial coefficients; absent words have coefficient zero.
+pub type Series = HashMap<Word, Poly>;
+
+/// One condition or error term: the Lyndon word's label, its weight, the
+/// polynomial.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Term {
+    pub word: String,
+    pub weight: usize,
+    pub poly: Poly,
+}
+
+/// What the elimination gives.
+#[derive(Clone, Debug)]
+pub struct Elimination {
+    /// The effective-order conditions of weights `2..=p` that are not
+    /// identically zero.
+    pub conditions: Vec<Term>,
+    /// The part of weight `p + 1` no processor removes (orthogonal
+    /// projection; dependent coordinates, for the objective `Σ e²`).
+    pub errors: Vec<Term>,
+    /// `Z`, up to weight `p` (with `want_conjugator`): `log χ` must be `−Z`
+    /// there for the processed method to have effective order `p` and the
+    /// least error at `p + 1`.
+    pub conjugator: Series,
+}
+
+/// Why the elimination could not be done.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum EffectiveError {
+    /// A condition is a nonzero constant: the family's fixed values make the
+    /// effective order impossible.
+    #[error(
+        "the fixed values leave the weight-{weight} effective condition for {word} equal to {value}, so effective order {order} is impossible in this family"
+    )]
+    Impossible {
+        word: String,
+        weight: usize,
+        value: String,
+        order: usize,
+    },
+    /// A check that must hold for a symmetric kernel did not.
+    #[error("internal error: {0}; please report it")]
+    Internal(String),
+}
+
+fn weight(w: &[u8]) -> usize {
+    word_weight(true, w)
+}
+
+fn lyndon_words(n: usize) -> Vec<Word> {
+    words_of_weight(true, n)
+        .into_iter()
+        .filter(|w| is_lyndon(w))
+        .collect()
+}
+
+/// `a·b`, truncated at weight `top`.
+pub fn mul(a: &Series, b: &Series, top: usize, nvars: usize) -> Series {
+    let mut out: Series = HashMap::new();
+    for (u, x) in a {
+        if x.is_zero() {
+            continue;
+        }
+        let wu = weight(u);
+        for (v, y) in b {
+            if y.is_zero() || wu + weight(v) > top {
+                continue;
+            }
+            let mut uv = u.clone();
+            uv.extend_from_slice(v);
+            let entry = out.entry(uv).or_insert_with(|| Poly::zero(nvars));
+            *entry = entry.add(&x.mul(y));
+        }
+    }
+    out.retain(|_, p| !p.is_zero());
+    out
+}
+
+fn sub(a: &Series, b: &Series, nvars: usize) -> Series {
+    let mut out = a.clone();
+    for (w, y) in b {
+        let entry = out.entry(w.clone()).or_insert_with(|| Poly::zero(nvars));
+        *entry = entry.sub(y);
+    }
+    out.retain(|_, p| !p.is_zero());
+    out
+}
+
+fn add(a: &Series, b: &Series, nvars: usize) -> Series {
+    let mut out = a.clone();
+    for (w, y) in b {
+        let entry = out.entry(w.clone()).or_insert_with(|| Poly::zero(nvars));
+        *entry = entry.add(y);
+    }
+    out.retain(|_, p| !p.is_zero());
+    out
+}
+
+fn scale(a: &Series, k: &BigRational) -> Series {
+    a.iter().map(|(w, p)| (w.clone(), p.scale(k))).collect()
+}
+
+/// `[a, b]`, truncated at weight `top`.
+pub fn bracket(a: &Series, b: &Series, top: usize, nvars: usize) -> Series {
+    sub(&mul(a, b, top, nvars), &mul(b, a, top, nvars), nvars)
+}
+
+/// `exp(ad_x) l = l + [x, l] + [x, [x, l]]/2 + …`, truncated at `top`
+/// (`x` has no weight-0 part, so the sum is finite).
+pub fn conjugate(x: &Series, l: &Series, top: usize, nvars: usize) -> Series {
+    let mut out = l.clone();
+    let mut term = l.clone();
+    for k in 1..=top {
+        term = bracket(x, &term, top, nvars);
+        if term.is_empty() {
+            break;
+        }
+        let inv = BigRational::new(One::one(), factorial(k));
+        out = add(&out, &scale(&term, &inv), nvars);
+    }
+    out
+}
+
+/// `exp(x)` (with the empty word), truncated at `top`.
+pub fn exp(x: &Series, top: usize, nvars: usize) -> Series {
+    let mut out: Series = HashMap::from([(Vec::new(), Poly::constant(nvars, BigRational::one()))]);
+    let mut term = out.clone();
+    for k in 1..=top {
+        term = scale(
+            &mul(&term, x, top, nvars),
+            &BigRational::new(One::one(), k.into()),
+        );
+        if term.is_empty() {
+            break;
+        }
+        out = add(&out, &term, nvars);
+    }
+    out
+}
+
+/// `log(s)` for `s` with constant term 1, truncated at `top`.
+pub fn log(s: &Series, top: usize, nvars: usize) -> Series {
+    let mut y = s.clone();
+    y.remove(&Vec::new());
+    let mut out: Series = HashMap::new();
+    let mut power = y.clone();
+    for k in 1..=top {
+        if power.is_empty() {
+            break;
+        }
+        let sign = if k % 2 == 1 { 1 } else { -1 };
+        out = add(
+            &out,
+            &scale(&power, &BigRational::new(sign.into(), (k as i64).into())),
+            nvars,
+        );
+        power = mul(&power, &y, top, nvars);
+    }
+    out
+}
+
+/// The standard bracketing of a Lyndon word, as a series with constant
+/// coefficients.
+fn basis_element(w: &[u8], nvars: usize) -> Series {
+    if w.len() == 1 {
+        return HashMap::from([(w.to_vec(), Poly::constant(nvars, BigRational::one()))]);
+    }
+    let split = (1..w.len())
+        .find(|&i| is_lyndon(&w[i..]))
+        .expect("a one-letter suffix is Lyndon");
+    let top = weight(w);
+    bracket(
+        &basis_element(&w[..split], nvars),
+        &basis_element(&w[split..], nvars),
+        top,
+        nvars,
+    )
+}
+
+fn constant(p: &Poly) -> BigRational {
+    p.as_constant()
+        .expect("a basis element has constant coefficients")
+}
+
+/// Pivot rows of a rational matrix (rows × cols) of full column rank, or
+/// `None` when the rank is short.
+fn pivot_rows(m: &[Vec<BigRational>], cols: usize) -> Option<Vec<usize>> {
+    // Eliminate on the transpose: a column basis of Mᵀ is a row basis of M.
+    let mut rows: Vec<Vec<BigRational>> = m.to_vec();
+    let mut chosen = Vec::new();
+    let mut basis: Vec<(usize, Vec<BigRational>)> = Vec::new(); // (pivot col, reduced row)
+    for (i, row) in rows.iter_mut().enumerate() {
+        let mut r = row.clone();
+        for (col, b) in &basis {
+            if !r[*col].is_zero() {
+                let f = &r[*col] / &b[*col];
+                for (x, y) in r.iter_mut().zip(b) {
+                    *x -= &f * y;
+                }
+            }
+        }
+        if let Some(col) = (0..cols).find(|&c| !r[c].is_zero()) {
+            basis.push((col, r));
+            chosen.push(i);
+        }
+    }
+    (chosen.len() == cols).then_some(chosen)
+}
+
+/// Eliminate the processor from the series `l` (`log K`, weight-one part
+/// `Y₁` after consistency, every word up to weight `p + 1` present): the
+/// effective-order conditions of weights `2..=p`, the error of weight
+/// `p + 1`, and, with `want_conjugator`, `Z` up to weight `p` (for a kernel
+/// at its printed values, whose conditions are then constants near zero and
+/// are not returned).
+pub fn eliminate(
+    l: &Series,
+    p: usize,
+    nvars: usize,
+    want_conjugator: bool,
+) -> Result<Elimination, EffectiveError> {
+    let top = p + 1;
+    let mut l = l.clone();
+    let mut conditions = Vec::new();
+    let mut errors = Vec::new();
+    let mut z_exp: Series =
+        HashMap::from([(Vec::new(), Poly::constant(nvars, BigRational::one()))]);
+    for n in 2..=top {
+        let words = lyndon_words(n);
+        // ad(Y₁) kills Y₁ alone: the image comes from the other elements.
+        let below: Vec<Word> = lyndon_words(n - 1)
+            .into_iter()
+            .filter(|u| u != &[0u8])
+            .collect();
+        let e: Vec<Poly> = words
+            .iter()
+            .map(|w| l.get(w).cloned().unwrap_or_else(|| Poly::zero(nvars)))
+            .collect();
+        let basis: Vec<Series> = below.iter().map(|u| basis_element(u, 0)).collect();
+        let images: Vec<Series> = basis
+            .iter()
+            .map(|b| bracket(b, &basis_element(&[0], 0), n, 0))
+            .collect();
+        // m[i][j]: coefficient of words[i] in [P_{below[j]}, Y₁].
+        let m: Vec<Vec<BigRational>> = words
+            .iter()
+            .map(|w| {
+                images
+                    .iter()
+                    .map(|s| s.get(w).map(constant).unwrap_or_else(BigRational::zero))
+                    .collect()
+            })
+            .collect();
+        let cols = below.len();
+        let pivots = pivot_rows(&m, cols).ok_or_else(|| {
+            EffectiveError::Internal(format!(
+                "ad(Y₁) is not injective from weight {} to weight {n}",
+                n - 1
+            ))
+        })?;
+        // c = M_R⁻¹ e_R, column by column of M_R⁻¹.
+        let mr: Vec<Vec<BigRational>> = pivots.iter().map(|&i| m[i].clone()).collect();
+        let mut c: Vec<Poly> = vec![Poly::zero(nvars); cols];
+        for (k, &i) in pivots.iter().enumerate() {
+            let mut unit = vec![BigRational::zero(); cols];
+            unit[k] = BigRational::one();
+            let col = solve_rational(&mr, &unit)
+                .ok_or_else(|| EffectiveError::Internal("singular pivot block".into()))?;
+            for j in 0..cols {
+                if !col[j].is_zero() {
+                    c[j] = c[j].add(&e[i].scale(&col[j]));
+                }
+            }
+        }
+        let residual = |i: usize| -> Poly {
+            let mut r = e[i].clone();
+            for j in 0..cols {
+                if !m[i][j].is_zero() {
+                    r = r.sub(&c[j].scale(&m[i][j]));
+                }
+            }
+            r
+        };
+        if n <= p {
+            for i in (0..words.len()).filter(|i| !pivots.contains(i)) {
+                let r = residual(i);
+                if r.is_zero() {
+                    continue;
+                }
+                let label = word_label(true, &words[i]);
+                if n % 2 == 0 {
+                    return Err(EffectiveError::Internal(format!(
+                        "the even-weight effective term {label} (weight {n}) does not vanish for a symmetric kernel"
+                    )));
+                }
+                if let Some(v) = r.as_constant() {
+                    if want_conjugator {
+                        // A kernel given by its printed values: its
+                        // conditions hold to the printed digits only.
+                        continue;
+                    }
+                    return Err(EffectiveError::Impossible {
+                        word: label,
+                        weight: n,
+                        value: v.to_string(),
+                        order: p,
+                    });
+                }
+                conditions.push(Term {
+                    word: label,
+                    weight: n,
+                    poly: r,
+                });
+            }
+        } else {
+            // The orthogonal projection onto the complement of M's range:
+            // r = e − M (MᵀM)⁻¹ Mᵀ e.
+            let mtm: Vec<Vec<BigRational>> = (0..cols)
+                .map(|a| {
+                    (0..cols)
+                        .map(|b| {
+                            (0..words.len())
+                                .map(|i| &m[i][a] * &m[i][b])
+                                .fold(BigRational::zero(), |s, x| s + x)
+                        })
+                        .collect()
+                })
+                .collect();
+            let mut d: Vec<Poly> = vec![Poly::zero(nvars); cols];
+            for k in 0..cols {
+                let mut unit = vec![BigRational::zero(); cols];
+                unit[k] = BigRational::one();
+                let col = solve_rational(&mtm, &unit)
+                    .ok_or_else(|| EffectiveError::Internal("singular MᵀM".into()))?;
+                // d = (MᵀM)⁻¹ Mᵀ e: column k of the inverse times (Mᵀe)_k.
+                let mte_k = (0..words.len()).fold(Poly::zero(nvars), |s, i| {
+                    if m[i][k].is_zero() {
+                        s
+                    } else {
+                        s.add(&e[i].scale(&m[i][k]))
+                    }
+                });
+                for j in 0..cols {
+                    if !col[j].is_zero() {
+                        d[j] = d[j].add(&mte_k.scale(&col[j]));
+                    }
+                }
+            }
+            for (i, w) in words.iter().enumerate() {
+                let mut r = e[i].clone();
+                for j in 0..cols {
+                    if !m[i][j].is_zero() {
+                        r = r.sub(&d[j].scale(&m[i][j]));
+                    }
+                }
+                if !r.is_zero() {
+                    errors.push(Term {
+                        word: word_label(true, w),
+                        weight: n,
+                        poly: r,
+                    });
+                }
+            }
+        }
+        // X = −Σ c_u P_u clears the image part of weight n.
+        let mut x: Series = HashMap::new();
+        for (j, b) in basis.iter().enumerate() {
+            if c[j].is_zero() {
+                continue;
+            }
+            for (w, k) in b {
+                let entry = x.entry(w.clone()).or_insert_with(|| Poly::zero(nvars));
+                *entry = entry.sub(&c[j].scale(&constant(k)));
+            }
+        }
+        x.retain(|_, q| !q.is_zero());
+        if x.is_empty() {
+            continue;
+        }
+        if n < top {
+            l = conjugate(&x, &l, top, nvars);
+        }
+        if want_conjugator {
+            z_exp = mul(&exp(&x, p, nvars), &z_exp, p, nvars);
+        }
+    }
+    let conjugator = if want_conjugator {
+        log(&z_exp, p, nvars)
+    } else {
+        HashMap::new()
+    };
+    Ok(Elimination {
+        conditions,
+        errors,
+        conjugator,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn c(v: i64) -> Poly {
+        Poly::constant(0, BigRational::from_integer(v.into()))
+    }
+
+    #[test]
+    fn exp_and_log_are_inverse() {
+        let x: Series = HashMap::from([(vec![0], c(1)), (vec![1], c(2)), (vec![0, 1], c(3))]);
+        let back = log(&exp(&x, 7, 0), 7, 0);
+        assert_eq!(back, x);
+    }
+
+    #[test]
+    fn the_conjugation_is_log_of_the_product() {
+        // exp(ad_x) l = log(exp(x) exp(l) exp(−x)).
+        let x: Series = HashMap::from([(vec![0, 1], c(2)), (vec![1, 0], c(-2))]);
+        let l: Series = HashMap::from([(vec![0], c(1)), (vec![1], c(5))]);
+        let top = 9;
+        let direct = conjugate(&x, &l, top, 0);
+        let minus_x = scale(&x, &BigRational::from_integer((-1).into()));
+        let product = mul(
+            &mul(&exp(&x, top, 0), &exp(&l, top, 0), top, 0),
+            &exp(&minus_x, top, 0),
+            top,
+            0,
+        );
+        assert_eq!(direct, log(&product, top, 0));
+    }
+
+    #[test]
+    fn the_image_of_ad_y1_is_injective_and_leaves_one_condition_per_odd_weight_up_to_five() {
+        // Lyndon words of weight 5: Y₁Y₁Y₃ and Y₅; the image from weight 4
+        // ([Y₁,Y₃]) is one-dimensional, so one condition remains (Y₅).
+        assert_eq!(lyndon_words(5).len(), 2);
+        assert_eq!(lyndon_words(4).len(), 1);
+        assert_eq!(lyndon_words(3).len(), 1);
+        assert_eq!(lyndon_words(2).len(), 0);
+    }
+}
