@@ -16,7 +16,7 @@ use crate::family::{Family, FamilyError, stem};
 use crate::polish::{DIGITS, PolishError, Polished, decimal_text, polish};
 use crate::poly::to_f64;
 use crate::processor::{
-    KernelProof, check_text, processor_system, table_text as processor_table_text,
+    KernelProof, check_text, independent, processor_system, table_text as processor_table_text,
 };
 use crate::solve::{Progress, Search, Solution, search};
 use crate::stability::{Threshold, ThresholdError, flows_of, threshold};
@@ -57,6 +57,9 @@ pub struct ProcessorDesign {
     pub z: Vec<BigRational>,
     /// The claims tableau decided on the emitted table's text.
     pub claims: Vec<String>,
+    /// Its objective: `Σ e²` of the image part of weight `p` it leaves
+    /// (at the `f64` solution).
+    pub objective: f64,
 }
 
 /// The processor for the kernel `x`, its table's text, and the claims
@@ -78,10 +81,18 @@ fn process(
     // order; the objective only trims the image part of the next weight, so
     // a few starts suffice.
     pfamily.starts = family.starts.min(PROCESSOR_STARTS);
-    let found = search(&psys, &pfamily, &mut |_| {});
+    // The conditions are dependent (the form ties coefficients of log χ
+    // together), so the search runs Levenberg–Marquardt on all of them
+    // without the constrained minimisation, and the processors found are
+    // ranked by the objective afterwards.
+    let mut bare = psys.clone();
+    bare.error_terms.clear();
+    let found = search(&bare, &pfamily, &mut |_| {});
+    let full = crate::solve::Compiled::new(&psys);
     let best = found
         .solutions
-        .first()
+        .iter()
+        .min_by(|a, b| full.objective(&a.x).total_cmp(&full.objective(&b.x)))
         .ok_or_else(|| {
             format!(
                 "no processor found: none of {} starts met its {} conditions",
@@ -90,7 +101,12 @@ fn process(
             )
         })?
         .clone();
-    let polished = polish(&psys, &best).map_err(|e| format!("the processor's polish: {e}"))?;
+    // The polish: a square subset, independent at the processor found; the
+    // rest must then hold too, which the table's claim decides.
+    let mut square = psys.clone();
+    let keep = independent(&psys.conditions, psys.unknowns(), &best.x);
+    square.conditions = keep.iter().map(|&i| psys.conditions[i].clone()).collect();
+    let polished = polish(&square, &best).map_err(|e| format!("the processor's polish: {e}"))?;
     let name = format!("{}-{rank}.toml", stem(&family.name));
     let proof = KernelProof {
         radius: &certificate.radius,
@@ -117,6 +133,7 @@ fn process(
             search: found,
             z: polished.x,
             claims,
+            objective: full.objective(&best.x),
         },
         name,
         text,
@@ -332,6 +349,9 @@ impl Outcome {
             se.solutions.len()
         );
         let measure = match (self.family.rkn, self.family.error_basis) {
+            _ if self.family.processed => {
+                "the coordinates outside the image of ad Y₁ (what no processor removes, orthogonally projected on the Lyndon-word coefficients)"
+            }
             (true, _) => {
                 "the coordinates in the Lyndon basis outside the ideal of [B,[B,[B,A]]] (RKN)"
             }
@@ -388,6 +408,52 @@ impl Outcome {
                 d.solution.hits,
                 d.table.as_ref().map_or("—", |t| t.0.as_str())
             );
+        }
+        if f.processed {
+            let _ = writeln!(
+                r,
+                "\nProcessed kernels: the conditions are of effective order {} (of χ K χ⁻¹, `design::effective`). Each certified kernel gets a processor χ = S(z₁h)⋯S(z_kh) S(−z₁h)⋯S(−z_kh), k = {} (`design::processor`; at most {} starts, the best by the image part of weight {} kept), and its table's claim is decided by `symlab check`'s verifier:\n",
+                f.order,
+                f.processor_stages / 2,
+                PROCESSOR_STARTS,
+                f.order
+            );
+            for (i, d) in self.designs.iter().enumerate() {
+                match &d.processor {
+                    None => {
+                        let _ = writeln!(
+                            r,
+                            "- kernel {}: no processor (the kernel is not certified)",
+                            i + 1
+                        );
+                    }
+                    Some(Err(e)) => {
+                        let _ = writeln!(r, "- kernel {}: no processor: {e}", i + 1);
+                    }
+                    Some(Ok(pd)) => {
+                        let _ = writeln!(
+                            r,
+                            "- kernel {}: processor conditions {} ({}); {} starts, {} distinct processors, the best's image part Σ e² = {:.3e}; claims held: {}; z = {}",
+                            i + 1,
+                            pd.system.conditions.len(),
+                            pd.system
+                                .conditions
+                                .iter()
+                                .map(|c| c.word.clone())
+                                .collect::<Vec<_>>()
+                                .join(", "),
+                            pd.search.starts_run,
+                            pd.search.solutions.len(),
+                            pd.objective,
+                            pd.claims.join("; "),
+                            pd.z.iter()
+                                .map(|z| format!("{:.16}", to_f64(z)))
+                                .collect::<Vec<_>>()
+                                .join(", ")
+                        );
+                    }
+                }
+            }
         }
         for (i, d) in self.designs.iter().enumerate() {
             if let Ok(p) = &d.polished {

@@ -127,13 +127,12 @@ pub fn processor_system(
             }
         }
     }
-    // The form ties some coefficients of log χ together, so some of these
-    // conditions follow from the others: keep a set independent at a
-    // generic point (pseudo-random, from the family's seed). The dropped
-    // ones are still part of the processed table's claim, which tableau
-    // decides on every Lie term.
-    let conditions = independent(conditions, k, family.seed);
-    if conditions.len() > k {
+    // (The form ties some coefficients of log χ together, so these
+    // conditions are dependent; `independent` picks a square subset at a
+    // solution for the polish.)
+    let mut rng = crate::solve::SplitMix64::new(family.seed);
+    let generic: Vec<f64> = (0..k).map(|_| rng.symmetric(1.0)).collect();
+    if conditions.len() > k && independent(&conditions, k, &generic).len() == k {
         return Err(error(
             file,
             Some("processor_stages"),
@@ -168,27 +167,22 @@ pub fn processor_system(
     })
 }
 
-/// The conditions whose gradients are independent at a generic point.
-fn independent(conditions: Vec<Condition>, k: usize, seed: u64) -> Vec<Condition> {
-    let mut rng = crate::solve::SplitMix64::new(seed ^ 0x5eed_0f_c0de);
-    let x: Vec<f64> = (0..k).map(|_| rng.symmetric(1.0)).collect();
+/// The indices of conditions whose gradients are independent at `x` (pivot
+/// rows of the Jacobian): where the form ties coefficients together, the
+/// others follow from these near `x`.
+pub fn independent(conditions: &[Condition], k: usize, x: &[f64]) -> Vec<usize> {
     // Rows: unknowns; columns: conditions (the transpose of the Jacobian).
     let jt: Vec<Vec<f64>> = (0..k)
         .map(|j| {
             conditions
                 .iter()
-                .map(|c| c.poly.derivative(j).compile().eval(&x))
+                .map(|c| c.poly.derivative(j).compile().eval(x))
                 .collect()
         })
         .collect();
     let mut keep = crate::linalg::pivot_columns(&jt, 1e-9);
     keep.sort_unstable();
-    conditions
-        .into_iter()
-        .enumerate()
-        .filter(|(i, _)| keep.contains(i))
-        .map(|(_, c)| c)
-        .collect()
+    keep
 }
 
 /// The processor's drift–kick sequence: the steps `S(γ) = D(γ/2) K(γ)

@@ -113,7 +113,11 @@ fn published_processed_kernels_meet_the_effective_conditions() {
         classical.processor_stages = 0;
         if let Ok(cl) = design::conditions::system(&classical, "x") {
             let cc = Compiled::new(&cl);
-            assert!(cc.residual(&x) > 1e-10, "{file}: classical {:e}", cc.residual(&x));
+            assert!(
+                cc.residual(&x) > 1e-10,
+                "{file}: classical {:e}",
+                cc.residual(&x)
+            );
         }
     }
     let sys = design::conditions::system(&load("bcm-processed8-s13.toml"), "x").unwrap();
@@ -163,9 +167,15 @@ fn bcm_eleven_stage_kernel_recovered_with_a_processor_and_checked() {
 fn processed_family_errors_name_the_field() {
     let base = "name = \"x\"\nform = \"composition\"\nstages = 7\norder = 6\n";
     let cases = [
-        ("processed = true\nprocessor_stages = 10\nform2 = 1\n", "form2"),
+        (
+            "processed = true\nprocessor_stages = 10\nform2 = 1\n",
+            "form2",
+        ),
         ("processed = true\n", "processor_stages"),
-        ("processed = true\nprocessor_stages = 9\n", "processor_stages"),
+        (
+            "processed = true\nprocessor_stages = 9\n",
+            "processor_stages",
+        ),
         ("processor_stages = 10\n", "processor_stages"),
         ("processed = \"yes\"\n", "processed"),
         (
@@ -189,6 +199,14 @@ fn processed_family_errors_name_the_field() {
     let mut f = load("bcm-processed6-s11.toml");
     f.processor_stages = 2;
     let out = design::design(&f, "x", &mut |_| {}).unwrap();
-    let why = out.designs[0].processor.as_ref().unwrap().as_ref().unwrap_err();
-    assert!(why.contains("processor_stages") || why.contains("conditions"), "{why}");
+    let why = out.designs[0]
+        .processor
+        .as_ref()
+        .unwrap()
+        .as_ref()
+        .unwrap_err();
+    assert!(
+        why.contains("processor_stages") || why.contains("conditions"),
+        "{why}"
+    );
 }
