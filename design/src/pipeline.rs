@@ -68,12 +68,12 @@ fn process(
     family: &Family,
     family_file: &str,
     system: &System,
-    x: &[BigRational],
+    kernel: &Polished,
     certificate: &Certificate,
-    determined: &[usize],
     rank: usize,
     effective_error: f64,
 ) -> Result<(ProcessorDesign, String, String), String> {
+    let (x, determined) = (&kernel.x, &kernel.determined);
     let psys = processor_system(family, family_file, system, x).map_err(|e| e.to_string())?;
     let mut pfamily = family.clone();
     pfamily.stages = family.processor_stages;
@@ -191,9 +191,8 @@ pub fn design(
                     family,
                     family_file,
                     &system,
-                    &p.x,
+                    p,
                     cert,
-                    &p.determined,
                     rank,
                     solution.effective_error,
                 );

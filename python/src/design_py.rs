@@ -37,7 +37,11 @@ fn claims(text: &str) -> Vec<String> {
 /// line break) with `seed` and `starts` overriding the file's; write the
 /// tables and report.md into `out` when given. Returns a dict: the search
 /// (`starts_run`, `distinct`, `capped`, `seconds`), the system (`unknowns`,
-/// `conditions`) and `designs`, best first.
+/// `conditions`) and `designs`, best first; for a processed kernel
+/// (`processed = true`) each design's `processor` is a dict with its
+/// coefficients `z`, the `claims` tableau decided on the processed table and
+/// the `objective` it leaves, or with the `error` that stopped it (`None`
+/// for other families).
 #[pyfunction]
 #[pyo3(signature = (family, *, seed = None, starts = None, out = None))]
 pub fn design<'py>(
@@ -135,6 +139,22 @@ pub fn design<'py>(
                 e.set_item("name", py.None())?;
                 e.set_item("claims", PyList::empty(py))?;
                 e.set_item("toml", py.None())?;
+            }
+        }
+        match &found.processor {
+            None => e.set_item("processor", py.None())?,
+            Some(Ok(p)) => {
+                let pd = PyDict::new(py);
+                let z: Vec<f64> = p.z.iter().map(::design::poly::to_f64).collect();
+                pd.set_item("z", z)?;
+                pd.set_item("claims", &p.claims)?;
+                pd.set_item("objective", p.objective)?;
+                e.set_item("processor", pd)?;
+            }
+            Some(Err(why)) => {
+                let pd = PyDict::new(py);
+                pd.set_item("error", why)?;
+                e.set_item("processor", pd)?;
             }
         }
         designs.append(e)?;

@@ -118,3 +118,19 @@ def test_second_corrector_family_is_solved_exactly(root, tmp_path):
         symlab.design(path, starts=5)
     with pytest.raises(symlab.DesignError, match="seed"):
         symlab.design(path, seed=1)
+
+
+def test_processed_kernel_with_its_processor(root):
+    d = symlab.design(str(root / "designs" / "bcm-processed6-s11.toml"), starts=50)
+    assert d["unknowns"] == ["g1", "g5"]
+    best = d["designs"][0]
+    assert abs(best["x"]["g1"] - 0.1705768865009222157) < 1e-9
+    assert best["proof"] == "certified"
+    p = best["processor"]
+    assert p["claims"] == ["order = 6 (residual < 1e-40)"], p
+    assert len(p["z"]) == 6
+    # The processed table is checked by symlab.check as any table is.
+    v = symlab.check(symlab.Table.from_toml(best["toml"]))
+    assert all(c["holds"] for c in v["claims"]), v["claims"]
+    # Other families have no processor.
+    assert symlab.design(YOSHIDA)["designs"][0]["processor"] is None
