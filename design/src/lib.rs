@@ -20,13 +20,18 @@
 //! assert!((best.solution.x[0] - 1.3512071919596578).abs() < 1e-12);
 //! ```
 //!
+//! A processed kernel (`processed = true`, compositions) is designed under
+//! effective-order conditions ([`effective`]: the processor eliminated
+//! weight by weight), and its processor found and written with it as a
+//! processed table that tableau decides ([`processor`]).
+//!
 //! A second family kind, a second corrector for a processed method of the
 //! catalogue ([`processed`]), has one unknown and an exact answer, found from
 //! tableau's exact near-integrable coefficients.
 //!
-//! Modules import one way: `poly`, `linalg` ← `family` ← `conditions` ←
-//! `solve` ← `polish` ← `certify`, `exact` ← `emit` ← `verify`, `pipeline`;
-//! `family` ← `processed`.
+//! Modules import one way: `poly`, `linalg` ← `family`, `effective` ←
+//! `conditions` ← `solve` ← `polish` ← `certify`, `exact` ← `emit` ←
+//! `verify`, `processor` ← `pipeline`; `family` ← `processed`.
 
 pub mod certify;
 pub mod conditions;
