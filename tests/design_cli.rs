@@ -408,3 +408,69 @@ fn an_endless_family_file_is_read_up_to_a_limit() {
     );
     assert!(start.elapsed().as_secs() < 10, "{:?}", start.elapsed());
 }
+
+/// A processed kernel (`processed = true`): the processed table (kernel and
+/// processor) is written, `symlab check` accepts its effective-order claim,
+/// and `compare --table` steps it with its processor (the error falls as
+/// h⁶ on Kepler).
+#[test]
+fn design_writes_a_processed_table_that_check_and_compare_accept() {
+    let dir = out_dir("processed");
+    let d = dir.to_str().unwrap();
+    let (code, out, err) = symlab(&[
+        "design",
+        "designs/bcm-processed6-s11.toml",
+        "--out",
+        d,
+        "--starts",
+        "50",
+    ]);
+    assert_eq!(code, 0, "stderr: {err}");
+    assert!(out.contains("certified, radius"), "{out}");
+    let table = dir.join("processed-composition-11-stages-effective-order-6-1.toml");
+    let report = std::fs::read_to_string(dir.join("report.md")).unwrap();
+    assert!(
+        report.contains("claims held: order = 6 (residual < 1e-40)"),
+        "{report}"
+    );
+    let (code, out, err) = symlab(&["check", "--json", table.to_str().unwrap()]);
+    assert_eq!(code, 0, "stderr: {err}\n{out}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let claims = v["claims"].as_array().unwrap();
+    assert!(claims.iter().all(|c| c["holds"] == true), "{v}");
+    assert!(
+        claims
+            .iter()
+            .any(|c| c["claim"] == "order = 6 (residual < 1e-40)"),
+        "{v}"
+    );
+    let cmp = dir.join("cmp");
+    let (code, out, err) = symlab(&[
+        "compare",
+        "--problem",
+        "kepler",
+        "--table",
+        table.to_str().unwrap(),
+        "--methods",
+        "interp:yoshida6",
+        "--points",
+        "4",
+        "--h-max",
+        "0.04",
+        "--h-min",
+        "0.005",
+        "--repeats",
+        "1",
+        "--out",
+        cmp.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "stderr: {err}\n{out}");
+    let line = out
+        .lines()
+        .find(|l| l.starts_with("processed-composition-11"))
+        .unwrap_or_else(|| panic!("{out}"));
+    // The slope column (fifth): the effective order, 6, not the kernel's 2.
+    let slope: f64 = line.split_whitespace().nth(4).unwrap().parse().unwrap();
+    assert!((slope - 6.0).abs() < 0.3, "{line}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
