@@ -354,6 +354,14 @@ pub fn system(family: &Family, file: &str) -> Result<System, FamilyError> {
         comp(family.form) || w.len() <= reach(w.iter().filter(|&&l| l == 1).count())
     };
     let prod = product(family.form, &factors, top, m, &keep);
+    let parts = Parts {
+        names,
+        params,
+        unknown_names,
+        drift,
+        kick,
+        gamma,
+    };
     if family.processed {
         // A processed kernel: the effective-order conditions instead of the
         // classical ones (crate::effective), from the whole of log K.
@@ -379,20 +387,7 @@ pub fn system(family: &Family, file: &str) -> Result<System, FamilyError> {
         };
         let conditions = elim.conditions.into_iter().map(to_condition).collect();
         let error_terms = elim.errors.into_iter().map(to_condition).collect();
-        return finish(
-            family,
-            file,
-            Parts {
-                names,
-                params,
-                unknown_names,
-                drift,
-                kick,
-                gamma,
-            },
-            conditions,
-            error_terms,
-        );
+        return finish(family, file, parts, conditions, error_terms);
     }
     let mut conditions = Vec::new();
     let mut error_terms = Vec::new();
@@ -488,20 +483,7 @@ pub fn system(family: &Family, file: &str) -> Result<System, FamilyError> {
             })?;
         error_terms.retain(|c| !c.poly.is_zero());
     }
-    finish(
-        family,
-        file,
-        Parts {
-            names,
-            params,
-            unknown_names,
-            drift,
-            kick,
-            gamma,
-        },
-        conditions,
-        error_terms,
-    )
+    finish(family, file, parts, conditions, error_terms)
 }
 
 /// What a system is made of besides its conditions.

@@ -122,24 +122,23 @@ pub fn mul(a: &Series, b: &Series, top: usize, nvars: usize) -> Series {
     out
 }
 
-fn sub(a: &Series, b: &Series, nvars: usize) -> Series {
+/// `a + b`, or `a − b` with `negate`.
+fn combine(a: &Series, b: &Series, nvars: usize, negate: bool) -> Series {
     let mut out = a.clone();
     for (w, y) in b {
         let entry = out.entry(w.clone()).or_insert_with(|| Poly::zero(nvars));
-        *entry = entry.sub(y);
+        *entry = if negate { entry.sub(y) } else { entry.add(y) };
     }
     out.retain(|_, p| !p.is_zero());
     out
 }
 
+fn sub(a: &Series, b: &Series, nvars: usize) -> Series {
+    combine(a, b, nvars, true)
+}
+
 fn add(a: &Series, b: &Series, nvars: usize) -> Series {
-    let mut out = a.clone();
-    for (w, y) in b {
-        let entry = out.entry(w.clone()).or_insert_with(|| Poly::zero(nvars));
-        *entry = entry.add(y);
-    }
-    out.retain(|_, p| !p.is_zero());
-    out
+    combine(a, b, nvars, false)
 }
 
 fn scale(a: &Series, k: &BigRational) -> Series {
