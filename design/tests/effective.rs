@@ -148,7 +148,8 @@ fn bcm_eleven_stage_kernel_recovered_with_a_processor_and_checked() {
     }
     refused_when_moved(name, text, "g1", "1e-30", "order = 6");
     refused_when_moved(name, text, "z1", "1e-30", "order = 6");
-    // Without its processor the kernel is of order 2 only.
+    // Without its processor the kernel is of order 4 only (Σγ³ = 0 is an
+    // effective condition too): its order-6 claim is refused.
     let kernel_only: String = text
         .lines()
         .filter(|l| !l.starts_with("corrector_") && !l.starts_with("let.z"))
