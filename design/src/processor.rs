@@ -10,8 +10,14 @@
 //! `log χ = −Z` on the Lyndon words of weights `2..p − 1` makes `χ K χ⁻¹`
 //! of order `p` (the kernel's conditions do the rest), and the same at
 //! weight `p` is the objective: it is what leaves only the unremovable part
-//! of the weight-`p + 1` error. The search, polish and ranking are the
-//! kernel's ([`crate::solve`], [`crate::polish`]).
+//! of the weight-`p + 1` error. The form ties coefficients of `log χ`
+//! together, so these conditions are dependent, and a subset independent at
+//! a random point can hold on a branch where the rest fail (measured at
+//! effective order 8: two of eight tables refused). The pipeline therefore
+//! runs Levenberg–Marquardt on all of them ([`crate::solve`]), ranks the
+//! processors by the objective afterwards, and polishes a square subset
+//! independent at the processor found ([`independent`], [`crate::polish`]);
+//! the table's claim then decides whether every condition holds.
 //!
 //! **The table.** The processed method is written as `symlab check` reads
 //! one: the kernel inline (`compose`), the processor as its drift–kick
