@@ -46,7 +46,8 @@ fn claimed_order(system: &System) -> String {
     }
 }
 
-fn quote(s: &str) -> String {
+/// A TOML basic string.
+pub(crate) fn quote(s: &str) -> String {
     format!("\"{}\"", s.replace('\\', "\\\\").replace('"', "\\\""))
 }
 

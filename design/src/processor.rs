@@ -34,6 +34,7 @@ use num_traits::{One, Zero};
 
 use crate::conditions::{Condition, Factor, System, log_coefficient, product};
 use crate::effective::{Series, eliminate};
+use crate::emit::quote;
 use crate::family::{Family, FamilyError, Form};
 use crate::poly::Poly;
 use tableau::certificate::{is_lyndon, word_label, words_of_weight};
@@ -222,10 +223,6 @@ fn processor_sequence(k: usize) -> (Vec<String>, Vec<String>) {
     }
     let kick = (0..m).map(|i| signed(step(i))).collect();
     (drift, kick)
-}
-
-fn quote(s: &str) -> String {
-    format!("\"{}\"", s.replace('\\', "\\\\").replace('"', "\\\""))
 }
 
 /// What the processed table says about its kernel's proof.

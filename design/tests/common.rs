@@ -70,3 +70,17 @@ pub fn refused_when_moved(origin: &str, text: &str, name: &str, delta: &str, cla
         .unwrap_or_else(|| panic!("no claim {claim}"));
     assert!(verdict.is_err(), "{c} holds with {name} moved by {delta}");
 }
+
+/// The number of decimal digits after the point in which `a` and `b`
+/// agree: `⌊−log₁₀|a − b|⌋`.
+pub fn agreement(a: &BigRational, b: &BigRational) -> i64 {
+    let d = num_traits::Signed::abs(&(a - b));
+    let mut k = 0;
+    let ten = BigRational::from_integer(10.into());
+    let mut bound = BigRational::from_integer(1.into());
+    while d < bound && k < 200 {
+        bound /= &ten;
+        k += 1;
+    }
+    k - 1
+}

@@ -8,7 +8,7 @@ use design::solve::Compiled;
 use num_rational::BigRational;
 use tableau::Table;
 
-use crate::common::{claims_hold, load, refused_when_moved};
+use crate::common::{agreement, claims_hold, load, refused_when_moved};
 
 fn words(sys: &design::conditions::System) -> Vec<String> {
     sys.conditions.iter().map(|c| c.word.clone()).collect()
@@ -19,14 +19,7 @@ fn digits_agreeing(a: &BigRational, printed: &str) -> i64 {
         .unwrap()
         .as_rational()
         .unwrap();
-    let d = num_traits::Signed::abs(&(a - b));
-    let mut k = -1;
-    let mut bound = BigRational::from_integer(1.into());
-    while d < bound && k < 200 {
-        bound /= BigRational::from_integer(10.into());
-        k += 1;
-    }
-    k
+    agreement(a, &b)
 }
 
 /// Effective order 6 of a symmetric composition is Σγ³ = Σγ⁵ = 0: the

@@ -5,10 +5,9 @@
 
 use design::design;
 use num_rational::BigRational;
-use num_traits::Signed;
 use tableau::{Number, Table};
 
-use crate::common::{self, claims_hold, load, refused_when_moved};
+use crate::common::{self, agreement, claims_hold, load, refused_when_moved};
 
 fn assert_claims_hold(origin: &str, text: &str) {
     for (claim, verdict) in claims_hold(origin, text) {
@@ -59,20 +58,6 @@ fn suzuki_five_stage_exactly() {
     assert!((&exact_number(radicals) - &exact_number("1/(4 - cbrt(4))")).is_zero());
     let (name, text) = best.table.as_ref().unwrap();
     assert_claims_hold(name, text);
-}
-
-/// The number of decimal digits after the point in which `a` and `b`
-/// agree: `⌊−log₁₀|a − b|⌋`.
-fn agreement(a: &BigRational, b: &BigRational) -> i64 {
-    let d = (a - b).abs();
-    let mut k = 0;
-    let ten = BigRational::from_integer(10.into());
-    let mut bound = BigRational::from_integer(1.into());
-    while d < bound && k < 200 {
-        bound /= &ten;
-        k += 1;
-    }
-    k - 1
 }
 
 #[test]
