@@ -1,8 +1,10 @@
 //! RATTLE on an inextensible scene: per-frame stepping time and where it
 //! went, the energy error, the constraint residuals.
 //!
-//! `cargo run --release -p cloth --example rattle_probe -- SCENE.toml [substeps] [frames] [seq|par] [refactor_every]`
-//! (`par`: both cores for the per-edge loops and the factorisation).
+//! `cargo run --release -p cloth --example rattle_probe -- SCENE.toml [substeps] [frames] [seq|par] [refactor_every] [marks|fresh]`
+//! (`par`: both cores for the per-edge loops and the factorisation;
+//! `fresh`: a variable-step frame tried again starts afresh instead of
+//! from the marks, `RattleSettings::rewind`).
 
 use cloth::{Method, RunSettings, Scene, Simulation, SolverStats};
 
@@ -26,6 +28,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     if let Some(k) = args.get(5) {
         settings.solvers.rattle.refactor_every = k.parse()?;
     }
+    settings.solvers.rattle.rewind = args.get(6).is_none_or(|s| s != "fresh");
     let n = 3 * sim.model.free_count();
     let (mut worst_g, mut worst_v) = (0.0f64, 0.0f64);
     let report = sim.run(&Method::parse("rattle")?, &settings, |f| {
@@ -65,10 +68,17 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         scene.simulation.substeps
     );
     println!(
-        "  stepping {:.3} ms per frame over {} frames",
+        "  stepping {:.3} ms per frame over {} frames, rewind {}",
         1e3 * report.stepping_seconds / frames,
-        frames
+        frames,
+        settings.solvers.rattle.rewind
     );
+    if let Some(v) = &report.variable {
+        println!(
+            "  variable step: {} steps kept, {} not kept, {} frames tried more than once",
+            report.steps, v.discarded_steps, v.redone
+        );
+    }
     if let SolverStats::Constrained(s) = report.solver {
         let t = s.seconds;
         println!(

@@ -55,9 +55,9 @@ use crate::step::minimise::MinimiseError;
 use crate::step::rattle::RattleError;
 use crate::step::variable::{Attempt, Controller, Next};
 use crate::step::{
-    BandedStepper, Banding, ClothStepper, Halt, Halted, MinimiseSettings, MinimiseStepper,
-    RattleSettings, RattleStepper, Refused, SchemeStepper, SolverStats, StageSettings,
-    StageStepper, StepError, VariableStats, VariableStep, sequence_of,
+    BandedStepper, Banding, ClothStepper, Halt, Halted, MARK_KEPT, MARK_START, MinimiseSettings,
+    MinimiseStepper, RattleSettings, RattleStepper, Refused, SchemeStepper, SolverStats,
+    StageSettings, StageStepper, StepError, VariableStats, VariableStep, sequence_of,
 };
 
 /// Frames, substeps and frame rate of a run (from the scene, or overridden).
@@ -909,8 +909,18 @@ impl Simulation {
         let mut n = search.first(ctl.guess());
         let mut tried = 0usize;
         let target = ctl.settings.wave_number;
+        // Every try starts from the frame's start as the first did: the
+        // state and the stepper's carried data (RATTLE's factor and warm
+        // start), so that the count taken ends on the same bits whichever
+        // counts were tried before it, and a try costs no fresh start.
+        stepper.mark(MARK_START);
+        let mut failed_last = false;
         loop {
             self.state.copy_from_slice(saved);
+            if search.attempts() > 0 && !stepper.rewind(MARK_START) && failed_last {
+                // No marks: drop the failed try's multipliers as a guess.
+                stepper.restart();
+            }
             // h as the fixed step computes it, so that a frame at the
             // floor is the fixed step's frame to the bit.
             let h = 1.0 / (frame_rate * n as f64);
@@ -923,20 +933,20 @@ impl Simulation {
                 stepper.leave(&self.model, end, &mut self.state);
             } else {
                 ctl.rejected(attempt);
-                if attempt == Attempt::Failed {
-                    stepper.restart();
-                }
             }
+            failed_last = attempt == Attempt::Failed;
             match search.record(n, attempt) {
                 Next::Try(next) => {
                     if search.keep() {
                         kept.copy_from_slice(&self.state);
+                        stepper.mark(MARK_KEPT);
                     }
                     n = next;
                 }
                 Next::Done { steps, latest } => {
                     if !latest {
                         self.state.copy_from_slice(kept);
+                        stepper.rewind(MARK_KEPT);
                     }
                     let w = search.taken().unwrap_or(0.0);
                     ctl.finish(steps, &search, tried, w);
@@ -945,6 +955,7 @@ impl Simulation {
                 }
                 Next::Exhausted { tried: last } => {
                     self.state.copy_from_slice(saved);
+                    stepper.rewind(MARK_START);
                     let what = match (attempt, why) {
                         (_, Some(why)) => why,
                         (Attempt::Ran(w), None) => format!("the largest was {w:.3}"),

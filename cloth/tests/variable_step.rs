@@ -366,3 +366,67 @@ fn a_cap_too_low_for_the_whip_stops_the_run_naming_the_fields() {
     );
     assert!(sim.frame < 100);
 }
+
+/// A frame tried again starts from the marks of the frame's start (the
+/// kept factor, the warm start, the carried momentum), not afresh: the
+/// count taken ends on the bits of a first try with that count whatever
+/// was tried in between, and the try from the marks makes the
+/// factorisations the first try made, no more. With `rewind = false` the
+/// stepper keeps no marks.
+#[test]
+fn a_frame_tried_again_ends_on_the_bits_of_its_first_try() {
+    use cloth::step::{ClothStepper, MARK_START, RattleStepper};
+    use cloth::{ClothModel, RattleSettings};
+
+    let scene = flat(12, 4, 40, "fixed");
+    let model = ClothModel::new(&scene).unwrap();
+    let h = |n: usize| 1.0 / (60.0 * n as f64);
+    let integrate = |stepper: &mut RattleStepper, z: &mut Vec<f64>, t: f64, n: usize| {
+        stepper.enter(&model, t, z);
+        for k in 0..n {
+            stepper.step(&model, t + k as f64 * h(n), h(n), z).unwrap();
+        }
+        stepper.leave(&model, t + 1.0 / 60.0, z);
+    };
+    let mut stepper = RattleStepper::new(&model, h(4), RattleSettings::default()).unwrap();
+    let mut z = model.initial_state();
+    // 30 frames of 4 steps: the sheet is falling, its factor aged.
+    for k in 0..30 {
+        integrate(&mut stepper, &mut z, k as f64 / 60.0, 4);
+    }
+    let t = 0.5;
+    let factorizations = |s: &RattleStepper| match s.stats() {
+        SolverStats::Constrained(st) => st.factorizations,
+        other => panic!("RATTLE reported {other:?}"),
+    };
+    let bits = |z: &[f64]| z.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    let start = z.clone();
+    stepper.mark(MARK_START);
+    let f0 = factorizations(&stepper);
+    let mut first = start.clone();
+    integrate(&mut stepper, &mut first, t, 5);
+    let first_cost = factorizations(&stepper) - f0;
+    // A try with another count, then the first count again from the marks.
+    assert!(stepper.rewind(MARK_START));
+    let mut other = start.clone();
+    integrate(&mut stepper, &mut other, t, 3);
+    assert_ne!(bits(&other), bits(&first), "3 and 5 steps should end apart");
+    assert!(stepper.rewind(MARK_START));
+    let f1 = factorizations(&stepper);
+    let mut again = start.clone();
+    integrate(&mut stepper, &mut again, t, 5);
+    assert_eq!(
+        bits(&again),
+        bits(&first),
+        "the second try of 5 steps differs from the first"
+    );
+    assert_eq!(factorizations(&stepper) - f1, first_cost);
+
+    let fresh = RattleSettings {
+        rewind: false,
+        ..Default::default()
+    };
+    let mut plain = RattleStepper::new(&model, h(4), fresh).unwrap();
+    plain.mark(MARK_START);
+    assert!(!plain.rewind(MARK_START));
+}

@@ -73,6 +73,12 @@ pub enum SolverStats {
     Constrained(rattle::Stats),
 }
 
+/// The mark slot of a frame's start ([`ClothStepper::mark`]).
+pub const MARK_START: usize = 0;
+/// The mark slot of the end of the try a frame keeps while it tries
+/// another count.
+pub const MARK_KEPT: usize = 1;
+
 /// One mechanism of stepping a cloth model. The run loop calls, per frame,
 /// `enter`, `step` once per substep, then `leave`; between `leave` and the
 /// next `enter` the state is only read. `enter` and `leave` let a stepper
@@ -131,6 +137,21 @@ pub trait ClothStepper {
     /// start (the variable step): drop what the failed step left as a
     /// guess for the next (RATTLE: its multipliers). Nothing by default.
     fn restart(&mut self) {}
+    /// Keep, in slot `slot` ([`MARK_START`] or [`MARK_KEPT`]), what
+    /// [`save`](Self::save) would write less the statistics, between
+    /// `leave` and the next `enter`: the variable step marks a frame's
+    /// start before its first try and the end of the try it keeps, and
+    /// goes back with [`rewind`](Self::rewind), so that a frame integrated
+    /// again costs no fresh start (RATTLE: no factorisation, no cold warm
+    /// start) and ends on the bits a first try with the same count would
+    /// have. Nothing by default.
+    fn mark(&mut self, _slot: usize) {}
+    /// Go back to what [`mark`](Self::mark) kept in `slot`; `false` (and
+    /// nothing changed) when this stepper keeps no marks, and the caller
+    /// falls back on [`restart`](Self::restart) after a failure.
+    fn rewind(&mut self, _slot: usize) -> bool {
+        false
+    }
     /// Append everything the next steps depend on beyond the state `z`
     /// handed out at a frame (carried momenta, warm starts, factors and
     /// their schedule, compensated-summation residuals) and the solver

@@ -53,7 +53,7 @@ use std::sync::Arc;
 
 use integrator_core::Separable;
 use integrator_core::checkpoint::{CheckpointError, Decoder, Encoder};
-use integrator_core::constrained::rattle::{self, Projection, Rattle, RattleSystem};
+use integrator_core::constrained::rattle::{self, Mark, Projection, Rattle, RattleSystem};
 
 pub use integrator_core::constrained::rattle::{Stats, Timing};
 
@@ -114,6 +114,14 @@ pub struct RattleSettings {
     /// energy error to the printed digits. `refactor_every` 4, 6, 9 and 12
     /// gave 30.7, 30.5, 31.8 and 31.0 ms there: 6 stays.
     pub anderson: usize,
+    /// Let the variable step go back to a frame's start with the carried
+    /// data its first try started from ([`ClothStepper::mark`]: the kept
+    /// factor, the warm start, the carried momentum) for every further
+    /// try of the frame (default true). False: a further try starts
+    /// afresh (a factorisation at the frame's start, multipliers from
+    /// zero, the projected momentum), as before the marks; kept to measure
+    /// the difference in one build (docs/results/cloth-inextensible.md).
+    pub rewind: bool,
 }
 
 impl Default for RattleSettings {
@@ -125,6 +133,7 @@ impl Default for RattleSettings {
             refactor_every: 6,
             max_pcg: 12,
             anderson: 4,
+            rewind: true,
         }
     }
 }
@@ -237,6 +246,10 @@ pub struct RattleStepper {
     constraints: Arc<EdgeConstraints>,
     parallel: bool,
     rattle: Rattle<Vec<[f64; 3]>, SparseGram>,
+    /// The variable step's marks ([`ClothStepper::mark`]): a frame's
+    /// start and the end of the try it keeps.
+    marks: [Mark; 2],
+    rewind: bool,
 }
 
 impl RattleStepper {
@@ -270,6 +283,8 @@ impl RattleStepper {
         };
         let lin = SparseGram::new(constraints.clone(), settings.parallel);
         Ok(RattleStepper {
+            marks: Default::default(),
+            rewind: settings.rewind,
             rattle: Rattle::new(&sys, lin, h, settings.core()),
             constraints: constraints.clone(),
             parallel: settings.parallel,
@@ -330,6 +345,16 @@ impl ClothStepper for RattleStepper {
             parallel: self.parallel,
         };
         self.rattle.leave(&sys, z);
+    }
+
+    fn mark(&mut self, slot: usize) {
+        if let (true, Some(m)) = (self.rewind, self.marks.get_mut(slot)) {
+            self.rattle.mark(m);
+        }
+    }
+
+    fn rewind(&mut self, slot: usize) -> bool {
+        self.rewind && self.marks.get(slot).is_some_and(|m| self.rattle.rewind(m))
     }
 
     fn stats(&self) -> SolverStats {

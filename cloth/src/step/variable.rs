@@ -47,7 +47,11 @@
 //! on down). When the count asked for was integrated already (at a tie `N`
 //! can ask for `N + 1` and `N + 1` for `N`), the frame takes the fewest
 //! steps found within the target; with none within it, the count above the
-//! largest tried, up to the cap.
+//! largest tried, up to the cap. Every try starts from the frame's start as
+//! the first did, the stepper's carried data included (RATTLE's kept
+//! factor, warm start and carried momentum: `ClothStepper::mark` and
+//! `rewind`), so the frame's end is a function of its start and its count
+//! alone, and a further try costs no fresh factorisation.
 //!
 //! This replaced a search that proved `N` by integrating `N − 1` for every
 //! frame above the floor, which on the 64² sheet over 600 frames threw

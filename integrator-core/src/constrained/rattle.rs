@@ -466,6 +466,32 @@ fn inf_norm(x: &[f64]) -> f64 {
     x.iter().fold(0.0f64, |m, v| m.max(v.abs()))
 }
 
+/// The carried data of a [`Rattle`] at one moment ([`Rattle::mark`],
+/// [`Rattle::rewind`]): the fields a checkpoint holds
+/// ([`Rattle::save`]), less the statistics; a field added there belongs
+/// here too (the cloth's `variable_step::a_frame_tried_again_*` test
+/// compares the bits of a try made from a mark with a first try).
+#[derive(Clone, Debug, Default)]
+pub struct Mark {
+    lambda: Vec<f64>,
+    lambda_prev: Vec<f64>,
+    solved: usize,
+    lambda_h: f64,
+    since_factor: usize,
+    stale: bool,
+    last_wave_number: f64,
+    force: Vec<f64>,
+    cached_q: Vec<f64>,
+    valid: bool,
+    geometry: Vec<f64>,
+    factor: Vec<f64>,
+    p_carried: Vec<f64>,
+    p_out: Vec<f64>,
+    resume: bool,
+    carried: bool,
+    set: bool,
+}
+
 /// RATTLE on a [`RattleSystem`] with a [`ConstraintSolver`]: the step's
 /// state carried from one step to the next (warm-start multipliers, the
 /// kept factor and its age, the force and geometry at the current `q`, the
@@ -613,8 +639,9 @@ impl<G, Lin> Rattle<G, Lin> {
     /// zero multipliers, and prepares its force, geometry and factor
     /// afresh. For a caller that goes back to an earlier state after a
     /// failed step, whose last iterate (diverged, or stopped at the cap) is
-    /// no guess for the next solve (the cloth's variable step, which then
-    /// integrates the frame again with shorter steps).
+    /// no guess for the next solve and that keeps no [`Mark`] to go back
+    /// to (the cloth's variable step with `RattleSettings::rewind` off,
+    /// which then integrates the frame again with shorter steps).
     pub fn forget_warm_start(&mut self) {
         self.lambda.fill(0.0);
         self.lambda_prev.fill(0.0);
@@ -832,6 +859,15 @@ impl<G, Lin> Rattle<G, Lin> {
             self.lambda.iter_mut().for_each(|l| *l *= s);
             self.lambda_prev.iter_mut().for_each(|l| *l *= s);
             self.lambda_h = h;
+            // The extrapolation below assumes the last two multipliers
+            // were a step of this size apart: after a change of `h` (a
+            // frame of the variable step with another count) it waits for
+            // two steps of the new size. Extrapolated across the change,
+            // the position solve at the 12² flat sheet's whip converged
+            // to another root (an edge turning by 69° in one step where
+            // the root found without it turns by 41°, h·ω 2.15 against
+            // 0.96; docs/results/cloth-inextensible.md).
+            self.solved = 0;
         }
         // The multipliers are smooth in time: start from the linear
         // extrapolation of the last two steps' (the last one's after a
@@ -1055,6 +1091,77 @@ impl<G, Lin> Rattle<G, Lin> {
             .f64(st.seconds.constraints)
             .f64(st.seconds.factorize)
             .f64(st.seconds.solve);
+    }
+
+    /// Keep in `m` what [`save`](Self::save) writes less the statistics:
+    /// everything the next steps read before writing. A caller that may
+    /// integrate the same stretch again from here (the cloth's variable
+    /// step, which tries several counts of steps for one frame) goes back
+    /// with [`rewind`](Self::rewind) instead of starting afresh, so that a
+    /// further try costs no factorisation and no cold start, and ends on
+    /// the bits a first try with the same steps would have. The buffers in
+    /// `m` are reused: after the first mark no allocation.
+    pub fn mark(&self, m: &mut Mark)
+    where
+        G: Geometry,
+        Lin: KeptFactor,
+    {
+        fn copy(to: &mut Vec<f64>, from: &[f64]) {
+            to.clear();
+            to.extend_from_slice(from);
+        }
+        copy(&mut m.lambda, &self.lambda);
+        copy(&mut m.lambda_prev, &self.lambda_prev);
+        m.solved = self.solved;
+        m.lambda_h = self.lambda_h;
+        m.since_factor = self.since_factor;
+        m.stale = self.stale;
+        m.last_wave_number = self.last_wave_number;
+        copy(&mut m.force, &self.force);
+        copy(&mut m.cached_q, &self.cached_q);
+        m.valid = self.valid;
+        copy(&mut m.geometry, self.d.values());
+        copy(&mut m.factor, self.lin.factor_values());
+        copy(&mut m.p_carried, &self.p_carried);
+        copy(&mut m.p_out, &self.p_out);
+        m.resume = self.resume;
+        m.carried = self.carried;
+        m.set = true;
+    }
+
+    /// Go back to what [`mark`](Self::mark) kept in `m` (the statistics go
+    /// on counting). False, and nothing changed, when `m` holds no mark of
+    /// an integrator of this size.
+    pub fn rewind(&mut self, m: &Mark) -> bool
+    where
+        G: Geometry,
+        Lin: KeptFactor,
+    {
+        if !m.set
+            || m.lambda.len() != self.lambda.len()
+            || m.force.len() != self.force.len()
+            || m.geometry.len() != self.d.values().len()
+            || m.factor.len() != self.lin.factor_values().len()
+        {
+            return false;
+        }
+        self.lambda.copy_from_slice(&m.lambda);
+        self.lambda_prev.copy_from_slice(&m.lambda_prev);
+        self.solved = m.solved;
+        self.lambda_h = m.lambda_h;
+        self.since_factor = m.since_factor;
+        self.stale = m.stale;
+        self.last_wave_number = m.last_wave_number;
+        self.force.copy_from_slice(&m.force);
+        self.cached_q.copy_from_slice(&m.cached_q);
+        self.valid = m.valid;
+        self.d.values_mut().copy_from_slice(&m.geometry);
+        self.lin.factor_values_mut().copy_from_slice(&m.factor);
+        self.p_carried.copy_from_slice(&m.p_carried);
+        self.p_out.copy_from_slice(&m.p_out);
+        self.resume = m.resume;
+        self.carried = m.carried;
+        true
     }
 
     /// Take back what [`save`](Self::save) wrote, on an integrator just
