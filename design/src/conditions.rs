@@ -102,6 +102,32 @@ pub(crate) enum Factor<'a> {
     Step(&'a Poly),
 }
 
+/// The factors of a method of the form `form`, in the order applied: its
+/// steps (a composition), or its drifts and kicks interleaved, starting
+/// with a drift (`ABA`) or a kick (`BAB`).
+pub(crate) fn factors<'a>(
+    form: Form,
+    drift: &'a [Poly],
+    kick: &'a [Poly],
+    gamma: &'a [Poly],
+) -> Vec<Factor<'a>> {
+    let interleave = |first: &'a [Poly], fl: u8, second: &'a [Poly], sl: u8| {
+        let mut f = Vec::new();
+        for (i, x) in first.iter().enumerate() {
+            f.push(Factor::Letter(fl, x));
+            if let Some(y) = second.get(i) {
+                f.push(Factor::Letter(sl, y));
+            }
+        }
+        f
+    };
+    match form {
+        Form::Composition => gamma.iter().map(Factor::Step).collect(),
+        Form::Aba => interleave(drift, 0, kick, 1),
+        Form::Bab => interleave(kick, 1, drift, 0),
+    }
+}
+
 /// The coefficients of every word of weight `≤ top` in the product of the
 /// factors' exponentials, with polynomial coefficients.
 pub(crate) fn product(
@@ -290,29 +316,7 @@ pub fn system(family: &Family, file: &str) -> Result<System, FamilyError> {
     let drift: Vec<Poly> = layout.drift.iter().map(|&i| params[i].clone()).collect();
     let kick: Vec<Poly> = layout.kick.iter().map(|&i| params[i].clone()).collect();
     let gamma: Vec<Poly> = layout.gamma.iter().map(|&i| params[i].clone()).collect();
-    let factors: Vec<Factor<'_>> = match family.form {
-        Form::Composition => gamma.iter().map(Factor::Step).collect(),
-        Form::Aba => {
-            let mut f = Vec::new();
-            for (i, d) in drift.iter().enumerate() {
-                f.push(Factor::Letter(0, d));
-                if i < kick.len() {
-                    f.push(Factor::Letter(1, &kick[i]));
-                }
-            }
-            f
-        }
-        Form::Bab => {
-            let mut f = Vec::new();
-            for (i, k) in kick.iter().enumerate() {
-                f.push(Factor::Letter(1, k));
-                if i < drift.len() {
-                    f.push(Factor::Letter(0, &drift[i]));
-                }
-            }
-            f
-        }
-    };
+    let factors = factors(family.form, &drift, &kick, &gamma);
     let p_order = family.order;
     // The degree up to which a Lie term with `j` letters B is imposed: the
     // classical order for every j, or the generalised order's p_j.
@@ -365,9 +369,14 @@ pub fn system(family: &Family, file: &str) -> Result<System, FamilyError> {
     if family.processed {
         // A processed kernel: the effective-order conditions instead of the
         // classical ones (crate::effective), from the whole of log K.
+        let letters = if comp(family.form) {
+            crate::effective::Letters::Composition
+        } else {
+            crate::effective::Letters::DriftKick
+        };
         let mut log_k: crate::effective::Series = HashMap::new();
         for n in 1..=top {
-            for w in words_of_weight(true, n) {
+            for w in words_of_weight(comp(family.form), n) {
                 let c = log_coefficient(&prod, &w, m);
                 if !c.is_zero() {
                     log_k.insert(w, c);
@@ -375,10 +384,12 @@ pub fn system(family: &Family, file: &str) -> Result<System, FamilyError> {
             }
         }
         let elim =
-            crate::effective::eliminate(&log_k, p_order, m, false).map_err(|e| FamilyError {
-                file: file.to_string(),
-                field: None,
-                message: e.to_string(),
+            crate::effective::eliminate(letters, &log_k, p_order, m, false).map_err(|e| {
+                FamilyError {
+                    file: file.to_string(),
+                    field: None,
+                    message: e.to_string(),
+                }
             })?;
         let to_condition = |t: crate::effective::Term| Condition {
             word: t.word,

@@ -27,8 +27,12 @@
 //! orthogonal projection of `e` onto the complement of the image (in the
 //! Lyndon-word coordinates), which no choice of rows changes.
 //!
-//! Compositions only: the letters `Y₁, Y₃, Y₅, …` of a symmetric basic
-//! method, `Y_k` of weight `k` (see [`crate::conditions`]).
+//! **The letters** ([`Letters`]): those of a composition of a symmetric
+//! basic method, `Y₁, Y₃, Y₅, …` with `Y_k` of weight `k` (see
+//! [`crate::conditions`]), or those of a drift–kick sequence, `A` and `B`
+//! of weight one, whose kernel's weight-one part is `Y₁ = A + B` (Blanes,
+//! Casas & Ros 1999 process such kernels). The elimination is the same;
+//! only the letters, their weights and `Y₁` differ.
 
 use std::collections::HashMap;
 
@@ -39,7 +43,7 @@ use crate::linalg::solve_rational;
 use crate::poly::Poly;
 use tableau::certificate::{factorial, is_lyndon, word_label, word_weight, words_of_weight};
 
-/// A word in the letters `Y₁ = 0, Y₃ = 1, …`.
+/// A word in the letters `Y₁ = 0, Y₃ = 1, …` or `A = 0, B = 1` ([`Letters`]).
 pub type Word = Vec<u8>;
 
 /// A series in the free associative algebra, truncated by weight, with
@@ -89,27 +93,72 @@ pub enum EffectiveError {
     Internal(String),
 }
 
-fn weight(w: &[u8]) -> usize {
-    word_weight(true, w)
+/// The alphabet a kernel's series is written in: which letters, their
+/// weights, and the weight-one element `Y₁` the processor conjugates
+/// around (the kernel's log is `h·Y₁ + …` after consistency).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Letters {
+    /// `Y₁ = 0, Y₃ = 1, …` of weights 1, 3, …: a composition of a
+    /// symmetric basic method; `Y₁` is the letter `0`.
+    Composition,
+    /// `A = 0, B = 1`, each of weight one: a drift–kick sequence; `Y₁` is
+    /// `A + B`, so `ad_{Y₁}` kills `A + B` at weight one and the image from
+    /// there is spanned by `[A, A + B] = [A, B]`.
+    DriftKick,
 }
 
-fn lyndon_words(n: usize) -> Vec<Word> {
-    words_of_weight(true, n)
-        .into_iter()
-        .filter(|w| is_lyndon(w))
-        .collect()
+impl Letters {
+    fn weighted(self) -> bool {
+        self == Letters::Composition
+    }
+
+    fn weight(self, w: &[u8]) -> usize {
+        word_weight(self.weighted(), w)
+    }
+
+    fn lyndon_words(self, n: usize) -> Vec<Word> {
+        words_of_weight(self.weighted(), n)
+            .into_iter()
+            .filter(|w| is_lyndon(w))
+            .collect()
+    }
+
+    /// `Y₁` as a series.
+    fn y1(self) -> Series {
+        let one = || Poly::constant(0, BigRational::one());
+        match self {
+            Letters::Composition => HashMap::from([(vec![0], one())]),
+            Letters::DriftKick => HashMap::from([(vec![0], one()), (vec![1], one())]),
+        }
+    }
+
+    /// The Lyndon words of weight `n` whose basis elements span a
+    /// complement of `ker ad_{Y₁}` there: all of them above weight one (in
+    /// a free Lie algebra the centraliser of a weight-one element is its
+    /// span), and at weight one all but the letter `Y₁` (compositions) or
+    /// `B` (drift–kick: `A` alone spans a complement of `A + B`).
+    fn below(self, n: usize) -> Vec<Word> {
+        let dropped: &[u8] = match self {
+            Letters::Composition => &[0],
+            Letters::DriftKick => &[1],
+        };
+        self.lyndon_words(n)
+            .into_iter()
+            .filter(|u| n != 1 || u.as_slice() != dropped)
+            .collect()
+    }
 }
 
 /// `a·b`, truncated at weight `top`.
-pub fn mul(a: &Series, b: &Series, top: usize, nvars: usize) -> Series {
+pub fn mul(letters: Letters, a: &Series, b: &Series, top: usize, nvars: usize) -> Series {
     let mut out: Series = HashMap::new();
     for (u, x) in a {
         if x.is_zero() {
             continue;
         }
-        let wu = weight(u);
+        let wu = letters.weight(u);
         for (v, y) in b {
-            if y.is_zero() || wu + weight(v) > top {
+            if y.is_zero() || wu + letters.weight(v) > top {
                 continue;
             }
             let mut uv = u.clone();
@@ -146,17 +195,21 @@ fn scale(a: &Series, k: &BigRational) -> Series {
 }
 
 /// `[a, b]`, truncated at weight `top`.
-pub fn bracket(a: &Series, b: &Series, top: usize, nvars: usize) -> Series {
-    sub(&mul(a, b, top, nvars), &mul(b, a, top, nvars), nvars)
+pub fn bracket(letters: Letters, a: &Series, b: &Series, top: usize, nvars: usize) -> Series {
+    sub(
+        &mul(letters, a, b, top, nvars),
+        &mul(letters, b, a, top, nvars),
+        nvars,
+    )
 }
 
 /// `exp(ad_x) l = l + [x, l] + [x, [x, l]]/2 + …`, truncated at `top`
 /// (`x` has no weight-0 part, so the sum is finite).
-pub fn conjugate(x: &Series, l: &Series, top: usize, nvars: usize) -> Series {
+pub fn conjugate(letters: Letters, x: &Series, l: &Series, top: usize, nvars: usize) -> Series {
     let mut out = l.clone();
     let mut term = l.clone();
     for k in 1..=top {
-        term = bracket(x, &term, top, nvars);
+        term = bracket(letters, x, &term, top, nvars);
         if term.is_empty() {
             break;
         }
@@ -167,12 +220,12 @@ pub fn conjugate(x: &Series, l: &Series, top: usize, nvars: usize) -> Series {
 }
 
 /// `exp(x)` (with the empty word), truncated at `top`.
-pub fn exp(x: &Series, top: usize, nvars: usize) -> Series {
+pub fn exp(letters: Letters, x: &Series, top: usize, nvars: usize) -> Series {
     let mut out: Series = HashMap::from([(Vec::new(), Poly::constant(nvars, BigRational::one()))]);
     let mut term = out.clone();
     for k in 1..=top {
         term = scale(
-            &mul(&term, x, top, nvars),
+            &mul(letters, &term, x, top, nvars),
             &BigRational::new(One::one(), k.into()),
         );
         if term.is_empty() {
@@ -184,7 +237,7 @@ pub fn exp(x: &Series, top: usize, nvars: usize) -> Series {
 }
 
 /// `log(s)` for `s` with constant term 1, truncated at `top`.
-pub fn log(s: &Series, top: usize, nvars: usize) -> Series {
+pub fn log(letters: Letters, s: &Series, top: usize, nvars: usize) -> Series {
     let mut y = s.clone();
     y.remove(&Vec::new());
     let mut out: Series = HashMap::new();
@@ -199,24 +252,25 @@ pub fn log(s: &Series, top: usize, nvars: usize) -> Series {
             &scale(&power, &BigRational::new(sign.into(), (k as i64).into())),
             nvars,
         );
-        power = mul(&power, &y, top, nvars);
+        power = mul(letters, &power, &y, top, nvars);
     }
     out
 }
 
 /// The standard bracketing of a Lyndon word, as a series with constant
 /// coefficients.
-fn basis_element(w: &[u8], nvars: usize) -> Series {
+fn basis_element(letters: Letters, w: &[u8], nvars: usize) -> Series {
     if w.len() == 1 {
         return HashMap::from([(w.to_vec(), Poly::constant(nvars, BigRational::one()))]);
     }
     let split = (1..w.len())
         .find(|&i| is_lyndon(&w[i..]))
         .expect("a one-letter suffix is Lyndon");
-    let top = weight(w);
+    let top = letters.weight(w);
     bracket(
-        &basis_element(&w[..split], nvars),
-        &basis_element(&w[split..], nvars),
+        letters,
+        &basis_element(letters, &w[..split], nvars),
+        &basis_element(letters, &w[split..], nvars),
         top,
         nvars,
     )
@@ -259,6 +313,7 @@ fn pivot_rows(m: &[Vec<BigRational>], cols: usize) -> Option<Vec<usize>> {
 /// at its printed values, whose conditions are then constants near zero and
 /// are not returned).
 pub fn eliminate(
+    letters: Letters,
     l: &Series,
     p: usize,
     nvars: usize,
@@ -271,20 +326,17 @@ pub fn eliminate(
     let mut z_exp: Series =
         HashMap::from([(Vec::new(), Poly::constant(nvars, BigRational::one()))]);
     for n in 2..=top {
-        let words = lyndon_words(n);
+        let words = letters.lyndon_words(n);
         // ad(Y₁) kills Y₁ alone: the image comes from the other elements.
-        let below: Vec<Word> = lyndon_words(n - 1)
-            .into_iter()
-            .filter(|u| u != &[0u8])
-            .collect();
+        let below = letters.below(n - 1);
         let e: Vec<Poly> = words
             .iter()
             .map(|w| l.get(w).cloned().unwrap_or_else(|| Poly::zero(nvars)))
             .collect();
-        let basis: Vec<Series> = below.iter().map(|u| basis_element(u, 0)).collect();
+        let basis: Vec<Series> = below.iter().map(|u| basis_element(letters, u, 0)).collect();
         let images: Vec<Series> = basis
             .iter()
-            .map(|b| bracket(b, &basis_element(&[0], 0), n, 0))
+            .map(|b| bracket(letters, b, &letters.y1(), n, 0))
             .collect();
         // m[i][j]: coefficient of words[i] in [P_{below[j]}, Y₁].
         let m: Vec<Vec<BigRational>> = words
@@ -332,7 +384,7 @@ pub fn eliminate(
                 if r.is_zero() {
                     continue;
                 }
-                let label = word_label(true, &words[i]);
+                let label = word_label(letters.weighted(), &words[i]);
                 if n % 2 == 0 {
                     return Err(EffectiveError::Internal(format!(
                         "the even-weight effective term {label} (weight {n}) does not vanish for a symmetric kernel"
@@ -400,7 +452,7 @@ pub fn eliminate(
                 }
                 if !r.is_zero() {
                     errors.push(Term {
-                        word: word_label(true, w),
+                        word: word_label(letters.weighted(), w),
                         weight: n,
                         poly: r,
                     });
@@ -423,14 +475,14 @@ pub fn eliminate(
             continue;
         }
         if n < top {
-            l = conjugate(&x, &l, top, nvars);
+            l = conjugate(letters, &x, &l, top, nvars);
         }
         if want_conjugator {
-            z_exp = mul(&exp(&x, p, nvars), &z_exp, p, nvars);
+            z_exp = mul(letters, &exp(letters, &x, p, nvars), &z_exp, p, nvars);
         }
     }
     let conjugator = if want_conjugator {
-        log(&z_exp, p, nvars)
+        log(letters, &z_exp, p, nvars)
     } else {
         HashMap::new()
     };
@@ -451,35 +503,81 @@ mod tests {
 
     #[test]
     fn exp_and_log_are_inverse() {
+        let letters = Letters::Composition;
         let x: Series = HashMap::from([(vec![0], c(1)), (vec![1], c(2)), (vec![0, 1], c(3))]);
-        let back = log(&exp(&x, 7, 0), 7, 0);
+        let back = log(letters, &exp(letters, &x, 7, 0), 7, 0);
         assert_eq!(back, x);
     }
 
     #[test]
     fn the_conjugation_is_log_of_the_product() {
-        // exp(ad_x) l = log(exp(x) exp(l) exp(−x)).
-        let x: Series = HashMap::from([(vec![0, 1], c(2)), (vec![1, 0], c(-2))]);
-        let l: Series = HashMap::from([(vec![0], c(1)), (vec![1], c(5))]);
-        let top = 9;
-        let direct = conjugate(&x, &l, top, 0);
-        let minus_x = scale(&x, &BigRational::from_integer((-1).into()));
-        let product = mul(
-            &mul(&exp(&x, top, 0), &exp(&l, top, 0), top, 0),
-            &exp(&minus_x, top, 0),
-            top,
-            0,
-        );
-        assert_eq!(direct, log(&product, top, 0));
+        // exp(ad_x) l = log(exp(x) exp(l) exp(−x)), in both alphabets.
+        for (letters, top) in [(Letters::Composition, 9), (Letters::DriftKick, 6)] {
+            let x: Series = HashMap::from([(vec![0, 1], c(2)), (vec![1, 0], c(-2))]);
+            let l: Series = HashMap::from([(vec![0], c(1)), (vec![1], c(5))]);
+            let direct = conjugate(letters, &x, &l, top, 0);
+            let minus_x = scale(&x, &BigRational::from_integer((-1).into()));
+            let product = mul(
+                letters,
+                &mul(
+                    letters,
+                    &exp(letters, &x, top, 0),
+                    &exp(letters, &l, top, 0),
+                    top,
+                    0,
+                ),
+                &exp(letters, &minus_x, top, 0),
+                top,
+                0,
+            );
+            assert_eq!(direct, log(letters, &product, top, 0), "{letters:?}");
+        }
     }
 
     #[test]
     fn the_image_of_ad_y1_is_injective_and_leaves_one_condition_per_odd_weight_up_to_five() {
         // Lyndon words of weight 5: Y₁Y₁Y₃ and Y₅; the image from weight 4
         // ([Y₁,Y₃]) is one-dimensional, so one condition remains (Y₅).
-        assert_eq!(lyndon_words(5).len(), 2);
-        assert_eq!(lyndon_words(4).len(), 1);
-        assert_eq!(lyndon_words(3).len(), 1);
-        assert_eq!(lyndon_words(2).len(), 0);
+        let letters = Letters::Composition;
+        assert_eq!(letters.lyndon_words(5).len(), 2);
+        assert_eq!(letters.lyndon_words(4).len(), 1);
+        assert_eq!(letters.lyndon_words(3).len(), 1);
+        assert_eq!(letters.lyndon_words(2).len(), 0);
+    }
+
+    /// A symmetric drift–kick kernel's log with every odd-weight Lyndon
+    /// coordinate up to weight 7 its own unknown: the conditions of
+    /// effective order 6 are the coordinates outside the image of
+    /// `ad_{A+B}`, 1 at weight 3 (of 2) and 3 at weight 5 (of 6), and the
+    /// weight-7 error has 18 − 9 = 9 independent directions (Blanes, Casas
+    /// & Ros 1999 count 1 + 3 against the classical 2 + 6).
+    #[test]
+    fn a_drift_kick_kernel_has_one_and_three_effective_conditions_at_weights_three_and_five() {
+        let letters = Letters::DriftKick;
+        let words: Vec<Word> = [3, 5, 7]
+            .iter()
+            .flat_map(|&n| letters.lyndon_words(n))
+            .collect();
+        assert_eq!(words.len(), 2 + 6 + 18);
+        let nvars = words.len();
+        let mut l: Series = HashMap::new();
+        for (w, k) in letters.y1() {
+            l.insert(w, Poly::constant(nvars, constant(&k)));
+        }
+        for (i, w) in words.iter().enumerate() {
+            for (u, k) in basis_element(letters, w, nvars) {
+                let term = Poly::var(nvars, i).scale(&constant(&k));
+                let entry = l.entry(u).or_insert_with(|| Poly::zero(nvars));
+                *entry = entry.add(&term);
+            }
+        }
+        let elim = eliminate(letters, &l, 6, nvars, false).expect("eliminates");
+        let at = |n: usize| elim.conditions.iter().filter(|t| t.weight == n).count();
+        assert_eq!((at(3), at(5)), (1, 3));
+        assert_eq!(elim.conditions.len(), 4);
+        // The error is the projection of 18 coordinates on a 9-dimensional
+        // complement: every coordinate may be nonzero, but they span 9.
+        assert!(elim.errors.iter().all(|t| t.weight == 7));
+        assert!(elim.errors.len() >= 9);
     }
 }

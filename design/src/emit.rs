@@ -178,31 +178,30 @@ pub fn table_text(
         };
         out.push_str(&format!("let.{name} = {}\n", quote(&value)));
     }
+    out.push_str(&method_lines(system, names));
+    out
+}
+
+/// The method's own lines of a table file: `compose = […]`, or `drift = […]`
+/// and `kick = […]`, the entries as text in `names`.
+pub(crate) fn method_lines(system: &System, names: &[String]) -> String {
     match system.form {
-        Form::Composition => {
-            out.push_str(&format!(
-                "compose = [{}]\n",
-                entries(&system.gamma, names).join(", ")
-            ));
-        }
-        Form::Aba => {
-            out.push_str(&format!(
-                "drift = [{}]\nkick = [{}]\n",
-                entries(&system.drift, names).join(", "),
-                entries(&system.kick, names).join(", ")
-            ));
-        }
+        Form::Composition => format!("compose = [{}]\n", entries(&system.gamma, names).join(", ")),
+        Form::Aba => format!(
+            "drift = [{}]\nkick = [{}]\n",
+            entries(&system.drift, names).join(", "),
+            entries(&system.kick, names).join(", ")
+        ),
         Form::Bab => {
             // The format starts equal-length sequences with a drift: a
             // leading zero drift.
             let mut drift = vec![quote("0")];
             drift.extend(entries(&system.drift, names));
-            out.push_str(&format!(
+            format!(
                 "drift = [{}]\nkick = [{}]\n",
                 drift.join(", "),
                 entries(&system.kick, names).join(", ")
-            ));
+            )
         }
     }
-    out
 }

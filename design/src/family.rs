@@ -128,15 +128,18 @@ pub struct Family {
     pub error_basis: ErrorBasis,
     /// What the free coefficients are chosen for.
     pub objective: Objective,
-    /// A processed kernel (`processed = true`; compositions): the order
+    /// A processed kernel (`processed = true`; compositions and drift–kick
+    /// forms, classical orders, not RKN): the order
     /// imposed is the *effective* order of `χ K χ⁻¹`, for a processor `χ`
     /// the designer then finds ([`crate::effective`]), and the error
     /// measured is the part of the first order not imposed that no
     /// processor removes.
     pub processed: bool,
-    /// The processor's stages (`processor_stages`, even): the composition
-    /// `S(z₁h)⋯S(z_kh) S(−z₁h)⋯S(−z_kh)` of the same basic method, `k` of
-    /// them unknown. Only with `processed`.
+    /// The processor's stages (`processor_stages`): for a composition
+    /// kernel (even) the composition `S(z₁h)⋯S(z_kh) S(−z₁h)⋯S(−z_kh)` of
+    /// the same basic method, `k` of them unknown; for a drift–kick kernel
+    /// the number `k` of kicks of `D(u₁h)K(v₁h)⋯D(u_kh)K(v_kh)` with
+    /// `Σu = Σv = 0`, `2k − 2` unknowns. Only with `processed`.
     pub processor_stages: usize,
     pub seed: u64,
     pub starts: usize,
@@ -334,10 +337,16 @@ impl Family {
             ));
         }
         if self.processed {
-            if self.form != Form::Composition {
+            if !self.generalised.is_empty() {
                 return Err(err(
-                    "processed",
-                    "a processed kernel is designed as a composition (form = \"composition\"): its effective-order conditions are those of the free Lie algebra on Y₁, Y₃, …".into(),
+                    "order",
+                    "a processed kernel is designed for a classical effective order (`order = p`); effective generalised orders (p₁, p₂, …) are not designed".into(),
+                ));
+            }
+            if self.rkn {
+                return Err(err(
+                    "rkn",
+                    "a processed kernel's effective-order conditions are those of general separable systems; the RKN quotient is not designed for processing".into(),
                 ));
             }
             if self.objective != Objective::EffectiveError {
@@ -353,9 +362,10 @@ impl Family {
                     "a processed kernel's error is the part no processor removes, measured on the Lyndon words (\"words\")".into(),
                 ));
             }
-            if self.processor_stages < 2
-                || self.processor_stages % 2 == 1
-                || self.processor_stages > 2 * MAX_STAGES
+            if self.form == Form::Composition
+                && (self.processor_stages < 2
+                    || self.processor_stages % 2 == 1
+                    || self.processor_stages > 2 * MAX_STAGES)
             {
                 return Err(err(
                     "processor_stages",
@@ -363,6 +373,17 @@ impl Family {
                         "{}: the processor S(z₁h)⋯S(z_kh) S(−z₁h)⋯S(−z_kh) has an even number of stages, from 2 to {}",
                         self.processor_stages,
                         2 * MAX_STAGES
+                    ),
+                ));
+            }
+            if self.form != Form::Composition
+                && (self.processor_stages < 2 || self.processor_stages > MAX_STAGES)
+            {
+                return Err(err(
+                    "processor_stages",
+                    format!(
+                        "{}: the processor D(u₁h)K(v₁h)⋯D(u_kh)K(v_kh) (Σu = Σv = 0) has from 2 to {MAX_STAGES} stages (kicks)",
+                        self.processor_stages,
                     ),
                 ));
             }

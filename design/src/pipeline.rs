@@ -411,9 +411,9 @@ impl Outcome {
         if f.processed {
             let _ = writeln!(
                 r,
-                "\nProcessed kernels: the conditions are of effective order {} (of χ K χ⁻¹, `design::effective`). Each certified kernel gets a processor χ = S(z₁h)⋯S(z_kh) S(−z₁h)⋯S(−z_kh), k = {} (`design::processor`; at most {} starts, the best by the image part of weight {} kept), and its table's claim is decided by `symlab check`'s verifier:\n",
+                "\nProcessed kernels: the conditions are of effective order {} (of χ K χ⁻¹, `design::effective`). Each certified kernel gets a processor {} (`design::processor`; at most {} starts, the best by the image part of weight {} kept), and its table's claim is decided by `symlab check`'s verifier:\n",
                 f.order,
-                f.processor_stages / 2,
+                crate::processor::processor_form(f.form, f.processor_stages),
                 PROCESSOR_STARTS,
                 f.order
             );
@@ -432,7 +432,7 @@ impl Outcome {
                     Some(Ok(pd)) => {
                         let _ = writeln!(
                             r,
-                            "- kernel {}: processor conditions {} ({}); {} starts, {} distinct processors, the best's image part Σ e² = {:.3e}; claims held: {}; z = {}",
+                            "- kernel {}: processor conditions {} ({}); {} starts, {} distinct processors, the best's image part Σ e² = {:.3e}; claims held: {}; ({}) = ({})",
                             i + 1,
                             pd.system.conditions.len(),
                             pd.system
@@ -445,6 +445,7 @@ impl Outcome {
                             pd.search.solutions.len(),
                             pd.objective,
                             pd.claims.join("; "),
+                            pd.system.names.join(", "),
                             pd.z.iter()
                                 .map(|z| format!("{:.16}", to_f64(z)))
                                 .collect::<Vec<_>>()

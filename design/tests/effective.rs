@@ -156,6 +156,129 @@ fn bcm_eleven_stage_kernel_recovered_with_a_processor_and_checked() {
     assert!(v.is_err());
 }
 
+/// Drift–kick kernels: effective order 6 of a symmetric ABA sequence is
+/// four conditions, the parts of weights 3 and 5 outside the image of
+/// ad(A + B) (1 of 2, 3 of 6), where classical order 6 is eight; so five
+/// kicks (four unknowns) give a square system, which classical order 6
+/// cannot meet.
+#[test]
+fn effective_order_6_of_a_drift_kick_kernel_is_four_conditions_where_classical_is_eight() {
+    let f = load("processed-aba5-order6.toml");
+    let sys = design::conditions::system(&f, "x").unwrap();
+    assert_eq!(sys.names, ["a1", "a2", "b1", "b2"]);
+    assert_eq!(words(&sys), ["ABB", "AABAB", "ABABB", "ABBBB"]);
+    let mut classical = f.clone();
+    classical.processed = false;
+    classical.processor_stages = 0;
+    classical.stages = 9;
+    let cl = design::conditions::system(&classical, "x").unwrap();
+    assert_eq!(cl.conditions.len(), 8);
+    let f4 = load("processed-aba3-order4.toml");
+    assert_eq!(
+        words(&design::conditions::system(&f4, "x").unwrap()),
+        ["ABB"]
+    );
+}
+
+/// Classical order implies effective order, in the letters A and B too:
+/// Yoshida's order-6 composition written as a drift–kick sequence (seven
+/// kicks) meets the drift–kick effective conditions of order 6, a check of
+/// the elimination with ad(A + B) against an independent published
+/// method; a point off it does not.
+#[test]
+fn yoshida6_as_a_drift_kick_sequence_meets_the_effective_conditions() {
+    let text = "name = \"x\"\nform = \"ABA\"\nstages = 7\norder = 6\nprocessed = true\nprocessor_stages = 8\n";
+    let f = design::parse_family("x.toml", text).unwrap();
+    let sys = design::conditions::system(&f, "x").unwrap();
+    assert_eq!(sys.conditions.len(), 4);
+    let y = tableau::catalogue::load("yoshida6").unwrap();
+    let Table::Composition(c) = &y.table else {
+        panic!()
+    };
+    let g: Vec<f64> = c.gamma.iter().map(|g| g.to_f64()).collect();
+    let value = |name: &str| -> f64 {
+        match name {
+            "a1" => g[0] / 2.0,
+            "a2" => (g[0] + g[1]) / 2.0,
+            "a3" => (g[1] + g[2]) / 2.0,
+            "b1" => g[0],
+            "b2" => g[1],
+            "b3" => g[2],
+            other => panic!("unknown {other}"),
+        }
+    };
+    let x: Vec<f64> = sys.names.iter().map(|n| value(n)).collect();
+    let compiled = Compiled::new(&sys);
+    assert!(compiled.residual(&x) < 1e-13, "{:e}", compiled.residual(&x));
+    let mut off = x.clone();
+    off[0] += 1e-3;
+    assert!(
+        compiled.residual(&off) > 1e-6,
+        "{:e}",
+        compiled.residual(&off)
+    );
+}
+
+/// A processed drift–kick kernel designed from random starts and proven:
+/// three kicks, effective order 4 (one condition, one unknown free), its
+/// kernel certified, a drift–kick processor found, and the processed
+/// table's `order = 4 (residual < 1e-40)` decided by `symlab check`'s
+/// verifier on χ K χ⁻¹; refused once the kernel or the processor moves by
+/// 1e-30, and refused for the kernel alone (classical order 2).
+#[test]
+fn a_processed_drift_kick_kernel_of_effective_order_4_is_designed_and_checked() {
+    let f = load("processed-aba3-order4.toml");
+    let out = design::design(&f, "designs/processed-aba3-order4.toml", &mut |_| {}).unwrap();
+    println!("{}", out.report());
+    let best = &out.designs[0];
+    assert!(matches!(best.certificate, Some(Ok(_))));
+    let processor = best.processor.as_ref().unwrap().as_ref().unwrap();
+    assert_eq!(processor.claims, ["order = 4 (residual < 1e-40)"]);
+    assert_eq!(processor.system.names, ["u1", "u2", "v1", "v2"]);
+    let (name, text) = best.table.as_ref().unwrap();
+    assert!(text.contains("\ndrift = [") && text.contains("\ncorrector_kick = ["));
+    for (claim, verdict) in claims_hold(name, text) {
+        assert!(verdict.is_ok(), "{claim}: {verdict:?}\n{text}");
+    }
+    refused_when_moved(name, text, "a1", "1e-30", "order = 4");
+    refused_when_moved(name, text, "u1", "1e-30", "order = 4");
+    refused_when_moved(name, text, "v2", "1e-30", "order = 4");
+    let kernel_only: String = text
+        .lines()
+        .filter(|l| {
+            !l.starts_with("corrector_") && !l.starts_with("let.u") && !l.starts_with("let.v")
+        })
+        .collect::<Vec<_>>()
+        .join("\n");
+    let verdicts = claims_hold(name, &kernel_only);
+    let (_, v) = verdicts
+        .iter()
+        .find(|(c, _)| c.contains("order = 4"))
+        .unwrap();
+    assert!(v.is_err());
+}
+
+/// The shipped effective-order-6 drift–kick family: its best kernel
+/// certified, a processor with twelve conditions found, and the processed
+/// table's `order = 6` claim decided by the verifier and refused when a
+/// coefficient moves.
+#[test]
+fn a_processed_drift_kick_kernel_of_effective_order_6_is_designed_and_checked() {
+    let f = load("processed-aba5-order6.toml");
+    let out = design::design(&f, "designs/processed-aba5-order6.toml", &mut |_| {}).unwrap();
+    let best = &out.designs[0];
+    assert!(matches!(best.certificate, Some(Ok(_))));
+    let processor = best.processor.as_ref().unwrap().as_ref().unwrap();
+    assert_eq!(processor.system.conditions.len(), 12);
+    assert_eq!(processor.claims, ["order = 6 (residual < 1e-40)"]);
+    let (name, text) = best.table.as_ref().unwrap();
+    for (claim, verdict) in claims_hold(name, text) {
+        assert!(verdict.is_ok(), "{claim}: {verdict:?}\n{text}");
+    }
+    refused_when_moved(name, text, "b2", "1e-30", "order = 6");
+    refused_when_moved(name, text, "u7", "1e-30", "order = 6");
+}
+
 /// Hostile family files: each error names the field.
 #[test]
 fn processed_family_errors_name_the_field() {
@@ -184,11 +307,24 @@ fn processed_family_errors_name_the_field() {
             .unwrap_err();
         assert_eq!(err.field.as_deref(), Some(field), "{text}: {err}");
     }
-    let aba = "name = \"x\"\nform = \"ABA\"\nstages = 4\norder = 4\nprocessed = true\nprocessor_stages = 4\n";
-    let err = design::parse_family("f.toml", aba)
-        .and_then(|f| f.validate("f.toml").map(|_| f))
-        .unwrap_err();
-    assert_eq!(err.field.as_deref(), Some("processed"), "{err}");
+    // Drift–kick kernels: classical effective orders only, not RKN, and a
+    // processor of at least two kicks.
+    let aba = "name = \"x\"\nform = \"ABA\"\nstages = 4\nprocessed = true\n";
+    for (extra, field) in [
+        (
+            "order = 4\nprocessor_stages = 4\nrkn = true\nerror_basis = \"brackets\"\n",
+            "rkn",
+        ),
+        ("order = [4, 2]\nprocessor_stages = 4\n", "order"),
+        ("order = 4\nprocessor_stages = 1\n", "processor_stages"),
+        ("order = 4\nprocessor_stages = 99\n", "processor_stages"),
+    ] {
+        let text = format!("{aba}{extra}");
+        let err = design::parse_family("f.toml", &text)
+            .and_then(|f| f.validate("f.toml").map(|_| f))
+            .unwrap_err();
+        assert_eq!(err.field.as_deref(), Some(field), "{text}: {err}");
+    }
     // Too small a processor is refused with the conditions it must meet.
     let mut f = load("bcm-processed6-s11.toml");
     f.processor_stages = 2;

@@ -39,7 +39,9 @@ fn claims(text: &str) -> Vec<String> {
 /// (`starts_run`, `distinct`, `capped`, `seconds`), the system (`unknowns`,
 /// `conditions`) and `designs`, best first; for a processed kernel
 /// (`processed = true`) each design's `processor` is a dict with its
-/// coefficients `z`, the `claims` tableau decided on the processed table and
+/// coefficients `z` and their `names` (`z1`, … for a composition kernel;
+/// the drifts `u1`, … then the kicks `v1`, … for a drift–kick kernel), the
+/// `claims` tableau decided on the processed table and
 /// the `objective` it leaves, or with the `error` that stopped it (`None`
 /// for other families).
 #[pyfunction]
@@ -147,6 +149,7 @@ pub fn design<'py>(
                 let pd = PyDict::new(py);
                 let z: Vec<f64> = p.z.iter().map(::design::poly::to_f64).collect();
                 pd.set_item("z", z)?;
+                pd.set_item("names", &p.system.names)?;
                 pd.set_item("claims", &p.claims)?;
                 pd.set_item("objective", p.objective)?;
                 e.set_item("processor", pd)?;

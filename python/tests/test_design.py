@@ -134,3 +134,18 @@ def test_processed_kernel_with_its_processor(root):
     assert all(c["holds"] for c in v["claims"]), v["claims"]
     # Other families have no processor.
     assert symlab.design(YOSHIDA)["designs"][0]["processor"] is None
+
+
+def test_processed_drift_kick_kernel_with_its_processor(root):
+    """A processed ABA kernel (effective order 4, three kicks): its
+    processor is a drift–kick sequence, named u1, u2, v1, v2, and the
+    processed table's claim holds in symlab.check."""
+    d = symlab.design(str(root / "designs" / "processed-aba3-order4.toml"))
+    best = d["designs"][0]
+    assert best["proof"] == "certified"
+    p = best["processor"]
+    assert p["names"] == ["u1", "u2", "v1", "v2"]
+    assert len(p["z"]) == 4
+    assert p["claims"] == ["order = 4 (residual < 1e-40)"], p
+    v = symlab.check(symlab.Table.from_toml(best["toml"]))
+    assert all(c["holds"] for c in v["claims"]), v["claims"]
