@@ -155,25 +155,35 @@ fn a_processed_table_runs_with_its_corrector_and_its_effective_claims_hold() {
     ]);
     assert_eq!(code, 0, "{err}");
     let rows = rows(&out.join("runs.csv"));
-    let of = |m: &str| -> Vec<(String, f64)> {
+    let of = |m: &str| -> Vec<(String, f64, u64)> {
         rows.iter()
             .filter(|r| r["method"] == m)
             .map(|r| {
                 assert_eq!(r["status"], "ok", "{m}: {r:?}");
-                (r["steps"].clone(), r["error"].parse().unwrap())
+                (
+                    r["steps"].clone(),
+                    r["error"].parse().unwrap(),
+                    r["evals"].parse().unwrap(),
+                )
             })
             .collect()
     };
     let (lf, lf3) = (of("leapfrog"), of("mylf3"));
     assert_eq!(lf.len(), 3);
     assert_eq!(lf.len(), lf3.len());
-    for ((n, a), (m, b)) in lf.iter().zip(&lf3) {
+    for ((n, a, ea), (m, b, eb)) in lf.iter().zip(&lf3) {
         assert_eq!(n, m);
         // The corrector changes the output: not the kernel's rows.
         assert!(
             a != b,
             "n = {n}: the processed method gave the kernel's error {a}"
         );
+        // Its cost is the kernel's plus χ⁻¹ on entry and one χ, whatever
+        // the number of steps, as the timed run pays; the observer's outputs
+        // after every step are not counted. χ's four kicks cost three
+        // evaluations: the middle two meet across a zero drift (`a1 - a1`)
+        // and are one.
+        assert_eq!(*eb, ea + 6, "n = {n}: evaluations");
     }
     // A claim false of the effective method is refused, naming the claim.
     let bad = write(&dir, "bad.toml", &processed_file("\"order = (6, 2)\""));

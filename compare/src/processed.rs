@@ -33,10 +33,16 @@ impl ProcessedStepper {
     /// system for the timed one). With an observer, `χ` of the carried state
     /// is observed at the start and after every step; without one (the
     /// timed run) `χ` is applied once, after the last step, as a user who
-    /// wants one output pays for it. `z` ends as the last output.
-    fn run<S>(
+    /// wants one output pays for it. `z` ends as the last output. The
+    /// outputs before the last are computed on `quiet` (the bare system in
+    /// the observed run), so the evaluations counted are what the timed run
+    /// does: `χ⁻¹`, the kernel's steps and one `χ`; the observer's outputs
+    /// along the way are the harness's, not the method's.
+    #[allow(clippy::too_many_arguments)]
+    fn run<S, Q>(
         &self,
         sys: &S,
+        quiet: &Q,
         z: &mut [f64],
         h: f64,
         n: usize,
@@ -45,6 +51,7 @@ impl ProcessedStepper {
     ) -> Status
     where
         S: Split + integrator_core::OdeSystem,
+        Q: Split,
         SplittingInterpreter: Step<S, Workspace = SplitWorkspace>,
     {
         let failed = |step: usize, reason: String| Status::SolverFailed { step, reason };
@@ -72,7 +79,12 @@ impl ProcessedStepper {
             if observe.is_none() && k + 1 < n {
                 continue;
             }
-            if let Err(e) = self.0.output(sys, h, &carried, z, &mut chi_ws) {
+            let done = if k + 1 == n {
+                self.0.output(sys, h, &carried, z, &mut chi_ws)
+            } else {
+                self.0.output(quiet, h, &carried, z, &mut chi_ws)
+            };
+            if let Err(e) = done {
                 return failed(k + 1, format!("the corrector at output: {e}"));
             }
             if z.iter().any(|x| !x.is_finite()) {
@@ -102,7 +114,7 @@ where
         observe: &mut dyn FnMut(usize, f64, &[f64]) -> bool,
     ) -> Outcome {
         let counted: Counting<P> = <AsSeparable as Kind<P>>::counted(sys);
-        let status = self.run(&counted, z, h, n, compensated, Some(observe));
+        let status = self.run(&counted, sys, z, h, n, compensated, Some(observe));
         let counts = counted.counts();
         Outcome {
             status,
@@ -115,7 +127,7 @@ where
     }
 
     fn bare(&self, sys: &P, z: &mut [f64], h: f64, n: usize) -> bool {
-        self.run(sys, z, h, n, true, None).is_ok() && z.iter().all(|x| x.is_finite())
+        self.run(sys, sys, z, h, n, true, None).is_ok() && z.iter().all(|x| x.is_finite())
     }
 }
 
