@@ -20,7 +20,8 @@
 //! assert!((best.solution.x[0] - 1.3512071919596578).abs() < 1e-12);
 //! ```
 //!
-//! A processed kernel (`processed = true`, compositions) is designed under
+//! A processed kernel (`processed = true`; compositions and drift–kick
+//! sequences, classical orders) is designed under
 //! effective-order conditions ([`effective`]: the processor eliminated
 //! weight by weight), and its processor found and written with it as a
 //! processed table that tableau decides ([`processor`]).
