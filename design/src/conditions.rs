@@ -377,20 +377,28 @@ pub fn system(family: &Family, file: &str) -> Result<System, FamilyError> {
         let mut log_k: crate::effective::Series = HashMap::new();
         for n in 1..=top {
             for w in words_of_weight(comp(family.form), n) {
+                if !keep(&w) {
+                    continue;
+                }
                 let c = log_coefficient(&prod, &w, m);
                 if !c.is_zero() {
                     log_k.insert(w, c);
                 }
             }
         }
-        let elim =
-            crate::effective::eliminate(letters, &log_k, p_order, m, false).map_err(|e| {
-                FamilyError {
-                    file: file.to_string(),
-                    field: None,
-                    message: e.to_string(),
-                }
-            })?;
+        // (A generalised order is validated non-increasing for a
+        // processed kernel, so `keep` is `Reach`'s truncation.)
+        let elim = if family.generalised.is_empty() {
+            crate::effective::eliminate(letters, &log_k, p_order, m, false)
+        } else {
+            let reach = crate::effective::Reach::new(&family.generalised);
+            crate::effective::eliminate_near(reach, &log_k, m, false)
+        }
+        .map_err(|e| FamilyError {
+            file: file.to_string(),
+            field: None,
+            message: e.to_string(),
+        })?;
         let to_condition = |t: crate::effective::Term| Condition {
             word: t.word,
             degree: t.weight,

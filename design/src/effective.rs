@@ -86,7 +86,7 @@ pub enum EffectiveError {
         word: String,
         weight: usize,
         value: String,
-        order: usize,
+        order: String,
     },
     /// A check that must hold for a symmetric kernel did not.
     #[error("internal error: {0}; please report it")]
@@ -105,11 +105,83 @@ pub enum Letters {
     /// `A + B`, so `ad_{Y₁}` kills `A + B` at weight one and the image from
     /// there is spanned by `[A, A + B] = [A, B]`.
     DriftKick,
+    /// `A` and `B` as in [`Letters::DriftKick`], for `H = A + εB`: a word
+    /// with `j ≥ 1` letters `B` is kept only up to the length
+    /// [`Reach::of`]`(j)`, so a product keeps exactly the coefficients of
+    /// the kept words (the kept words are closed under taking factors).
+    NearIntegrable(Reach),
+}
+
+/// The longest word kept with `j` letters `B`, for `j = 1, 2, …` (the last
+/// entry for every larger `j`): for a generalised order `(p₁, p₂, …)`
+/// (non-increasing) `p_j + 1`, the terms imposed and the first measured.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Reach {
+    len: [u8; 16],
+    n: u8,
+}
+
+impl Reach {
+    /// From a non-increasing generalised order `(p₁, p₂, …)`, at most 16
+    /// entries of at most 254.
+    pub fn new(degrees: &[usize]) -> Reach {
+        assert!(!degrees.is_empty() && degrees.len() <= 16);
+        assert!(degrees.windows(2).all(|w| w[0] >= w[1]));
+        let mut len = [0u8; 16];
+        for (l, &d) in len.iter_mut().zip(degrees) {
+            *l = u8::try_from(d + 1).expect("a degree below 255");
+        }
+        Reach {
+            len,
+            n: degrees.len() as u8,
+        }
+    }
+
+    /// The degree `p_j` imposed on the terms with `j ≥ 1` letters `B`.
+    pub fn degree(&self, j: usize) -> usize {
+        let i = j.clamp(1, self.n as usize) - 1;
+        self.len[i] as usize - 1
+    }
+
+    /// The longest word kept with `j` letters `B` (`j = 0`: unbounded).
+    pub fn of(&self, j: usize) -> usize {
+        if j == 0 {
+            usize::MAX
+        } else {
+            self.degree(j) + 1
+        }
+    }
+
+    /// The longest word kept at all.
+    pub fn top(&self) -> usize {
+        self.of(1)
+    }
+
+    /// `(p₁, p₂, …)` as a claim writes it.
+    pub fn text(&self) -> String {
+        let items: Vec<String> = (1..=self.n as usize)
+            .map(|j| self.degree(j).to_string())
+            .collect();
+        format!("({})", items.join(", "))
+    }
+}
+
+/// The number of letters `B` in a word of `A = 0`, `B = 1`.
+fn b_count(w: &[u8]) -> usize {
+    w.iter().filter(|&&l| l == 1).count()
 }
 
 impl Letters {
     fn weighted(self) -> bool {
         self == Letters::Composition
+    }
+
+    /// Whether a word is kept in a truncated product.
+    fn keeps(self, w: &[u8]) -> bool {
+        match self {
+            Letters::NearIntegrable(r) => w.len() <= r.of(b_count(w)),
+            _ => true,
+        }
     }
 
     fn weight(self, w: &[u8]) -> usize {
@@ -119,7 +191,7 @@ impl Letters {
     fn lyndon_words(self, n: usize) -> Vec<Word> {
         words_of_weight(self.weighted(), n)
             .into_iter()
-            .filter(|w| is_lyndon(w))
+            .filter(|w| is_lyndon(w) && self.keeps(w))
             .collect()
     }
 
@@ -128,7 +200,9 @@ impl Letters {
         let one = || Poly::constant(0, BigRational::one());
         match self {
             Letters::Composition => HashMap::from([(vec![0], one())]),
-            Letters::DriftKick => HashMap::from([(vec![0], one()), (vec![1], one())]),
+            Letters::DriftKick | Letters::NearIntegrable(_) => {
+                HashMap::from([(vec![0], one()), (vec![1], one())])
+            }
         }
     }
 
@@ -140,7 +214,7 @@ impl Letters {
     fn below(self, n: usize) -> Vec<Word> {
         let dropped: &[u8] = match self {
             Letters::Composition => &[0],
-            Letters::DriftKick => &[1],
+            Letters::DriftKick | Letters::NearIntegrable(_) => &[1],
         };
         self.lyndon_words(n)
             .into_iter()
@@ -163,6 +237,9 @@ pub fn mul(letters: Letters, a: &Series, b: &Series, top: usize, nvars: usize) -
             }
             let mut uv = u.clone();
             uv.extend_from_slice(v);
+            if !letters.keeps(&uv) {
+                continue;
+            }
             let entry = out.entry(uv).or_insert_with(|| Poly::zero(nvars));
             *entry = entry.add(&x.mul(y));
         }
@@ -400,7 +477,7 @@ pub fn eliminate(
                         word: label,
                         weight: n,
                         value: v.to_string(),
-                        order: p,
+                        order: p.to_string(),
                     });
                 }
                 conditions.push(Term {
@@ -468,6 +545,250 @@ pub fn eliminate(
             for (w, k) in b {
                 let entry = x.entry(w.clone()).or_insert_with(|| Poly::zero(nvars));
                 *entry = entry.sub(&c[j].scale(&constant(k)));
+            }
+        }
+        x.retain(|_, q| !q.is_zero());
+        if x.is_empty() {
+            continue;
+        }
+        if n < top {
+            l = conjugate(letters, &x, &l, top, nvars);
+        }
+        if want_conjugator {
+            z_exp = mul(letters, &exp(letters, &x, p, nvars), &z_exp, p, nvars);
+        }
+    }
+    let conjugator = if want_conjugator {
+        log(letters, &z_exp, p, nvars)
+    } else {
+        HashMap::new()
+    };
+    Ok(Elimination {
+        conditions,
+        errors,
+        conjugator,
+    })
+}
+
+/// The solution `c` of `M c = e` on the pivot rows (exact), for the
+/// columns of a full-column-rank `M`.
+fn solve_on_pivots(
+    m: &[Vec<BigRational>],
+    e: &[Poly],
+    pivots: &[usize],
+    nvars: usize,
+) -> Result<Vec<Poly>, EffectiveError> {
+    let cols = pivots.len();
+    let mr: Vec<Vec<BigRational>> = pivots.iter().map(|&i| m[i].clone()).collect();
+    let mut c: Vec<Poly> = vec![Poly::zero(nvars); cols];
+    for (k, &i) in pivots.iter().enumerate() {
+        let mut unit = vec![BigRational::zero(); cols];
+        unit[k] = BigRational::one();
+        let col = solve_rational(&mr, &unit)
+            .ok_or_else(|| EffectiveError::Internal("singular pivot block".into()))?;
+        for j in 0..cols {
+            if !col[j].is_zero() {
+                c[j] = c[j].add(&e[i].scale(&col[j]));
+            }
+        }
+    }
+    Ok(c)
+}
+
+/// The least-squares solution `c = (MᵀM)⁻¹Mᵀe` of `M c ≈ e` (exact).
+fn least_squares(
+    m: &[Vec<BigRational>],
+    e: &[Poly],
+    nvars: usize,
+) -> Result<Vec<Poly>, EffectiveError> {
+    let cols = m.first().map_or(0, Vec::len);
+    let mtm: Vec<Vec<BigRational>> = (0..cols)
+        .map(|a| {
+            (0..cols)
+                .map(|b| {
+                    m.iter()
+                        .map(|r| &r[a] * &r[b])
+                        .fold(BigRational::zero(), |s, x| s + x)
+                })
+                .collect()
+        })
+        .collect();
+    let mut d: Vec<Poly> = vec![Poly::zero(nvars); cols];
+    for k in 0..cols {
+        let mut unit = vec![BigRational::zero(); cols];
+        unit[k] = BigRational::one();
+        let col = solve_rational(&mtm, &unit)
+            .ok_or_else(|| EffectiveError::Internal("singular MᵀM".into()))?;
+        let mte_k = m.iter().zip(e).fold(Poly::zero(nvars), |s, (r, x)| {
+            if r[k].is_zero() {
+                s
+            } else {
+                s.add(&x.scale(&r[k]))
+            }
+        });
+        for j in 0..cols {
+            if !col[j].is_zero() {
+                d[j] = d[j].add(&mte_k.scale(&col[j]));
+            }
+        }
+    }
+    Ok(d)
+}
+
+/// The effective generalised order of a symmetric drift–kick kernel for
+/// `H = A + εB`: [`eliminate`] for the terms `εʲhⁿ` with `j` letters `B`,
+/// imposed up to the degree `p_j` of `reach` (non-increasing) and measured
+/// at `p_j + 1`.
+///
+/// **Blocks.** `[P, A + B]` for a basis element `P` with `j ≥ 1` letters
+/// `B` has a part with `j` (`[P, A]`) and one with `j + 1` (`[P, B]`), and
+/// `ad_A` is injective on the elements with a `B`; so weight by weight the
+/// blocks are taken in increasing `j`, the processor's part with `j`
+/// letters fixed by the kernel's `εʲ` terms after the shift the part with
+/// `j − 1` gave them: on a block of conditions (`n ≤ p_j`) exactly on pivot
+/// rows, the other rows' residuals the conditions; on a block measured
+/// (`n = p_j + 1`) by least squares, the residual the error, what no
+/// processor removes once the larger terms (fewer `ε`) have been removed.
+/// Every `εhⁿ` term is the processor's (one Lyndon word per weight, one
+/// column): the kernel's conditions start at `ε²`. The weight-2 block is
+/// the column `A`, whose image `[A, B]` has one `B`.
+pub fn eliminate_near(
+    reach: Reach,
+    l: &Series,
+    nvars: usize,
+    want_conjugator: bool,
+) -> Result<Elimination, EffectiveError> {
+    let letters = Letters::NearIntegrable(reach);
+    let top = reach.top();
+    let p = top - 1;
+    let mut l = l.clone();
+    l.retain(|w, _| letters.keeps(w));
+    let mut conditions = Vec::new();
+    let mut errors = Vec::new();
+    let mut z_exp: Series =
+        HashMap::from([(Vec::new(), Poly::constant(nvars, BigRational::one()))]);
+    let y1 = letters.y1();
+    for n in 2..=top {
+        let rows = letters.lyndon_words(n);
+        // A column with j letters B lands in rows with j and j + 1; it is
+        // needed where its own rows (max(j, 1)) are kept.
+        let cols: Vec<Word> = letters
+            .below(n - 1)
+            .into_iter()
+            .filter(|u| n <= reach.of(b_count(u).max(1)))
+            .collect();
+        let basis: Vec<Series> = cols.iter().map(|u| basis_element(letters, u, 0)).collect();
+        let images: Vec<Series> = basis
+            .iter()
+            .map(|b| bracket(letters, b, &y1, n, 0))
+            .collect();
+        let m: Vec<Vec<BigRational>> = rows
+            .iter()
+            .map(|w| {
+                images
+                    .iter()
+                    .map(|s| s.get(w).map(constant).unwrap_or_else(BigRational::zero))
+                    .collect()
+            })
+            .collect();
+        let e: Vec<Poly> = rows
+            .iter()
+            .map(|w| l.get(w).cloned().unwrap_or_else(|| Poly::zero(nvars)))
+            .collect();
+        let mut c: Vec<Poly> = vec![Poly::zero(nvars); cols.len()];
+        let jmax = rows.iter().map(|w| b_count(w)).max().unwrap_or(0);
+        for j in 1..=jmax {
+            let ri: Vec<usize> = (0..rows.len())
+                .filter(|&i| b_count(&rows[i]) == j)
+                .collect();
+            let ci: Vec<usize> = (0..cols.len())
+                .filter(|&k| b_count(&cols[k]).max(1) == j)
+                .collect();
+            // The rows' terms after the shift of the columns already fixed
+            // (those with j − 1 letters B).
+            let shifted: Vec<Poly> = ri
+                .iter()
+                .map(|&i| {
+                    let mut r = e[i].clone();
+                    for k in 0..cols.len() {
+                        if !ci.contains(&k) && !m[i][k].is_zero() && !c[k].is_zero() {
+                            r = r.sub(&c[k].scale(&m[i][k]));
+                        }
+                    }
+                    r
+                })
+                .collect();
+            let sub: Vec<Vec<BigRational>> = ri
+                .iter()
+                .map(|&i| ci.iter().map(|&k| m[i][k].clone()).collect())
+                .collect();
+            let imposed = n <= reach.degree(j);
+            let cj = if ci.is_empty() {
+                Vec::new()
+            } else if imposed {
+                let pivots = pivot_rows(&sub, ci.len()).ok_or_else(|| {
+                    EffectiveError::Internal(format!(
+                        "ad(A+B) is not injective on the terms with {j} letters B from weight {} to weight {n}",
+                        n - 1
+                    ))
+                })?;
+                solve_on_pivots(&sub, &shifted, &pivots, nvars)?
+            } else {
+                least_squares(&sub, &shifted, nvars)?
+            };
+            for (t, &k) in ci.iter().enumerate() {
+                c[k] = cj[t].clone();
+            }
+            for (t, &i) in ri.iter().enumerate() {
+                let mut r = shifted[t].clone();
+                for (cu, m_tu) in cj.iter().zip(&sub[t]) {
+                    if !m_tu.is_zero() {
+                        r = r.sub(&cu.scale(m_tu));
+                    }
+                }
+                if r.is_zero() {
+                    continue;
+                }
+                let label = word_label(false, &rows[i]);
+                if !imposed {
+                    errors.push(Term {
+                        word: label,
+                        weight: n,
+                        poly: r,
+                    });
+                    continue;
+                }
+                if n % 2 == 0 {
+                    return Err(EffectiveError::Internal(format!(
+                        "the even-weight effective term {label} (weight {n}) does not vanish for a symmetric kernel"
+                    )));
+                }
+                if let Some(v) = r.as_constant() {
+                    if want_conjugator {
+                        continue;
+                    }
+                    return Err(EffectiveError::Impossible {
+                        word: label,
+                        weight: n,
+                        value: v.to_string(),
+                        order: reach.text(),
+                    });
+                }
+                conditions.push(Term {
+                    word: label,
+                    weight: n,
+                    poly: r,
+                });
+            }
+        }
+        let mut x: Series = HashMap::new();
+        for (k, b) in basis.iter().enumerate() {
+            if c[k].is_zero() {
+                continue;
+            }
+            for (w, v) in b {
+                let entry = x.entry(w.clone()).or_insert_with(|| Poly::zero(nvars));
+                *entry = entry.sub(&c[k].scale(&constant(v)));
             }
         }
         x.retain(|_, q| !q.is_zero());

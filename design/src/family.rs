@@ -129,7 +129,8 @@ pub struct Family {
     /// What the free coefficients are chosen for.
     pub objective: Objective,
     /// A processed kernel (`processed = true`; compositions and drift–kick
-    /// forms, classical orders, not RKN): the order
+    /// forms, classical or, for drift–kick forms, non-increasing generalised
+    /// orders, not RKN): the order
     /// imposed is the *effective* order of `χ K χ⁻¹`, for a processor `χ`
     /// the designer then finds ([`crate::effective`]), and the error
     /// measured is the part of the first order not imposed that no
@@ -337,10 +338,15 @@ impl Family {
             ));
         }
         if self.processed {
-            if !self.generalised.is_empty() {
+            if !self.generalised.is_empty()
+                && (self.generalised.windows(2).any(|w| w[0] < w[1]) || self.generalised.len() > 16)
+            {
                 return Err(err(
                     "order",
-                    "a processed kernel is designed for a classical effective order (`order = p`); effective generalised orders (p₁, p₂, …) are not designed".into(),
+                    format!(
+                        "{}: a processed kernel's effective generalised order is non-increasing (p₁ ≥ p₂ ≥ …), of at most 16 entries",
+                        self.order_text()
+                    ),
                 ));
             }
             if self.rkn {

@@ -411,11 +411,10 @@ impl Outcome {
         if f.processed {
             let _ = writeln!(
                 r,
-                "\nProcessed kernels: the conditions are of effective order {} (of χ K χ⁻¹, `design::effective`). Each certified kernel gets a processor {} (`design::processor`; at most {} starts, the best by the image part of weight {} kept), and its table's claim is decided by `symlab check`'s verifier:\n",
-                f.order,
+                "\nProcessed kernels: the conditions are of effective order {} (of χ K χ⁻¹, `design::effective`). Each certified kernel gets a processor {} (`design::processor`; at most {} starts, the best by the image part of the first degree not imposed kept), and its table's claim is decided by `symlab check`'s verifier:\n",
+                f.order_text(),
                 crate::processor::processor_form(f.form, f.processor_stages),
                 PROCESSOR_STARTS,
-                f.order
             );
             for (i, d) in self.designs.iter().enumerate() {
                 match &d.processor {

@@ -39,7 +39,7 @@ use num_rational::BigRational;
 use num_traits::{One, Zero};
 
 use crate::conditions::{Condition, System, factors, log_coefficient, product};
-use crate::effective::{Letters, Series, eliminate};
+use crate::effective::{Letters, Reach, Series, eliminate, eliminate_near};
 use crate::emit::quote;
 use crate::family::{Family, FamilyError, Form};
 use crate::poly::Poly;
@@ -74,17 +74,15 @@ fn log_of(
     gamma: &[Poly],
     top: usize,
     nvars: usize,
+    keep: &dyn Fn(&[u8]) -> bool,
 ) -> Series {
-    let prod = product(
-        form,
-        &factors(form, drift, kick, gamma),
-        top,
-        nvars,
-        &|_| true,
-    );
+    let prod = product(form, &factors(form, drift, kick, gamma), top, nvars, keep);
     let mut out: Series = HashMap::new();
     for n in 1..=top {
         for w in words_of_weight(letters(form) == Letters::Composition, n) {
+            if !keep(&w) {
+                continue;
+            }
             let c = log_coefficient(&prod, &w, nvars);
             if !c.is_zero() {
                 out.insert(w, c);
@@ -158,9 +156,26 @@ pub fn processor_system(
     let p = family.order;
     let letters = letters(family.form);
     let [kd, kk, kg] = kernel_at(kernel, x);
-    let log_k = log_of(family.form, &kd, &kk, &kg, p + 1, 0);
-    let elim =
-        eliminate(letters, &log_k, p, 0, true).map_err(|e| error(file, None, e.to_string()))?;
+    // For a generalised order the words with j letters B are kept up to
+    // p_j + 1, and a word of the conjugator with j ≥ 1 letters is matched
+    // below its column's own degree p_{max(j,1)} and is the objective at it
+    // (`crate::effective::eliminate_near`); classically every word up to
+    // p + 1, matched below p.
+    let reach = (!family.generalised.is_empty()).then(|| Reach::new(&family.generalised));
+    let keep = |w: &[u8]| -> bool {
+        reach.is_none_or(|r| w.len() <= r.of(w.iter().filter(|&&l| l == 1).count()))
+    };
+    let limit = |w: &[u8]| -> usize {
+        reach.map_or(p, |r| {
+            r.degree(w.iter().filter(|&&l| l == 1).count().max(1))
+        })
+    };
+    let log_k = log_of(family.form, &kd, &kk, &kg, p + 1, 0, &keep);
+    let elim = match reach {
+        None => eliminate(letters, &log_k, p, 0, true),
+        Some(r) => eliminate_near(r, &log_k, 0, true),
+    }
+    .map_err(|e| error(file, None, e.to_string()))?;
     let z = elim.conjugator;
     // The processor is a drift–kick sequence starting with a drift (ABA
     // order) whatever the kernel's first letter: a sequence, not a
@@ -171,15 +186,16 @@ pub fn processor_system(
     };
     let (names, [drift, kick, gamma]) = processor_unknowns(family.form, family.processor_stages);
     let k = names.len();
-    let log_chi = log_of(pform, &drift, &kick, &gamma, p, k);
+    let log_chi = log_of(pform, &drift, &kick, &gamma, p, k, &keep);
     let weighted = letters == Letters::Composition;
     let mut conditions = Vec::new();
     let mut error_terms = Vec::new();
     for n in 2..=p {
         for w in words_of_weight(weighted, n)
             .into_iter()
-            .filter(|w| is_lyndon(w))
+            .filter(|w| is_lyndon(w) && keep(w) && n <= limit(w))
         {
+            let d = limit(&w);
             let target = z
                 .get(&w)
                 .and_then(Poly::as_constant)
@@ -193,7 +209,7 @@ pub fn processor_system(
                 continue;
             }
             let label = word_label(weighted, &w);
-            if n < p && poly.as_constant().is_some() {
+            if n < d && poly.as_constant().is_some() {
                 return Err(error(
                     file,
                     Some("processor_stages"),
@@ -208,7 +224,7 @@ pub fn processor_system(
                 degree: n,
                 poly,
             };
-            if n < p {
+            if n < d {
                 conditions.push(c);
             } else {
                 error_terms.push(c);
@@ -238,7 +254,7 @@ pub fn processor_system(
     Ok(System {
         form: pform,
         order: p,
-        generalised: Vec::new(),
+        generalised: family.generalised.clone(),
         stages: family.processor_stages,
         parameters: names
             .iter()
@@ -333,8 +349,7 @@ pub fn table_text(
         family.name, family.seed
     ));
     out.push_str(&format!(
-        "# search, ranked by the effective error E_f = s·(Σ e²)^(1/(2p)) = {effective_error:.6e} over the\n# part of weight {} that no processor removes.\n",
-        family.order + 1
+        "# search, ranked by the effective error E_f = s·(Σ e²)^(1/(2p)) = {effective_error:.6e} over the\n# part of the first degree not imposed that no processor removes.\n",
     ));
     out.push_str(&format!(
         "# The kernel: an exact solution of its {} effective-order conditions lies within {:.3e}\n# (max norm) of the printed {} (Krawczyk, exact rational interval arithmetic).\n",
@@ -365,7 +380,7 @@ pub fn table_text(
     ));
     out.push_str(&format!(
         "claims = [\"symplectic\", \"explicit\", \"order = {} (residual < {RESIDUAL_BOUND})\"]\n",
-        family.order
+        family.order_text()
     ));
     let names = &kernel.names;
     for (name, value) in names.iter().zip(x) {

@@ -279,6 +279,107 @@ fn a_processed_drift_kick_kernel_of_effective_order_6_is_designed_and_checked() 
     refused_when_moved(name, text, "u7", "1e-30", "order = 6");
 }
 
+/// A processed near-integrable kernel: effective generalised order (8, 4)
+/// of a three-kick ABA sequence. Every εhⁿ term is the processor's, so the
+/// kernel's one condition is its ε²h³ term (ABB); the processor matches
+/// the conjugator on AB, AAB, …, A⁶B and ABB; and the processed table's
+/// claim `order = (8, 4) (residual < 1e-40)` is decided by `symlab
+/// check`'s verifier on χ K χ⁻¹ (independent code: tableau's
+/// near-integrable coefficients of the whole effective sequence), refused
+/// once the kernel or the processor moves by 1e-30, and refused for the
+/// kernel alone, whose εh³ term is not zero.
+#[test]
+fn a_processed_near_integrable_kernel_of_effective_order_8_4_is_designed_and_checked() {
+    let f = load("processed-near-aba3-8-4.toml");
+    let sys = design::conditions::system(&f, "x").unwrap();
+    assert_eq!(sys.names, ["a1", "b1"]);
+    assert_eq!(words(&sys), ["ABB"]);
+    let out = design::design(&f, "designs/processed-near-aba3-8-4.toml", &mut |_| {}).unwrap();
+    println!("{}", out.report());
+    let best = &out.designs[0];
+    assert!(matches!(best.certificate, Some(Ok(_))));
+    let processor = best.processor.as_ref().unwrap().as_ref().unwrap();
+    let pwords: Vec<String> = processor
+        .system
+        .conditions
+        .iter()
+        .map(|c| c.word.clone())
+        .collect();
+    assert_eq!(
+        pwords,
+        ["AB", "AAB", "ABB", "AAAB", "AAAAB", "AAAAAB", "AAAAAAB"]
+    );
+    assert_eq!(processor.claims, ["order = (8, 4) (residual < 1e-40)"]);
+    let (name, text) = best.table.as_ref().unwrap();
+    for (claim, verdict) in claims_hold(name, text) {
+        assert!(verdict.is_ok(), "{claim}: {verdict:?}\n{text}");
+    }
+    refused_when_moved(name, text, "a1", "1e-30", "order = (8, 4)");
+    refused_when_moved(name, text, "u3", "1e-30", "order = (8, 4)");
+    refused_when_moved(name, text, "v5", "1e-30", "order = (8, 4)");
+    let kernel_only: String = text
+        .lines()
+        .filter(|l| {
+            !l.starts_with("corrector_") && !l.starts_with("let.u") && !l.starts_with("let.v")
+        })
+        .collect::<Vec<_>>()
+        .join("\n");
+    let verdicts = claims_hold(name, &kernel_only);
+    let (_, v) = verdicts
+        .iter()
+        .find(|(c, _)| c.contains("order = (8, 4)"))
+        .unwrap();
+    assert!(v.is_err());
+}
+
+/// The ε² conditions of a processed near-integrable kernel: with every
+/// odd-weight coordinate its own unknown, effective order (6, 6) imposes
+/// nothing on the terms with one B (the processor's), one ε²h³ (ABB) and
+/// one ε²h⁵ term (of AAABB, AABAB, the processor taking one), one ε³h⁵
+/// (of AABBB, ABABB, taking one) and ε⁴h⁵ (ABBBB, nothing to take it from:
+/// BBBB is no Lyndon word); effective (6, 2)
+/// imposes nothing at all (the processed leapfrog of Wisdom, Holman &
+/// Touma).
+#[test]
+fn near_integrable_effective_conditions_start_at_eps_squared() {
+    use design::effective::Reach;
+    let (six6, six2) = (Reach::new(&[6, 6]), Reach::new(&[6, 2]));
+    for (reach, want) in [(six6, vec![(3, "ABB")]), (six2, vec![])] {
+        let sys_text = format!(
+            "name = \"x\"\nform = \"ABA\"\nstages = 6\norder = {}\nprocessed = true\nprocessor_stages = 8\n",
+            reach.text().replace('(', "[").replace(')', "]")
+        );
+        let f = design::parse_family("x.toml", &sys_text).unwrap();
+        let sys = design::conditions::system(&f, "x").unwrap();
+        let w3: Vec<(usize, String)> = sys
+            .conditions
+            .iter()
+            .filter(|c| c.degree == 3)
+            .map(|c| (c.degree, c.word.clone()))
+            .collect();
+        let want: Vec<(usize, String)> = want.iter().map(|(d, w)| (*d, w.to_string())).collect();
+        assert_eq!(w3, want, "{}", reach.text());
+        assert!(
+            sys.conditions
+                .iter()
+                .all(|c| c.word.matches('B').count() >= 2)
+        );
+    }
+    let f = design::parse_family(
+        "x.toml",
+        "name = \"x\"\nform = \"ABA\"\nstages = 6\norder = [6, 6]\nprocessed = true\nprocessor_stages = 8\n",
+    )
+    .unwrap();
+    let sys = design::conditions::system(&f, "x").unwrap();
+    let at = |d: usize, b: usize| {
+        sys.conditions
+            .iter()
+            .filter(|c| c.degree == d && c.word.matches('B').count() == b)
+            .count()
+    };
+    assert_eq!((at(3, 2), at(5, 2), at(5, 3), at(5, 4)), (1, 1, 1, 1));
+}
+
 /// Hostile family files: each error names the field.
 #[test]
 fn processed_family_errors_name_the_field() {
@@ -315,7 +416,7 @@ fn processed_family_errors_name_the_field() {
             "order = 4\nprocessor_stages = 4\nrkn = true\nerror_basis = \"brackets\"\n",
             "rkn",
         ),
-        ("order = [4, 2]\nprocessor_stages = 4\n", "order"),
+        ("order = [4, 6]\nprocessor_stages = 4\n", "order"),
         ("order = 4\nprocessor_stages = 1\n", "processor_stages"),
         ("order = 4\nprocessor_stages = 99\n", "processor_stages"),
     ] {
