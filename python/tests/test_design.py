@@ -149,3 +149,16 @@ def test_processed_drift_kick_kernel_with_its_processor(root):
     assert p["claims"] == ["order = 4 (residual < 1e-40)"], p
     v = symlab.check(symlab.Table.from_toml(best["toml"]))
     assert all(c["holds"] for c in v["claims"]), v["claims"]
+
+
+def test_processed_near_integrable_kernel(root):
+    """Effective generalised order (8, 4) of a three-kick ABA kernel: one
+    kernel condition (ABB), a six-kick processor, the (8, 4) claim held."""
+    d = symlab.design(str(root / "designs" / "processed-near-aba3-8-4.toml"))
+    assert d["conditions"] == ["ABB"]
+    best = d["designs"][0]
+    p = best["processor"]
+    assert p["names"] == [f"u{i}" for i in range(1, 6)] + [f"v{i}" for i in range(1, 6)]
+    assert p["claims"] == ["order = (8, 4) (residual < 1e-40)"], p
+    v = symlab.check(symlab.Table.from_toml(best["toml"]))
+    assert all(c["holds"] for c in v["claims"]), v["claims"]
