@@ -432,101 +432,22 @@ pub fn eliminate(
                 n - 1
             ))
         })?;
-        // c = M_R⁻¹ e_R, column by column of M_R⁻¹.
-        let mr: Vec<Vec<BigRational>> = pivots.iter().map(|&i| m[i].clone()).collect();
-        let mut c: Vec<Poly> = vec![Poly::zero(nvars); cols];
-        for (k, &i) in pivots.iter().enumerate() {
-            let mut unit = vec![BigRational::zero(); cols];
-            unit[k] = BigRational::one();
-            let col = solve_rational(&mr, &unit)
-                .ok_or_else(|| EffectiveError::Internal("singular pivot block".into()))?;
-            for j in 0..cols {
-                if !col[j].is_zero() {
-                    c[j] = c[j].add(&e[i].scale(&col[j]));
-                }
-            }
-        }
-        let residual = |i: usize| -> Poly {
-            let mut r = e[i].clone();
-            for j in 0..cols {
-                if !m[i][j].is_zero() {
-                    r = r.sub(&c[j].scale(&m[i][j]));
-                }
-            }
-            r
-        };
+        // c = M_R⁻¹ e_R.
+        let c = solve_on_pivots(&m, &e, &pivots, nvars)?;
         if n <= p {
             for i in (0..words.len()).filter(|i| !pivots.contains(i)) {
-                let r = residual(i);
-                if r.is_zero() {
-                    continue;
-                }
+                let r = residual(&m[i], &e[i], &c);
                 let label = word_label(letters.weighted(), &words[i]);
-                if n % 2 == 0 {
-                    return Err(EffectiveError::Internal(format!(
-                        "the even-weight effective term {label} (weight {n}) does not vanish for a symmetric kernel"
-                    )));
-                }
-                if let Some(v) = r.as_constant() {
-                    if want_conjugator {
-                        // A kernel given by its printed values: its
-                        // conditions hold to the printed digits only.
-                        continue;
-                    }
-                    return Err(EffectiveError::Impossible {
-                        word: label,
-                        weight: n,
-                        value: v.to_string(),
-                        order: p.to_string(),
-                    });
-                }
-                conditions.push(Term {
-                    word: label,
-                    weight: n,
-                    poly: r,
-                });
+                push_condition(&mut conditions, label, n, r, want_conjugator, || {
+                    p.to_string()
+                })?;
             }
         } else {
             // The orthogonal projection onto the complement of M's range:
             // r = e − M (MᵀM)⁻¹ Mᵀ e.
-            let mtm: Vec<Vec<BigRational>> = (0..cols)
-                .map(|a| {
-                    (0..cols)
-                        .map(|b| {
-                            (0..words.len())
-                                .map(|i| &m[i][a] * &m[i][b])
-                                .fold(BigRational::zero(), |s, x| s + x)
-                        })
-                        .collect()
-                })
-                .collect();
-            let mut d: Vec<Poly> = vec![Poly::zero(nvars); cols];
-            for k in 0..cols {
-                let mut unit = vec![BigRational::zero(); cols];
-                unit[k] = BigRational::one();
-                let col = solve_rational(&mtm, &unit)
-                    .ok_or_else(|| EffectiveError::Internal("singular MᵀM".into()))?;
-                // d = (MᵀM)⁻¹ Mᵀ e: column k of the inverse times (Mᵀe)_k.
-                let mte_k = (0..words.len()).fold(Poly::zero(nvars), |s, i| {
-                    if m[i][k].is_zero() {
-                        s
-                    } else {
-                        s.add(&e[i].scale(&m[i][k]))
-                    }
-                });
-                for j in 0..cols {
-                    if !col[j].is_zero() {
-                        d[j] = d[j].add(&mte_k.scale(&col[j]));
-                    }
-                }
-            }
+            let d = least_squares(&m, &e, nvars)?;
             for (i, w) in words.iter().enumerate() {
-                let mut r = e[i].clone();
-                for j in 0..cols {
-                    if !m[i][j].is_zero() {
-                        r = r.sub(&d[j].scale(&m[i][j]));
-                    }
-                }
+                let r = residual(&m[i], &e[i], &d);
                 if !r.is_zero() {
                     errors.push(Term {
                         word: word_label(letters.weighted(), w),
@@ -536,27 +457,15 @@ pub fn eliminate(
                 }
             }
         }
-        // X = −Σ c_u P_u clears the image part of weight n.
-        let mut x: Series = HashMap::new();
-        for (j, b) in basis.iter().enumerate() {
-            if c[j].is_zero() {
-                continue;
-            }
-            for (w, k) in b {
-                let entry = x.entry(w.clone()).or_insert_with(|| Poly::zero(nvars));
-                *entry = entry.sub(&c[j].scale(&constant(k)));
-            }
-        }
-        x.retain(|_, q| !q.is_zero());
-        if x.is_empty() {
-            continue;
-        }
-        if n < top {
-            l = conjugate(letters, &x, &l, top, nvars);
-        }
-        if want_conjugator {
-            z_exp = mul(letters, &exp(letters, &x, p, nvars), &z_exp, p, nvars);
-        }
+        clear(
+            letters,
+            &basis,
+            &c,
+            (n, top, p),
+            nvars,
+            &mut l,
+            want_conjugator.then_some(&mut z_exp),
+        );
     }
     let conjugator = if want_conjugator {
         log(letters, &z_exp, p, nvars)
@@ -633,6 +542,91 @@ fn least_squares(
         }
     }
     Ok(d)
+}
+
+/// `e − M_i·c` for row `M_i`.
+fn residual(m_i: &[BigRational], e_i: &Poly, c: &[Poly]) -> Poly {
+    let mut r = e_i.clone();
+    for (mij, cj) in m_i.iter().zip(c) {
+        if !mij.is_zero() && !cj.is_zero() {
+            r = r.sub(&cj.scale(mij));
+        }
+    }
+    r
+}
+
+/// Keep the residual `r` of the weight-`n` term `label` as a condition, or
+/// refuse: an even weight must vanish for a symmetric kernel, and a
+/// nonzero constant makes the order (`order()`) impossible, unless the
+/// kernel is given by its printed values (`at_values`: its conditions hold
+/// to the printed digits only).
+fn push_condition(
+    conditions: &mut Vec<Term>,
+    label: String,
+    n: usize,
+    r: Poly,
+    at_values: bool,
+    order: impl Fn() -> String,
+) -> Result<(), EffectiveError> {
+    if r.is_zero() {
+        return Ok(());
+    }
+    if n.is_multiple_of(2) {
+        return Err(EffectiveError::Internal(format!(
+            "the even-weight effective term {label} (weight {n}) does not vanish for a symmetric kernel"
+        )));
+    }
+    if let Some(v) = r.as_constant() {
+        if at_values {
+            return Ok(());
+        }
+        return Err(EffectiveError::Impossible {
+            word: label,
+            weight: n,
+            value: v.to_string(),
+            order: order(),
+        });
+    }
+    conditions.push(Term {
+        word: label,
+        weight: n,
+        poly: r,
+    });
+    Ok(())
+}
+
+/// `X = −Σ c_u P_u` clears the image part of weight `n`: conjugate `l` by
+/// it (below `top`) and, with `z_exp`, compose it into the conjugator
+/// (truncated at `p`).
+fn clear(
+    letters: Letters,
+    basis: &[Series],
+    c: &[Poly],
+    (n, top, p): (usize, usize, usize),
+    nvars: usize,
+    l: &mut Series,
+    z_exp: Option<&mut Series>,
+) {
+    let mut x: Series = HashMap::new();
+    for (cj, b) in c.iter().zip(basis) {
+        if cj.is_zero() {
+            continue;
+        }
+        for (w, k) in b {
+            let entry = x.entry(w.clone()).or_insert_with(|| Poly::zero(nvars));
+            *entry = entry.sub(&cj.scale(&constant(k)));
+        }
+    }
+    x.retain(|_, q| !q.is_zero());
+    if x.is_empty() {
+        return;
+    }
+    if n < top {
+        *l = conjugate(letters, &x, l, top, nvars);
+    }
+    if let Some(z) = z_exp {
+        *z = mul(letters, &exp(letters, &x, p, nvars), z, p, nvars);
+    }
 }
 
 /// The effective generalised order of a symmetric drift–kick kernel for
@@ -740,67 +734,30 @@ pub fn eliminate_near(
                 c[k] = cj[t].clone();
             }
             for (t, &i) in ri.iter().enumerate() {
-                let mut r = shifted[t].clone();
-                for (cu, m_tu) in cj.iter().zip(&sub[t]) {
-                    if !m_tu.is_zero() {
-                        r = r.sub(&cu.scale(m_tu));
-                    }
-                }
-                if r.is_zero() {
-                    continue;
-                }
+                let r = residual(&sub[t], &shifted[t], &cj);
                 let label = word_label(false, &rows[i]);
-                if !imposed {
+                if imposed {
+                    push_condition(&mut conditions, label, n, r, want_conjugator, || {
+                        reach.text()
+                    })?;
+                } else if !r.is_zero() {
                     errors.push(Term {
                         word: label,
                         weight: n,
                         poly: r,
                     });
-                    continue;
                 }
-                if n % 2 == 0 {
-                    return Err(EffectiveError::Internal(format!(
-                        "the even-weight effective term {label} (weight {n}) does not vanish for a symmetric kernel"
-                    )));
-                }
-                if let Some(v) = r.as_constant() {
-                    if want_conjugator {
-                        continue;
-                    }
-                    return Err(EffectiveError::Impossible {
-                        word: label,
-                        weight: n,
-                        value: v.to_string(),
-                        order: reach.text(),
-                    });
-                }
-                conditions.push(Term {
-                    word: label,
-                    weight: n,
-                    poly: r,
-                });
             }
         }
-        let mut x: Series = HashMap::new();
-        for (k, b) in basis.iter().enumerate() {
-            if c[k].is_zero() {
-                continue;
-            }
-            for (w, v) in b {
-                let entry = x.entry(w.clone()).or_insert_with(|| Poly::zero(nvars));
-                *entry = entry.sub(&c[k].scale(&constant(v)));
-            }
-        }
-        x.retain(|_, q| !q.is_zero());
-        if x.is_empty() {
-            continue;
-        }
-        if n < top {
-            l = conjugate(letters, &x, &l, top, nvars);
-        }
-        if want_conjugator {
-            z_exp = mul(letters, &exp(letters, &x, p, nvars), &z_exp, p, nvars);
-        }
+        clear(
+            letters,
+            &basis,
+            &c,
+            (n, top, p),
+            nvars,
+            &mut l,
+            want_conjugator.then_some(&mut z_exp),
+        );
     }
     let conjugator = if want_conjugator {
         log(letters, &z_exp, p, nvars)

@@ -22,6 +22,42 @@ fn digits_agreeing(a: &BigRational, printed: &str) -> i64 {
     agreement(a, &b)
 }
 
+/// A processed table's claims hold; the claim `claim` is refused once any
+/// of `moved` moves by 1e-30; and, with `kernel_alone`, refused for the
+/// kernel without its processor (the lines `corrector_*` and the `let.` of
+/// the processor's unknowns, `processor` their first letters, dropped).
+fn processed_table_checks(
+    name: &str,
+    text: &str,
+    claim: &str,
+    moved: &[&str],
+    processor: &[char],
+    kernel_alone: bool,
+) {
+    for (c, verdict) in claims_hold(name, text) {
+        assert!(verdict.is_ok(), "{c}: {verdict:?}\n{text}");
+    }
+    for m in moved {
+        refused_when_moved(name, text, m, "1e-30", claim);
+    }
+    if !kernel_alone {
+        return;
+    }
+    let kernel_only: String = text
+        .lines()
+        .filter(|l| {
+            !l.starts_with("corrector_")
+                && !l
+                    .strip_prefix("let.")
+                    .is_some_and(|r| r.starts_with(processor))
+        })
+        .collect::<Vec<_>>()
+        .join("\n");
+    let verdicts = claims_hold(name, &kernel_only);
+    let (_, v) = verdicts.iter().find(|(c, _)| c.contains(claim)).unwrap();
+    assert!(v.is_err(), "{claim} holds for the kernel alone");
+}
+
 /// Effective order 6 of a symmetric composition is Σγ³ = Σγ⁵ = 0: the
 /// weight-5 term [Y₁,[Y₁,Y₃]] is the processor's. Classical order 6 also
 /// imposes it.
@@ -136,24 +172,9 @@ fn bcm_eleven_stage_kernel_recovered_with_a_processor_and_checked() {
     let processor = best.processor.as_ref().unwrap().as_ref().unwrap();
     assert_eq!(processor.claims, ["order = 6 (residual < 1e-40)"]);
     let (name, text) = best.table.as_ref().unwrap();
-    for (claim, verdict) in claims_hold(name, text) {
-        assert!(verdict.is_ok(), "{claim}: {verdict:?}\n{text}");
-    }
-    refused_when_moved(name, text, "g1", "1e-30", "order = 6");
-    refused_when_moved(name, text, "z1", "1e-30", "order = 6");
     // Without its processor the kernel is of order 4 only (Σγ³ = 0 is an
     // effective condition too): its order-6 claim is refused.
-    let kernel_only: String = text
-        .lines()
-        .filter(|l| !l.starts_with("corrector_") && !l.starts_with("let.z"))
-        .collect::<Vec<_>>()
-        .join("\n");
-    let verdicts = claims_hold(name, &kernel_only);
-    let (_, v) = verdicts
-        .iter()
-        .find(|(c, _)| c.contains("order = 6"))
-        .unwrap();
-    assert!(v.is_err());
+    processed_table_checks(name, text, "order = 6", &["g1", "z1"], &['z'], true);
 }
 
 /// Drift–kick kernels: effective order 6 of a symmetric ABA sequence is
@@ -237,25 +258,14 @@ fn a_processed_drift_kick_kernel_of_effective_order_4_is_designed_and_checked() 
     assert_eq!(processor.system.names, ["u1", "u2", "v1", "v2"]);
     let (name, text) = best.table.as_ref().unwrap();
     assert!(text.contains("\ndrift = [") && text.contains("\ncorrector_kick = ["));
-    for (claim, verdict) in claims_hold(name, text) {
-        assert!(verdict.is_ok(), "{claim}: {verdict:?}\n{text}");
-    }
-    refused_when_moved(name, text, "a1", "1e-30", "order = 4");
-    refused_when_moved(name, text, "u1", "1e-30", "order = 4");
-    refused_when_moved(name, text, "v2", "1e-30", "order = 4");
-    let kernel_only: String = text
-        .lines()
-        .filter(|l| {
-            !l.starts_with("corrector_") && !l.starts_with("let.u") && !l.starts_with("let.v")
-        })
-        .collect::<Vec<_>>()
-        .join("\n");
-    let verdicts = claims_hold(name, &kernel_only);
-    let (_, v) = verdicts
-        .iter()
-        .find(|(c, _)| c.contains("order = 4"))
-        .unwrap();
-    assert!(v.is_err());
+    processed_table_checks(
+        name,
+        text,
+        "order = 4",
+        &["a1", "u1", "v2"],
+        &['u', 'v'],
+        true,
+    );
 }
 
 /// The shipped effective-order-6 drift–kick family: its best kernel
@@ -272,11 +282,7 @@ fn a_processed_drift_kick_kernel_of_effective_order_6_is_designed_and_checked() 
     assert_eq!(processor.system.conditions.len(), 12);
     assert_eq!(processor.claims, ["order = 6 (residual < 1e-40)"]);
     let (name, text) = best.table.as_ref().unwrap();
-    for (claim, verdict) in claims_hold(name, text) {
-        assert!(verdict.is_ok(), "{claim}: {verdict:?}\n{text}");
-    }
-    refused_when_moved(name, text, "b2", "1e-30", "order = 6");
-    refused_when_moved(name, text, "u7", "1e-30", "order = 6");
+    processed_table_checks(name, text, "order = 6", &["b2", "u7"], &['u', 'v'], false);
 }
 
 /// A processed near-integrable kernel: effective generalised order (8, 4)
@@ -311,25 +317,14 @@ fn a_processed_near_integrable_kernel_of_effective_order_8_4_is_designed_and_che
     );
     assert_eq!(processor.claims, ["order = (8, 4) (residual < 1e-40)"]);
     let (name, text) = best.table.as_ref().unwrap();
-    for (claim, verdict) in claims_hold(name, text) {
-        assert!(verdict.is_ok(), "{claim}: {verdict:?}\n{text}");
-    }
-    refused_when_moved(name, text, "a1", "1e-30", "order = (8, 4)");
-    refused_when_moved(name, text, "u3", "1e-30", "order = (8, 4)");
-    refused_when_moved(name, text, "v5", "1e-30", "order = (8, 4)");
-    let kernel_only: String = text
-        .lines()
-        .filter(|l| {
-            !l.starts_with("corrector_") && !l.starts_with("let.u") && !l.starts_with("let.v")
-        })
-        .collect::<Vec<_>>()
-        .join("\n");
-    let verdicts = claims_hold(name, &kernel_only);
-    let (_, v) = verdicts
-        .iter()
-        .find(|(c, _)| c.contains("order = (8, 4)"))
-        .unwrap();
-    assert!(v.is_err());
+    processed_table_checks(
+        name,
+        text,
+        "order = (8, 4)",
+        &["a1", "u3", "v5"],
+        &['u', 'v'],
+        true,
+    );
 }
 
 /// The ε² conditions of a processed near-integrable kernel: with every
