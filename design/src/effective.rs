@@ -467,15 +467,10 @@ pub fn eliminate(
             want_conjugator.then_some(&mut z_exp),
         );
     }
-    let conjugator = if want_conjugator {
-        log(letters, &z_exp, p, nvars)
-    } else {
-        HashMap::new()
-    };
     Ok(Elimination {
         conditions,
         errors,
-        conjugator,
+        conjugator: conjugator(letters, want_conjugator.then_some(&z_exp), p, nvars),
     })
 }
 
@@ -629,6 +624,11 @@ fn clear(
     }
 }
 
+/// `Z = log exp(Z)`, up to weight `p`, or nothing.
+fn conjugator(letters: Letters, z_exp: Option<&Series>, p: usize, nvars: usize) -> Series {
+    z_exp.map_or_else(HashMap::new, |z| log(letters, z, p, nvars))
+}
+
 /// The effective generalised order of a symmetric drift–kick kernel for
 /// `H = A + εB`: [`eliminate`] for the terms `εʲhⁿ` with `j` letters `B`,
 /// imposed up to the degree `p_j` of `reach` (non-increasing) and measured
@@ -759,15 +759,10 @@ pub fn eliminate_near(
             want_conjugator.then_some(&mut z_exp),
         );
     }
-    let conjugator = if want_conjugator {
-        log(letters, &z_exp, p, nvars)
-    } else {
-        HashMap::new()
-    };
     Ok(Elimination {
         conditions,
         errors,
-        conjugator,
+        conjugator: conjugator(letters, want_conjugator.then_some(&z_exp), p, nvars),
     })
 }
 
