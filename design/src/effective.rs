@@ -167,7 +167,7 @@ impl Reach {
 }
 
 /// The number of letters `B` in a word of `A = 0`, `B = 1`.
-fn b_count(w: &[u8]) -> usize {
+pub fn b_count(w: &[u8]) -> usize {
     w.iter().filter(|&&l| l == 1).count()
 }
 

@@ -12,7 +12,9 @@
 //! at output only and costs nothing per step.
 //!
 //! **Its conditions.** The kernel's elimination ([`crate::effective`]) at
-//! the polished kernel gives the conjugator `Z` the processor must match:
+//! the polished kernel gives the conjugator `Z` the processor must match
+//! (for an effective generalised order `(p₁, p₂, …)`, read `p` below as
+//! `p_j` for a word with `j` letters `B`):
 //! `log χ = −Z` on the Lyndon words of weights `2..p − 1` makes `χ K χ⁻¹`
 //! of order `p` (the kernel's conditions do the rest), and the same at
 //! weight `p` is the objective: it is what leaves only the unremovable part
@@ -28,7 +30,8 @@
 //! **The table.** The processed method is written as `symlab check` reads
 //! one: the kernel inline (`compose`, or `drift`/`kick`), the processor as its drift–kick
 //! sequence (`corrector_drift`, `corrector_kick`), with the claim
-//! `order = p (residual < 1e-40)` about the effective method `χ K χ⁻¹`,
+//! `order = p (residual < 1e-40)` (or `order = (p₁, p₂, …) (…)`) about the
+//! effective method `χ K χ⁻¹`,
 //! which tableau decides exactly on the printed decimals
 //! ([`tableau::near_integrable::check_processed_claim`]): every Lie term up
 //! to degree `p` in the letters `A`, `B` is below the bound.
@@ -39,7 +42,7 @@ use num_rational::BigRational;
 use num_traits::{One, Zero};
 
 use crate::conditions::{Condition, System, factors, log_coefficient, product};
-use crate::effective::{Letters, Reach, Series, eliminate, eliminate_near};
+use crate::effective::{Letters, Reach, Series, b_count, eliminate, eliminate_near};
 use crate::emit::quote;
 use crate::family::{Family, FamilyError, Form};
 use crate::poly::Poly;
@@ -58,7 +61,7 @@ fn error(file: &str, field: Option<&str>, message: String) -> FamilyError {
 }
 
 /// The alphabet of a kernel of the form `form` ([`Letters`]).
-pub fn letters(form: Form) -> Letters {
+fn letters(form: Form) -> Letters {
     match form {
         Form::Composition => Letters::Composition,
         Form::Aba | Form::Bab => Letters::DriftKick,
@@ -162,14 +165,8 @@ pub fn processor_system(
     // (`crate::effective::eliminate_near`); classically every word up to
     // p + 1, matched below p.
     let reach = (!family.generalised.is_empty()).then(|| Reach::new(&family.generalised));
-    let keep = |w: &[u8]| -> bool {
-        reach.is_none_or(|r| w.len() <= r.of(w.iter().filter(|&&l| l == 1).count()))
-    };
-    let limit = |w: &[u8]| -> usize {
-        reach.map_or(p, |r| {
-            r.degree(w.iter().filter(|&&l| l == 1).count().max(1))
-        })
-    };
+    let keep = |w: &[u8]| -> bool { reach.is_none_or(|r| w.len() <= r.of(b_count(w))) };
+    let limit = |w: &[u8]| -> usize { reach.map_or(p, |r| r.degree(b_count(w).max(1))) };
     let log_k = log_of(family.form, &kd, &kk, &kg, p + 1, 0, &keep);
     let elim = match reach {
         None => eliminate(letters, &log_k, p, 0, true),
