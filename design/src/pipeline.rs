@@ -348,6 +348,9 @@ impl Outcome {
             se.solutions.len()
         );
         let measure = match (self.family.rkn, self.family.error_basis) {
+            _ if self.family.processed && !self.family.generalised.is_empty() => {
+                "the coordinates outside the image of ad Y₁ at one degree beyond the claim in each power of ε (what no processor removes once the terms with fewer ε are removed: least squares block by block, `design::effective::eliminate_near`)"
+            }
             _ if self.family.processed => {
                 "the coordinates outside the image of ad Y₁ (what no processor removes, orthogonally projected on the Lyndon-word coefficients)"
             }
@@ -359,7 +362,12 @@ impl Outcome {
         };
         let _ = writeln!(
             r,
-            "Effective error E_f = s·(Σ e²)^(1/(2p)), e {measure} of degree p + 1 in log Φ.\n"
+            "Effective error E_f = s·(Σ e²)^(1/(2p)), e {measure}{} in log Φ.\n",
+            if self.family.processed && !self.family.generalised.is_empty() {
+                ""
+            } else {
+                " of degree p + 1"
+            }
         );
         let _ = writeln!(
             r,
